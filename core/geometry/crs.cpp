@@ -1,0 +1,101 @@
+/***************************************************************************
+  crs.cpp - checks on a block's coordinate reference system
+ ***************************************************************************/
+#include "geometry/crs.h"
+
+#include <cmath>
+#include <memory>
+#include <stdexcept>
+
+#include <proj.h>
+
+namespace geostation
+{
+
+  namespace
+  {
+    struct ContextDeleter
+    {
+      void operator()( PJ_CONTEXT *ctx ) const { proj_context_destroy( ctx ); }
+    };
+    struct PjDeleter
+    {
+      void operator()( PJ *pj ) const { proj_destroy( pj ); }
+    };
+    using ContextPtr = std::unique_ptr<PJ_CONTEXT, ContextDeleter>;
+    using PjPtr = std::unique_ptr<PJ, PjDeleter>;
+
+    std::string kindOf( PJ_TYPE type )
+    {
+      switch ( type )
+      {
+        case PJ_TYPE_PROJECTED_CRS:
+          return "projected";
+        case PJ_TYPE_ENGINEERING_CRS:
+          return "engineering";
+        case PJ_TYPE_GEOGRAPHIC_2D_CRS:
+        case PJ_TYPE_GEOGRAPHIC_3D_CRS:
+        case PJ_TYPE_GEOGRAPHIC_CRS:
+          return "geographic";
+        case PJ_TYPE_GEOCENTRIC_CRS:
+          return "geocentric";
+        case PJ_TYPE_VERTICAL_CRS:
+          return "vertical";
+        case PJ_TYPE_BOUND_CRS:
+          return "bound";
+        default:
+          return "other";
+      }
+    }
+  } // namespace
+
+  CrsDescription describeCrs( const std::string &definition )
+  {
+    ContextPtr ctx( proj_context_create() );
+    proj_log_level( ctx.get(), PJ_LOG_NONE );
+    PjPtr crs( proj_create( ctx.get(), definition.c_str() ) );
+    if ( !crs || !proj_is_crs( crs.get() ) )
+      throw std::invalid_argument( "'" + definition + "' is not a coordinate reference system PROJ recognises" );
+
+    // A bound CRS (with +towgs84) wraps the real one; a compound CRS has its
+    // horizontal part first.
+    if ( proj_get_type( crs.get() ) == PJ_TYPE_BOUND_CRS )
+      crs.reset( proj_get_source_crs( ctx.get(), crs.get() ) );
+    if ( crs && proj_get_type( crs.get() ) == PJ_TYPE_COMPOUND_CRS )
+      crs.reset( proj_crs_get_sub_crs( ctx.get(), crs.get(), 0 ) );
+    if ( crs && proj_get_type( crs.get() ) == PJ_TYPE_BOUND_CRS )
+      crs.reset( proj_get_source_crs( ctx.get(), crs.get() ) );
+    if ( !crs )
+      throw std::invalid_argument( "'" + definition + "' has no horizontal coordinate reference system" );
+
+    CrsDescription description;
+    const char *name = proj_get_name( crs.get() );
+    description.name = name ? name : definition;
+    description.kind = kindOf( proj_get_type( crs.get() ) );
+
+    PjPtr cs( proj_crs_get_coordinate_system( ctx.get(), crs.get() ) );
+    if ( cs && proj_cs_get_axis_count( ctx.get(), cs.get() ) > 0 )
+    {
+      const char *unitName = nullptr;
+      double toSi = 0.0;
+      if ( proj_cs_get_axis_info( ctx.get(), cs.get(), 0, nullptr, nullptr, nullptr, &toSi, &unitName, nullptr, nullptr ) )
+      {
+        description.unitName = unitName ? unitName : "";
+        description.unitToMetre = toSi;
+      }
+    }
+    return description;
+  }
+
+  void requireProjectedMetricCrs( const std::string &definition )
+  {
+    const CrsDescription d = describeCrs( definition );
+    if ( d.kind == "geographic" )
+      throw std::invalid_argument( "'" + definition + "' (" + d.name + ") is a geographic CRS in degrees; a block needs a projected CRS in metres (e.g. the UTM zone of the survey)" );
+    if ( d.kind != "projected" && d.kind != "engineering" )
+      throw std::invalid_argument( "'" + definition + "' (" + d.name + ") is a " + d.kind + " CRS; a block needs a projected or local engineering CRS in metres" );
+    if ( std::abs( d.unitToMetre - 1.0 ) > 1e-12 )
+      throw std::invalid_argument( "'" + definition + "' (" + d.name + ") has axes in " + ( d.unitName.empty() ? std::string( "unknown units" ) : d.unitName ) + "; a block needs a CRS in metres" );
+  }
+
+} // namespace geostation

@@ -1,0 +1,49 @@
+/***************************************************************************
+  projection.h - ground <-> pixel for an oriented image (collinearity)
+ ***************************************************************************/
+#ifndef GEOSTATION_GEOMETRY_PROJECTION_H
+#define GEOSTATION_GEOMETRY_PROJECTION_H
+
+#include <optional>
+
+#include <Eigen/Core>
+
+#include "camera/camera.h"
+#include "geometry/exteriororientation.h"
+
+namespace geostation
+{
+
+  //! A ground point projected into one image.
+  struct GroundProjection
+  {
+    PixelProjection::Status status = PixelProjection::Status::Ok;
+    Eigen::Vector2d pixelInImage = Eigen::Vector2d::Zero(); //!< valid when ok()
+    double depthM = 0.0;    //!< distance in front of the camera along its axis (-p.z), metres
+    bool inFrame = false;   //!< projected and on [0, width) x [0, height)
+
+    bool ok() const { return status == PixelProjection::Status::Ok; }
+  };
+
+  //! A viewing ray in object space: origin + t * direction, t >= 0.
+  struct Ray
+  {
+    Eigen::Vector3d origin;    //!< the projection centre, block CRS metres
+    Eigen::Vector3d direction; //!< unit vector
+  };
+
+  /**
+   * Collinearity with distortion: the pixel at which a ground point (block
+   * CRS, metres) appears. Points behind the camera are reported as such.
+   */
+  GroundProjection projectGroundToPixel( const Camera &camera, const ExteriorOrientation &exterior, const Eigen::Vector3d &pointInWorld );
+
+  /**
+   * The viewing ray of a pixel in object space; nothing where the lens model
+   * cannot be inverted.
+   */
+  std::optional<Ray> worldRayFromPixel( const Camera &camera, const ExteriorOrientation &exterior, const Eigen::Vector2d &pixelInImage );
+
+} // namespace geostation
+
+#endif // GEOSTATION_GEOMETRY_PROJECTION_H

@@ -1,0 +1,101 @@
+// Ground <-> pixel with exterior orientation: p = R^T (P - X0).
+#include <random>
+
+#include <Eigen/Geometry>
+#include <gtest/gtest.h>
+
+#include "geometry/projection.h"
+
+using namespace geostation;
+
+namespace
+{
+  Camera vanCamera()
+  {
+    Camera c;
+    c.id = "front";
+    c.width = 640;
+    c.height = 480;
+    c.f = 600.0;
+    c.cx = 320.0;
+    c.cy = 240.0;
+    c.distortion.model = DistortionModel::OpenCV;
+    c.distortion.coeffs = { -0.2, 0.05, 0.0, 0.0, 0.0 };
+    return c;
+  }
+
+  ExteriorOrientation lookingNorth()
+  {
+    ExteriorOrientation eo;
+    eo.projectionCentre = { 500100.0, 4400200.0, 212.0 };
+    eo.omegaDeg = 90.0; // horizontal, toward +Y
+    return eo;
+  }
+} // namespace
+
+TEST( Projection, PointOnTheAxisHitsThePrincipalPoint )
+{
+  const Camera c = vanCamera();
+  const ExteriorOrientation eo = lookingNorth();
+  const GroundProjection g = projectGroundToPixel( c, eo, eo.projectionCentre + Eigen::Vector3d( 0, 25, 0 ) );
+  ASSERT_TRUE( g.ok() );
+  EXPECT_NEAR( g.pixelInImage.x(), 320.0, 1e-9 );
+  EXPECT_NEAR( g.pixelInImage.y(), 240.0, 1e-9 );
+  EXPECT_NEAR( g.depthM, 25.0, 1e-9 );
+  EXPECT_TRUE( g.inFrame );
+}
+
+TEST( Projection, LookingNorthEastIsRightAndUpIsUp )
+{
+  const Camera c = vanCamera();
+  const ExteriorOrientation eo = lookingNorth();
+  const GroundProjection east = projectGroundToPixel( c, eo, eo.projectionCentre + Eigen::Vector3d( 2, 25, 0 ) );
+  const GroundProjection high = projectGroundToPixel( c, eo, eo.projectionCentre + Eigen::Vector3d( 0, 25, 2 ) );
+  EXPECT_GT( east.pixelInImage.x(), 320.0 );
+  EXPECT_LT( high.pixelInImage.y(), 240.0 );
+}
+
+TEST( Projection, PointBehindTheCameraIsNotProjected )
+{
+  const Camera c = vanCamera();
+  const ExteriorOrientation eo = lookingNorth();
+  const GroundProjection g = projectGroundToPixel( c, eo, eo.projectionCentre + Eigen::Vector3d( 0, -25, 0 ) );
+  EXPECT_EQ( g.status, PixelProjection::Status::BehindCamera );
+  EXPECT_FALSE( g.inFrame );
+  EXPECT_NEAR( g.depthM, -25.0, 1e-9 );
+}
+
+TEST( Projection, OutsideTheFrameIsProjectedButFlagged )
+{
+  const Camera c = vanCamera();
+  const ExteriorOrientation eo = lookingNorth();
+  const GroundProjection g = projectGroundToPixel( c, eo, eo.projectionCentre + Eigen::Vector3d( 20, 10, 0 ) );
+  ASSERT_TRUE( g.ok() );
+  EXPECT_FALSE( g.inFrame );
+  EXPECT_GT( g.pixelInImage.x(), 640.0 );
+}
+
+TEST( Projection, RayThroughProjectedPixelPassesThroughTheGroundPoint )
+{
+  const Camera c = vanCamera();
+  std::mt19937 rng( 3 );
+  std::uniform_real_distribution<double> angle( -30.0, 30.0 );
+  std::uniform_real_distribution<double> offset( -6.0, 6.0 );
+  for ( int i = 0; i < 500; ++i )
+  {
+    ExteriorOrientation eo = lookingNorth();
+    eo.omegaDeg += angle( rng ) / 3;
+    eo.phiDeg = angle( rng ) / 3;
+    eo.kappaDeg = angle( rng );
+    const Eigen::Vector3d ground = eo.projectionCentre + eo.viewingDirection() * 20.0 + Eigen::Vector3d( offset( rng ), offset( rng ), offset( rng ) );
+    const GroundProjection g = projectGroundToPixel( c, eo, ground );
+    ASSERT_TRUE( g.ok() );
+    const std::optional<Ray> ray = worldRayFromPixel( c, eo, g.pixelInImage );
+    ASSERT_TRUE( ray.has_value() );
+    EXPECT_NEAR( ray->direction.norm(), 1.0, 1e-14 );
+    const Eigen::Vector3d toPoint = ground - ray->origin;
+    const double missM = ( toPoint - ray->direction * toPoint.dot( ray->direction ) ).norm();
+    EXPECT_LT( missM, 1e-9 );
+    EXPECT_GT( toPoint.dot( ray->direction ), 0.0 );
+  }
+}
