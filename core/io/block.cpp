@@ -9,6 +9,8 @@
 #include <set>
 #include <sstream>
 
+#include <nlohmann/json.hpp>
+
 #include <cpl_error.h>
 #include <gdal.h>
 
@@ -142,10 +144,12 @@ namespace geostation
       return rest;
     }
 
-    //! extra with known written over it (nested objects merged key by key).
-    json withKnown( const json &extra, const json &known )
+    //! extraJson with known written over it (nested objects merged key by key).
+    json withKnown( const std::string &extraJson, const json &known )
     {
-      json out = extra.is_object() ? extra : json::object();
+      json out = json::parse( extraJson.empty() ? std::string( "{}" ) : extraJson, nullptr, false );
+      if ( !out.is_object() )
+        out = json::object();
       out.merge_patch( known );
       return out;
     }
@@ -209,7 +213,7 @@ namespace geostation
       }
       if ( node.has( "trajectory" ) )
         s.trajectory = node.child( "trajectory" ).string( true );
-      s.extra = unknownKeys( node.value(), { "id", "time", "trajectory" } );
+      s.extraJson = unknownKeys( node.value(), { "id", "time", "trajectory" } ).dump();
       return s;
     }
 
@@ -263,7 +267,7 @@ namespace geostation
       {
         node.child( "sigma" ).fail( "sigmas are given but the image has no exterior orientation" );
       }
-      image.extra = unknownKeys( node.value(), { "id", "camera", "station", "path", "X", "Y", "Z", "omega", "phi", "kappa", "sigma" } );
+      image.extraJson = unknownKeys( node.value(), { "id", "camera", "station", "path", "X", "Y", "Z", "omega", "phi", "kappa", "sigma" } ).dump();
       return image;
     }
 
@@ -367,7 +371,7 @@ namespace geostation
     {
       json extra;
       block.cameras.push_back( readCamera( node, &extra ) );
-      block.cameraExtras[block.cameras.back().id] = extra;
+      block.cameraExtraJson[block.cameras.back().id] = extra.dump();
     }
     requireUniqueIds( block.cameras, cameraNodes, "camera" );
 
@@ -397,13 +401,13 @@ namespace geostation
         imageNodes[i].child( "station" ).fail( "station \"" + image.stationId + "\" is not defined in $.stations" + ( stationIds.empty() ? std::string() : " (defined: " + joinIds( stationIds ) + ")" ) );
     }
 
-    block.extra = unknownKeys( root, { "format", "version", "crs", "cameras", "stations", "images" } );
+    block.extraJson = unknownKeys( root, { "format", "version", "crs", "cameras", "stations", "images" } ).dump();
     return block;
   }
 
-  json Block::toJson() const
+  std::string Block::toJsonText() const
   {
-    json root = extra.is_object() ? extra : json::object();
+    json root = withKnown( extraJson, json::object() );
     root["format"] = kFormatName;
     root["version"] = kFormatVersion;
     root["crs"] = crs;
@@ -415,8 +419,8 @@ namespace geostation
       if ( c.pixelSizeMm )
         known["pixel_size_mm"] = *c.pixelSizeMm;
       known["distortion"] = { { "model", distortionModelName( c.distortion.model ) }, { "k1", c.distortion.k1() }, { "k2", c.distortion.k2() }, { "p1", c.distortion.p1() }, { "p2", c.distortion.p2() }, { "k3", c.distortion.k3() } };
-      const auto extraIt = cameraExtras.find( c.id );
-      cameraArray.push_back( withKnown( extraIt != cameraExtras.end() ? extraIt->second : json::object(), known ) );
+      const auto extraIt = cameraExtraJson.find( c.id );
+      cameraArray.push_back( withKnown( extraIt != cameraExtraJson.end() ? extraIt->second : std::string( "{}" ), known ) );
     }
     root["cameras"] = cameraArray;
 
@@ -428,7 +432,7 @@ namespace geostation
         known["time"] = s.time;
       if ( !s.trajectory.empty() )
         known["trajectory"] = s.trajectory;
-      stationArray.push_back( withKnown( s.extra, known ) );
+      stationArray.push_back( withKnown( s.extraJson, known ) );
     }
     root["stations"] = stationArray;
 
@@ -450,15 +454,15 @@ namespace geostation
         if ( eo.sigma )
           known["sigma"] = { { "X", eo.sigma->x }, { "Y", eo.sigma->y }, { "Z", eo.sigma->z }, { "omega", eo.sigma->omegaDeg }, { "phi", eo.sigma->phiDeg }, { "kappa", eo.sigma->kappaDeg } };
       }
-      imageArray.push_back( withKnown( image.extra, known ) );
+      imageArray.push_back( withKnown( image.extraJson, known ) );
     }
     root["images"] = imageArray;
-    return root;
+    return root.dump( 2 ) + "\n";
   }
 
   void Block::save( const std::filesystem::path &file ) const
   {
-    const std::string text = toJson().dump( 2 ) + "\n";
+    const std::string text = toJsonText();
     std::filesystem::path temporary = file;
     temporary += ".tmp-write";
     {

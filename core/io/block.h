@@ -15,8 +15,6 @@
 #include <string>
 #include <vector>
 
-#include <nlohmann/json.hpp>
-
 #include "camera/camera.h"
 #include "geometry/exteriororientation.h"
 
@@ -46,7 +44,7 @@ namespace geostation
     std::string id;
     std::string time;       //!< ISO 8601 UTC, may be empty
     std::string trajectory; //!< P-line / run name, may be empty
-    nlohmann::json extra = nlohmann::json::object(); //!< unknown keys, kept on save
+    std::string extraJson = "{}"; //!< unknown keys as JSON text, kept on save
   };
 
   struct BlockImage
@@ -56,7 +54,7 @@ namespace geostation
     std::string stationId; //!< may be empty
     std::string path;      //!< as written in the file (relative to the block file)
     std::optional<ExteriorOrientation> exterior; //!< absent until oriented
-    nlohmann::json extra = nlohmann::json::object();
+    std::string extraJson = "{}"; //!< unknown keys as JSON text, kept on save
   };
 
   class Block
@@ -67,8 +65,8 @@ namespace geostation
       std::vector<Station> stations;
       std::vector<BlockImage> images;
       std::filesystem::path sourceFile; //!< where it was loaded from (paths are relative to it)
-      nlohmann::json extra = nlohmann::json::object();
-      std::map<std::string, nlohmann::json> cameraExtras; //!< unknown keys per camera id
+      std::string extraJson = "{}"; //!< unknown top-level keys as JSON text
+      std::map<std::string, std::string> cameraExtraJson; //!< unknown keys per camera id, as JSON text
 
       //! Reads and validates a block file; throws BlockFormatError.
       static Block load( const std::filesystem::path &file );
@@ -76,8 +74,8 @@ namespace geostation
       //! Parses block JSON text; `file` is used in messages and for relative paths.
       static Block fromJsonText( const std::string &text, const std::filesystem::path &file );
 
-      //! The block as JSON, with unknown keys put back.
-      nlohmann::json toJson() const;
+      //! The block as JSON text (2-space indent), with unknown keys put back.
+      std::string toJsonText() const;
 
       /**
        * Writes the block atomically (temporary file, then rename), so a failed

@@ -4,6 +4,7 @@
 
 #include <gdal.h>
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
 
 #include "io/block.h"
 
@@ -111,7 +112,7 @@ TEST( Block, UnknownKeysSurviveASaveAtEveryLevel )
   EXPECT_FALSE( std::filesystem::exists( dir.path / "edited.geostation.json.tmp-write" ) );
 
   const Block again = Block::load( out );
-  EXPECT_EQ( again.toJson(), b.toJson() );
+  EXPECT_EQ( again.toJsonText(), b.toJsonText() );
 }
 
 TEST( Block, SaveIntoAMissingFolderFailsAndWritesNothing )

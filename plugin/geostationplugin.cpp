@@ -1,0 +1,183 @@
+/***************************************************************************
+  geostationplugin.cpp - the GeoStation plugin for QGIS desktop
+ ***************************************************************************/
+#include "geostationplugin.h"
+
+#include <QAction>
+#include <QFileDialog>
+#include <QFileInfo>
+#include <QMainWindow>
+#include <QMenu>
+#include <QMenuBar>
+#include <QToolBar>
+
+#include <qgisinterface.h>
+#include <qgsmessagebar.h>
+#include <qgspythonrunner.h>
+#include <qgssettings.h>
+
+#include "geostationprovider.h"
+#include "io/block.h"
+
+namespace
+{
+  const QString sName = QStringLiteral( "GeoStation" );
+  const QString sDescription = QStringLiteral( "Softcopy photogrammetry: multiview measurement, monoplotting and road tracing from oriented imagery" );
+  const QString sCategory = QStringLiteral( "Plugins" );
+  const QString sVersion = QStringLiteral( "0.1.0" );
+  const QString sIcon = QStringLiteral( ":/geostation/icons/geostation.svg" );
+  const QgisPlugin::PluginType sPluginType = QgisPlugin::UI;
+  const QString sLastBlockDirKey = QStringLiteral( "geostation/lastBlockDir" );
+}
+
+GeoStationPlugin::GeoStationPlugin( QgisInterface *iface )
+  : QgisPlugin( sName, sDescription, sCategory, sVersion, sPluginType )
+  , mIface( iface )
+{
+  setObjectName( QStringLiteral( "GeoStationPlugin" ) );
+}
+
+GeoStationPlugin::~GeoStationPlugin() = default;
+
+QAction *GeoStationPlugin::addAction( const QString &objectName, const QString &icon, const QString &text, const QString &tip, void ( GeoStationPlugin::*slot )() )
+{
+  QAction *action = new QAction( QIcon( icon ), text, mIface->mainWindow() );
+  action->setObjectName( objectName );
+  action->setToolTip( tip );
+  action->setStatusTip( tip );
+  connect( action, &QAction::triggered, this, slot );
+  mMenu->addAction( action );
+  mToolBar->addAction( action );
+  mActions << action;
+  return action;
+}
+
+void GeoStationPlugin::initGui()
+{
+  // Parented to the main window so scripts and tests can find the plugin.
+  setParent( mIface->mainWindow() );
+  mRegisteredProvider = registerGeoStationProvider();
+
+  QMainWindow *mainWindow = qobject_cast<QMainWindow *>( mIface->mainWindow() );
+  QMenuBar *menuBar = mainWindow ? mainWindow->menuBar() : nullptr;
+  if ( !menuBar )
+    return;
+  mMenu = new QMenu( tr( "&GeoStation" ), menuBar );
+  mMenu->setObjectName( QStringLiteral( "mGeoStationMenu" ) );
+  QAction *before = nullptr;
+  for ( QAction *a : menuBar->actions() )
+    if ( a->menu() && a->menu()->objectName() == QLatin1String( "mHelpMenu" ) )
+      before = a;
+  menuBar->insertMenu( before, mMenu );
+
+  mToolBar = mIface->addToolBar( tr( "GeoStation" ) );
+  mToolBar->setObjectName( QStringLiteral( "mGeoStationToolBar" ) );
+
+  addAction( QStringLiteral( "mActionGeoStationOpenBlock" ), QStringLiteral( ":/geostation/icons/openblock.svg" ), tr( "Open Block…" ),
+             tr( "Open a GeoStation block (*.geostation.json): cameras, stations and oriented images" ), &GeoStationPlugin::openBlock );
+  addAction( QStringLiteral( "mActionGeoStationProjectToImage" ), QStringLiteral( ":/geostation/icons/projecttoimage.svg" ), tr( "Project Map Points to Image…" ),
+             tr( "Find where map points with heights appear in an oriented image" ), &GeoStationPlugin::showProjectToImage );
+}
+
+void GeoStationPlugin::unload()
+{
+  for ( QAction *action : std::as_const( mActions ) )
+    delete action;
+  mActions.clear();
+  delete mMenu;
+  delete mToolBar;
+  if ( mRegisteredProvider )
+    unregisterGeoStationProvider();
+  mRegisteredProvider = false;
+  mBlock.reset();
+  setParent( nullptr ); // QGIS deletes the plugin itself after unload()
+}
+
+QString GeoStationPlugin::blockSummary( const geostation::Block &block ) const
+{
+  int oriented = 0;
+  for ( const geostation::BlockImage &image : block.images )
+    oriented += image.exterior ? 1 : 0;
+  return tr( "%1: %2 cameras, %3 stations, %4 images (%5 oriented), CRS %6" )
+         .arg( QString::fromStdString( block.sourceFile.filename().string() ) )
+         .arg( block.cameras.size() ).arg( block.stations.size() ).arg( block.images.size() ).arg( oriented )
+         .arg( QString::fromStdString( block.crs ) );
+}
+
+bool GeoStationPlugin::openBlockFile( const QString &path )
+{
+  try
+  {
+    auto block = std::make_unique<geostation::Block>( geostation::Block::load( path.toStdString() ) );
+    mIface->messageBar()->pushMessage( tr( "GeoStation block opened" ), blockSummary( *block ), Qgis::MessageLevel::Success );
+    mBlock = std::move( block );
+    emit blockOpened( path );
+    return true;
+  }
+  catch ( const std::exception &e )
+  {
+    mIface->messageBar()->pushMessage( tr( "Cannot open the GeoStation block" ), QString::fromStdString( e.what() ), Qgis::MessageLevel::Critical );
+    return false;
+  }
+}
+
+void GeoStationPlugin::openBlock()
+{
+  QgsSettings settings;
+  const QString path = QFileDialog::getOpenFileName( mIface->mainWindow(), tr( "Open GeoStation Block" ), settings.value( sLastBlockDirKey ).toString(),
+                       tr( "GeoStation block (*.geostation.json);;JSON (*.json)" ) );
+  if ( path.isEmpty() )
+    return;
+  settings.setValue( sLastBlockDirKey, QFileInfo( path ).absolutePath() );
+  openBlockFile( path );
+}
+
+void GeoStationPlugin::showProjectToImage()
+{
+  // The algorithm dialog of QGIS 3.22 lives in the Python processing plugin.
+  if ( QgsPythonRunner::isValid() && QgsPythonRunner::run( QStringLiteral( "import processing\nprocessing.execAlgorithmDialog('geostation:project_to_image')" ) ) )
+    return;
+  mIface->messageBar()->pushMessage( tr( "GeoStation" ), tr( "Open \"Project map points to image\" from the Processing Toolbox (GeoStation ▸ Monoplotting)." ), Qgis::MessageLevel::Info );
+}
+
+// ---- the entry points QGIS looks for in a C++ plugin ----
+
+QGISEXTERN QgisPlugin *classFactory( QgisInterface *iface )
+{
+  return new GeoStationPlugin( iface );
+}
+
+QGISEXTERN const QString *name()
+{
+  return &sName;
+}
+
+QGISEXTERN const QString *description()
+{
+  return &sDescription;
+}
+
+QGISEXTERN const QString *category()
+{
+  return &sCategory;
+}
+
+QGISEXTERN int type()
+{
+  return sPluginType;
+}
+
+QGISEXTERN const QString *version()
+{
+  return &sVersion;
+}
+
+QGISEXTERN const QString *icon()
+{
+  return &sIcon;
+}
+
+QGISEXTERN void unload( QgisPlugin *plugin )
+{
+  delete plugin;
+}

@@ -1,0 +1,85 @@
+/***************************************************************************
+  geostationprovider.cpp - the Processing provider "geostation"
+ ***************************************************************************/
+#include "geostationprovider.h"
+
+#include <QFile>
+#include <QIcon>
+
+#include <qgsapplication.h>
+#include <qgsprocessingregistry.h>
+
+#include "projecttoimagealgorithm.h"
+
+namespace
+{
+  const char *kProviderId = "geostation";
+}
+
+GeoStationProvider::GeoStationProvider( QObject *parent )
+  : QgsProcessingProvider( parent )
+{}
+
+QString GeoStationProvider::id() const
+{
+  return QString::fromLatin1( kProviderId );
+}
+
+QString GeoStationProvider::name() const
+{
+  return QStringLiteral( "GeoStation" );
+}
+
+QString GeoStationProvider::longName() const
+{
+  return QStringLiteral( "GeoStation softcopy photogrammetry" );
+}
+
+QString GeoStationProvider::svgIconPath() const
+{
+  return QStringLiteral( ":/geostation/icons/geostation.svg" );
+}
+
+QIcon GeoStationProvider::icon() const
+{
+  return QFile::exists( svgIconPath() ) ? QIcon( svgIconPath() ) : QgsProcessingProvider::icon();
+}
+
+bool GeoStationProvider::supportsNonFileBasedOutput() const
+{
+  return true;
+}
+
+void GeoStationProvider::loadAlgorithms()
+{
+  addAlgorithm( new ProjectToImageAlgorithm() );
+}
+
+bool registerGeoStationProvider()
+{
+  QgsProcessingRegistry *registry = QgsApplication::processingRegistry();
+  if ( !registry || registry->providerById( QString::fromLatin1( kProviderId ) ) )
+    return false;
+  return registry->addProvider( new GeoStationProvider( registry ) );
+}
+
+bool unregisterGeoStationProvider()
+{
+  QgsProcessingRegistry *registry = QgsApplication::processingRegistry();
+  if ( !registry )
+    return false;
+  QgsProcessingProvider *provider = registry->providerById( QString::fromLatin1( kProviderId ) );
+  return provider && registry->removeProvider( provider );
+}
+
+// The entry points that the Python bridge calls through ctypes, so that
+// qgis_process (which loads only Python plugins) sees the provider.
+extern "C" GEOSTATION_PROCESSING_EXPORT int geostation_register_provider()
+{
+  return registerGeoStationProvider() ? 1 : 0;
+}
+
+extern "C" GEOSTATION_PROCESSING_EXPORT int geostation_unregister_provider()
+{
+  return unregisterGeoStationProvider() ? 1 : 0;
+}

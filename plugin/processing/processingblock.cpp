@@ -1,0 +1,90 @@
+/***************************************************************************
+  processingblock.cpp - block access for Processing algorithms
+ ***************************************************************************/
+#include "processingblock.h"
+
+#include <QObject>
+
+#include <qgsexception.h>
+#include <qgsproviderregistry.h>
+
+#include "io/pixelspacegpkg.h"
+
+namespace GeoStationProcessing
+{
+
+  geostation::Block loadBlock( const QString &path )
+  {
+    if ( path.isEmpty() )
+      throw QgsProcessingException( QObject::tr( "No block file was given." ) );
+    try
+    {
+      return geostation::Block::load( path.toStdString() );
+    }
+    catch ( const std::exception &e )
+    {
+      throw QgsProcessingException( QObject::tr( "Cannot use the block: %1" ).arg( QString::fromStdString( e.what() ) ) );
+    }
+  }
+
+  const geostation::BlockImage &blockImage( const geostation::Block &block, const QString &imageId )
+  {
+    try
+    {
+      return block.image( imageId.toStdString() );
+    }
+    catch ( const std::exception &e )
+    {
+      throw QgsProcessingException( QString::fromStdString( e.what() ) );
+    }
+  }
+
+  const geostation::ExteriorOrientation &requireOriented( const geostation::Block &block, const geostation::BlockImage &image )
+  {
+    try
+    {
+      return block.requireExterior( image );
+    }
+    catch ( const std::exception &e )
+    {
+      throw QgsProcessingException( QString::fromStdString( e.what() ) );
+    }
+  }
+
+  void requireImageFile( const geostation::Block &block, const geostation::BlockImage &image )
+  {
+    try
+    {
+      geostation::requireReadableImageFile( block, image );
+    }
+    catch ( const std::exception &e )
+    {
+      throw QgsProcessingException( QString::fromStdString( e.what() ) );
+    }
+  }
+
+  QgsCoordinateReferenceSystem blockCrs( const geostation::Block &block )
+  {
+    QgsCoordinateReferenceSystem crs;
+    if ( !crs.createFromUserInput( QString::fromStdString( block.crs ) ) || !crs.isValid() )
+      throw QgsProcessingException( QObject::tr( "QGIS cannot read the block CRS \"%1\"." ).arg( QString::fromStdString( block.crs ) ) );
+    return crs;
+  }
+
+  void markPixelSpaceOutput( const QString &destination )
+  {
+    const QVariantMap parts = QgsProviderRegistry::instance()->decodeUri( QStringLiteral( "ogr" ), destination );
+    const QString path = parts.value( QStringLiteral( "path" ) ).toString();
+    if ( !path.endsWith( QLatin1String( ".gpkg" ), Qt::CaseInsensitive ) )
+      return;
+    try
+    {
+      geostation::markGeoPackageLayerAsPixelSpace( path.toStdString(), parts.value( QStringLiteral( "layerName" ) ).toString().toStdString() );
+    }
+    catch ( const std::exception &e )
+    {
+      throw QgsProcessingException( QObject::tr( "The output %1 was written but could not be marked as image space: %2" ).arg( path, QString::fromStdString( e.what() ) ) );
+    }
+  }
+
+}

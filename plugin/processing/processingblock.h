@@ -1,0 +1,40 @@
+/***************************************************************************
+  processingblock.h - block access for Processing algorithms
+  -------------------------------------------------------------------------
+  Turns core's exceptions into QgsProcessingException with one clear
+  sentence, so every algorithm fails the same way on bad input.
+ ***************************************************************************/
+#ifndef PROCESSINGBLOCK_H
+#define PROCESSINGBLOCK_H
+
+#include <QString>
+
+#include <qgscoordinatereferencesystem.h>
+
+#include "io/block.h"
+
+namespace GeoStationProcessing
+{
+  //! Loads a block file; throws QgsProcessingException on any problem.
+  geostation::Block loadBlock( const QString &path );
+
+  //! An image of the block by id; throws QgsProcessingException naming the ids.
+  const geostation::BlockImage &blockImage( const geostation::Block &block, const QString &imageId );
+
+  //! The image's exterior orientation; throws QgsProcessingException if not oriented.
+  const geostation::ExteriorOrientation &requireOriented( const geostation::Block &block, const geostation::BlockImage &image );
+
+  //! Checks the image file exists, decodes and has its camera's size.
+  void requireImageFile( const geostation::Block &block, const geostation::BlockImage &image );
+
+  //! The block CRS as a QGIS CRS; throws QgsProcessingException if QGIS cannot read it.
+  QgsCoordinateReferenceSystem blockCrs( const geostation::Block &block );
+
+  /**
+   * Marks a written image-space output as Cartesian without CRS where the
+   * format needs it (GeoPackage: srs_id -1). Other outputs are left alone.
+   */
+  void markPixelSpaceOutput( const QString &destination );
+}
+
+#endif // PROCESSINGBLOCK_H

@@ -1,0 +1,31 @@
+/***************************************************************************
+  projecttoimagealgorithm.h - geostation:project_to_image
+  -------------------------------------------------------------------------
+  Map features with heights -> the pixels where they appear in one oriented
+  image, as an image-space layer (x = col, y = -row, no CRS) that overlays the
+  raw image in QGIS (CONVENTIONS §1, §8).
+ ***************************************************************************/
+#ifndef PROJECTTOIMAGEALGORITHM_H
+#define PROJECTTOIMAGEALGORITHM_H
+
+#include <qgsprocessingalgorithm.h>
+
+#include "geostation_processing_export.h"
+
+class GEOSTATION_PROCESSING_EXPORT ProjectToImageAlgorithm : public QgsProcessingAlgorithm
+{
+  public:
+    QString name() const override;
+    QString displayName() const override;
+    QStringList tags() const override;
+    QString group() const override;
+    QString groupId() const override;
+    QString shortHelpString() const override;
+    ProjectToImageAlgorithm *createInstance() const override;
+
+  protected:
+    void initAlgorithm( const QVariantMap &configuration = QVariantMap() ) override;
+    QVariantMap processAlgorithm( const QVariantMap &parameters, QgsProcessingContext &context, QgsProcessingFeedback *feedback ) override;
+};
+
+#endif // PROJECTTOIMAGEALGORITHM_H
