@@ -4,6 +4,7 @@
 #include "camera/camera.h"
 
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 
 #include <Eigen/Dense>
@@ -105,6 +106,17 @@ namespace geostation
         throw std::invalid_argument( who + "distortion coefficients must be finite" );
   }
 
+  double Camera::lensFieldRadius() const
+  {
+    if ( distortion.model == DistortionModel::None )
+      return std::numeric_limits<double>::infinity();
+    double cornerRadius = 0.0;
+    for ( const double col : { 0.0, static_cast<double>( width ) } )
+      for ( const double row : { 0.0, static_cast<double>( height ) } )
+        cornerRadius = std::max( cornerRadius, std::hypot( ( col - cx ) / fx(), ( row - cy ) / fy() ) );
+    return 2.0 * cornerRadius;
+  }
+
   bool Camera::isInFrame( const Eigen::Vector2d &pixelInImage ) const
   {
     return pixelInImage.x() >= 0.0 && pixelInImage.x() < width && pixelInImage.y() >= 0.0 && pixelInImage.y() < height;
@@ -121,6 +133,11 @@ namespace geostation
     // Ideal normalised coordinates, x right, y up.
     const double xn = -pointInCamera.x() / pointInCamera.z();
     const double yn = -pointInCamera.y() / pointInCamera.z();
+    if ( distortion.model != DistortionModel::None && std::hypot( xn, yn ) > lensFieldRadius() )
+    {
+      result.status = PixelProjection::Status::OutsideLensField;
+      return result;
+    }
 
     switch ( distortion.model )
     {

@@ -56,6 +56,7 @@ namespace geostation
       Ok,                 //!< pixelInImage is valid (it may lie outside the frame)
       BehindCamera,       //!< p.z >= 0: the point is not in front of the camera
       DistortionDiverged, //!< the lens model could not be inverted there
+      OutsideLensField,   //!< beyond the field where the lens model is valid (see Camera::lensFieldRadius)
     };
     Status status = Status::Ok;
     Eigen::Vector2d pixelInImage = Eigen::Vector2d::Zero();
@@ -96,13 +97,23 @@ namespace geostation
        */
       void validate() const;
 
+      /**
+       * Radius, in ideal normalised coordinates (tan of the off-axis angle),
+       * within which the lens model is trusted: twice the radius of the frame
+       * corner farthest from the principal point. A distortion polynomial is
+       * calibrated on the frame; far beyond it, it is extrapolated and can
+       * fold over, so points there are reported as OutsideLensField rather
+       * than given a meaningless pixel. Infinite for the model "none".
+       */
+      double lensFieldRadius() const;
+
       //! True when the pixel lies on the frame [0, width) x [0, height).
       bool isInFrame( const Eigen::Vector2d &pixelInImage ) const;
 
       /**
        * Projects a point given in the camera frame to the image, applying lens
        * distortion. A point with p.z >= 0 is reported as BehindCamera and never
-       * projected.
+       * projected; one beyond lensFieldRadius() as OutsideLensField.
        */
       PixelProjection pixelFromCamera( const Eigen::Vector3d &pointInCamera ) const;
 

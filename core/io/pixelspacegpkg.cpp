@@ -91,6 +91,11 @@ namespace geostation
         features.push_back( f );
       for ( OGRFeatureH f : features )
       {
+        // An empty geometry (what QGIS writes for "no geometry") means nothing
+        // in pixel space: store NULL.
+        OGRGeometryH g = OGR_F_GetGeometryRef( f );
+        if ( g && OGR_G_IsEmpty( g ) )
+          OGR_F_SetGeometryDirectly( f, nullptr );
         ok = ok && OGR_L_SetFeature( layer, f ) == OGRERR_NONE;
         OGR_F_Destroy( f );
       }

@@ -68,8 +68,10 @@ QString ProjectToImageAlgorithm::shortHelpString() const
                       "top-left corner of the image), so it overlays the raw image in QGIS. Input attributes are kept; "
                       "the fields col, row (pixels), depth_m (distance in front of the camera along its axis), "
                       "in_frame and visible are added.\n\n"
-                      "A point behind the camera is never projected: its feature has no geometry and "
-                      "in_frame = visible = false. Without a DEM no occlusion test is made, so visible = in_frame." );
+                      "A point behind the camera, or far outside its field of view (more than twice the frame-corner "
+                      "angle, where the lens distortion model is extrapolated), is never projected: its feature has "
+                      "no geometry and in_frame = visible = false. Without a DEM no occlusion test is made, so "
+                      "visible = in_frame." );
 }
 
 ProjectToImageAlgorithm *ProjectToImageAlgorithm::createInstance() const
@@ -118,7 +120,7 @@ QVariantMap ProjectToImageAlgorithm::processAlgorithm( const QVariantMap &parame
   const double step = source->featureCount() > 0 ? 90.0 / source->featureCount() : 0;
   QgsFeatureIterator it = source->getFeatures( QgsFeatureRequest(), QgsProcessingFeatureSource::FlagSkipGeometryValidityChecks );
   QgsFeature feature;
-  long long behindCount = 0;
+  long long behindCount = 0, outsideFieldCount = 0;
   while ( it.nextFeature( feature ) )
   {
     if ( feedback->isCanceled() )
@@ -148,7 +150,7 @@ QVariantMap ProjectToImageAlgorithm::processAlgorithm( const QVariantMap &parame
         const geostation::GroundProjection p = geostation::projectGroundToPixel( camera, exterior, Eigen::Vector3d( x, y, z ) );
         minDepth = std::min( minDepth, p.depthM );
         behind |= p.status == geostation::PixelProjection::Status::BehindCamera;
-        diverged |= p.status == geostation::PixelProjection::Status::DistortionDiverged;
+        diverged |= p.status == geostation::PixelProjection::Status::DistortionDiverged || p.status == geostation::PixelProjection::Status::OutsideLensField;
         allInFrame &= p.inFrame;
         if ( p.ok() )
         {
@@ -161,6 +163,7 @@ QVariantMap ProjectToImageAlgorithm::processAlgorithm( const QVariantMap &parame
       if ( behind || diverged || partsInImage.numGeometries() == 0 )
       {
         behindCount += behind ? 1 : 0;
+        outsideFieldCount += !behind && diverged ? 1 : 0;
         out.col = out.row = QVariant();
       }
       else
@@ -217,6 +220,8 @@ QVariantMap ProjectToImageAlgorithm::processAlgorithm( const QVariantMap &parame
                       .arg( projectedCount ).arg( results.size() ).arg( imageId ).arg( inFrameCount ) );
   if ( behindCount > 0 )
     feedback->pushWarning( QObject::tr( "%1 features lie behind the camera and were not projected." ).arg( behindCount ) );
+  if ( outsideFieldCount > 0 )
+    feedback->pushWarning( QObject::tr( "%1 features lie far outside the camera's field of view, where its lens model is not valid, and were not projected." ).arg( outsideFieldCount ) );
 
   QVariantMap outputs;
   outputs.insert( QStringLiteral( "OUTPUT" ), destination );

@@ -140,6 +140,26 @@ INSTANTIATE_TEST_SUITE_P( AllModels, CameraRoundTrip,
                           ::testing::Values( DistortionModel::None, DistortionModel::OpenCV, DistortionModel::BrownPhoto ),
                           []( const auto & info ) { return distortionModelName( info.param ); } );
 
+TEST_P( CameraRoundTrip, FarOutsideTheFieldIsNotProjected )
+{
+  const Camera c = makeCamera( GetParam() );
+  // Frame corner farthest from (322.3, 238.9) is (0, 480): about 0.81 normalised for f = 500.
+  const double corner = std::hypot( 322.3 / 500.0, 241.1 / 510.0 );
+  const PixelProjection inside = c.pixelFromCamera( { 1.9 * corner, 0.0, -1.0 } );
+  const PixelProjection outside = c.pixelFromCamera( { 2.1 * corner, 0.0, -1.0 } );
+  EXPECT_TRUE( inside.ok() );
+  if ( GetParam() == DistortionModel::None )
+  {
+    EXPECT_TRUE( std::isinf( c.lensFieldRadius() ) );
+    EXPECT_TRUE( outside.ok() ); // a pinhole is exact everywhere in front
+  }
+  else
+  {
+    EXPECT_NEAR( c.lensFieldRadius(), 2.0 * corner, 1e-12 );
+    EXPECT_EQ( outside.status, PixelProjection::Status::OutsideLensField );
+  }
+}
+
 TEST( Camera, PixelCentresAreAtHalfIntegers )
 {
   // An undistorted camera whose axis hits the centre of pixel (10, 20).

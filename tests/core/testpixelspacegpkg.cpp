@@ -41,6 +41,10 @@ TEST( PixelSpaceGeoPackage, LayerBecomesUndefinedCartesian )
     ASSERT_EQ( OGR_L_CreateFeature( layer, f ), OGRERR_NONE );
     OGR_F_Destroy( f );
   }
+  OGRFeatureH empty = OGR_F_Create( OGR_L_GetLayerDefn( layer ) );
+  OGR_F_SetGeometryDirectly( empty, OGR_G_CreateGeometry( wkbPoint ) );
+  ASSERT_EQ( OGR_L_CreateFeature( layer, empty ), OGRERR_NONE );
+  OGR_F_Destroy( empty );
   GDALClose( ds );
 
   markGeoPackageLayerAsPixelSpace( file );
@@ -50,6 +54,7 @@ TEST( PixelSpaceGeoPackage, LayerBecomesUndefinedCartesian )
   EXPECT_EQ( queryInt( ds, "SELECT srs_id FROM gpkg_contents WHERE table_name = 'pixels'" ), -1 );
   EXPECT_EQ( queryInt( ds, "SELECT srs_id FROM gpkg_geometry_columns WHERE table_name = 'pixels'" ), -1 );
   EXPECT_EQ( queryInt( ds, "SELECT count(*) FROM pixels WHERE hex(substr(geom, 5, 4)) = 'FFFFFFFF'" ), 3 );
+  EXPECT_EQ( queryInt( ds, "SELECT count(*) FROM pixels WHERE geom IS NULL" ), 1 );
   layer = GDALDatasetGetLayer( ds, 0 );
   OGRSpatialReferenceH srs = OGR_L_GetSpatialRef( layer );
   ASSERT_NE( srs, nullptr );

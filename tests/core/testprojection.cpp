@@ -69,10 +69,15 @@ TEST( Projection, OutsideTheFrameIsProjectedButFlagged )
 {
   const Camera c = vanCamera();
   const ExteriorOrientation eo = lookingNorth();
-  const GroundProjection g = projectGroundToPixel( c, eo, eo.projectionCentre + Eigen::Vector3d( 20, 10, 0 ) );
+  // 0.8 normalised: beyond the frame edge (0.53), inside the lens field (2 x 0.67)
+  const GroundProjection g = projectGroundToPixel( c, eo, eo.projectionCentre + Eigen::Vector3d( 8, 10, 0 ) );
   ASSERT_TRUE( g.ok() );
   EXPECT_FALSE( g.inFrame );
   EXPECT_GT( g.pixelInImage.x(), 640.0 );
+  // 2.0 normalised: far outside, where the lens polynomial is not trusted
+  const GroundProjection far = projectGroundToPixel( c, eo, eo.projectionCentre + Eigen::Vector3d( 20, 10, 0 ) );
+  EXPECT_EQ( far.status, PixelProjection::Status::OutsideLensField );
+  EXPECT_FALSE( far.inFrame );
 }
 
 TEST( Projection, RayThroughProjectedPixelPassesThroughTheGroundPoint )

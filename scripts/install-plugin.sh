@@ -1,0 +1,92 @@
+#!/usr/bin/env bash
+# Installs the built GeoStation plugin, Processing provider and Python bridge
+# into a QGIS profile and enables them. Idempotent; --uninstall removes it all.
+#
+#   scripts/install-plugin.sh [--build-dir DIR] [--profile-dir DIR] [--uninstall]
+#
+# The profile defaults to $HOME/.local/share/QGIS/QGIS3/profiles/default.
+# Afterwards `qgis_process.bin list` shows the geostation provider and QGIS
+# desktop loads the plugin at start.
+set -euo pipefail
+
+here="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
+source_dir="$(dirname "$here")"
+build_dir="$source_dir/build"
+profile_dir="${HOME}/.local/share/QGIS/QGIS3/profiles/default"
+uninstall=0
+
+while [ $# -gt 0 ]; do
+  case "$1" in
+    --build-dir) build_dir="$2"; shift 2 ;;
+    --profile-dir) profile_dir="$2"; shift 2 ;;
+    --uninstall) uninstall=1; shift ;;
+    -h|--help) sed -n '2,10p' "$0"; exit 0 ;;
+    *) echo "install-plugin.sh: unknown option $1 (see --help)" >&2; exit 2 ;;
+  esac
+done
+
+target="$profile_dir/geostation"
+bridge="$profile_dir/python/plugins/geostation_processing"
+settings="$profile_dir/QGIS/QGIS3.ini"
+
+# Edits the profile's QGIS3.ini through QSettings, which keeps every other
+# setting as QGIS wrote it.
+edit_settings() {
+  mkdir -p "$(dirname "$settings")"
+  /usr/bin/python3 - "$settings" "$1" "$target/plugins" <<'PY'
+import sys
+from PyQt5.QtCore import QSettings
+path, action, plugin_dir = sys.argv[1:4]
+s = QSettings(path, QSettings.IniFormat)
+paths = s.value("plugins/searchPathsForPlugins", [])
+if isinstance(paths, str):
+    paths = [paths] if paths else []
+paths = [p for p in paths if p != plugin_dir]
+if action == "install":
+    paths.append(plugin_dir)
+    s.setValue("Plugins/libgeostationplugin", True)
+    s.setValue("PythonPlugins/geostation_processing", True)
+else:
+    s.remove("Plugins/libgeostationplugin")
+    s.remove("PythonPlugins/geostation_processing")
+if len(paths) == 1:
+    s.setValue("plugins/searchPathsForPlugins", paths[0])  # plain text; QGIS reads it with toStringList()
+elif paths:
+    s.setValue("plugins/searchPathsForPlugins", paths)
+else:
+    s.remove("plugins/searchPathsForPlugins")
+s.sync()
+sys.exit(0 if s.status() == QSettings.NoError else 1)
+PY
+}
+
+if [ "$uninstall" = 1 ]; then
+  rm -rf "$target" "$bridge"
+  [ -f "$settings" ] && edit_settings uninstall
+  echo "GeoStation removed from $profile_dir"
+  exit 0
+fi
+
+for built in core/libgeostation_core.so plugin/processing/libgeostation_processing.so plugin/libgeostationplugin.so; do
+  if [ ! -e "$build_dir/$built" ]; then
+    echo "install-plugin.sh: $build_dir/$built is missing; build first (scripts/test.sh or cmake --build build)" >&2
+    exit 1
+  fi
+done
+
+# Install into a fresh staging folder, then swap it in, so a failed install
+# leaves the previous one working.
+staging="$profile_dir/.geostation-staging"
+rm -rf "$staging"
+cmake --install "$build_dir" --prefix "$staging" > /dev/null
+rm -rf "$target" "$bridge"
+mkdir -p "$(dirname "$bridge")"
+mv "$staging/python/geostation_processing" "$bridge"
+rmdir "$staging/python"
+mv "$staging" "$target"
+edit_settings install
+
+echo "GeoStation installed into $profile_dir"
+echo "  plugin:   $target/plugins/libgeostationplugin.so"
+echo "  provider: $target/lib/libgeostation_processing.so"
+echo "  bridge:   $bridge"
