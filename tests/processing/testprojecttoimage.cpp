@@ -16,6 +16,8 @@
 #include <qgsprocessingregistry.h>
 #include <qgsprocessingutils.h>
 #include <qgsproject.h>
+#include <qgsrasterlayer.h>
+#include <qgsrasterdataprovider.h>
 #include <qgstest.h>
 #include <qgsvectorlayer.h>
 
@@ -60,6 +62,7 @@ class TestProjectToImage : public QObject
     void transformsFromTheLayerCrs();
     void multipointsKeepAllParts();
     void geopackageOutputHasNoCrs();
+    void rawImageSitsInPixelSpace();
     void badInputFailsWithOneSentenceAndNoOutput_data();
     void badInputFailsWithOneSentenceAndNoOutput();
 
@@ -261,6 +264,30 @@ void TestProjectToImage::geopackageOutputHasNoCrs()
   QGSCOMPARENEAR( OGR_G_GetY( geometry, 0 ), -130.0, 1e-9 );
   OGR_F_Destroy( feature );
   GDALClose( ds );
+}
+
+void TestProjectToImage::rawImageSitsInPixelSpace()
+{
+  // CONVENTIONS §1: QGIS places a raster without georeferencing at x = col,
+  // y = -row, so image-space layers overlay it exactly.
+  const QString path = mDir.filePath( QStringLiteral( "pattern.tif" ) );
+  GDALDatasetH ds = GDALCreate( GDALGetDriverByName( "GTiff" ), path.toUtf8().constData(), 40, 30, 1, GDT_Byte, nullptr );
+  QVERIFY( ds );
+  std::vector<unsigned char> pixels( 40 * 30 );
+  for ( int row = 0; row < 30; ++row )
+    for ( int col = 0; col < 40; ++col )
+      pixels[row * 40 + col] = static_cast<unsigned char>( col + 100 * ( row % 2 ) );
+  QCOMPARE( GDALRasterIO( GDALGetRasterBand( ds, 1 ), GF_Write, 0, 0, 40, 30, pixels.data(), 40, 30, GDT_Byte, 0, 0 ), CE_None );
+  GDALClose( ds );
+
+  QgsRasterLayer raster( path, QStringLiteral( "pattern" ) );
+  QVERIFY( raster.isValid() );
+  QCOMPARE( raster.extent(), QgsRectangle( 0, -30, 40, 0 ) );
+  bool ok = false;
+  // centre of pixel (col 7, row 3) is (7.5, 3.5): x = 7.5, y = -3.5
+  QCOMPARE( raster.dataProvider()->sample( QgsPointXY( 7.5, -3.5 ), 1, &ok ), 107.0 );
+  QVERIFY( ok );
+  QCOMPARE( raster.dataProvider()->sample( QgsPointXY( 39.5, -28.5 ), 1, &ok ), 39.0 );
 }
 
 void TestProjectToImage::badInputFailsWithOneSentenceAndNoOutput_data()

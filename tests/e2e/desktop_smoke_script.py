@@ -1,0 +1,70 @@
+"""Runs inside QGIS desktop (qgis.bin --code this_file): checks that the
+GeoStation plugin is loaded, exercises it, writes the findings as JSON and a
+screenshot, and quits QGIS. Driven by test_desktop_smoke.py."""
+
+import json
+import os
+import traceback
+
+from qgis.core import QgsApplication, QgsProject
+from qgis.PyQt.QtCore import Q_ARG, Q_RETURN_ARG, QMetaObject, QObject, Qt, QTimer
+from qgis.PyQt.QtWidgets import QMenu, QToolBar
+from qgis.utils import iface
+
+RESULT = os.environ["GEOSTATION_SMOKE_RESULT"]
+SCREENSHOT = os.environ["GEOSTATION_SMOKE_SCREENSHOT"]
+GOOD_BLOCK = os.environ["GEOSTATION_SMOKE_BLOCK"]
+BAD_BLOCK = os.environ["GEOSTATION_SMOKE_BAD_BLOCK"]
+OBJECTS = os.environ["GEOSTATION_SMOKE_OBJECTS"]
+
+
+def message_bar_texts():
+    return [{"title": item.title(), "text": item.text(), "level": int(item.level())}
+            for item in iface.messageBar().items()]
+
+
+def open_block(plugin, path):
+    return QMetaObject.invokeMethod(plugin, "openBlockFile", Qt.DirectConnection,
+                                    Q_RETURN_ARG(bool), Q_ARG(str, path))
+
+
+def check():
+    result = {}
+    try:
+        window = iface.mainWindow()
+        menu = window.findChild(QMenu, "mGeoStationMenu")
+        result["menu"] = menu is not None
+        result["menu_title"] = menu.title() if menu else None
+        result["menu_actions"] = [a.objectName() for a in menu.actions()] if menu else []
+        result["toolbar"] = window.findChild(QToolBar, "mGeoStationToolBar") is not None
+        registry = QgsApplication.processingRegistry()
+        result["provider"] = registry.providerById("geostation") is not None
+        result["algorithm"] = registry.algorithmById("geostation:project_to_image") is not None
+
+        plugin = window.findChild(QObject, "GeoStationPlugin")
+        result["plugin_object"] = plugin is not None
+        if plugin is not None:
+            iface.messageBar().clearWidgets()
+            result["bad_block_opened"] = open_block(plugin, BAD_BLOCK)
+            result["bad_block_messages"] = message_bar_texts()
+            iface.messageBar().clearWidgets()
+            result["good_block_opened"] = open_block(plugin, GOOD_BLOCK)
+            result["good_block_messages"] = message_bar_texts()
+
+        import processing
+        output = processing.run("geostation:project_to_image", {
+            "BLOCK": GOOD_BLOCK, "IMAGE": "S0002_front_right", "INPUT": OBJECTS, "OUTPUT": "TEMPORARY_OUTPUT"})
+        result["processing_in_frame"] = output["IN_FRAME_COUNT"]
+
+        QgsApplication.processEvents()
+        result["screenshot"] = window.grab().save(SCREENSHOT)
+    except Exception:  # reported to the driver, which fails the test
+        result["exception"] = traceback.format_exc()
+    with open(RESULT, "w") as f:
+        json.dump(result, f, indent=2)
+    QgsProject.instance().setDirty(False)
+    iface.actionExit().trigger()
+
+
+# Let QGIS finish starting (plugins, window) before looking.
+QTimer.singleShot(3000, check)
