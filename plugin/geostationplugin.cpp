@@ -16,6 +16,7 @@
 #include <qgspythonrunner.h>
 #include <qgssettings.h>
 
+#include "blockinfodialog.h"
 #include "geostationprovider.h"
 #include "io/block.h"
 
@@ -75,8 +76,17 @@ void GeoStationPlugin::initGui()
 
   addAction( QStringLiteral( "mActionGeoStationOpenBlock" ), QStringLiteral( ":/geostation/icons/openblock.svg" ), tr( "Open Block…" ),
              tr( "Open a GeoStation block (*.geostation.json): cameras, stations and oriented images" ), &GeoStationPlugin::openBlock );
+  mBlockInfoAction = addAction( QStringLiteral( "mActionGeoStationBlockInfo" ), QStringLiteral( ":/geostation/icons/blockinfo.svg" ), tr( "Block Information…" ),
+                                tr( "Show the cameras (interior orientation), stations and images of the open block" ), &GeoStationPlugin::showBlockInfo );
   addAction( QStringLiteral( "mActionGeoStationProjectToImage" ), QStringLiteral( ":/geostation/icons/projecttoimage.svg" ), tr( "Project Map Points to Image…" ),
              tr( "Find where map points with heights appear in an oriented image" ), &GeoStationPlugin::showProjectToImage );
+  updateActions();
+}
+
+void GeoStationPlugin::updateActions()
+{
+  if ( mBlockInfoAction )
+    mBlockInfoAction->setEnabled( static_cast<bool>( mBlock ) );
 }
 
 void GeoStationPlugin::unload()
@@ -84,6 +94,7 @@ void GeoStationPlugin::unload()
   for ( QAction *action : std::as_const( mActions ) )
     delete action;
   mActions.clear();
+  mBlockInfoAction = nullptr;
   delete mMenu;
   delete mToolBar;
   if ( mRegisteredProvider )
@@ -95,13 +106,10 @@ void GeoStationPlugin::unload()
 
 QString GeoStationPlugin::blockSummary( const geostation::Block &block ) const
 {
-  int oriented = 0;
-  for ( const geostation::BlockImage &image : block.images )
-    oriented += image.exterior ? 1 : 0;
-  return tr( "%1: %2 cameras, %3 stations, %4 images (%5 oriented), CRS %6" )
-         .arg( QString::fromStdString( block.sourceFile.filename().string() ) )
-         .arg( block.cameras.size() ).arg( block.stations.size() ).arg( block.images.size() ).arg( oriented )
-         .arg( QString::fromStdString( block.crs ) );
+  return tr( "%1: %2, CRS %3" )
+         .arg( QString::fromStdString( block.sourceFile.filename().string() ),
+               GeoStationBlockInfoDialog::contentsSummary( block ),
+               QString::fromStdString( block.crs ) );
 }
 
 bool GeoStationPlugin::openBlockFile( const QString &path )
@@ -111,6 +119,7 @@ bool GeoStationPlugin::openBlockFile( const QString &path )
     auto block = std::make_unique<geostation::Block>( geostation::Block::load( path.toStdString() ) );
     mIface->messageBar()->pushMessage( tr( "GeoStation block opened" ), blockSummary( *block ), Qgis::MessageLevel::Success );
     mBlock = std::move( block );
+    updateActions();
     emit blockOpened( path );
     return true;
   }
@@ -130,6 +139,18 @@ void GeoStationPlugin::openBlock()
     return;
   settings.setValue( sLastBlockDirKey, QFileInfo( path ).absolutePath() );
   openBlockFile( path );
+}
+
+void GeoStationPlugin::showBlockInfo()
+{
+  if ( !mBlock )
+  {
+    mIface->messageBar()->pushMessage( tr( "GeoStation" ), tr( "Open a block first (GeoStation ▸ Open Block…)." ), Qgis::MessageLevel::Info );
+    return;
+  }
+  // Modal: the dialog shows mBlock, which must not change while it is open.
+  GeoStationBlockInfoDialog dialog( *mBlock, mIface->mainWindow() );
+  dialog.exec();
 }
 
 void GeoStationPlugin::showProjectToImage()

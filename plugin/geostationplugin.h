@@ -50,6 +50,9 @@ class GeoStationPlugin : public QObject, public QgisPlugin
     //! Asks for a block file and opens it.
     void openBlock();
 
+    //! Shows the cameras, stations and images of the open block.
+    void showBlockInfo();
+
     //! Opens the Processing dialog of geostation:project_to_image.
     void showProjectToImage();
 
@@ -59,11 +62,13 @@ class GeoStationPlugin : public QObject, public QgisPlugin
   private:
     QAction *addAction( const QString &objectName, const QString &icon, const QString &text, const QString &tip, void ( GeoStationPlugin::*slot )() );
     QString blockSummary( const geostation::Block &block ) const;
+    void updateActions();
 
     QgisInterface *mIface = nullptr;
     QPointer<QMenu> mMenu;
     QPointer<QToolBar> mToolBar;
     QList<QAction *> mActions;
+    QAction *mBlockInfoAction = nullptr;
     bool mRegisteredProvider = false;
     std::unique_ptr<geostation::Block> mBlock;
 };

@@ -8,7 +8,7 @@ import traceback
 
 from qgis.core import QgsApplication, QgsProject
 from qgis.PyQt.QtCore import Q_ARG, Q_RETURN_ARG, QMetaObject, QObject, Qt, QTimer
-from qgis.PyQt.QtWidgets import QMenu, QToolBar
+from qgis.PyQt.QtWidgets import QAction, QApplication, QMenu, QTableView, QToolBar
 from qgis.utils import iface
 
 RESULT = os.environ["GEOSTATION_SMOKE_RESULT"]
@@ -26,6 +26,27 @@ def message_bar_texts():
 def open_block(plugin, path):
     return QMetaObject.invokeMethod(plugin, "openBlockFile", Qt.DirectConnection,
                                     Q_RETURN_ARG(bool), Q_ARG(str, path))
+
+
+def show_block_info(window):
+    """Triggers Block Information, and from inside its modal loop records the
+    dialog, saves a screenshot of it and closes it."""
+    action = window.findChild(QAction, "mActionGeoStationBlockInfo")
+    seen = {"action_enabled": bool(action and action.isEnabled())}
+
+    def inspect():
+        dialog = QApplication.activeModalWidget()
+        seen["dialog"] = dialog.objectName() if dialog else None
+        if dialog:
+            table = dialog.findChild(QTableView, "mCameraTable")
+            seen["camera_rows"] = table.model().rowCount() if table else 0
+            seen["screenshot"] = dialog.grab().save(SCREENSHOT.replace(".png", "-block-info.png"))
+            dialog.reject()
+
+    if action and action.isEnabled():
+        QTimer.singleShot(1000, inspect)
+        action.trigger()
+    return seen
 
 
 def check():
@@ -50,12 +71,14 @@ def check():
             iface.messageBar().clearWidgets()
             result["good_block_opened"] = open_block(plugin, GOOD_BLOCK)
             result["good_block_messages"] = message_bar_texts()
+            result["block_info"] = show_block_info(window)
 
         import processing
         output = processing.run("geostation:project_to_image", {
             "BLOCK": GOOD_BLOCK, "IMAGE": "S0002_front_right", "INPUT": OBJECTS, "OUTPUT": "TEMPORARY_OUTPUT"})
         result["processing_in_frame"] = output["IN_FRAME_COUNT"]
 
+        window.showMaximized()
         QgsApplication.processEvents()
         result["screenshot"] = window.grab().save(SCREENSHOT)
     except Exception:  # reported to the driver, which fails the test

@@ -72,6 +72,7 @@ class DesktopSmokeTest(unittest.TestCase):
         self.assertTrue(self.result.get("menu"))
         self.assertEqual(self.result.get("menu_title"), "&GeoStation")
         self.assertIn("mActionGeoStationOpenBlock", self.result.get("menu_actions", []))
+        self.assertIn("mActionGeoStationBlockInfo", self.result.get("menu_actions", []))
         self.assertIn("mActionGeoStationProjectToImage", self.result.get("menu_actions", []))
         self.assertTrue(self.result.get("toolbar"))
         self.assertTrue(self.result.get("provider"))
@@ -92,6 +93,13 @@ class DesktopSmokeTest(unittest.TestCase):
         messages = self.result.get("good_block_messages", [])
         self.assertEqual(len(messages), 1, messages)
         self.assertIn("3 cameras, 3 stations, 9 images (9 oriented)", messages[0]["text"])
+
+    def test_block_information_shows_the_cameras(self):
+        info = self.result.get("block_info", {})
+        self.assertTrue(info.get("action_enabled"), info)
+        self.assertEqual(info.get("dialog"), "GeoStationBlockInfoDialog")
+        self.assertEqual(info.get("camera_rows"), 3)
+        self.assertTrue(info.get("screenshot"))
 
     def test_screenshot_saved(self):
         self.assertTrue(self.result.get("screenshot"))
