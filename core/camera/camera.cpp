@@ -124,6 +124,11 @@ namespace geostation
 
   PixelProjection Camera::pixelFromCamera( const Eigen::Vector3d &pointInCamera ) const
   {
+    return pixelFromCamera( pointInCamera, lensFieldRadius() );
+  }
+
+  PixelProjection Camera::pixelFromCamera( const Eigen::Vector3d &pointInCamera, double fieldRadius ) const
+  {
     PixelProjection result;
     if ( !( pointInCamera.z() < 0.0 ) )
     {
@@ -133,7 +138,7 @@ namespace geostation
     // Ideal normalised coordinates, x right, y up.
     const double xn = -pointInCamera.x() / pointInCamera.z();
     const double yn = -pointInCamera.y() / pointInCamera.z();
-    if ( distortion.model != DistortionModel::None && std::hypot( xn, yn ) > lensFieldRadius() )
+    if ( xn * xn + yn * yn > fieldRadius * fieldRadius )
     {
       result.status = PixelProjection::Status::OutsideLensField;
       return result;
@@ -159,7 +164,10 @@ namespace geostation
         const Eigen::Vector2d idealPhoto( c * xn, c * yn );
         const double *k = distortion.coeffs.data();
         const auto model = [k]( const auto & xb, const auto & yb, auto * xi, auto * yi ) { brownPhotoCorrect( k, xb, yb, xi, yi ); };
-        const std::optional<Eigen::Vector2d> measured = invert2d( model, idealPhoto, idealPhoto );
+        // Start one fixed-point step from the solution: m0 = ideal - correction(ideal).
+        Eigen::Vector2d corrected;
+        model( idealPhoto.x(), idealPhoto.y(), &corrected.x(), &corrected.y() );
+        const std::optional<Eigen::Vector2d> measured = invert2d( model, idealPhoto, 2.0 * idealPhoto - corrected );
         if ( !measured )
         {
           result.status = PixelProjection::Status::DistortionDiverged;
@@ -183,7 +191,10 @@ namespace geostation
         const Eigen::Vector2d distorted( ( pixelInImage.x() - cx ) / fx(), ( pixelInImage.y() - cy ) / fy() );
         const double *k = distortion.coeffs.data();
         const auto model = [k]( const auto & x, const auto & y, auto * xd, auto * yd ) { opencvDistort( k, x, y, xd, yd ); };
-        const std::optional<Eigen::Vector2d> ideal = invert2d( model, distorted, distorted );
+        // Start one fixed-point step from the solution: u0 = 2 d - distort(d).
+        Eigen::Vector2d twice;
+        model( distorted.x(), distorted.y(), &twice.x(), &twice.y() );
+        const std::optional<Eigen::Vector2d> ideal = invert2d( model, distorted, 2.0 * distorted - twice );
         if ( !ideal )
           return std::nullopt;
         return Eigen::Vector3d( ideal->x(), -ideal->y(), -1.0 );

@@ -118,6 +118,12 @@ namespace geostation
       PixelProjection pixelFromCamera( const Eigen::Vector3d &pointInCamera ) const;
 
       /**
+       * As pixelFromCamera(), with the lens field radius given, for callers
+       * that project many points and compute lensFieldRadius() once.
+       */
+      PixelProjection pixelFromCamera( const Eigen::Vector3d &pointInCamera, double lensFieldRadius ) const;
+
+      /**
        * The viewing ray of a pixel in the camera frame, scaled so that z = -1
        * (so x, y are ideal normalised coordinates with y up). Returns nothing
        * where the lens model cannot be inverted.

@@ -8,27 +8,44 @@
 namespace geostation
 {
 
-  GroundProjection projectGroundToPixel( const Camera &camera, const ExteriorOrientation &exterior, const Eigen::Vector3d &pointInWorld )
+  OrientedImage::OrientedImage( const Camera &camera, const ExteriorOrientation &exterior )
+    : mCamera( camera )
+    , mExterior( exterior )
+    , mCameraFromWorld( exterior.worldFromCamera().transpose() )
+    , mLensFieldRadius( camera.lensFieldRadius() )
+  {}
+
+  GroundProjection OrientedImage::projectGroundToPixel( const Eigen::Vector3d &pointInWorld ) const
   {
-    const Eigen::Vector3d pointInCamera = exterior.cameraFromWorld( pointInWorld );
-    const PixelProjection projection = camera.pixelFromCamera( pointInCamera );
+    const Eigen::Vector3d pointInCamera = cameraFromWorld( pointInWorld );
+    const PixelProjection projection = mCamera.pixelFromCamera( pointInCamera, mLensFieldRadius );
     GroundProjection result;
     result.status = projection.status;
     result.depthM = -pointInCamera.z();
     if ( projection.ok() )
     {
       result.pixelInImage = projection.pixelInImage;
-      result.inFrame = camera.isInFrame( projection.pixelInImage );
+      result.inFrame = mCamera.isInFrame( projection.pixelInImage );
     }
     return result;
   }
 
-  std::optional<Ray> worldRayFromPixel( const Camera &camera, const ExteriorOrientation &exterior, const Eigen::Vector2d &pixelInImage )
+  std::optional<Ray> OrientedImage::worldRayFromPixel( const Eigen::Vector2d &pixelInImage ) const
   {
-    const std::optional<Eigen::Vector3d> rayInCamera = camera.rayInCameraFromPixel( pixelInImage );
+    const std::optional<Eigen::Vector3d> rayInCamera = mCamera.rayInCameraFromPixel( pixelInImage );
     if ( !rayInCamera )
       return std::nullopt;
-    return Ray { exterior.projectionCentre, exterior.worldDirectionFromCamera( *rayInCamera ).normalized() };
+    return Ray { mExterior.projectionCentre, ( mCameraFromWorld.transpose() * *rayInCamera ).normalized() };
+  }
+
+  GroundProjection projectGroundToPixel( const Camera &camera, const ExteriorOrientation &exterior, const Eigen::Vector3d &pointInWorld )
+  {
+    return OrientedImage( camera, exterior ).projectGroundToPixel( pointInWorld );
+  }
+
+  std::optional<Ray> worldRayFromPixel( const Camera &camera, const ExteriorOrientation &exterior, const Eigen::Vector2d &pixelInImage )
+  {
+    return OrientedImage( camera, exterior ).worldRayFromPixel( pixelInImage );
   }
 
 } // namespace geostation

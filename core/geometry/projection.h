@@ -33,8 +33,37 @@ namespace geostation
   };
 
   /**
+   * One image's camera and exterior orientation, ready to project many points:
+   * the rotation and the lens field are computed once. Holds a copy of both.
+   */
+  class OrientedImage
+  {
+    public:
+      OrientedImage( const Camera &camera, const ExteriorOrientation &exterior );
+
+      const Camera &camera() const { return mCamera; }
+      const ExteriorOrientation &exterior() const { return mExterior; }
+
+      //! p = R^T (P - X0)
+      Eigen::Vector3d cameraFromWorld( const Eigen::Vector3d &pointInWorld ) const { return mCameraFromWorld * ( pointInWorld - mExterior.projectionCentre ); }
+
+      //! Collinearity with distortion; see projectGroundToPixel().
+      GroundProjection projectGroundToPixel( const Eigen::Vector3d &pointInWorld ) const;
+
+      //! The viewing ray of a pixel; see worldRayFromPixel().
+      std::optional<Ray> worldRayFromPixel( const Eigen::Vector2d &pixelInImage ) const;
+
+    private:
+      Camera mCamera;
+      ExteriorOrientation mExterior;
+      Eigen::Matrix3d mCameraFromWorld;
+      double mLensFieldRadius;
+  };
+
+  /**
    * Collinearity with distortion: the pixel at which a ground point (block
    * CRS, metres) appears. Points behind the camera are reported as such.
+   * For many points of one image, use OrientedImage.
    */
   GroundProjection projectGroundToPixel( const Camera &camera, const ExteriorOrientation &exterior, const Eigen::Vector3d &pointInWorld );
 

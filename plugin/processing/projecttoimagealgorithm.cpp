@@ -101,7 +101,7 @@ QVariantMap ProjectToImageAlgorithm::processAlgorithm( const QVariantMap &parame
   const geostation::BlockImage &image = GeoStationProcessing::blockImage( block, imageId );
   const geostation::ExteriorOrientation &exterior = GeoStationProcessing::requireOriented( block, image );
   GeoStationProcessing::requireImageFile( block, image );
-  const geostation::Camera &camera = block.cameraOf( image );
+  const geostation::OrientedImage orientedImage( block.cameraOf( image ), exterior );
   const QgsCoordinateReferenceSystem blockCrs = GeoStationProcessing::blockCrs( block );
 
   std::unique_ptr<QgsProcessingFeatureSource> source( parameterAsSource( parameters, QStringLiteral( "INPUT" ), context ) );
@@ -147,7 +147,7 @@ QVariantMap ProjectToImageAlgorithm::processAlgorithm( const QVariantMap &parame
           throw QgsProcessingException( QObject::tr( "Feature %1 cannot be transformed from %2 to the block CRS %3." )
                                         .arg( feature.id() ).arg( sourceCrs.userFriendlyIdentifier(), blockCrs.userFriendlyIdentifier() ) );
         }
-        const geostation::GroundProjection p = geostation::projectGroundToPixel( camera, exterior, Eigen::Vector3d( x, y, z ) );
+        const geostation::GroundProjection p = orientedImage.projectGroundToPixel( Eigen::Vector3d( x, y, z ) );
         minDepth = std::min( minDepth, p.depthM );
         behind |= p.status == geostation::PixelProjection::Status::BehindCamera;
         diverged |= p.status == geostation::PixelProjection::Status::DistortionDiverged || p.status == geostation::PixelProjection::Status::OutsideLensField;

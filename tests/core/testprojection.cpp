@@ -104,3 +104,23 @@ TEST( Projection, RayThroughProjectedPixelPassesThroughTheGroundPoint )
     EXPECT_GT( toPoint.dot( ray->direction ), 0.0 );
   }
 }
+
+TEST( Projection, OrientedImageAgreesWithTheFreeFunctions )
+{
+  const Camera c = vanCamera();
+  ExteriorOrientation eo = lookingNorth();
+  eo.phiDeg = 3.0;
+  eo.kappaDeg = -7.0;
+  const OrientedImage image( c, eo );
+  for ( const Eigen::Vector3d offset : { Eigen::Vector3d( 1, 20, -1 ), Eigen::Vector3d( -3, 8, 0.5 ), Eigen::Vector3d( 0, -5, 0 ), Eigen::Vector3d( 30, 5, 0 ) } )
+  {
+    const GroundProjection a = image.projectGroundToPixel( eo.projectionCentre + offset );
+    const GroundProjection b = projectGroundToPixel( c, eo, eo.projectionCentre + offset );
+    EXPECT_EQ( a.status, b.status );
+    EXPECT_EQ( a.inFrame, b.inFrame );
+    EXPECT_EQ( a.pixelInImage, b.pixelInImage );
+    EXPECT_DOUBLE_EQ( a.depthM, b.depthM );
+  }
+  const Ray r = *image.worldRayFromPixel( { 100.5, 50.25 } );
+  EXPECT_LT( ( r.direction - worldRayFromPixel( c, eo, { 100.5, 50.25 } )->direction ).norm(), 1e-15 );
+}
