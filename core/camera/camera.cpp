@@ -213,4 +213,36 @@ namespace geostation
     return std::nullopt;
   }
 
+  std::optional<Eigen::Matrix2d> Camera::pixelJacobianWrtIdeal( const Eigen::Vector2d &pixelInImage ) const
+  {
+    switch ( distortion.model )
+    {
+      case DistortionModel::None:
+        return Eigen::DiagonalMatrix<double, 2>( fx(), -fy() ).toDenseMatrix();
+      case DistortionModel::OpenCV:
+      {
+        const std::optional<Eigen::Vector3d> ray = rayInCameraFromPixel( pixelInImage );
+        if ( !ray )
+          return std::nullopt;
+        Jet2 x( ray->x(), 0 ), y( -ray->y(), 1 ), xd, yd;
+        opencvDistort( distortion.coeffs.data(), x, y, &xd, &yd );
+        Eigen::Matrix2d jacobianCv;
+        jacobianCv << xd.v[0], xd.v[1], yd.v[0], yd.v[1];
+        return Eigen::DiagonalMatrix<double, 2>( fx(), fy() ) * jacobianCv * Eigen::DiagonalMatrix<double, 2>( 1.0, -1.0 );
+      }
+      case DistortionModel::BrownPhoto:
+      {
+        const double ps = *pixelSizeMm;
+        Jet2 xb( ( pixelInImage.x() - cx ) * ps, 0 ), yb( -( pixelInImage.y() - cy ) * ps / aspect, 1 ), xi, yi;
+        brownPhotoCorrect( distortion.coeffs.data(), xb, yb, &xi, &yi );
+        Eigen::Matrix2d correction;
+        correction << xi.v[0], xi.v[1], yi.v[0], yi.v[1];
+        if ( !( std::abs( correction.determinant() ) > 1e-12 ) )
+          return std::nullopt;
+        return Eigen::DiagonalMatrix<double, 2>( 1.0 / ps, -aspect / ps ) * correction.inverse() * ( f * ps );
+      }
+    }
+    return std::nullopt;
+  }
+
 } // namespace geostation

@@ -129,6 +129,14 @@ namespace geostation
        * where the lens model cannot be inverted.
        */
       std::optional<Eigen::Vector3d> rayInCameraFromPixel( const Eigen::Vector2d &pixelInImage ) const;
+
+      /**
+       * d(col, row) / d(xn, yn) at a pixel, where (xn, yn) are the ideal
+       * normalised coordinates of rayInCameraFromPixel() (y up). Adjustments
+       * work on ideal coordinates and use this to weight and report in pixels.
+       * Returns nothing where the lens model cannot be inverted.
+       */
+      std::optional<Eigen::Matrix2d> pixelJacobianWrtIdeal( const Eigen::Vector2d &pixelInImage ) const;
   };
 
 } // namespace geostation

@@ -44,6 +44,9 @@ namespace geostation
       const Camera &camera() const { return mCamera; }
       const ExteriorOrientation &exterior() const { return mExterior; }
 
+      //! R^T: object-space vectors to the camera frame.
+      const Eigen::Matrix3d &cameraFromWorldRotation() const { return mCameraFromWorld; }
+
       //! p = R^T (P - X0)
       Eigen::Vector3d cameraFromWorld( const Eigen::Vector3d &pointInWorld ) const { return mCameraFromWorld * ( pointInWorld - mExterior.projectionCentre ); }
 

@@ -160,6 +160,26 @@ TEST_P( CameraRoundTrip, FarOutsideTheFieldIsNotProjected )
   }
 }
 
+TEST_P( CameraRoundTrip, PixelJacobianMatchesFiniteDifferences )
+{
+  const Camera c = makeCamera( GetParam() );
+  for ( const Eigen::Vector2d pixel : { Eigen::Vector2d( 20.0, 30.0 ), Eigen::Vector2d( 322.3, 238.9 ), Eigen::Vector2d( 600.0, 450.0 ) } )
+  {
+    const Eigen::Vector3d ray = *c.rayInCameraFromPixel( pixel );
+    const Eigen::Matrix2d jacobian = *c.pixelJacobianWrtIdeal( pixel );
+    const double h = 1e-6;
+    Eigen::Matrix2d numeric;
+    for ( int k = 0; k < 2; ++k )
+    {
+      Eigen::Vector3d plus = ray, minus = ray;
+      plus[k] += h;
+      minus[k] -= h;
+      numeric.col( k ) = ( c.pixelFromCamera( plus ).pixelInImage - c.pixelFromCamera( minus ).pixelInImage ) / ( 2 * h );
+    }
+    EXPECT_LT( ( jacobian - numeric ).norm(), 1e-4 * jacobian.norm() ) << pixel.transpose() << "\n" << jacobian << "\n" << numeric;
+  }
+}
+
 TEST( Camera, PixelCentresAreAtHalfIntegers )
 {
   // An undistorted camera whose axis hits the centre of pixel (10, 20).
