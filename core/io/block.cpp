@@ -462,7 +462,19 @@ namespace geostation
 
   void Block::save( const std::filesystem::path &file ) const
   {
-    const std::string text = toJsonText();
+    // Image paths are relative to the block file: written elsewhere, they are
+    // rebased so they still name the same files.
+    Block rebased = *this;
+    if ( !sourceFile.empty() )
+    {
+      const std::filesystem::path oldDir = std::filesystem::absolute( sourceFile ).parent_path();
+      const std::filesystem::path newDir = std::filesystem::absolute( file ).parent_path();
+      if ( oldDir.lexically_normal() != newDir.lexically_normal() )
+        for ( BlockImage &image : rebased.images )
+          if ( std::filesystem::path( image.path ).is_relative() )
+            image.path = ( oldDir / image.path ).lexically_normal().lexically_relative( newDir.lexically_normal() ).generic_string();
+    }
+    const std::string text = rebased.toJsonText();
     std::filesystem::path temporary = file;
     temporary += ".tmp-write";
     {

@@ -79,7 +79,8 @@ namespace geostation
 
       /**
        * Writes the block atomically (temporary file, then rename), so a failed
-       * save never leaves a half-written file. Throws std::runtime_error.
+       * save never leaves a half-written file. Relative image paths are
+       * rebased onto the new file's folder. Throws std::runtime_error.
        */
       void save( const std::filesystem::path &file ) const;
 

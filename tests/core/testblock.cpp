@@ -111,8 +111,28 @@ TEST( Block, UnknownKeysSurviveASaveAtEveryLevel )
   EXPECT_FALSE( saved["images"][2].contains( "X" ) );
   EXPECT_FALSE( std::filesystem::exists( dir.path / "edited.geostation.json.tmp-write" ) );
 
+  // Loading the saved file gives the same block; only the image paths differ,
+  // rebased onto the new folder (see SavingElsewhere...).
+  json first = json::parse( b.toJsonText() ), second = json::parse( Block::load( out ).toJsonText() );
+  for ( json *doc : { &first, &second } )
+    for ( json &image : ( *doc )["images"] )
+      image.erase( "path" );
+  EXPECT_EQ( first, second );
+}
+
+TEST( Block, SavingElsewhereKeepsImagePathsPointingAtTheSameFiles )
+{
+  TempDir dir;
+  const Block b = Block::load( kSample );
+  std::filesystem::create_directories( dir.path / "results/adjusted" );
+  const std::filesystem::path out = dir.path / "results/adjusted/run.geostation.json";
+  b.save( out );
   const Block again = Block::load( out );
-  EXPECT_EQ( again.toJsonText(), b.toJsonText() );
+  for ( size_t i = 0; i < b.images.size(); ++i )
+    EXPECT_EQ( std::filesystem::weakly_canonical( again.imageFilePath( again.images[i] ) ), std::filesystem::weakly_canonical( b.imageFilePath( b.images[i] ) ) );
+  // Saved beside the original, paths stay as written.
+  const Block copy = Block::fromJsonText( b.toJsonText(), kSample.parent_path() / "copy.geostation.json" );
+  EXPECT_EQ( copy.images[0].path, "images/S0001_L.tif" );
 }
 
 TEST( Block, SaveIntoAMissingFolderFailsAndWritesNothing )
