@@ -9,7 +9,9 @@
 #include <qgsapplication.h>
 #include <qgsprocessingregistry.h>
 
+#include "intersectalgorithm.h"
 #include "projecttoimagealgorithm.h"
+#include "resectionalgorithm.h"
 
 namespace
 {
@@ -53,6 +55,8 @@ bool GeoStationProvider::supportsNonFileBasedOutput() const
 void GeoStationProvider::loadAlgorithms()
 {
   addAlgorithm( new ProjectToImageAlgorithm() );
+  addAlgorithm( new IntersectAlgorithm() );
+  addAlgorithm( new ResectionAlgorithm() );
 }
 
 bool registerGeoStationProvider()

@@ -332,8 +332,12 @@ int main( int argc, char **argv )
   QgsApplication app( argc, argv, false );
   QgsApplication::init();
   QgsApplication::initQgis();
-  TestProjectToImage test;
-  const int result = QTest::qExec( &test, argc, argv );
+  int result = 0;
+  {
+    // Destroyed before exitQgis(): it holds layers whose providers must still exist.
+    TestProjectToImage test;
+    result = QTest::qExec( &test, argc, argv );
+  }
   QgsApplication::exitQgis();
   return result;
 }

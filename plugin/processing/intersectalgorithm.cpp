@@ -1,0 +1,182 @@
+/***************************************************************************
+  intersectalgorithm.cpp - geostation:intersect
+ ***************************************************************************/
+#include "intersectalgorithm.h"
+
+#include <map>
+#include <memory>
+
+#include <qgsexception.h>
+#include <qgsfeaturesink.h>
+#include <qgsgeometry.h>
+#include <qgspoint.h>
+#include <qgsprocessingfeedback.h>
+#include <qgsprocessingoutputs.h>
+#include <qgsprocessingparameters.h>
+
+#include "adjustment/intersection.h"
+#include "processingblock.h"
+#include "processingtables.h"
+
+QString IntersectAlgorithm::name() const
+{
+  return QStringLiteral( "intersect" );
+}
+
+QString IntersectAlgorithm::displayName() const
+{
+  return QObject::tr( "Intersect image points (multi-ray)" );
+}
+
+QStringList IntersectAlgorithm::tags() const
+{
+  return QObject::tr( "photogrammetry,intersection,triangulation,stereo,multi-ray,3d,precision" ).split( ',' );
+}
+
+QString IntersectAlgorithm::group() const
+{
+  return QObject::tr( "Adjustment" );
+}
+
+QString IntersectAlgorithm::groupId() const
+{
+  return QStringLiteral( "adjustment" );
+}
+
+QString IntersectAlgorithm::shortHelpString() const
+{
+  return QObject::tr( "Computes the 3D position of every point measured in two or more oriented images of a block, "
+                      "by least squares on the collinearity equations with the cameras' lens distortion.\n\n"
+                      "OBSERVATIONS is a table with point_id, image_id, col, row (pixels) and optionally sigma_px "
+                      "(otherwise SIGMA_PX applies). Its other fields are carried to the output from each point's first row.\n\n"
+                      "The output (PointZ, block CRS) has point_id, n_images, sigma_x, sigma_y, sigma_z (metres, from the "
+                      "pixel sigmas), rms_px and max_resid_px (image residuals), ray_angle_deg (the largest angle between two "
+                      "rays: small angles mean weak depth), sigma0, gross_error (a normalised residual above 4) and suspect_image "
+                      "(the image most likely wrong, when three or more rays allow telling). Points seen in one image only, "
+                      "or whose rays are parallel or meet behind a camera, are skipped with a warning." );
+}
+
+IntersectAlgorithm *IntersectAlgorithm::createInstance() const
+{
+  return new IntersectAlgorithm();
+}
+
+void IntersectAlgorithm::initAlgorithm( const QVariantMap & )
+{
+  addParameter( new QgsProcessingParameterFile( QStringLiteral( "BLOCK" ), QObject::tr( "GeoStation block" ), QgsProcessingParameterFile::File,
+                QString(), QVariant(), false, QObject::tr( "GeoStation block (*.geostation.json *.json)" ) ) );
+  addParameter( new QgsProcessingParameterFeatureSource( QStringLiteral( "OBSERVATIONS" ), QObject::tr( "Image observations (point_id, image_id, col, row)" ),
+                QList<int>() << QgsProcessing::TypeVector ) );
+  addParameter( new QgsProcessingParameterNumber( QStringLiteral( "SIGMA_PX" ), QObject::tr( "Pixel sigma where the table has none" ),
+                QgsProcessingParameterNumber::Double, 0.5, false, 1e-6 ) );
+  addParameter( new QgsProcessingParameterFeatureSink( QStringLiteral( "OUTPUT" ), QObject::tr( "Intersected points" ), QgsProcessing::TypeVectorPoint ) );
+  addOutput( new QgsProcessingOutputNumber( QStringLiteral( "POINT_COUNT" ), QObject::tr( "Points intersected" ) ) );
+  addOutput( new QgsProcessingOutputNumber( QStringLiteral( "SKIPPED_COUNT" ), QObject::tr( "Points skipped" ) ) );
+}
+
+QVariantMap IntersectAlgorithm::processAlgorithm( const QVariantMap &parameters, QgsProcessingContext &context, QgsProcessingFeedback *feedback )
+{
+  const geostation::Block block = GeoStationProcessing::loadBlock( parameterAsFile( parameters, QStringLiteral( "BLOCK" ), context ) );
+  const QgsCoordinateReferenceSystem crs = GeoStationProcessing::blockCrs( block );
+  std::unique_ptr<QgsProcessingFeatureSource> source( parameterAsSource( parameters, QStringLiteral( "OBSERVATIONS" ), context ) );
+  if ( !source )
+    throw QgsProcessingException( invalidSourceError( parameters, QStringLiteral( "OBSERVATIONS" ) ) );
+  const double defaultSigma = parameterAsDouble( parameters, QStringLiteral( "SIGMA_PX" ), context );
+  const GeoStationProcessing::ObservationTable table = GeoStationProcessing::readObservations( source.get(), QObject::tr( "observations" ), feedback );
+
+  // Every image named must exist and be oriented: checked before anything is written.
+  std::map<QString, std::unique_ptr<geostation::OrientedImage>> images;
+  for ( const GeoStationProcessing::ObservationRecord &r : table.rows )
+    if ( !images.count( r.imageId ) )
+    {
+      const geostation::BlockImage &image = GeoStationProcessing::blockImage( block, r.imageId );
+      images[r.imageId] = std::make_unique<geostation::OrientedImage>( block.cameraOf( image ), GeoStationProcessing::requireOriented( block, image ) );
+    }
+
+  // Group by point, in order of first appearance.
+  QStringList order;
+  QMap<QString, QVector<int>> rowsOfPoint;
+  for ( int i = 0; i < table.rows.size(); ++i )
+  {
+    if ( !rowsOfPoint.contains( table.rows[i].pointId ) )
+      order << table.rows[i].pointId;
+    rowsOfPoint[table.rows[i].pointId] << i;
+  }
+
+  QgsFields fields;
+  fields.append( QgsField( QStringLiteral( "point_id" ), QVariant::String ) );
+  fields.append( QgsField( QStringLiteral( "n_images" ), QVariant::Int ) );
+  for ( const char *name : { "sigma_x", "sigma_y", "sigma_z", "rms_px", "max_resid_px", "ray_angle_deg", "sigma0" } )
+    fields.append( QgsField( QString::fromLatin1( name ), QVariant::Double ) );
+  fields.append( QgsField( QStringLiteral( "gross_error" ), QVariant::Bool ) );
+  fields.append( QgsField( QStringLiteral( "suspect_image" ), QVariant::String ) );
+  for ( const QgsField &extra : table.extraFields )
+    if ( fields.indexFromName( extra.name() ) < 0 )
+      fields.append( extra );
+
+  QVector<QgsFeature> features;
+  QStringList skipped;
+  for ( int k = 0; k < order.size(); ++k )
+  {
+    if ( feedback->isCanceled() )
+      return QVariantMap();
+    const QString &pointId = order[k];
+    const QVector<int> &rows = rowsOfPoint[pointId];
+    std::vector<geostation::RayObservation> observations;
+    for ( int i : rows )
+    {
+      const GeoStationProcessing::ObservationRecord &r = table.rows[i];
+      observations.push_back( { images[r.imageId].get(), r.pixel, r.sigmaPx > 0.0 ? r.sigmaPx : defaultSigma } );
+    }
+    const geostation::IntersectionSummary s = geostation::intersectRays( observations );
+    if ( !s.ok() )
+    {
+      skipped << QStringLiteral( "%1 (%2)" ).arg( pointId, QString::fromStdString( s.message ) );
+      continue;
+    }
+    QString suspect;
+    for ( size_t i = 0; i < s.residuals.size(); ++i )
+      if ( s.residuals[i].suspect )
+        suspect = table.rows[rows[static_cast<int>( i )]].imageId;
+    QgsFeature f( fields );
+    f.setGeometry( QgsGeometry( new QgsPoint( s.point.x(), s.point.y(), s.point.z() ) ) );
+    QgsAttributes attributes;
+    attributes << pointId << static_cast<int>( observations.size() ) << s.sigmaM.x() << s.sigmaM.y() << s.sigmaM.z() << s.rmsPx << s.maxResidualPx
+               << s.maxRayAngleDeg << s.sigma0 << s.grossError << ( suspect.isEmpty() ? QVariant() : QVariant( suspect ) );
+    const GeoStationProcessing::ObservationRecord &first = table.rows[rows.first()];
+    for ( int e = 0; e < table.extraFields.count(); ++e )
+      if ( fields.indexFromName( table.extraFields.at( e ).name() ) >= 11 )
+        attributes << first.extra.value( e );
+    f.setAttributes( attributes );
+    features << f;
+    feedback->setProgress( 90.0 * ( k + 1 ) / order.size() );
+  }
+  if ( features.isEmpty() )
+    throw QgsProcessingException( order.isEmpty() ? QObject::tr( "The observations table is empty." )
+                                  : QObject::tr( "No point could be intersected: %1" ).arg( skipped.mid( 0, 5 ).join( QLatin1String( "; " ) ) ) );
+
+  QString destination;
+  std::unique_ptr<QgsFeatureSink> sink( parameterAsSink( parameters, QStringLiteral( "OUTPUT" ), context, destination, fields, QgsWkbTypes::PointZ, crs ) );
+  if ( !sink )
+    throw QgsProcessingException( invalidSinkError( parameters, QStringLiteral( "OUTPUT" ) ) );
+  for ( QgsFeature &f : features )
+    if ( !sink->addFeature( f, QgsFeatureSink::FastInsert ) )
+      throw QgsProcessingException( writeFeatureError( sink.get(), parameters, QStringLiteral( "OUTPUT" ) ) );
+  sink.reset();
+  feedback->setProgress( 100 );
+
+  int grossErrors = 0;
+  for ( const QgsFeature &f : features )
+    grossErrors += f.attribute( QStringLiteral( "gross_error" ) ).toBool() ? 1 : 0;
+  feedback->pushInfo( QObject::tr( "%1 points intersected from %2 observations." ).arg( features.size() ).arg( table.rows.size() ) );
+  if ( grossErrors )
+    feedback->pushWarning( QObject::tr( "%1 points show a gross error (see gross_error and suspect_image)." ).arg( grossErrors ) );
+  if ( !skipped.isEmpty() )
+    feedback->pushWarning( QObject::tr( "%1 points skipped: %2" ).arg( skipped.size() ).arg( skipped.mid( 0, 10 ).join( QLatin1String( "; " ) ) ) );
+
+  QVariantMap outputs;
+  outputs.insert( QStringLiteral( "OUTPUT" ), destination );
+  outputs.insert( QStringLiteral( "POINT_COUNT" ), features.size() );
+  outputs.insert( QStringLiteral( "SKIPPED_COUNT" ), skipped.size() );
+  return outputs;
+}

@@ -1,0 +1,29 @@
+/***************************************************************************
+  intersectalgorithm.h - geostation:intersect
+  -------------------------------------------------------------------------
+  Multi-ray space intersection of measured image points (CONVENTIONS §8).
+ ***************************************************************************/
+#ifndef INTERSECTALGORITHM_H
+#define INTERSECTALGORITHM_H
+
+#include <qgsprocessingalgorithm.h>
+
+#include "geostation_processing_export.h"
+
+class GEOSTATION_PROCESSING_EXPORT IntersectAlgorithm : public QgsProcessingAlgorithm
+{
+  public:
+    QString name() const override;
+    QString displayName() const override;
+    QStringList tags() const override;
+    QString group() const override;
+    QString groupId() const override;
+    QString shortHelpString() const override;
+    IntersectAlgorithm *createInstance() const override;
+
+  protected:
+    void initAlgorithm( const QVariantMap &configuration = QVariantMap() ) override;
+    QVariantMap processAlgorithm( const QVariantMap &parameters, QgsProcessingContext &context, QgsProcessingFeedback *feedback ) override;
+};
+
+#endif // INTERSECTALGORITHM_H

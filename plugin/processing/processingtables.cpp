@@ -1,0 +1,174 @@
+/***************************************************************************
+  processingtables.cpp - the tables algorithms exchange
+ ***************************************************************************/
+#include "processingtables.h"
+
+#include <cmath>
+
+#include <qgscoordinatetransform.h>
+#include <qgsexception.h>
+#include <qgsfeatureiterator.h>
+#include <qgsfeaturesource.h>
+#include <qgsgeometry.h>
+#include <qgsprocessingfeedback.h>
+
+namespace GeoStationProcessing
+{
+
+  namespace
+  {
+    int fieldIndex( const QgsFields &fields, const QString &name )
+    {
+      for ( int i = 0; i < fields.count(); ++i )
+        if ( fields.at( i ).name().compare( name, Qt::CaseInsensitive ) == 0 )
+          return i;
+      return -1;
+    }
+
+    int requireField( const QgsFields &fields, const QString &name, const QString &what, const QString &expected )
+    {
+      const int index = fieldIndex( fields, name );
+      if ( index < 0 )
+        throw QgsProcessingException( QObject::tr( "The %1 table has no field \"%2\"; it needs %3." ).arg( what, name, expected ) );
+      return index;
+    }
+
+    QString text( const QgsFeature &f, int index )
+    {
+      const QVariant v = f.attribute( index );
+      return v.isNull() ? QString() : v.toString().trimmed();
+    }
+
+    //! A number from a numeric or text field; throws naming the row and field.
+    double number( const QgsFeature &f, int index, long row, const QString &field, const QString &what, bool optional = false, double fallback = 0.0 )
+    {
+      const QVariant v = f.attribute( index );
+      if ( v.isNull() || ( v.type() == QVariant::String && v.toString().trimmed().isEmpty() ) )
+      {
+        if ( optional )
+          return fallback;
+        throw QgsProcessingException( QObject::tr( "Row %1 of the %2 table has no value in \"%3\"." ).arg( row ).arg( what, field ) );
+      }
+      bool ok = false;
+      const double d = v.type() == QVariant::String ? v.toString().trimmed().toDouble( &ok ) : v.toDouble( &ok );
+      if ( !ok || !std::isfinite( d ) )
+        throw QgsProcessingException( QObject::tr( "Row %1 of the %2 table: \"%3\" is \"%4\", not a number." ).arg( row ).arg( what, field, v.toString() ) );
+      return d;
+    }
+  } // namespace
+
+  ObservationTable readObservations( QgsFeatureSource *source, const QString &what, QgsProcessingFeedback *feedback )
+  {
+    const QString expected = QObject::tr( "point_id, image_id, col, row and optionally sigma_px" );
+    const QgsFields fields = source->fields();
+    const int pointField = requireField( fields, QStringLiteral( "point_id" ), what, expected );
+    const int imageField = requireField( fields, QStringLiteral( "image_id" ), what, expected );
+    const int colField = requireField( fields, QStringLiteral( "col" ), what, expected );
+    const int rowField = requireField( fields, QStringLiteral( "row" ), what, expected );
+    const int sigmaField = fieldIndex( fields, QStringLiteral( "sigma_px" ) );
+
+    ObservationTable table;
+    QList<int> extraIndexes;
+    for ( int i = 0; i < fields.count(); ++i )
+      if ( i != pointField && i != imageField && i != colField && i != rowField && i != sigmaField )
+      {
+        table.extraFields.append( fields.at( i ) );
+        extraIndexes << i;
+      }
+
+    QgsFeatureIterator it = source->getFeatures( QgsFeatureRequest().setFlags( QgsFeatureRequest::NoGeometry ) );
+    QgsFeature f;
+    long row = 0;
+    while ( it.nextFeature( f ) )
+    {
+      ++row;
+      if ( feedback && feedback->isCanceled() )
+        break;
+      ObservationRecord r;
+      r.pointId = text( f, pointField );
+      r.imageId = text( f, imageField );
+      if ( r.pointId.isEmpty() || r.imageId.isEmpty() )
+        throw QgsProcessingException( QObject::tr( "Row %1 of the %2 table has no point_id or no image_id." ).arg( row ).arg( what ) );
+      r.pixel = Eigen::Vector2d( number( f, colField, row, QStringLiteral( "col" ), what ), number( f, rowField, row, QStringLiteral( "row" ), what ) );
+      if ( sigmaField >= 0 )
+      {
+        r.sigmaPx = number( f, sigmaField, row, QStringLiteral( "sigma_px" ), what, true, 0.0 );
+        if ( r.sigmaPx < 0.0 || ( r.sigmaPx == 0.0 && !text( f, sigmaField ).isEmpty() ) )
+          throw QgsProcessingException( QObject::tr( "Row %1 of the %2 table: sigma_px must be positive." ).arg( row ).arg( what ) );
+      }
+      for ( int i : extraIndexes )
+        r.extra << f.attribute( i );
+      table.rows << r;
+    }
+    return table;
+  }
+
+  QVector<GroundPointRecord> readGroundPoints( QgsFeatureSource *source, const QString &what, const QgsCoordinateReferenceSystem &blockCrs,
+      const QgsCoordinateTransformContext &transformContext, QgsProcessingFeedback *feedback )
+  {
+    const QgsFields fields = source->fields();
+    const int pointField = requireField( fields, QStringLiteral( "point_id" ), what, QObject::tr( "point_id, X, Y, Z (or PointZ geometries) and optionally sx, sy, sz, role" ) );
+    const int xField = fieldIndex( fields, QStringLiteral( "X" ) ), yField = fieldIndex( fields, QStringLiteral( "Y" ) ), zField = fieldIndex( fields, QStringLiteral( "Z" ) );
+    const bool fromFields = xField >= 0 && yField >= 0 && zField >= 0;
+    if ( !fromFields && !QgsWkbTypes::hasZ( source->wkbType() ) )
+      throw QgsProcessingException( QObject::tr( "The %1 table has neither X, Y, Z fields nor PointZ geometries." ).arg( what ) );
+    const int sigmaFields[3] = { fieldIndex( fields, QStringLiteral( "sx" ) ), fieldIndex( fields, QStringLiteral( "sy" ) ), fieldIndex( fields, QStringLiteral( "sz" ) ) };
+    const int roleField = fieldIndex( fields, QStringLiteral( "role" ) );
+    // Coordinates in fields are taken to be in the block CRS; geometries are transformed.
+    const QgsCoordinateTransform toBlock( source->sourceCrs().isValid() ? source->sourceCrs() : blockCrs, blockCrs, transformContext );
+
+    QVector<GroundPointRecord> points;
+    QgsFeatureIterator it = source->getFeatures();
+    QgsFeature f;
+    long row = 0;
+    while ( it.nextFeature( f ) )
+    {
+      ++row;
+      if ( feedback && feedback->isCanceled() )
+        break;
+      GroundPointRecord p;
+      p.pointId = text( f, pointField );
+      if ( p.pointId.isEmpty() )
+        throw QgsProcessingException( QObject::tr( "Row %1 of the %2 table has no point_id." ).arg( row ).arg( what ) );
+      if ( fromFields )
+        p.world = Eigen::Vector3d( number( f, xField, row, QStringLiteral( "X" ), what ), number( f, yField, row, QStringLiteral( "Y" ), what ), number( f, zField, row, QStringLiteral( "Z" ), what ) );
+      else
+      {
+        if ( !f.hasGeometry() )
+          throw QgsProcessingException( QObject::tr( "Row %1 (%2) of the %3 table has no geometry." ).arg( row ).arg( p.pointId, what ) );
+        const QgsPoint point = *f.geometry().vertices_begin();
+        double x = point.x(), y = point.y(), z = point.z();
+        if ( std::isnan( z ) )
+          throw QgsProcessingException( QObject::tr( "Point %1 of the %2 table has no height." ).arg( p.pointId, what ) );
+        try
+        {
+          toBlock.transformInPlace( x, y, z );
+        }
+        catch ( const QgsCsException & )
+        {
+          throw QgsProcessingException( QObject::tr( "Point %1 of the %2 table cannot be transformed to the block CRS." ).arg( p.pointId, what ) );
+        }
+        p.world = Eigen::Vector3d( x, y, z );
+      }
+      const char *axes[3] = { "sx", "sy", "sz" };
+      for ( int k = 0; k < 3; ++k )
+        if ( sigmaFields[k] >= 0 )
+        {
+          p.sigmaM[k] = number( f, sigmaFields[k], row, QString::fromLatin1( axes[k] ), what, true, 0.0 );
+          if ( p.sigmaM[k] < 0.0 )
+            throw QgsProcessingException( QObject::tr( "Row %1 of the %2 table: %3 must not be negative." ).arg( row ).arg( what, QString::fromLatin1( axes[k] ) ) );
+        }
+      if ( roleField >= 0 )
+      {
+        const QString role = text( f, roleField ).toLower();
+        if ( role == QLatin1String( "check" ) )
+          p.check = true;
+        else if ( !role.isEmpty() && role != QLatin1String( "control" ) )
+          throw QgsProcessingException( QObject::tr( "Row %1 of the %2 table: role is \"%3\"; it must be control or check." ).arg( row ).arg( what, role ) );
+      }
+      points << p;
+    }
+    return points;
+  }
+
+}

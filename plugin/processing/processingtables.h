@@ -1,0 +1,62 @@
+/***************************************************************************
+  processingtables.h - the tables algorithms exchange (CONVENTIONS §6)
+  -------------------------------------------------------------------------
+  Image observations (point_id, image_id, col, row [, sigma_px]) and ground
+  points (point_id, X, Y, Z [, sx, sy, sz, role]) from any QGIS-readable
+  table. Field names match case-insensitively; numbers may arrive as text
+  (plain CSV). Every problem is one QgsProcessingException naming the table,
+  the row and the field.
+ ***************************************************************************/
+#ifndef PROCESSINGTABLES_H
+#define PROCESSINGTABLES_H
+
+#include <QString>
+#include <QVector>
+
+#include <qgsattributes.h>
+#include <qgscoordinatereferencesystem.h>
+#include <qgsfields.h>
+
+#include <Eigen/Core>
+
+class QgsFeatureSource;
+class QgsProcessingFeedback;
+class QgsCoordinateTransformContext;
+
+namespace GeoStationProcessing
+{
+  struct ObservationRecord
+  {
+    QString pointId;
+    QString imageId;
+    Eigen::Vector2d pixel;
+    double sigmaPx = 0.0;       //!< 0 when the table has none
+    QgsAttributes extra;        //!< the row's other attributes
+  };
+
+  struct ObservationTable
+  {
+    QVector<ObservationRecord> rows;
+    QgsFields extraFields;      //!< fields other than the standard ones
+  };
+
+  struct GroundPointRecord
+  {
+    QString pointId;
+    Eigen::Vector3d world;      //!< block CRS, metres
+    Eigen::Vector3d sigmaM = Eigen::Vector3d::Zero();
+    bool check = false;
+  };
+
+  //! Reads image observations; `what` names the table in messages.
+  ObservationTable readObservations( QgsFeatureSource *source, const QString &what, QgsProcessingFeedback *feedback );
+
+  /**
+   * Reads ground points. Coordinates come from the X, Y, Z fields, or else
+   * from PointZ geometries transformed to the block CRS.
+   */
+  QVector<GroundPointRecord> readGroundPoints( QgsFeatureSource *source, const QString &what, const QgsCoordinateReferenceSystem &blockCrs,
+      const QgsCoordinateTransformContext &transformContext, QgsProcessingFeedback *feedback );
+}
+
+#endif // PROCESSINGTABLES_H

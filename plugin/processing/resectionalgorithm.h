@@ -1,0 +1,30 @@
+/***************************************************************************
+  resectionalgorithm.h - geostation:resection
+  -------------------------------------------------------------------------
+  Space resection of one image of a block from control points; writes the
+  oriented block and a JSON precision report (CONVENTIONS §8-9).
+ ***************************************************************************/
+#ifndef RESECTIONALGORITHM_H
+#define RESECTIONALGORITHM_H
+
+#include <qgsprocessingalgorithm.h>
+
+#include "geostation_processing_export.h"
+
+class GEOSTATION_PROCESSING_EXPORT ResectionAlgorithm : public QgsProcessingAlgorithm
+{
+  public:
+    QString name() const override;
+    QString displayName() const override;
+    QStringList tags() const override;
+    QString group() const override;
+    QString groupId() const override;
+    QString shortHelpString() const override;
+    ResectionAlgorithm *createInstance() const override;
+
+  protected:
+    void initAlgorithm( const QVariantMap &configuration = QVariantMap() ) override;
+    QVariantMap processAlgorithm( const QVariantMap &parameters, QgsProcessingContext &context, QgsProcessingFeedback *feedback ) override;
+};
+
+#endif // RESECTIONALGORITHM_H
