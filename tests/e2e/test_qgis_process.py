@@ -139,6 +139,123 @@ class QgisProcessTest(unittest.TestCase):
             self.assert_fails_cleanly(f.read(), "S0099_front_left", "image \"S0099_front_left\" is not in the block")
 
 
+class AdjustmentTest(unittest.TestCase):
+    """intersect and resection through qgis_process, on observations computed
+    with the independent reference implementation."""
+
+    @classmethod
+    def setUpClass(cls):
+        cls.tmp = tempfile.mkdtemp(prefix="geostation-e2e-adj-")
+        cls.home = os.path.join(cls.tmp, "home")
+        os.makedirs(cls.home)
+        install(cls.home)
+        cls.data = os.path.join(cls.tmp, "data")
+        cls.block_path, _ = geostation_demo_data.make_demo_block(cls.data, stations=6, seed=4)
+        with open(cls.block_path) as f:
+            cls.block = json.load(f)
+        cls.cameras = {c["id"]: c for c in cls.block["cameras"]}
+        cls.images = {i["id"]: i for i in cls.block["images"]}
+        cls.objects = {}
+        ds = ogr.Open(os.path.join(cls.data, "objects.gpkg"))
+        for f in ds.GetLayer(0):
+            g = f.GetGeometryRef()
+            cls.objects[f.GetField("id")] = (g.GetX(), g.GetY(), g.GetZ())
+        ds = None
+
+    @classmethod
+    def tearDownClass(cls):
+        shutil.rmtree(cls.tmp, ignore_errors=True)
+
+    def observe(self, image_ids):
+        rows = []
+        for image_id in image_ids:
+            image = self.images[image_id]
+            camera = self.cameras[image["camera"]]
+            for point_id, xyz in self.objects.items():
+                pixel = ref.project(camera, image, xyz)
+                if pixel and 0 <= pixel[0] < camera["width"] and 0 <= pixel[1] < camera["height"]:
+                    rows.append((point_id, image_id, pixel[0], pixel[1]))
+        return rows
+
+    def write_csv(self, name, header, rows):
+        path = os.path.join(self.tmp, name)
+        with open(path, "w") as f:
+            f.write(",".join(header) + "\n")
+            for r in rows:
+                f.write(",".join(str(v) if not isinstance(v, float) else "%.10f" % v for v in r) + "\n")
+        return path
+
+    def test_intersect_recovers_the_objects(self):
+        rows = self.observe(["S0003_front_left", "S0003_front_right", "S0003_side_right"])
+        seen = {}
+        for r in rows:
+            seen.setdefault(r[0], []).append(r[1])
+        observations = self.write_csv("obs.csv", ["point_id", "image_id", "col", "row"], rows)
+        output = os.path.join(self.tmp, "points.gpkg")
+        result = qgis_process(self.home, "run", "geostation:intersect", "--", "BLOCK=" + self.block_path,
+                              "OBSERVATIONS=" + observations, "OUTPUT=" + output)
+        self.assertEqual(result.returncode, 0, result.stdout + result.stderr)
+        ds = ogr.Open(output)
+        layer = ds.GetLayer(0)
+        self.assertIn("UTM zone 17N", layer.GetSpatialRef().GetName())
+        count = 0
+        for f in layer:
+            g = f.GetGeometryRef()
+            truth = self.objects[f.GetField("point_id")]
+            for a, b in zip((g.GetX(), g.GetY(), g.GetZ()), truth):
+                self.assertAlmostEqual(a, b, delta=1e-5)
+            self.assertEqual(f.GetField("n_images"), len(seen[f.GetField("point_id")]))
+            count += 1
+        ds = None
+        self.assertEqual(count, sum(1 for v in seen.values() if len(v) >= 2))
+        self.assertGreater(count, 5)
+
+    def test_resection_orients_an_unoriented_image(self):
+        image_id = "S0002_front_left"
+        block = json.loads(json.dumps(self.block))
+        for image in block["images"]:
+            if image["id"] == image_id:
+                for key in ("X", "Y", "Z", "omega", "phi", "kappa", "sigma"):
+                    image.pop(key)
+        unoriented = os.path.join(self.data, "unoriented.geostation.json")
+        with open(unoriented, "w") as f:
+            json.dump(block, f)
+        rows = self.observe([image_id])
+        self.assertGreaterEqual(len(rows), 6)
+        observations = self.write_csv("obs-resection.csv", ["point_id", "image_id", "col", "row"], rows)
+        gcps = self.write_csv("gcps.csv", ["point_id", "X", "Y", "Z"], [(k,) + v for k, v in self.objects.items()])
+        out_block = os.path.join(self.tmp, "oriented.geostation.json")
+        report = os.path.join(self.tmp, "report.json")
+        result = qgis_process(self.home, "run", "geostation:resection", "--", "BLOCK=" + unoriented, "IMAGE=" + image_id,
+                              "GCPS=" + gcps, "OBSERVATIONS=" + observations, "OUTPUT_BLOCK=" + out_block, "REPORT=" + report)
+        self.assertEqual(result.returncode, 0, result.stdout + result.stderr)
+        with open(out_block) as f:
+            oriented = {i["id"]: i for i in json.load(f)["images"]}[image_id]
+        truth = self.images[image_id]
+        for key in ("X", "Y", "Z"):
+            self.assertAlmostEqual(oriented[key], truth[key], delta=1e-5)
+        for key in ("omega", "phi", "kappa"):
+            self.assertAlmostEqual(oriented[key], truth[key], delta=1e-6)
+        self.assertIn("sigma", oriented)
+        with open(report) as f:
+            data = json.load(f)
+        self.assertTrue(data["converged"])
+        self.assertEqual(len(data["parameters"]), 6)
+        self.assertEqual(len(data["residuals"]), len(rows))
+
+    def test_resection_with_too_few_points_fails_cleanly(self):
+        rows = self.observe(["S0002_front_left"])[:3]
+        observations = self.write_csv("obs-few.csv", ["point_id", "image_id", "col", "row"], rows)
+        gcps = self.write_csv("gcps-few.csv", ["point_id", "X", "Y", "Z"], [(k,) + v for k, v in self.objects.items()])
+        out_block = os.path.join(self.tmp, "never.geostation.json")
+        result = qgis_process(self.home, "run", "geostation:resection", "--", "BLOCK=" + self.block_path, "IMAGE=S0002_front_left",
+                              "GCPS=" + gcps, "OBSERVATIONS=" + observations, "OUTPUT_BLOCK=" + out_block,
+                              "REPORT=" + os.path.join(self.tmp, "never.json"))
+        self.assertNotEqual(result.returncode, 0)
+        self.assertIn("needs at least 4 control points", result.stdout + result.stderr)
+        self.assertFalse(os.path.exists(out_block))
+
+
 class InstallTest(unittest.TestCase):
     def test_install_is_idempotent_and_uninstall_removes_everything(self):
         with tempfile.TemporaryDirectory(prefix="geostation-install-") as home:
