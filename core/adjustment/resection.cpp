@@ -15,6 +15,7 @@
 
 #include "adjustment/collinearityerror.h"
 #include "adjustment/intersection.h"
+#include "adjustment/priors.h"
 #include "geometry/projection.h"
 
 namespace geostation
@@ -22,20 +23,6 @@ namespace geostation
 
   namespace
   {
-    //! Prior on a control point's coordinates: (P - P0) / sigma.
-    struct PointPrior
-    {
-      PointPrior( const Eigen::Vector3d &known, const Eigen::Vector3d &sigma ) : mKnown( known ), mSigma( sigma ) {}
-      template <typename T>
-      bool operator()( const T *point, T *residuals ) const
-      {
-        for ( int k = 0; k < 3; ++k )
-          residuals[k] = ( point[k] - T( mKnown[k] ) ) / T( mSigma[k] );
-        return true;
-      }
-      Eigen::Vector3d mKnown, mSigma;
-    };
-
     //! A control point in use: its observation and its parameter block.
     struct UsedPoint
     {
@@ -140,7 +127,8 @@ namespace geostation
         problem.AddResidualBlock( CollinearityError::create( camera, p.observation->pixelInImage.x(), p.observation->pixelInImage.y(), p.observation->sigmaPx ),
                                  loss, sol.pose.data(), sol.interior.data(), p.local.data() );
         if ( p.free )
-          problem.AddResidualBlock( new ceres::AutoDiffCostFunction<PointPrior, 3, 3>( new PointPrior( p.knownLocal, p.control->sigmaM ) ), nullptr, p.local.data() );
+          problem.AddResidualBlock( ParameterPrior<3>::create( { p.knownLocal.x(), p.knownLocal.y(), p.knownLocal.z() }, { p.control->sigmaM.x(), p.control->sigmaM.y(), p.control->sigmaM.z() } ),
+                                    nullptr, p.local.data() );
         else
           problem.SetParameterBlockConstant( p.local.data() );
       }
