@@ -7,6 +7,7 @@
 #include <benchmark/benchmark.h>
 #include <opencv2/calib3d.hpp>
 
+#include "adjustment/bundleadjustment.h"
 #include "adjustment/intersection.h"
 #include "adjustment/resection.h"
 #include "geometry/rotation.h"
@@ -168,6 +169,58 @@ namespace
     state.SetItemsProcessed( state.iterations() );
   }
 
+  //! Six images (two stations of three cameras) and 10 000 points seen by all.
+  struct BundleScene
+  {
+    std::vector<Camera> cameras { pinhole() };
+    std::vector<BundleImage> images;
+    std::vector<BundleObservation> observations;
+    std::vector<ControlPoint> control;
+    BundleScene()
+    {
+      std::mt19937 rng( 3 );
+      std::normal_distribution<double> noise( 0.0, 1.0 );
+      std::vector<OrientedImage> truth;
+      for ( int s = 0; s < 2; ++s )
+        for ( int k = 0; k < 3; ++k )
+        {
+          ExteriorOrientation eo = forward( k - 1.0 );
+          eo.projectionCentre.y() += 4.0 * s;
+          truth.emplace_back( cameras[0], eo );
+          ExteriorOrientation start = eo;
+          start.projectionCentre += 0.1 * Eigen::Vector3d( noise( rng ), noise( rng ), noise( rng ) );
+          start.omegaDeg += 0.02 * noise( rng );
+          start.sigma = ExteriorSigma { 0.1, 0.1, 0.1, 0.02, 0.02, 0.02 };
+          images.push_back( { "I" + std::to_string( images.size() ), cameras[0].id, start } );
+        }
+      std::uniform_real_distribution<double> x( -4, 4 ), y( 14, 40 ), z( 100, 105 );
+      for ( int i = 0; i < 10000; ++i )
+      {
+        const Eigen::Vector3d p( 500000.0 + x( rng ), 4400000.0 + y( rng ), z( rng ) );
+        for ( size_t k = 0; k < truth.size(); ++k )
+          observations.push_back( { "P" + std::to_string( i ), images[k].id, truth[k].projectGroundToPixel( p ).pixelInImage + 0.3 * Eigen::Vector2d( noise( rng ), noise( rng ) ), 0.3 } );
+        if ( i < 4 )
+          control.push_back( { "P" + std::to_string( i ), p, Eigen::Vector3d::Zero(), false } );
+      }
+    }
+  };
+
+  void BM_BundleAdjust6x10000( benchmark::State &state )
+  {
+    static const BundleScene scene;
+    BundleOptions options;
+    options.computeCovariance = state.range( 0 ) != 0;
+    for ( auto _ : state )
+    {
+      const BundleSummary s = bundleAdjust( scene.cameras, scene.images, scene.control, scene.observations, options );
+      if ( !s.ok() )
+        state.SkipWithError( s.message.c_str() );
+      benchmark::DoNotOptimize( s.sigma0 );
+    }
+    state.SetItemsProcessed( state.iterations() );
+    state.SetLabel( options.computeCovariance ? "with covariance" : "solve only" );
+  }
+
   class RatioReporter : public benchmark::ConsoleReporter
   {
     public:
@@ -192,6 +245,9 @@ namespace
         ratio( "BM_ResectImage/30", "BM_OpenCvSolvePnPIterative/30" );
         if ( mRates.count( "BM_IntersectRays" ) )
           printf( "  intersection target >= 1e6 points/s: %s\n", mRates["BM_IntersectRays"] >= 1e6 ? "met" : "NOT met" );
+        for ( const char *name : { "BM_BundleAdjust6x10000/0", "BM_BundleAdjust6x10000/1" } )
+          if ( mRates.count( name ) )
+            printf( "  %s: %.3f s per adjustment (target <= 1 s for the solve): %s\n", name, 1.0 / mRates[name], 1.0 / mRates[name] <= 1.0 ? "met" : "NOT met" );
         if ( mRates.count( "BM_ResectImage/10" ) )
           printf( "  resection target <= 1 ms per image (10 points): %.3f ms, %s\n", 1e3 / mRates["BM_ResectImage/10"], mRates["BM_ResectImage/10"] >= 1e3 ? "met" : "NOT met" );
       }
@@ -205,6 +261,7 @@ BENCHMARK( BM_OpenCvTriangulatePoints )->Unit( benchmark::kMillisecond );
 BENCHMARK( BM_IntersectRays )->Unit( benchmark::kMillisecond );
 BENCHMARK( BM_OpenCvSolvePnPIterative )->Arg( 10 )->Arg( 30 )->Unit( benchmark::kMicrosecond );
 BENCHMARK( BM_ResectImage )->Arg( 10 )->Arg( 30 )->Unit( benchmark::kMicrosecond );
+BENCHMARK( BM_BundleAdjust6x10000 )->Arg( 0 )->Arg( 1 )->Unit( benchmark::kMillisecond )->UseRealTime();
 
 int main( int argc, char **argv )
 {

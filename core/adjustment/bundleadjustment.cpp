@@ -14,6 +14,7 @@
 #include "adjustment/collinearityerror.h"
 #include "adjustment/intersection.h"
 #include "adjustment/priors.h"
+#include "adjustment/schurcovariance.h"
 #include "geometry/projection.h"
 
 namespace geostation
@@ -141,6 +142,7 @@ namespace geostation
 
     // ---- problem ----
     ceres::Problem problem;
+    std::map<const double *, std::vector<int>> fixedOf; //!< components held fixed, per block with a SubsetManifold
     ceres::LossFunction *loss = options.robust ? new ceres::HuberLoss( options.robustThreshold ) : nullptr;
     std::vector<bool> imageUsed( images.size(), false ), cameraUsed( cameras.size(), false );
     for ( PointState &p : points )
@@ -167,7 +169,10 @@ namespace geostation
         {
           problem.AddResidualBlock( ParameterPrior<3>::create( toArray( p.known->world - origin ), sigma ), nullptr, p.local.data() );
           if ( !fixed.empty() )
+          {
             problem.SetManifold( p.local.data(), new ceres::SubsetManifold( 3, fixed ) );
+            fixedOf[p.local.data()] = fixed;
+          }
         }
       }
     for ( size_t i = 0; i < images.size(); ++i )
@@ -183,7 +188,10 @@ namespace geostation
       {
         problem.AddResidualBlock( ParameterPrior<6>::create( poses[i], sigma ), nullptr, poses[i].data() );
         if ( !fixed.empty() )
+        {
           problem.SetManifold( poses[i].data(), new ceres::SubsetManifold( 6, fixed ) );
+          fixedOf[poses[i].data()] = fixed;
+        }
       }
     }
     std::vector<int> fixedInterior;
@@ -197,7 +205,10 @@ namespace geostation
       if ( fixedInterior.size() == kInteriorSize )
         problem.SetParameterBlockConstant( interiors[c].data() );
       else if ( !fixedInterior.empty() )
+      {
         problem.SetManifold( interiors[c].data(), new ceres::SubsetManifold( kInteriorSize, fixedInterior ) );
+        fixedOf[interiors[c].data()] = fixedInterior;
+      }
     }
 
     // ---- solve ----
@@ -227,33 +238,48 @@ namespace geostation
     summary.sigma0 = summary.redundancy > 0 ? std::sqrt( 2.0 * cost / summary.redundancy ) : 0.0;
     const double varianceFactor = summary.redundancy > 0 ? summary.sigma0 * summary.sigma0 : 1.0;
 
-    ceres::Covariance::Options covarianceOptions;
-    covarianceOptions.num_threads = solverOptions.num_threads;
-    ceres::Covariance covariance( covarianceOptions );
-    bool haveCovariance = false;
+    // Covariances through the Schur complement: cheap per point, exact.
+    std::map<const double *, Eigen::MatrixXd> tangentCovariance;
     if ( options.computeCovariance )
     {
-      std::vector<std::pair<const double *, const double *>> blocks;
+      std::vector<double *> cameraBlocks, pointBlocks;
       for ( size_t i = 0; i < images.size(); ++i )
         if ( imageUsed[i] && !problem.IsParameterBlockConstant( poses[i].data() ) )
-          blocks.emplace_back( poses[i].data(), poses[i].data() );
+          cameraBlocks.push_back( poses[i].data() );
       for ( size_t c = 0; c < cameras.size(); ++c )
         if ( cameraUsed[c] && !problem.IsParameterBlockConstant( interiors[c].data() ) )
-          blocks.emplace_back( interiors[c].data(), interiors[c].data() );
-      for ( const PointState &p : points )
-        if ( !problem.IsParameterBlockConstant( const_cast<double *>( p.local.data() ) ) )
-          blocks.emplace_back( p.local.data(), p.local.data() );
-      haveCovariance = covariance.Compute( blocks, &problem );
-      if ( !haveCovariance )
+          cameraBlocks.push_back( interiors[c].data() );
+      for ( PointState &p : points )
+        if ( !problem.IsParameterBlockConstant( p.local.data() ) )
+          pointBlocks.push_back( p.local.data() );
+      const SchurCovariance covariance = schurCovariance( problem, cameraBlocks, pointBlocks );
+      if ( !covariance.ok )
         return failure( BundleSummary::Status::NoDatum, "the block's parameters are not all determined (the normal equations are singular); add control points, pose priors or tie points, or free fewer interior parameters" );
+      for ( size_t b = 0; b < cameraBlocks.size(); ++b )
+      {
+        const int size = problem.ParameterBlockTangentSize( cameraBlocks[b] );
+        tangentCovariance[cameraBlocks[b]] = covariance.cameras.block( covariance.cameraOffsets[b], covariance.cameraOffsets[b], size, size );
+      }
+      for ( size_t j = 0; j < pointBlocks.size(); ++j )
+        tangentCovariance[pointBlocks[j]] = covariance.points[j];
     }
+    // Standard deviations in the block's own coordinates; fixed components get 0.
     const auto sigmaOf = [&]( const double *block, int size ) -> Eigen::VectorXd
     {
-      if ( !haveCovariance || problem.IsParameterBlockConstant( const_cast<double *>( block ) ) )
-        return Eigen::VectorXd::Zero( size );
-      Eigen::MatrixXd c( size, size );
-      covariance.GetCovarianceBlock( block, block, c.data() );
-      return ( c.diagonal() * varianceFactor ).cwiseMax( 0.0 ).cwiseSqrt();
+      Eigen::VectorXd sigma = Eigen::VectorXd::Zero( size );
+      const auto it = tangentCovariance.find( block );
+      if ( it == tangentCovariance.end() )
+        return sigma;
+      const auto fixedIt = fixedOf.find( block );
+      int t = 0;
+      for ( int k = 0; k < size; ++k )
+      {
+        if ( fixedIt != fixedOf.end() && std::find( fixedIt->second.begin(), fixedIt->second.end(), k ) != fixedIt->second.end() )
+          continue;
+        sigma( k ) = std::sqrt( std::max( 0.0, it->second( t, t ) * varianceFactor ) );
+        ++t;
+      }
+      return sigma;
     };
 
     // ---- residuals in pixels, per image and per point ----
