@@ -9,6 +9,7 @@
 #include <qgsapplication.h>
 #include <qgsprocessingregistry.h>
 
+#include "bundleadjustalgorithm.h"
 #include "intersectalgorithm.h"
 #include "projecttoimagealgorithm.h"
 #include "resectionalgorithm.h"
@@ -57,6 +58,7 @@ void GeoStationProvider::loadAlgorithms()
   addAlgorithm( new ProjectToImageAlgorithm() );
   addAlgorithm( new IntersectAlgorithm() );
   addAlgorithm( new ResectionAlgorithm() );
+  addAlgorithm( new BundleAdjustAlgorithm() );
 }
 
 bool registerGeoStationProvider()

@@ -67,6 +67,9 @@ class TestAdjustmentAlgorithms : public QObject
     void resectionNamesABlunder();
     void resectionBadInput_data();
     void resectionBadInput();
+    void bundleAdjustRecoversThePerturbedBlock();
+    void bundleAdjustBadInput_data();
+    void bundleAdjustBadInput();
 
   private:
     QString write( const QString &name, const QString &text );
@@ -310,6 +313,118 @@ void TestAdjustmentAlgorithms::resectionBadInput()
   QVERIFY2( feedback.errors.join( ' ' ).contains( expected ), qPrintable( feedback.errors.join( '\n' ) ) );
   QVERIFY( !QFile::exists( outBlock ) );
   QVERIFY( !QFile::exists( report ) );
+}
+
+namespace
+{
+  //! The block with A and B moved off their true orientation, as GNSS/INS would give them.
+  QString perturbedBlock()
+  {
+    QString text = QString::fromLatin1( kBlock );
+    text.replace( "\"X\": 500000.0, \"Y\": 4400000.0, \"Z\": 1100.0, \"omega\": 0.5", "\"X\": 500000.4, \"Y\": 4399999.7, \"Z\": 1100.3, \"omega\": 0.52" );
+    text.replace( "\"X\": 500300.0, \"Y\": 4400010.0, \"Z\": 1102.0, \"omega\": -0.4", "\"X\": 500299.6, \"Y\": 4400010.3, \"Z\": 1101.8, \"omega\": -0.43" );
+    // Loose priors: with 1 px ~ 1 m on the ground, the images must dominate.
+    text.replace( "\"kappa\": 1.0}", "\"kappa\": 1.0, \"sigma\": {\"X\": 5, \"Y\": 5, \"Z\": 5, \"omega\": 0.5, \"phi\": 0.5, \"kappa\": 0.5}}" );
+    text.replace( "\"kappa\": 0.5}", "\"kappa\": 0.5, \"sigma\": {\"X\": 5, \"Y\": 5, \"Z\": 5, \"omega\": 0.5, \"phi\": 0.5, \"kappa\": 0.5}}" );
+    return text;
+  }
+}
+
+void TestAdjustmentAlgorithms::bundleAdjustRecoversThePerturbedBlock()
+{
+  const QString block = write( QStringLiteral( "perturbed.geostation.json" ), perturbedBlock() );
+  QVERIFY( geostation::Block::load( block.toStdString() ).image( "A" ).exterior->sigma.has_value() );
+  const QString gcps = write( QStringLiteral( "gcps-ba.csv" ), groundCsv( 6, 4 ) );
+  const QString observations = write( QStringLiteral( "obs-ba.csv" ), observationCsv( { "A", "B" }, 16 ) );
+  const QString outBlock = mDir.filePath( QStringLiteral( "adjusted.geostation.json" ) );
+  const QString report = mDir.filePath( QStringLiteral( "adjusted.json" ) );
+  bool ok = false;
+  RecordingFeedback feedback;
+  const QVariantMap result = run( "bundle_adjust", { { "BLOCK", block }, { "OBSERVATIONS", observations }, { "GCPS", gcps }, { "SIGMA_PX", 0.05 },
+    { "OUTPUT_BLOCK", outBlock }, { "OUTPUT_POINTS", QgsProcessing::TEMPORARY_OUTPUT }, { "REPORT", report } }, &ok, &feedback );
+  QVERIFY2( ok, qPrintable( feedback.errors.join( '\n' ) ) );
+  QGSCOMPARENEAR( result.value( "RMSE_CHECK_M" ).toDouble(), 0.0, 0.01 );
+
+  const geostation::Block adjusted = geostation::Block::load( outBlock.toStdString() );
+  const geostation::ExteriorOrientation &a = *adjusted.image( "A" ).exterior;
+  // Started 0.4 m off; the 5 m priors still pull by millimetres through the
+  // strong X-phi correlation of near-nadir images.
+  QGSCOMPARENEAR( a.projectionCentre.x(), 500000.0, 0.01 );
+  QGSCOMPARENEAR( a.projectionCentre.y(), 4400000.0, 0.01 );
+  QGSCOMPARENEAR( a.projectionCentre.z(), 1100.0, 0.01 );
+  QGSCOMPARENEAR( a.omegaDeg, 0.5, 1e-3 );
+  QVERIFY( a.sigma->x < 0.1 ); // far better than the GNSS/INS prior
+  QVERIFY( !adjusted.image( "C" ).exterior.has_value() ); // not observed: untouched
+
+  QgsVectorLayer *points = qobject_cast<QgsVectorLayer *>( QgsProcessingUtils::mapLayerFromString( result.value( "OUTPUT_POINTS" ).toString(), mContext ) );
+  QVERIFY( points );
+  QCOMPARE( points->featureCount(), 16LL );
+  QCOMPARE( points->crs().authid(), QStringLiteral( "EPSG:32617" ) );
+  QgsFeature f;
+  QgsFeatureIterator it = points->getFeatures();
+  int checks = 0;
+  while ( it.nextFeature( f ) )
+  {
+    const QgsPoint p = *f.geometry().vertices_begin();
+    const int i = f.attribute( "point_id" ).toString().mid( 1 ).toInt();
+    QGSCOMPARENEAR( p.z(), mPoints[i].z(), 0.01 );
+    if ( f.attribute( "role" ).toString() == "check" )
+    {
+      ++checks;
+      QVERIFY( std::abs( f.attribute( "err_z" ).toDouble() ) < 0.01 );
+    }
+  }
+  QCOMPARE( checks, 4 );
+
+  QFile reportFile( report );
+  QVERIFY( reportFile.open( QIODevice::ReadOnly ) );
+  const QJsonObject json = QJsonDocument::fromJson( reportFile.readAll() ).object();
+  QVERIFY( json.value( "converged" ).toBool() );
+  QCOMPARE( json.value( "images" ).toArray().size(), 2 );
+  QCOMPARE( json.value( "check_count" ).toInt(), 4 );
+  QVERIFY( json.value( "rmse_check_m" ).toObject().contains( "planimetric" ) );
+  QVERIFY( json.value( "images" ).toArray().at( 0 ).toObject().value( "shift_m" ).toObject().value( "x" ).toDouble() < -0.3 );
+}
+
+void TestAdjustmentAlgorithms::bundleAdjustBadInput_data()
+{
+  QTest::addColumn<QString>( "images" );
+  QTest::addColumn<bool>( "priors" );
+  QTest::addColumn<int>( "control" );
+  QTest::addColumn<QString>( "selfCalibration" );
+  QTest::addColumn<QString>( "expected" );
+  QTest::newRow( "unoriented image" ) << "A,C" << true << 6 << QString() << "image \"C\" has no exterior orientation";
+  QTest::newRow( "no datum" ) << "A,B" << false << 0 << QString() << "no datum";
+  QTest::newRow( "bad self-calibration" ) << "A,B" << true << 6 << "f,zoom" << "\"zoom\" is not an interior parameter";
+}
+
+void TestAdjustmentAlgorithms::bundleAdjustBadInput()
+{
+  QFETCH( QString, images );
+  QFETCH( bool, priors );
+  QFETCH( int, control );
+  QFETCH( QString, selfCalibration );
+  QFETCH( QString, expected );
+  const QString tag = QString( QTest::currentDataTag() ).replace( ' ', '-' );
+  const QString block = write( QStringLiteral( "ba-bad-%1.geostation.json" ).arg( tag ), perturbedBlock() );
+  const QString observations = write( QStringLiteral( "ba-bad-obs-%1.csv" ).arg( tag ), observationCsv( images.split( ',' ), 12 ) );
+  const QString outBlock = mDir.filePath( QStringLiteral( "ba-never.geostation.json" ) );
+  const QString report = mDir.filePath( QStringLiteral( "ba-never.json" ) );
+  const QString points = mDir.filePath( QStringLiteral( "ba-never.gpkg" ) );
+  QVariantMap parameters { { "BLOCK", block }, { "OBSERVATIONS", observations }, { "USE_POSE_PRIORS", priors },
+    { "OUTPUT_BLOCK", outBlock }, { "OUTPUT_POINTS", points }, { "REPORT", report } };
+  if ( control > 0 )
+    parameters.insert( "GCPS", write( QStringLiteral( "ba-bad-gcps-%1.csv" ).arg( tag ), groundCsv( control, 0 ) ) );
+  if ( !selfCalibration.isEmpty() )
+    parameters.insert( "SELF_CALIBRATION", selfCalibration );
+  bool ok = true;
+  RecordingFeedback feedback;
+  run( "bundle_adjust", parameters, &ok, &feedback );
+  QVERIFY( !ok );
+  QVERIFY2( feedback.errors.join( ' ' ).contains( expected ), qPrintable( feedback.errors.join( '\n' ) ) );
+  QVERIFY( !QFile::exists( outBlock ) );
+  QVERIFY( !QFile::exists( report ) );
+  QVERIFY( !QFile::exists( points ) );
 }
 
 int main( int argc, char **argv )

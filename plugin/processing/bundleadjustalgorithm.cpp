@@ -1,0 +1,302 @@
+/***************************************************************************
+  bundleadjustalgorithm.cpp - geostation:bundle_adjust
+ ***************************************************************************/
+#include "bundleadjustalgorithm.h"
+
+#include <QJsonArray>
+#include <QJsonDocument>
+#include <QJsonObject>
+#include <QSaveFile>
+
+#include <qgsexception.h>
+#include <qgsfeaturesink.h>
+#include <qgsgeometry.h>
+#include <qgspoint.h>
+#include <qgsprocessingfeedback.h>
+#include <qgsprocessingoutputs.h>
+#include <qgsprocessingparameters.h>
+
+#include "adjustment/bundleadjustment.h"
+#include "processingblock.h"
+#include "processingtables.h"
+
+namespace
+{
+  QString roleName( geostation::BundlePointResult::Role role )
+  {
+    switch ( role )
+    {
+      case geostation::BundlePointResult::Role::Control:
+        return QStringLiteral( "control" );
+      case geostation::BundlePointResult::Role::Check:
+        return QStringLiteral( "check" );
+      case geostation::BundlePointResult::Role::Tie:
+        break;
+    }
+    return QStringLiteral( "tie" );
+  }
+
+  QJsonObject xyz( const Eigen::Vector3d &v )
+  {
+    return QJsonObject { { "x", v.x() }, { "y", v.y() }, { "z", v.z() } };
+  }
+
+  QJsonObject reportJson( const geostation::BundleSummary &s )
+  {
+    QJsonObject report;
+    report.insert( "algorithm", "geostation:bundle_adjust" );
+    report.insert( "sigma0_px", s.sigma0 );
+    report.insert( "redundancy", static_cast<double>( s.redundancy ) );
+    report.insert( "iterations", s.iterations );
+    report.insert( "converged", s.converged );
+    report.insert( "solve_seconds", s.solveSeconds );
+    report.insert( "rms_px", s.rmsPx );
+    QJsonArray images;
+    for ( const geostation::BundleImageResult &i : s.images )
+    {
+      if ( i.observationCount == 0 )
+        continue;
+      const geostation::ExteriorOrientation &eo = i.exterior;
+      QJsonObject o { { "image_id", QString::fromStdString( i.id ) }, { "observations", i.observationCount }, { "rms_px", i.rmsPx },
+        { "X", eo.projectionCentre.x() }, { "Y", eo.projectionCentre.y() }, { "Z", eo.projectionCentre.z() },
+        { "omega", eo.omegaDeg }, { "phi", eo.phiDeg }, { "kappa", eo.kappaDeg }, { "shift_m", xyz( i.shiftM ) } };
+      if ( eo.sigma )
+        o.insert( "sigma", QJsonObject { { "X", eo.sigma->x }, { "Y", eo.sigma->y }, { "Z", eo.sigma->z },
+          { "omega", eo.sigma->omegaDeg }, { "phi", eo.sigma->phiDeg }, { "kappa", eo.sigma->kappaDeg } } );
+      images.append( o );
+    }
+    report.insert( "images", images );
+    QJsonArray cameras;
+    for ( const geostation::BundleCameraResult &c : s.cameras )
+    {
+      if ( c.freeParameters.empty() )
+        continue;
+      QJsonArray parameters;
+      double values[geostation::kInteriorSize];
+      geostation::interiorBlockFromCamera( c.camera, values );
+      for ( size_t k = 0; k < c.freeParameters.size(); ++k )
+        parameters.append( QJsonObject { { "name", QString::fromStdString( c.freeParameters[k] ) },
+          { "value", values[*geostation::interiorParameterIndex( c.freeParameters[k] )] }, { "sigma", c.sigmas[k] } } );
+      cameras.append( QJsonObject { { "camera_id", QString::fromStdString( c.camera.id ) }, { "parameters", parameters } } );
+    }
+    report.insert( "cameras", cameras );
+    QJsonArray points;
+    for ( const geostation::BundlePointResult &p : s.points )
+    {
+      if ( p.role == geostation::BundlePointResult::Role::Tie )
+        continue;
+      points.append( QJsonObject { { "point_id", QString::fromStdString( p.id ) }, { "role", roleName( p.role ) }, { "n_images", p.imageCount },
+        { "rms_px", p.rmsPx }, { "error_m", xyz( p.errorM ) }, { "sigma_m", xyz( p.sigmaM ) } } );
+    }
+    report.insert( "ground_points", points );
+    report.insert( "rmse_control_m", s.controlCount ? QJsonValue( xyz( s.rmseControlM ) ) : QJsonValue() );
+    QJsonObject check = xyz( s.rmseCheckM );
+    check.insert( "planimetric", s.rmseCheckM.head<2>().norm() );
+    check.insert( "total", s.rmseCheckM.norm() );
+    report.insert( "rmse_check_m", s.checkCount ? QJsonValue( check ) : QJsonValue() );
+    report.insert( "control_count", s.controlCount );
+    report.insert( "check_count", s.checkCount );
+    QJsonArray skipped;
+    for ( const std::string &id : s.skippedPoints )
+      skipped.append( QString::fromStdString( id ) );
+    report.insert( "skipped_points", skipped );
+    return report;
+  }
+} // namespace
+
+QString BundleAdjustAlgorithm::name() const
+{
+  return QStringLiteral( "bundle_adjust" );
+}
+
+QString BundleAdjustAlgorithm::displayName() const
+{
+  return QObject::tr( "Bundle adjustment" );
+}
+
+QStringList BundleAdjustAlgorithm::tags() const
+{
+  return QObject::tr( "photogrammetry,bundle adjustment,triangulation,aerotriangulation,self-calibration,gnss,ins,tie points" ).split( ',' );
+}
+
+QString BundleAdjustAlgorithm::group() const
+{
+  return QObject::tr( "Adjustment" );
+}
+
+QString BundleAdjustAlgorithm::groupId() const
+{
+  return QStringLiteral( "adjustment" );
+}
+
+QString BundleAdjustAlgorithm::shortHelpString() const
+{
+  return QObject::tr( "Adjusts the orientations of all observed images of a block together with every measured point.\n\n"
+                      "OBSERVATIONS: point_id, image_id, col, row (pixels) and optionally sigma_px. GCPS (optional): point_id, X, Y, Z "
+                      "(block CRS) or PointZ geometries, optionally sx, sy, sz (metres; 0 = fixed) and role (control or check). "
+                      "Check points are adjusted like tie points and compared with their coordinates.\n\n"
+                      "USE_POSE_PRIORS takes the images' GNSS/INS orientation with its sigmas as observations; without it, at "
+                      "least three control points are needed. SELF_CALIBRATION lists interior parameters to estimate for every "
+                      "camera (e.g. f,cx,cy,k1).\n\n"
+                      "Every observed image needs a starting orientation (orient new images with Space resection first). "
+                      "OUTPUT_BLOCK is the adjusted block with standard deviations; OUTPUT_POINTS a PointZ layer of all points "
+                      "with point_id, role, n_images, sigma_x/y/z, rms_px and, for control and check points, err_x/y/z; REPORT "
+                      "a JSON file with sigma0, per-image residuals and shifts, interior parameters, ground-point errors and "
+                      "the RMSE on control and check points." );
+}
+
+BundleAdjustAlgorithm *BundleAdjustAlgorithm::createInstance() const
+{
+  return new BundleAdjustAlgorithm();
+}
+
+void BundleAdjustAlgorithm::initAlgorithm( const QVariantMap & )
+{
+  addParameter( new QgsProcessingParameterFile( QStringLiteral( "BLOCK" ), QObject::tr( "GeoStation block" ), QgsProcessingParameterFile::File,
+                QString(), QVariant(), false, QObject::tr( "GeoStation block (*.geostation.json *.json)" ) ) );
+  addParameter( new QgsProcessingParameterFeatureSource( QStringLiteral( "OBSERVATIONS" ), QObject::tr( "Image observations (point_id, image_id, col, row)" ), QList<int>() << QgsProcessing::TypeVector ) );
+  addParameter( new QgsProcessingParameterFeatureSource( QStringLiteral( "GCPS" ), QObject::tr( "Control and check points" ), QList<int>() << QgsProcessing::TypeVector, QVariant(), true ) );
+  addParameter( new QgsProcessingParameterString( QStringLiteral( "SELF_CALIBRATION" ), QObject::tr( "Interior parameters to estimate (e.g. f,cx,cy,k1)" ), QString(), false, true ) );
+  addParameter( new QgsProcessingParameterBoolean( QStringLiteral( "USE_POSE_PRIORS" ), QObject::tr( "Use the GNSS/INS orientation sigmas as priors" ), true ) );
+  addParameter( new QgsProcessingParameterNumber( QStringLiteral( "SIGMA_PX" ), QObject::tr( "Pixel sigma where the table has none" ), QgsProcessingParameterNumber::Double, 0.5, false, 1e-6 ) );
+  addParameter( new QgsProcessingParameterBoolean( QStringLiteral( "ROBUST" ), QObject::tr( "Robust (Huber) loss while iterating" ), false ) );
+  addParameter( new QgsProcessingParameterFileDestination( QStringLiteral( "OUTPUT_BLOCK" ), QObject::tr( "Adjusted block" ), QObject::tr( "GeoStation block (*.geostation.json)" ) ) );
+  addParameter( new QgsProcessingParameterFeatureSink( QStringLiteral( "OUTPUT_POINTS" ), QObject::tr( "Adjusted points" ), QgsProcessing::TypeVectorPoint ) );
+  addParameter( new QgsProcessingParameterFileDestination( QStringLiteral( "REPORT" ), QObject::tr( "Report" ), QObject::tr( "JSON (*.json)" ) ) );
+  addOutput( new QgsProcessingOutputNumber( QStringLiteral( "SIGMA0" ), QObject::tr( "sigma0 (px)" ) ) );
+  addOutput( new QgsProcessingOutputNumber( QStringLiteral( "RMSE_CHECK_M" ), QObject::tr( "RMSE on check points (m, 3D)" ) ) );
+}
+
+QVariantMap BundleAdjustAlgorithm::processAlgorithm( const QVariantMap &parameters, QgsProcessingContext &context, QgsProcessingFeedback *feedback )
+{
+  geostation::Block block = GeoStationProcessing::loadBlock( parameterAsFile( parameters, QStringLiteral( "BLOCK" ), context ) );
+  const QgsCoordinateReferenceSystem crs = GeoStationProcessing::blockCrs( block );
+  const double defaultSigma = parameterAsDouble( parameters, QStringLiteral( "SIGMA_PX" ), context );
+
+  geostation::BundleOptions options;
+  options.usePosePriors = parameterAsBool( parameters, QStringLiteral( "USE_POSE_PRIORS" ), context );
+  options.robust = parameterAsBool( parameters, QStringLiteral( "ROBUST" ), context );
+  for ( const QString &name : parameterAsString( parameters, QStringLiteral( "SELF_CALIBRATION" ), context ).split( ',', Qt::SkipEmptyParts ) )
+  {
+    const std::optional<int> index = geostation::interiorParameterIndex( name.trimmed().toStdString() );
+    if ( !index )
+      throw QgsProcessingException( QObject::tr( "SELF_CALIBRATION: \"%1\" is not an interior parameter; use any of f,cx,cy,k1,k2,p1,p2,k3." ).arg( name.trimmed() ) );
+    options.freeInterior[*index] = true;
+  }
+
+  std::unique_ptr<QgsProcessingFeatureSource> observationSource( parameterAsSource( parameters, QStringLiteral( "OBSERVATIONS" ), context ) );
+  if ( !observationSource )
+    throw QgsProcessingException( invalidSourceError( parameters, QStringLiteral( "OBSERVATIONS" ) ) );
+  const GeoStationProcessing::ObservationTable table = GeoStationProcessing::readObservations( observationSource.get(), QObject::tr( "observations" ), feedback );
+  std::vector<geostation::ControlPoint> ground;
+  std::unique_ptr<QgsProcessingFeatureSource> gcpSource( parameterAsSource( parameters, QStringLiteral( "GCPS" ), context ) );
+  if ( gcpSource )
+    for ( const GeoStationProcessing::GroundPointRecord &g : GeoStationProcessing::readGroundPoints( gcpSource.get(), QObject::tr( "control" ), crs, context.transformContext(), feedback ) )
+      ground.push_back( { g.pointId.toStdString(), g.world, g.sigmaM, g.check } );
+
+  // The observed images, each with its start orientation.
+  std::vector<geostation::BundleImage> images;
+  std::vector<geostation::BundleObservation> observations;
+  QSet<QString> seen;
+  for ( const GeoStationProcessing::ObservationRecord &r : table.rows )
+  {
+    if ( !seen.contains( r.imageId ) )
+    {
+      const geostation::BlockImage &image = GeoStationProcessing::blockImage( block, r.imageId );
+      images.push_back( { image.id, image.cameraId, GeoStationProcessing::requireOriented( block, image ) } );
+      seen.insert( r.imageId );
+    }
+    observations.push_back( { r.pointId.toStdString(), r.imageId.toStdString(), r.pixel, r.sigmaPx > 0.0 ? r.sigmaPx : defaultSigma } );
+  }
+  if ( observations.empty() )
+    throw QgsProcessingException( QObject::tr( "The observations table is empty." ) );
+  feedback->pushInfo( QObject::tr( "Adjusting %1 images, %2 observations, %3 ground points…" ).arg( images.size() ).arg( observations.size() ).arg( ground.size() ) );
+  feedback->setProgress( 5 );
+
+  geostation::BundleSummary summary;
+  try
+  {
+    summary = geostation::bundleAdjust( block.cameras, images, ground, observations, options );
+  }
+  catch ( const std::invalid_argument &e )
+  {
+    throw QgsProcessingException( QString::fromStdString( e.what() ) );
+  }
+  if ( !summary.ok() )
+    throw QgsProcessingException( QObject::tr( "Bundle adjustment failed: %1" ).arg( QString::fromStdString( summary.message ) ) );
+  if ( feedback->isCanceled() )
+    return QVariantMap();
+  feedback->setProgress( 80 );
+
+  // The adjusted block.
+  for ( const geostation::BundleImageResult &r : summary.images )
+    for ( geostation::BlockImage &image : block.images )
+      if ( image.id == r.id && r.observationCount > 0 )
+        image.exterior = r.exterior;
+  for ( const geostation::BundleCameraResult &c : summary.cameras )
+    for ( geostation::Camera &camera : block.cameras )
+      if ( camera.id == c.camera.id )
+        camera = c.camera;
+
+  // The points layer, prepared before any file is written.
+  QgsFields fields;
+  fields.append( QgsField( QStringLiteral( "point_id" ), QVariant::String ) );
+  fields.append( QgsField( QStringLiteral( "role" ), QVariant::String ) );
+  fields.append( QgsField( QStringLiteral( "n_images" ), QVariant::Int ) );
+  for ( const char *name : { "sigma_x", "sigma_y", "sigma_z", "rms_px", "err_x", "err_y", "err_z" } )
+    fields.append( QgsField( QString::fromLatin1( name ), QVariant::Double ) );
+  QVector<QgsFeature> features;
+  for ( const geostation::BundlePointResult &p : summary.points )
+  {
+    QgsFeature f( fields );
+    f.setGeometry( QgsGeometry( new QgsPoint( p.world.x(), p.world.y(), p.world.z() ) ) );
+    const bool known = p.role != geostation::BundlePointResult::Role::Tie;
+    f.setAttributes( QgsAttributes() << QString::fromStdString( p.id ) << roleName( p.role ) << p.imageCount << p.sigmaM.x() << p.sigmaM.y() << p.sigmaM.z() << p.rmsPx
+                     << ( known ? QVariant( p.errorM.x() ) : QVariant() ) << ( known ? QVariant( p.errorM.y() ) : QVariant() ) << ( known ? QVariant( p.errorM.z() ) : QVariant() ) );
+    features << f;
+  }
+
+  const QString reportPath = parameterAsFileOutput( parameters, QStringLiteral( "REPORT" ), context );
+  const QString blockPath = parameterAsFileOutput( parameters, QStringLiteral( "OUTPUT_BLOCK" ), context );
+  QSaveFile report( reportPath );
+  if ( !report.open( QIODevice::WriteOnly ) )
+    throw QgsProcessingException( QObject::tr( "Cannot write the report %1." ).arg( reportPath ) );
+  report.write( QJsonDocument( reportJson( summary ) ).toJson( QJsonDocument::Indented ) );
+  try
+  {
+    block.save( blockPath.toStdString() );
+  }
+  catch ( const std::exception &e )
+  {
+    report.cancelWriting();
+    throw QgsProcessingException( QString::fromStdString( e.what() ) );
+  }
+  if ( !report.commit() )
+    throw QgsProcessingException( QObject::tr( "Cannot write the report %1." ).arg( reportPath ) );
+
+  QString pointsDestination;
+  std::unique_ptr<QgsFeatureSink> sink( parameterAsSink( parameters, QStringLiteral( "OUTPUT_POINTS" ), context, pointsDestination, fields, QgsWkbTypes::PointZ, crs ) );
+  if ( !sink )
+    throw QgsProcessingException( invalidSinkError( parameters, QStringLiteral( "OUTPUT_POINTS" ) ) );
+  for ( QgsFeature &f : features )
+    if ( !sink->addFeature( f, QgsFeatureSink::FastInsert ) )
+      throw QgsProcessingException( writeFeatureError( sink.get(), parameters, QStringLiteral( "OUTPUT_POINTS" ) ) );
+  sink.reset();
+  feedback->setProgress( 100 );
+
+  feedback->pushInfo( QObject::tr( "sigma0 = %1 px, residual RMS %2 px, %3 iterations, %4 s." ).arg( summary.sigma0, 0, 'f', 3 ).arg( summary.rmsPx, 0, 'f', 3 )
+                      .arg( summary.iterations ).arg( summary.solveSeconds, 0, 'f', 2 ) );
+  if ( summary.checkCount )
+    feedback->pushInfo( QObject::tr( "Check points: %1, RMSE X %2 m, Y %3 m, Z %4 m." ).arg( summary.checkCount )
+                        .arg( summary.rmseCheckM.x(), 0, 'f', 3 ).arg( summary.rmseCheckM.y(), 0, 'f', 3 ).arg( summary.rmseCheckM.z(), 0, 'f', 3 ) );
+  if ( !summary.skippedPoints.empty() )
+    feedback->pushWarning( QString::fromStdString( summary.message ) );
+
+  QVariantMap outputs;
+  outputs.insert( QStringLiteral( "OUTPUT_BLOCK" ), blockPath );
+  outputs.insert( QStringLiteral( "OUTPUT_POINTS" ), pointsDestination );
+  outputs.insert( QStringLiteral( "REPORT" ), reportPath );
+  outputs.insert( QStringLiteral( "SIGMA0" ), summary.sigma0 );
+  outputs.insert( QStringLiteral( "RMSE_CHECK_M" ), summary.checkCount ? QVariant( summary.rmseCheckM.norm() ) : QVariant() );
+  return outputs;
+}
