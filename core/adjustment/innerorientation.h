@@ -21,15 +21,10 @@
 
 #include <Eigen/Core>
 
+#include "camera/camera.h"
+
 namespace geostation
 {
-
-  //! A fiducial mark of the camera: calibrated photo coordinates (mm, x right, y up).
-  struct Fiducial
-  {
-    std::string id;
-    Eigen::Vector2d photoMm = Eigen::Vector2d::Zero();
-  };
 
   //! A fiducial measured in the image (pixels).
   struct FiducialMeasurement

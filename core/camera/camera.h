@@ -14,6 +14,7 @@
 #include <array>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include <Eigen/Core>
 
@@ -46,6 +47,13 @@ namespace geostation
     double p1() const { return coeffs[2]; }
     double p2() const { return coeffs[3]; }
     double k3() const { return coeffs[4]; }
+  };
+
+  //! A fiducial mark of a film camera: calibrated photo coordinates (mm, x right, y up).
+  struct Fiducial
+  {
+    std::string id;
+    Eigen::Vector2d photoMm = Eigen::Vector2d::Zero();
   };
 
   //! Result of projecting a camera-frame point into the image.
@@ -84,6 +92,7 @@ namespace geostation
       double cy = 0.0; //!< principal point row, pixels
       std::optional<double> pixelSizeMm;
       Distortion distortion;
+      std::vector<Fiducial> fiducials; //!< film cameras: calibrated fiducial marks
 
       double fx() const { return f; }
       double fy() const { return f * aspect; }
