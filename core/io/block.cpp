@@ -185,7 +185,21 @@ namespace geostation
       c.cy = node.child( "cy" ).number( "principal point row in pixels" );
       if ( node.has( "pixel_size_mm" ) )
         c.pixelSizeMm = node.child( "pixel_size_mm" ).positiveNumber( "pixel size in mm" );
-      json extra = unknownKeys( node.value(), { "id", "width", "height", "f", "aspect", "cx", "cy", "pixel_size_mm", "distortion" } );
+      if ( node.has( "fiducials" ) )
+      {
+        std::set<std::string> ids;
+        for ( const Node &item : node.child( "fiducials" ).arrayItems( true, "fiducials" ) )
+        {
+          item.requireObject();
+          Fiducial f;
+          f.id = item.child( "id" ).string();
+          if ( !ids.insert( f.id ).second )
+            item.child( "id" ).fail( "the fiducial id \"" + f.id + "\" is used twice" );
+          f.photoMm = { item.child( "x_mm" ).number( "photo x in mm" ), item.child( "y_mm" ).number( "photo y in mm" ) };
+          c.fiducials.push_back( f );
+        }
+      }
+      json extra = unknownKeys( node.value(), { "id", "width", "height", "f", "aspect", "cx", "cy", "pixel_size_mm", "distortion", "fiducials" } );
       if ( node.has( "distortion" ) )
       {
         json distortionExtra;
@@ -267,7 +281,27 @@ namespace geostation
       {
         node.child( "sigma" ).fail( "sigmas are given but the image has no exterior orientation" );
       }
-      image.extraJson = unknownKeys( node.value(), { "id", "camera", "station", "path", "X", "Y", "Z", "omega", "phi", "kappa", "sigma" } ).dump();
+      if ( node.has( "inner_orientation" ) )
+      {
+        const Node io = node.child( "inner_orientation" );
+        io.requireObject();
+        const std::vector<Node> rows = io.child( "photo_from_pixel" ).arrayItems( false, "two rows" );
+        if ( rows.size() != 2 )
+          io.child( "photo_from_pixel" ).fail( "expected two rows of three numbers (photo mm from col, row, 1)" );
+        ImageInnerOrientation inner;
+        for ( int r = 0; r < 2; ++r )
+        {
+          const std::vector<Node> values = rows[r].arrayItems( false, "three numbers" );
+          if ( values.size() != 3 )
+            rows[r].fail( "expected three numbers" );
+          for ( int c = 0; c < 3; ++c )
+            inner.photoFromPixel( r, c ) = values[c].number( "affine coefficient" );
+        }
+        if ( io.has( "sigma0_mm" ) )
+          inner.sigma0Mm = io.child( "sigma0_mm" ).positiveNumber( "mm", true );
+        image.innerOrientation = inner;
+      }
+      image.extraJson = unknownKeys( node.value(), { "id", "camera", "station", "path", "X", "Y", "Z", "omega", "phi", "kappa", "sigma", "inner_orientation" } ).dump();
       return image;
     }
 
@@ -418,6 +452,13 @@ namespace geostation
       json known = { { "id", c.id }, { "width", c.width }, { "height", c.height }, { "f", c.f }, { "aspect", c.aspect }, { "cx", c.cx }, { "cy", c.cy } };
       if ( c.pixelSizeMm )
         known["pixel_size_mm"] = *c.pixelSizeMm;
+      if ( !c.fiducials.empty() )
+      {
+        json fiducials = json::array();
+        for ( const Fiducial &f : c.fiducials )
+          fiducials.push_back( { { "id", f.id }, { "x_mm", f.photoMm.x() }, { "y_mm", f.photoMm.y() } } );
+        known["fiducials"] = fiducials;
+      }
       known["distortion"] = { { "model", distortionModelName( c.distortion.model ) }, { "k1", c.distortion.k1() }, { "k2", c.distortion.k2() }, { "p1", c.distortion.p1() }, { "p2", c.distortion.p2() }, { "k3", c.distortion.k3() } };
       const auto extraIt = cameraExtraJson.find( c.id );
       cameraArray.push_back( withKnown( extraIt != cameraExtraJson.end() ? extraIt->second : std::string( "{}" ), known ) );
@@ -453,6 +494,13 @@ namespace geostation
         known["kappa"] = eo.kappaDeg;
         if ( eo.sigma )
           known["sigma"] = { { "X", eo.sigma->x }, { "Y", eo.sigma->y }, { "Z", eo.sigma->z }, { "omega", eo.sigma->omegaDeg }, { "phi", eo.sigma->phiDeg }, { "kappa", eo.sigma->kappaDeg } };
+      }
+      if ( image.innerOrientation )
+      {
+        const Eigen::Matrix<double, 2, 3> &m = image.innerOrientation->photoFromPixel;
+        known["inner_orientation"] = { { "photo_from_pixel", { { m( 0, 0 ), m( 0, 1 ), m( 0, 2 ) }, { m( 1, 0 ), m( 1, 1 ), m( 1, 2 ) } } },
+          { "sigma0_mm", image.innerOrientation->sigma0Mm }
+        };
       }
       imageArray.push_back( withKnown( image.extraJson, known ) );
     }

@@ -47,6 +47,13 @@ namespace geostation
     std::string extraJson = "{}"; //!< unknown keys as JSON text, kept on save
   };
 
+  //! A scanned photo's inner orientation: pixels to photo mm (CONVENTIONS §2).
+  struct ImageInnerOrientation
+  {
+    Eigen::Matrix<double, 2, 3> photoFromPixel = Eigen::Matrix<double, 2, 3>::Zero(); //!< photo mm = M (col, row, 1)
+    double sigma0Mm = 0.0;
+  };
+
   struct BlockImage
   {
     std::string id;
@@ -54,6 +61,7 @@ namespace geostation
     std::string stationId; //!< may be empty
     std::string path;      //!< as written in the file (relative to the block file)
     std::optional<ExteriorOrientation> exterior; //!< absent until oriented
+    std::optional<ImageInnerOrientation> innerOrientation; //!< scanned film, after inner orientation
     std::string extraJson = "{}"; //!< unknown keys as JSON text, kept on save
   };
 

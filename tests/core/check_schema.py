@@ -57,6 +57,9 @@ expect(broken(lambda d: d["images"][0]["sigma"].update(Z=-1)), False, "negative 
 expect(broken(lambda d: d["images"][2].update(sigma={"X": 1, "Y": 1, "Z": 1, "omega": 1, "phi": 1, "kappa": 1})), False,
        "sigma without orientation")
 expect(broken(lambda d: d["images"][0].update(note="kept")), True, "unknown keys are allowed")
+expect(broken(lambda d: d["cameras"][2]["fiducials"][0].pop("x_mm")), False, "fiducial without x_mm")
+expect(broken(lambda d: d["images"][2]["inner_orientation"].update(photo_from_pixel=[[1, 2, 3]])), False,
+       "inner orientation with one row")
 
 print("%d passed, %d failed" % (passed, failed))
 sys.exit(1 if failed else 0)

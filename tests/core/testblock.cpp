@@ -90,6 +90,12 @@ TEST( Block, LoadsTheSample )
   EXPECT_FALSE( b.image( "S0001_R" ).exterior->sigma.has_value() );
   EXPECT_FALSE( b.image( "S0002_L" ).exterior.has_value() );
   EXPECT_EQ( b.imageFilePath( image ), kSample.parent_path() / "images/S0001_L.tif" );
+  ASSERT_EQ( b.camera( "nadir" ).fiducials.size(), 4u );
+  EXPECT_EQ( b.camera( "nadir" ).fiducials[2].photoMm, Eigen::Vector2d( 106.0, -106.0 ) );
+  ASSERT_TRUE( b.image( "S0002_L" ).innerOrientation.has_value() );
+  EXPECT_DOUBLE_EQ( b.image( "S0002_L" ).innerOrientation->photoFromPixel( 1, 2 ), 115.0 );
+  EXPECT_DOUBLE_EQ( b.image( "S0002_L" ).innerOrientation->sigma0Mm, 0.002 );
+  EXPECT_FALSE( b.image( "S0001_L" ).innerOrientation.has_value() );
 }
 
 TEST( Block, UnknownKeysSurviveASaveAtEveryLevel )
@@ -235,6 +241,18 @@ TEST( Block, ErrorsNameTheJsonPathAndWhatWasExpected )
   doc = sampleJson();
   doc["images"][2]["sigma"] = doc["images"][0]["sigma"];
   expectError( doc, "$.images[2].sigma", "no exterior orientation" );
+
+  doc = sampleJson();
+  doc["cameras"][2]["fiducials"][1]["id"] = "1";
+  expectError( doc, "$.cameras[2].fiducials[1].id", "used twice" );
+
+  doc = sampleJson();
+  doc["cameras"][2]["fiducials"][0].erase( "y_mm" );
+  expectError( doc, "$.cameras[2].fiducials[0]", "\"y_mm\" is missing" );
+
+  doc = sampleJson();
+  doc["images"][2]["inner_orientation"]["photo_from_pixel"][1] = json::array( { 1.0, 2.0 } );
+  expectError( doc, "$.images[2].inner_orientation.photo_from_pixel[1]", "three numbers" );
 
   doc = sampleJson();
   doc["images"][2]["id"] = "S0001_L";
