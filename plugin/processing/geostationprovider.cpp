@@ -10,6 +10,7 @@
 #include <qgsprocessingregistry.h>
 
 #include "bundleadjustalgorithm.h"
+#include "innerorientationalgorithm.h"
 #include "intersectalgorithm.h"
 #include "projecttoimagealgorithm.h"
 #include "resectionalgorithm.h"
@@ -59,6 +60,7 @@ void GeoStationProvider::loadAlgorithms()
   addAlgorithm( new IntersectAlgorithm() );
   addAlgorithm( new ResectionAlgorithm() );
   addAlgorithm( new BundleAdjustAlgorithm() );
+  addAlgorithm( new InnerOrientationAlgorithm() );
 }
 
 bool registerGeoStationProvider()

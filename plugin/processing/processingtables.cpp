@@ -171,4 +171,32 @@ namespace GeoStationProcessing
     return points;
   }
 
+  QVector<FiducialRecord> readFiducials( QgsFeatureSource *source, const QString &imageId )
+  {
+    const QString what = QObject::tr( "fiducials" );
+    const QString expected = QObject::tr( "fiducial_id, col, row (and optionally image_id)" );
+    const QgsFields fields = source->fields();
+    const int idField = requireField( fields, QStringLiteral( "fiducial_id" ), what, expected );
+    const int colField = requireField( fields, QStringLiteral( "col" ), what, expected );
+    const int rowField = requireField( fields, QStringLiteral( "row" ), what, expected );
+    const int imageField = fieldIndex( fields, QStringLiteral( "image_id" ) );
+    QVector<FiducialRecord> records;
+    QgsFeatureIterator it = source->getFeatures( QgsFeatureRequest().setFlags( QgsFeatureRequest::NoGeometry ) );
+    QgsFeature f;
+    long row = 0;
+    while ( it.nextFeature( f ) )
+    {
+      ++row;
+      if ( imageField >= 0 && text( f, imageField ) != imageId )
+        continue;
+      FiducialRecord r;
+      r.fiducialId = text( f, idField );
+      if ( r.fiducialId.isEmpty() )
+        throw QgsProcessingException( QObject::tr( "Row %1 of the fiducials table has no fiducial_id." ).arg( row ) );
+      r.pixel = Eigen::Vector2d( number( f, colField, row, QStringLiteral( "col" ), what ), number( f, rowField, row, QStringLiteral( "row" ), what ) );
+      records << r;
+    }
+    return records;
+  }
+
 }

@@ -48,6 +48,18 @@ namespace GeoStationProcessing
     bool check = false;
   };
 
+  struct FiducialRecord
+  {
+    QString fiducialId;
+    Eigen::Vector2d pixel;
+  };
+
+  /**
+   * Reads fiducial measurements (fiducial_id, col, row). When the table has an
+   * image_id field, only the rows of `imageId` are kept.
+   */
+  QVector<FiducialRecord> readFiducials( QgsFeatureSource *source, const QString &imageId );
+
   //! Reads image observations; `what` names the table in messages.
   ObservationTable readObservations( QgsFeatureSource *source, const QString &what, QgsProcessingFeedback *feedback );
 

@@ -1,0 +1,27 @@
+/***************************************************************************
+  innerorientationalgorithm.h - geostation:inner_orientation
+ ***************************************************************************/
+#ifndef INNERORIENTATIONALGORITHM_H
+#define INNERORIENTATIONALGORITHM_H
+
+#include <qgsprocessingalgorithm.h>
+
+#include "geostation_processing_export.h"
+
+class GEOSTATION_PROCESSING_EXPORT InnerOrientationAlgorithm : public QgsProcessingAlgorithm
+{
+  public:
+    QString name() const override;
+    QString displayName() const override;
+    QStringList tags() const override;
+    QString group() const override;
+    QString groupId() const override;
+    QString shortHelpString() const override;
+    InnerOrientationAlgorithm *createInstance() const override;
+
+  protected:
+    void initAlgorithm( const QVariantMap &configuration = QVariantMap() ) override;
+    QVariantMap processAlgorithm( const QVariantMap &parameters, QgsProcessingContext &context, QgsProcessingFeedback *feedback ) override;
+};
+
+#endif // INNERORIENTATIONALGORITHM_H
