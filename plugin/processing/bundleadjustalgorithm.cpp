@@ -4,9 +4,7 @@
 #include "bundleadjustalgorithm.h"
 
 #include <QJsonArray>
-#include <QJsonDocument>
 #include <QJsonObject>
-#include <QSaveFile>
 
 #include <qgsexception.h>
 #include <qgsfeaturesink.h>
@@ -152,8 +150,7 @@ BundleAdjustAlgorithm *BundleAdjustAlgorithm::createInstance() const
 
 void BundleAdjustAlgorithm::initAlgorithm( const QVariantMap & )
 {
-  addParameter( new QgsProcessingParameterFile( QStringLiteral( "BLOCK" ), QObject::tr( "GeoStation block" ), QgsProcessingParameterFile::File,
-                QString(), QVariant(), false, QObject::tr( "GeoStation block (*.geostation.json *.json)" ) ) );
+  addParameter( GeoStationProcessing::blockParameter() );
   addParameter( new QgsProcessingParameterFeatureSource( QStringLiteral( "OBSERVATIONS" ), QObject::tr( "Image observations (point_id, image_id, col, row)" ), QList<int>() << QgsProcessing::TypeVector ) );
   addParameter( new QgsProcessingParameterFeatureSource( QStringLiteral( "GCPS" ), QObject::tr( "Control and check points" ), QList<int>() << QgsProcessing::TypeVector, QVariant(), true ) );
   addParameter( new QgsProcessingParameterString( QStringLiteral( "SELF_CALIBRATION" ), QObject::tr( "Interior parameters to estimate (e.g. f,cx,cy,k1)" ), QString(), false, true ) );
@@ -258,21 +255,7 @@ QVariantMap BundleAdjustAlgorithm::processAlgorithm( const QVariantMap &paramete
 
   const QString reportPath = parameterAsFileOutput( parameters, QStringLiteral( "REPORT" ), context );
   const QString blockPath = parameterAsFileOutput( parameters, QStringLiteral( "OUTPUT_BLOCK" ), context );
-  QSaveFile report( reportPath );
-  if ( !report.open( QIODevice::WriteOnly ) )
-    throw QgsProcessingException( QObject::tr( "Cannot write the report %1." ).arg( reportPath ) );
-  report.write( QJsonDocument( reportJson( summary ) ).toJson( QJsonDocument::Indented ) );
-  try
-  {
-    block.save( blockPath.toStdString() );
-  }
-  catch ( const std::exception &e )
-  {
-    report.cancelWriting();
-    throw QgsProcessingException( QString::fromStdString( e.what() ) );
-  }
-  if ( !report.commit() )
-    throw QgsProcessingException( QObject::tr( "Cannot write the report %1." ).arg( reportPath ) );
+  GeoStationProcessing::writeBlockAndReport( block, blockPath, reportJson( summary ), reportPath );
 
   QString pointsDestination;
   std::unique_ptr<QgsFeatureSink> sink( parameterAsSink( parameters, QStringLiteral( "OUTPUT_POINTS" ), context, pointsDestination, fields, QgsWkbTypes::PointZ, crs ) );

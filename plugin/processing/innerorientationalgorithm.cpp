@@ -4,9 +4,7 @@
 #include "innerorientationalgorithm.h"
 
 #include <QJsonArray>
-#include <QJsonDocument>
 #include <QJsonObject>
-#include <QSaveFile>
 
 #include <opencv2/imgcodecs.hpp>
 
@@ -72,8 +70,7 @@ InnerOrientationAlgorithm *InnerOrientationAlgorithm::createInstance() const
 
 void InnerOrientationAlgorithm::initAlgorithm( const QVariantMap & )
 {
-  addParameter( new QgsProcessingParameterFile( QStringLiteral( "BLOCK" ), QObject::tr( "GeoStation block" ), QgsProcessingParameterFile::File,
-                QString(), QVariant(), false, QObject::tr( "GeoStation block (*.geostation.json *.json)" ) ) );
+  addParameter( GeoStationProcessing::blockParameter() );
   addParameter( new QgsProcessingParameterString( QStringLiteral( "IMAGE" ), QObject::tr( "Image id" ) ) );
   addParameter( new QgsProcessingParameterFeatureSource( QStringLiteral( "FIDUCIALS" ), QObject::tr( "Measured fiducials (fiducial_id, col, row)" ),
                 QList<int>() << QgsProcessing::TypeVector, QVariant(), true ) );
@@ -178,21 +175,7 @@ QVariantMap InnerOrientationAlgorithm::processAlgorithm( const QVariantMap &para
 
   const QString reportPath = parameterAsFileOutput( parameters, QStringLiteral( "REPORT" ), context );
   const QString blockPath = parameterAsFileOutput( parameters, QStringLiteral( "OUTPUT_BLOCK" ), context );
-  QSaveFile reportFile( reportPath );
-  if ( !reportFile.open( QIODevice::WriteOnly ) )
-    throw QgsProcessingException( QObject::tr( "Cannot write the report %1." ).arg( reportPath ) );
-  reportFile.write( QJsonDocument( report ).toJson( QJsonDocument::Indented ) );
-  try
-  {
-    block.save( blockPath.toStdString() );
-  }
-  catch ( const std::exception &e )
-  {
-    reportFile.cancelWriting();
-    throw QgsProcessingException( QString::fromStdString( e.what() ) );
-  }
-  if ( !reportFile.commit() )
-    throw QgsProcessingException( QObject::tr( "Cannot write the report %1." ).arg( reportPath ) );
+  GeoStationProcessing::writeBlockAndReport( block, blockPath, report, reportPath );
   feedback->setProgress( 100 );
   feedback->pushInfo( QObject::tr( "%1: %2 fiducials, A = %3 mm/px, B = %4 mm/px, affinity %5 %, beta = %6 deg, sigma0 = %7 um." )
                       .arg( imageId ).arg( measured.size() ).arg( s.decomposition.scaleA, 0, 'f', 6 ).arg( s.decomposition.scaleB, 0, 'f', 6 )

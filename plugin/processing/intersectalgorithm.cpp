@@ -63,8 +63,7 @@ IntersectAlgorithm *IntersectAlgorithm::createInstance() const
 
 void IntersectAlgorithm::initAlgorithm( const QVariantMap & )
 {
-  addParameter( new QgsProcessingParameterFile( QStringLiteral( "BLOCK" ), QObject::tr( "GeoStation block" ), QgsProcessingParameterFile::File,
-                QString(), QVariant(), false, QObject::tr( "GeoStation block (*.geostation.json *.json)" ) ) );
+  addParameter( GeoStationProcessing::blockParameter() );
   addParameter( new QgsProcessingParameterFeatureSource( QStringLiteral( "OBSERVATIONS" ), QObject::tr( "Image observations (point_id, image_id, col, row)" ),
                 QList<int>() << QgsProcessing::TypeVector ) );
   addParameter( new QgsProcessingParameterNumber( QStringLiteral( "SIGMA_PX" ), QObject::tr( "Pixel sigma where the table has none" ),

@@ -3,9 +3,12 @@
  ***************************************************************************/
 #include "processingblock.h"
 
+#include <QJsonDocument>
 #include <QObject>
+#include <QSaveFile>
 
 #include <qgsexception.h>
+#include <qgsprocessingparameters.h>
 #include <qgsproviderregistry.h>
 
 #include "io/pixelspacegpkg.h"
@@ -85,6 +88,31 @@ namespace GeoStationProcessing
     {
       throw QgsProcessingException( QObject::tr( "The output %1 was written but could not be marked as image space: %2" ).arg( path, QString::fromStdString( e.what() ) ) );
     }
+  }
+
+  QgsProcessingParameterFile *blockParameter()
+  {
+    return new QgsProcessingParameterFile( QStringLiteral( "BLOCK" ), QObject::tr( "GeoStation block" ), QgsProcessingParameterFile::File,
+                                           QString(), QVariant(), false, QObject::tr( "GeoStation block (*.geostation.json *.json)" ) );
+  }
+
+  void writeBlockAndReport( const geostation::Block &block, const QString &blockPath, const QJsonObject &report, const QString &reportPath )
+  {
+    QSaveFile reportFile( reportPath );
+    if ( !reportFile.open( QIODevice::WriteOnly ) )
+      throw QgsProcessingException( QObject::tr( "Cannot write the report %1." ).arg( reportPath ) );
+    reportFile.write( QJsonDocument( report ).toJson( QJsonDocument::Indented ) );
+    try
+    {
+      block.save( blockPath.toStdString() );
+    }
+    catch ( const std::exception &e )
+    {
+      reportFile.cancelWriting();
+      throw QgsProcessingException( QString::fromStdString( e.what() ) );
+    }
+    if ( !reportFile.commit() )
+      throw QgsProcessingException( QObject::tr( "Cannot write the report %1." ).arg( reportPath ) );
   }
 
 }

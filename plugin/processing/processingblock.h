@@ -7,11 +7,14 @@
 #ifndef PROCESSINGBLOCK_H
 #define PROCESSINGBLOCK_H
 
+#include <QJsonObject>
 #include <QString>
 
 #include <qgscoordinatereferencesystem.h>
 
 #include "io/block.h"
+
+class QgsProcessingParameterFile;
 
 namespace GeoStationProcessing
 {
@@ -35,6 +38,15 @@ namespace GeoStationProcessing
    * format needs it (GeoPackage: srs_id -1). Other outputs are left alone.
    */
   void markPixelSpaceOutput( const QString &destination );
+
+  //! The BLOCK parameter every algorithm takes.
+  QgsProcessingParameterFile *blockParameter();
+
+  /**
+   * Writes a JSON report and a block, both or neither: the report is staged
+   * and committed only once the block has been saved (atomically).
+   */
+  void writeBlockAndReport( const geostation::Block &block, const QString &blockPath, const QJsonObject &report, const QString &reportPath );
 }
 
 #endif // PROCESSINGBLOCK_H

@@ -81,8 +81,7 @@ ProjectToImageAlgorithm *ProjectToImageAlgorithm::createInstance() const
 
 void ProjectToImageAlgorithm::initAlgorithm( const QVariantMap & )
 {
-  addParameter( new QgsProcessingParameterFile( QStringLiteral( "BLOCK" ), QObject::tr( "GeoStation block" ), QgsProcessingParameterFile::File,
-                QString(), QVariant(), false, QObject::tr( "GeoStation block (*.geostation.json *.json)" ) ) );
+  addParameter( GeoStationProcessing::blockParameter() );
   addParameter( new QgsProcessingParameterString( QStringLiteral( "IMAGE" ), QObject::tr( "Image id" ) ) );
   addParameter( new QgsProcessingParameterFeatureSource( QStringLiteral( "INPUT" ), QObject::tr( "Map points with Z" ),
                 QList<int>() << QgsProcessing::TypeVectorPoint ) );

@@ -4,9 +4,7 @@
 #include "resectionalgorithm.h"
 
 #include <QJsonArray>
-#include <QJsonDocument>
 #include <QJsonObject>
-#include <QSaveFile>
 
 #include <qgsexception.h>
 #include <qgsprocessingfeedback.h>
@@ -122,8 +120,7 @@ ResectionAlgorithm *ResectionAlgorithm::createInstance() const
 
 void ResectionAlgorithm::initAlgorithm( const QVariantMap & )
 {
-  addParameter( new QgsProcessingParameterFile( QStringLiteral( "BLOCK" ), QObject::tr( "GeoStation block" ), QgsProcessingParameterFile::File,
-                QString(), QVariant(), false, QObject::tr( "GeoStation block (*.geostation.json *.json)" ) ) );
+  addParameter( GeoStationProcessing::blockParameter() );
   addParameter( new QgsProcessingParameterString( QStringLiteral( "IMAGE" ), QObject::tr( "Image id" ) ) );
   addParameter( new QgsProcessingParameterFeatureSource( QStringLiteral( "GCPS" ), QObject::tr( "Ground control (point_id, X, Y, Z)" ), QList<int>() << QgsProcessing::TypeVector ) );
   addParameter( new QgsProcessingParameterFeatureSource( QStringLiteral( "OBSERVATIONS" ), QObject::tr( "Image observations (point_id, image_id, col, row)" ), QList<int>() << QgsProcessing::TypeVector ) );
@@ -218,21 +215,7 @@ QVariantMap ResectionAlgorithm::processAlgorithm( const QVariantMap &parameters,
 
   const QString reportPath = parameterAsFileOutput( parameters, QStringLiteral( "REPORT" ), context );
   const QString blockPath = parameterAsFileOutput( parameters, QStringLiteral( "OUTPUT_BLOCK" ), context );
-  QSaveFile report( reportPath );
-  if ( !report.open( QIODevice::WriteOnly ) )
-    throw QgsProcessingException( QObject::tr( "Cannot write the report %1." ).arg( reportPath ) );
-  report.write( QJsonDocument( reportJson( summary, imageId, cameraId ) ).toJson( QJsonDocument::Indented ) );
-  try
-  {
-    block.save( blockPath.toStdString() );
-  }
-  catch ( const std::exception &e )
-  {
-    report.cancelWriting();
-    throw QgsProcessingException( QString::fromStdString( e.what() ) );
-  }
-  if ( !report.commit() )
-    throw QgsProcessingException( QObject::tr( "Cannot write the report %1." ).arg( reportPath ) );
+  GeoStationProcessing::writeBlockAndReport( block, blockPath, reportJson( summary, imageId, cameraId ), reportPath );
   feedback->setProgress( 100 );
 
   feedback->pushInfo( QObject::tr( "%1 oriented from %2 control points: sigma0 = %3 px, RMSE control %4 px." )

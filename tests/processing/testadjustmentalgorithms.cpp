@@ -20,26 +20,11 @@
 
 #include "geometry/projection.h"
 #include "geostationprovider.h"
+#include "processingtestutils.h"
 #include "io/block.h"
 
 namespace
 {
-  class RecordingFeedback : public QgsProcessingFeedback
-  {
-    public:
-      void reportError( const QString &error, bool fatal = false ) override
-      {
-        errors << error;
-        QgsProcessingFeedback::reportError( error, fatal );
-      }
-      void pushWarning( const QString &warning ) override
-      {
-        warnings << warning;
-        QgsProcessingFeedback::pushWarning( warning );
-      }
-      QStringList errors, warnings;
-  };
-
   // Three aerial images, 1000 x 800, f = 1000 px, 1000 m above ground; the
   // third (C) has no exterior orientation in the block: its truth is kept aside.
   const char *kBlock = R"json({
@@ -429,17 +414,7 @@ void TestAdjustmentAlgorithms::bundleAdjustBadInput()
 
 int main( int argc, char **argv )
 {
-  QgsApplication app( argc, argv, false );
-  QgsApplication::init();
-  QgsApplication::initQgis();
-  int result = 0;
-  {
-    // Destroyed before exitQgis(): it holds layers whose providers must still exist.
-    TestAdjustmentAlgorithms test;
-    result = QTest::qExec( &test, argc, argv );
-  }
-  QgsApplication::exitQgis();
-  return result;
+  return runQgisTests<TestAdjustmentAlgorithms>( argc, argv );
 }
 
 #include "testadjustmentalgorithms.moc"

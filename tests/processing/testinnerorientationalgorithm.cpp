@@ -18,21 +18,11 @@
 
 #include "geometry/rotation.h"
 #include "geostationprovider.h"
+#include "processingtestutils.h"
 #include "io/block.h"
 
 namespace
 {
-  class RecordingFeedback : public QgsProcessingFeedback
-  {
-    public:
-      void reportError( const QString &error, bool fatal = false ) override
-      {
-        errors << error;
-        QgsProcessingFeedback::reportError( error, fatal );
-      }
-      QStringList errors;
-  };
-
   constexpr int kSize = 2048;
   const double kFiducials[4][2] = { { -95.0, 95.0 }, { 95.0, 95.0 }, { 95.0, -95.0 }, { -95.0, -95.0 } };
 
@@ -206,16 +196,7 @@ void TestInnerOrientationAlgorithm::badInput()
 
 int main( int argc, char **argv )
 {
-  QgsApplication app( argc, argv, false );
-  QgsApplication::init();
-  QgsApplication::initQgis();
-  int result = 0;
-  {
-    TestInnerOrientationAlgorithm test;
-    result = QTest::qExec( &test, argc, argv );
-  }
-  QgsApplication::exitQgis();
-  return result;
+  return runQgisTests<TestInnerOrientationAlgorithm>( argc, argv );
 }
 
 #include "testinnerorientationalgorithm.moc"

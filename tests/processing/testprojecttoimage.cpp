@@ -22,21 +22,10 @@
 #include <qgsvectorlayer.h>
 
 #include "geostationprovider.h"
+#include "processingtestutils.h"
 
 namespace
 {
-  //! Collects what an algorithm reports, so tests can read its messages.
-  class RecordingFeedback : public QgsProcessingFeedback
-  {
-    public:
-      void reportError( const QString &error, bool fatal = false ) override
-      {
-        errors << error;
-        QgsProcessingFeedback::reportError( error, fatal );
-      }
-      QStringList errors;
-  };
-
   // A 400 x 300 nadir camera, f = 1000 px, principal point at the image
   // centre, 1000 m above ground at Z = 100: one pixel is one metre, and
   // col = 200 + dX, row = 150 - dY.
@@ -329,17 +318,7 @@ void TestProjectToImage::badInputFailsWithOneSentenceAndNoOutput()
 
 int main( int argc, char **argv )
 {
-  QgsApplication app( argc, argv, false );
-  QgsApplication::init();
-  QgsApplication::initQgis();
-  int result = 0;
-  {
-    // Destroyed before exitQgis(): it holds layers whose providers must still exist.
-    TestProjectToImage test;
-    result = QTest::qExec( &test, argc, argv );
-  }
-  QgsApplication::exitQgis();
-  return result;
+  return runQgisTests<TestProjectToImage>( argc, argv );
 }
 
 #include "testprojecttoimage.moc"
