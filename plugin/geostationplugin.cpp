@@ -46,9 +46,20 @@ QAction *GeoStationPlugin::addAction( const QString &objectName, const QString &
   action->setObjectName( objectName );
   action->setToolTip( tip );
   action->setStatusTip( tip );
-  connect( action, &QAction::triggered, this, slot );
+  if ( slot )
+    connect( action, &QAction::triggered, this, slot );
   mMenu->addAction( action );
   mToolBar->addAction( action );
+  mActions << action;
+  return action;
+}
+
+QAction *GeoStationPlugin::addAlgorithmAction( QMenu *menu, const QString &objectName, const QString &text, const QString &algorithmId )
+{
+  QAction *action = new QAction( text, mIface->mainWindow() );
+  action->setObjectName( objectName );
+  connect( action, &QAction::triggered, this, [this, algorithmId] { showAlgorithmDialog( algorithmId ); } );
+  menu->addAction( action );
   mActions << action;
   return action;
 }
@@ -78,8 +89,16 @@ void GeoStationPlugin::initGui()
              tr( "Open a GeoStation block (*.geostation.json): cameras, stations and oriented images" ), &GeoStationPlugin::openBlock );
   mBlockInfoAction = addAction( QStringLiteral( "mActionGeoStationBlockInfo" ), QStringLiteral( ":/geostation/icons/blockinfo.svg" ), tr( "Block Information…" ),
                                 tr( "Show the cameras (interior orientation), stations and images of the open block" ), &GeoStationPlugin::showBlockInfo );
-  addAction( QStringLiteral( "mActionGeoStationProjectToImage" ), QStringLiteral( ":/geostation/icons/projecttoimage.svg" ), tr( "Project Map Points to Image…" ),
-             tr( "Find where map points with heights appear in an oriented image" ), &GeoStationPlugin::showProjectToImage );
+  QAction *project = addAction( QStringLiteral( "mActionGeoStationProjectToImage" ), QStringLiteral( ":/geostation/icons/projecttoimage.svg" ), tr( "Project Map Points to Image…" ),
+                                tr( "Find where map points with heights appear in an oriented image" ), nullptr );
+  connect( project, &QAction::triggered, this, [this] { showAlgorithmDialog( QStringLiteral( "geostation:project_to_image" ) ); } );
+
+  mAdjustmentMenu = mMenu->addMenu( tr( "Adjustment" ) );
+  mAdjustmentMenu->setObjectName( QStringLiteral( "mGeoStationAdjustmentMenu" ) );
+  addAlgorithmAction( mAdjustmentMenu, QStringLiteral( "mActionGeoStationIntersect" ), tr( "Intersect Image Points…" ), QStringLiteral( "geostation:intersect" ) );
+  addAlgorithmAction( mAdjustmentMenu, QStringLiteral( "mActionGeoStationResection" ), tr( "Space Resection…" ), QStringLiteral( "geostation:resection" ) );
+  addAlgorithmAction( mAdjustmentMenu, QStringLiteral( "mActionGeoStationBundleAdjust" ), tr( "Bundle Adjustment…" ), QStringLiteral( "geostation:bundle_adjust" ) );
+  addAlgorithmAction( mAdjustmentMenu, QStringLiteral( "mActionGeoStationInnerOrientation" ), tr( "Inner Orientation from Fiducials…" ), QStringLiteral( "geostation:inner_orientation" ) );
   updateActions();
 }
 
@@ -95,6 +114,7 @@ void GeoStationPlugin::unload()
     delete action;
   mActions.clear();
   mBlockInfoAction = nullptr;
+  delete mAdjustmentMenu;
   delete mMenu;
   delete mToolBar;
   if ( mRegisteredProvider )
@@ -153,12 +173,12 @@ void GeoStationPlugin::showBlockInfo()
   dialog.exec();
 }
 
-void GeoStationPlugin::showProjectToImage()
+void GeoStationPlugin::showAlgorithmDialog( const QString &algorithmId )
 {
   // The algorithm dialog of QGIS 3.22 lives in the Python processing plugin.
-  if ( QgsPythonRunner::isValid() && QgsPythonRunner::run( QStringLiteral( "import processing\nprocessing.execAlgorithmDialog('geostation:project_to_image')" ) ) )
+  if ( QgsPythonRunner::isValid() && QgsPythonRunner::run( QStringLiteral( "import processing\nprocessing.execAlgorithmDialog('%1')" ).arg( algorithmId ) ) )
     return;
-  mIface->messageBar()->pushMessage( tr( "GeoStation" ), tr( "Open \"Project map points to image\" from the Processing Toolbox (GeoStation ▸ Monoplotting)." ), Qgis::MessageLevel::Info );
+  mIface->messageBar()->pushMessage( tr( "GeoStation" ), tr( "Open %1 from the Processing Toolbox (GeoStation)." ).arg( algorithmId ), Qgis::MessageLevel::Info );
 }
 
 // ---- the entry points QGIS looks for in a C++ plugin ----

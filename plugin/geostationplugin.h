@@ -53,19 +53,22 @@ class GeoStationPlugin : public QObject, public QgisPlugin
     //! Shows the cameras, stations and images of the open block.
     void showBlockInfo();
 
-    //! Opens the Processing dialog of geostation:project_to_image.
-    void showProjectToImage();
+    //! Opens the Processing dialog of an algorithm (e.g. "geostation:resection").
+    void showAlgorithmDialog( const QString &algorithmId );
 
   signals:
     void blockOpened( const QString &path );
 
   private:
     QAction *addAction( const QString &objectName, const QString &icon, const QString &text, const QString &tip, void ( GeoStationPlugin::*slot )() );
+    //! A menu action (in `menu`) that opens a Processing algorithm's dialog.
+    QAction *addAlgorithmAction( QMenu *menu, const QString &objectName, const QString &text, const QString &algorithmId );
     QString blockSummary( const geostation::Block &block ) const;
     void updateActions();
 
     QgisInterface *mIface = nullptr;
     QPointer<QMenu> mMenu;
+    QPointer<QMenu> mAdjustmentMenu;
     QPointer<QToolBar> mToolBar;
     QList<QAction *> mActions;
     QAction *mBlockInfoAction = nullptr;

@@ -4,11 +4,12 @@ screenshot, and quits QGIS. Driven by test_desktop_smoke.py."""
 
 import json
 import os
+import time
 import traceback
 
 from qgis.core import QgsApplication, QgsProject
 from qgis.PyQt.QtCore import Q_ARG, Q_RETURN_ARG, QMetaObject, QObject, Qt, QTimer
-from qgis.PyQt.QtWidgets import QAction, QApplication, QMenu, QTableView, QToolBar
+from qgis.PyQt.QtWidgets import QAction, QApplication, QDialog, QMenu, QTableView, QToolBar
 from qgis.utils import iface
 
 RESULT = os.environ["GEOSTATION_SMOKE_RESULT"]
@@ -49,6 +50,35 @@ def show_block_info(window):
     return seen
 
 
+def open_algorithm_dialog(window, action_name):
+    """Triggers a menu action that should open a Processing dialog; records
+    the dialog's title from inside its modal loop and closes it."""
+    action = window.findChild(QAction, action_name)
+    seen = {"tries": 0}
+
+    def inspect():
+        # The dialog may take a moment (Processing's Python loads first): retry, bounded.
+        dialogs = [w for w in QApplication.topLevelWidgets() if w.isVisible() and isinstance(w, QDialog)]
+        dialog = QApplication.activeModalWidget() or (dialogs[0] if dialogs else None)
+        seen["tries"] += 1
+        if dialog:
+            seen["title"] = dialog.windowTitle()
+            dialog.reject()
+        elif seen["tries"] < 40:
+            QTimer.singleShot(250, inspect)
+
+    if action:
+        QTimer.singleShot(250, inspect)
+        action.trigger()
+        # If the dialog opened non-modally, exec never blocked: give the timer time.
+        for _ in range(60):
+            if "title" in seen or seen["tries"] >= 40:
+                break
+            QgsApplication.processEvents()
+            time.sleep(0.05)
+    return seen
+
+
 def check():
     result = {}
     try:
@@ -58,9 +88,12 @@ def check():
         result["menu_title"] = menu.title() if menu else None
         result["menu_actions"] = [a.objectName() for a in menu.actions()] if menu else []
         result["toolbar"] = window.findChild(QToolBar, "mGeoStationToolBar") is not None
+        adjustment = window.findChild(QMenu, "mGeoStationAdjustmentMenu")
+        result["adjustment_actions"] = [a.objectName() for a in adjustment.actions()] if adjustment else []
         registry = QgsApplication.processingRegistry()
         result["provider"] = registry.providerById("geostation") is not None
         result["algorithm"] = registry.algorithmById("geostation:project_to_image") is not None
+        result["algorithms"] = sorted(a.id() for a in registry.providerById("geostation").algorithms()) if result["provider"] else []
 
         plugin = window.findChild(QObject, "GeoStationPlugin")
         result["plugin_object"] = plugin is not None
@@ -72,6 +105,7 @@ def check():
             result["good_block_opened"] = open_block(plugin, GOOD_BLOCK)
             result["good_block_messages"] = message_bar_texts()
             result["block_info"] = show_block_info(window)
+            result["resection_dialog"] = open_algorithm_dialog(window, "mActionGeoStationResection")
 
         import processing
         output = processing.run("geostation:project_to_image", {

@@ -75,6 +75,10 @@ class DesktopSmokeTest(unittest.TestCase):
         self.assertIn("mActionGeoStationBlockInfo", self.result.get("menu_actions", []))
         self.assertIn("mActionGeoStationProjectToImage", self.result.get("menu_actions", []))
         self.assertTrue(self.result.get("toolbar"))
+        self.assertEqual(self.result.get("adjustment_actions"), ["mActionGeoStationIntersect", "mActionGeoStationResection",
+                                                                  "mActionGeoStationBundleAdjust", "mActionGeoStationInnerOrientation"])
+        self.assertEqual(self.result.get("algorithms"), ["geostation:bundle_adjust", "geostation:inner_orientation", "geostation:intersect",
+                                                         "geostation:project_to_image", "geostation:resection"])
         self.assertTrue(self.result.get("provider"))
         self.assertTrue(self.result.get("algorithm"))
         self.assertGreater(self.result.get("processing_in_frame", 0), 0)
@@ -100,6 +104,9 @@ class DesktopSmokeTest(unittest.TestCase):
         self.assertEqual(info.get("dialog"), "GeoStationBlockInfoDialog")
         self.assertEqual(info.get("camera_rows"), 3)
         self.assertTrue(info.get("screenshot"))
+
+    def test_menu_opens_the_algorithm_dialog(self):
+        self.assertEqual(self.result.get("resection_dialog", {}).get("title"), "Space resection of an image")
 
     def test_screenshot_saved(self):
         self.assertTrue(self.result.get("screenshot"))
