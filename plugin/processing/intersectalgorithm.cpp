@@ -109,9 +109,14 @@ QVariantMap IntersectAlgorithm::processAlgorithm( const QVariantMap &parameters,
     fields.append( QgsField( QString::fromLatin1( name ), QVariant::Double ) );
   fields.append( QgsField( QStringLiteral( "gross_error" ), QVariant::Bool ) );
   fields.append( QgsField( QStringLiteral( "suspect_image" ), QVariant::String ) );
-  for ( const QgsField &extra : table.extraFields )
-    if ( fields.indexFromName( extra.name() ) < 0 )
-      fields.append( extra );
+  // The observation table's other fields, except those whose names the output already uses.
+  QVector<int> carried;
+  for ( int e = 0; e < table.extraFields.count(); ++e )
+    if ( fields.indexFromName( table.extraFields.at( e ).name() ) < 0 )
+    {
+      fields.append( table.extraFields.at( e ) );
+      carried << e;
+    }
 
   QVector<QgsFeature> features;
   QStringList skipped;
@@ -143,9 +148,8 @@ QVariantMap IntersectAlgorithm::processAlgorithm( const QVariantMap &parameters,
     attributes << pointId << static_cast<int>( observations.size() ) << s.sigmaM.x() << s.sigmaM.y() << s.sigmaM.z() << s.rmsPx << s.maxResidualPx
                << s.maxRayAngleDeg << s.sigma0 << s.grossError << ( suspect.isEmpty() ? QVariant() : QVariant( suspect ) );
     const GeoStationProcessing::ObservationRecord &first = table.rows[rows.first()];
-    for ( int e = 0; e < table.extraFields.count(); ++e )
-      if ( fields.indexFromName( table.extraFields.at( e ).name() ) >= 11 )
-        attributes << first.extra.value( e );
+    for ( int e : carried )
+      attributes << first.extra.value( e );
     f.setAttributes( attributes );
     features << f;
     feedback->setProgress( 90.0 * ( k + 1 ) / order.size() );

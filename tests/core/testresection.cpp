@@ -197,6 +197,25 @@ TEST( Resection, ABlunderIsNamedAndRemoved )
   EXPECT_GE( flagged, 1 );
 }
 
+TEST( Resection, RobustLossResistsABlunderItKeeps )
+{
+  const auto images = vanrig::images();
+  const OrientedImage &truth = *images[0];
+  std::mt19937 rng( 14 );
+  const std::vector<ControlPoint> control = controlFor( truth, 12, rng );
+  std::vector<ImagePoint> measured = measure( truth, control, &rng, 0.3 );
+  measured[3].pixelInImage += Eigen::Vector2d( 25.0, 18.0 );
+  ResectionOptions plain, robust;
+  plain.removeBlunders = robust.removeBlunders = false;
+  robust.robust = true;
+  const ResectionSummary p = resectImage( truth.camera(), control, measured, plain );
+  const ResectionSummary r = resectImage( truth.camera(), control, measured, robust );
+  ASSERT_TRUE( p.ok() && r.ok() );
+  const double plainError = ( p.exterior.projectionCentre - truth.exterior().projectionCentre ).norm();
+  const double robustError = ( r.exterior.projectionCentre - truth.exterior().projectionCentre ).norm();
+  EXPECT_LT( robustError, 0.3 * plainError ) << "plain " << plainError << " m, robust " << robustError << " m";
+}
+
 TEST( Resection, ControlSigmasWidenThePrecision )
 {
   const auto images = vanrig::images();
