@@ -15,6 +15,7 @@
 #include <gdal.h>
 
 #include "geometry/crs.h"
+#include "io/jsonnode.h"
 
 namespace geostation
 {
@@ -25,115 +26,6 @@ namespace geostation
 
     const char *kFormatName = "geostation-block";
     constexpr int kFormatVersion = 1;
-
-    std::string describeJsonType( const json &value )
-    {
-      switch ( value.type() )
-      {
-        case json::value_t::null:
-          return "null";
-        case json::value_t::boolean:
-          return "a boolean";
-        case json::value_t::string:
-          return "the string \"" + value.get<std::string>() + "\"";
-        case json::value_t::number_integer:
-        case json::value_t::number_unsigned:
-        case json::value_t::number_float:
-          return "the number " + value.dump();
-        case json::value_t::object:
-          return "an object";
-        case json::value_t::array:
-          return "an array";
-        default:
-          return "an unreadable value";
-      }
-    }
-
-    /**
-     * A JSON value with its path, for messages that say exactly where the
-     * problem is.
-     */
-    class Node
-    {
-      public:
-        Node( const json &value, std::string path, const std::string &file )
-          : mValue( value ), mPath( std::move( path ) ), mFile( file ) {}
-
-        [[noreturn]] void fail( const std::string &problem ) const { throw BlockFormatError( mFile, mPath, problem ); }
-
-        const json &value() const { return mValue; }
-        const std::string &path() const { return mPath; }
-
-        void requireObject() const
-        {
-          if ( !mValue.is_object() )
-            fail( "expected an object, found " + describeJsonType( mValue ) );
-        }
-
-        bool has( const char *key ) const { return mValue.contains( key ); }
-
-        Node child( const char *key ) const
-        {
-          if ( !mValue.contains( key ) )
-            throw BlockFormatError( mFile, mPath, std::string( "the required key \"" ) + key + "\" is missing" );
-          return Node( mValue.at( key ), mPath + "." + key, mFile );
-        }
-
-        std::vector<Node> arrayItems( bool allowEmpty, const std::string &what ) const
-        {
-          if ( !mValue.is_array() )
-            fail( "expected an array of " + what + ", found " + describeJsonType( mValue ) );
-          if ( !allowEmpty && mValue.empty() )
-            fail( "expected at least one of " + what + ", found an empty array" );
-          std::vector<Node> items;
-          for ( size_t i = 0; i < mValue.size(); ++i )
-            items.emplace_back( mValue[i], mPath + "[" + std::to_string( i ) + "]", mFile );
-          return items;
-        }
-
-        std::string string( bool allowEmpty = false ) const
-        {
-          if ( !mValue.is_string() )
-            fail( "expected a string, found " + describeJsonType( mValue ) );
-          const std::string s = mValue.get<std::string>();
-          if ( !allowEmpty && s.empty() )
-            fail( "expected a non-empty string" );
-          return s;
-        }
-
-        double number( const std::string &meaning ) const
-        {
-          if ( !mValue.is_number() )
-            fail( "expected a number (" + meaning + "), found " + describeJsonType( mValue ) );
-          const double v = mValue.get<double>();
-          if ( !std::isfinite( v ) )
-            fail( "expected a finite number (" + meaning + ")" );
-          return v;
-        }
-
-        double positiveNumber( const std::string &meaning, bool allowZero = false ) const
-        {
-          const std::string kind = allowZero ? "non-negative" : "positive";
-          if ( !mValue.is_number() )
-            fail( "expected a " + kind + " number (" + meaning + "), found " + describeJsonType( mValue ) );
-          const double v = number( meaning );
-          if ( allowZero ? v < 0.0 : v <= 0.0 )
-            fail( "expected a " + kind + " number (" + meaning + "), found " + mValue.dump() );
-          return v;
-        }
-
-        int positiveInteger( const std::string &meaning ) const
-        {
-          if ( !mValue.is_number_integer() || mValue.get<long long>() <= 0 || mValue.get<long long>() > 10000000 )
-            fail( "expected a positive whole number (" + meaning + "), found " + describeJsonType( mValue ) );
-          return mValue.get<int>();
-        }
-
-      private:
-        const json &mValue;
-        std::string mPath;
-        const std::string &mFile;
-    };
 
     //! The object without the given keys: what the loader does not interpret.
     json unknownKeys( const json &object, std::initializer_list<const char *> known )
@@ -154,7 +46,7 @@ namespace geostation
       return out;
     }
 
-    Distortion readDistortion( const Node &node, json *extraOut )
+    Distortion readDistortion( const JsonNode &node, json *extraOut )
     {
       node.requireObject();
       Distortion d;
@@ -171,7 +63,7 @@ namespace geostation
       return d;
     }
 
-    Camera readCamera( const Node &node, json *extraOut )
+    Camera readCamera( const JsonNode &node, json *extraOut )
     {
       node.requireObject();
       Camera c;
@@ -188,7 +80,7 @@ namespace geostation
       if ( node.has( "fiducials" ) )
       {
         std::set<std::string> ids;
-        for ( const Node &item : node.child( "fiducials" ).arrayItems( true, "fiducials" ) )
+        for ( const JsonNode &item : node.child( "fiducials" ).arrayItems( true, "fiducials" ) )
         {
           item.requireObject();
           Fiducial f;
@@ -213,7 +105,7 @@ namespace geostation
       return c;
     }
 
-    Station readStation( const Node &node )
+    Station readStation( const JsonNode &node )
     {
       static const std::regex isoTime( R"(^\d{4}-\d{2}-\d{2}T\d{2}:\d{2}:\d{2}(\.\d+)?(Z|[+-]\d{2}:?\d{2})?$)" );
       node.requireObject();
@@ -233,7 +125,7 @@ namespace geostation
 
     const char *kExteriorKeys[6] = { "X", "Y", "Z", "omega", "phi", "kappa" };
 
-    BlockImage readImage( const Node &node )
+    BlockImage readImage( const JsonNode &node )
     {
       node.requireObject();
       BlockImage image;
@@ -266,7 +158,7 @@ namespace geostation
         eo.kappaDeg = node.child( "kappa" ).number( "kappa in degrees" );
         if ( node.has( "sigma" ) )
         {
-          const Node sigmaNode = node.child( "sigma" );
+          const JsonNode sigmaNode = node.child( "sigma" );
           sigmaNode.requireObject();
           ExteriorSigma sigma;
           double *targets[6] = { &sigma.x, &sigma.y, &sigma.z, &sigma.omegaDeg, &sigma.phiDeg, &sigma.kappaDeg };
@@ -283,15 +175,15 @@ namespace geostation
       }
       if ( node.has( "inner_orientation" ) )
       {
-        const Node io = node.child( "inner_orientation" );
+        const JsonNode io = node.child( "inner_orientation" );
         io.requireObject();
-        const std::vector<Node> rows = io.child( "photo_from_pixel" ).arrayItems( false, "two rows" );
+        const std::vector<JsonNode> rows = io.child( "photo_from_pixel" ).arrayItems( false, "two rows" );
         if ( rows.size() != 2 )
           io.child( "photo_from_pixel" ).fail( "expected two rows of three numbers (photo mm from col, row, 1)" );
         ImageInnerOrientation inner;
         for ( int r = 0; r < 2; ++r )
         {
-          const std::vector<Node> values = rows[r].arrayItems( false, "three numbers" );
+          const std::vector<JsonNode> values = rows[r].arrayItems( false, "three numbers" );
           if ( values.size() != 3 )
             rows[r].fail( "expected three numbers" );
           for ( int c = 0; c < 3; ++c )
@@ -306,7 +198,7 @@ namespace geostation
     }
 
     template <typename T>
-    void requireUniqueIds( const std::vector<T> &items, const std::vector<Node> &nodes, const std::string &what )
+    void requireUniqueIds( const std::vector<T> &items, const std::vector<JsonNode> &nodes, const std::string &what )
     {
       std::set<std::string> seen;
       for ( size_t i = 0; i < items.size(); ++i )
@@ -376,12 +268,12 @@ namespace geostation
       throw BlockFormatError( fileName, "", "not valid JSON (line " + std::to_string( line ) + ", column " + std::to_string( column ) + ")" );
     }
 
-    const Node top( root, "$", fileName );
+    const JsonNode top( root, "$", fileName );
     top.requireObject();
-    const Node format = top.child( "format" );
+    const JsonNode format = top.child( "format" );
     if ( format.string() != kFormatName )
       format.fail( std::string( "expected \"" ) + kFormatName + "\", found \"" + format.string() + "\"" );
-    const Node version = top.child( "version" );
+    const JsonNode version = top.child( "version" );
     if ( !version.value().is_number_integer() )
       version.fail( "expected the whole number 1, found " + describeJsonType( version.value() ) );
     if ( version.value().get<long long>() != kFormatVersion )
@@ -389,7 +281,7 @@ namespace geostation
 
     Block block;
     block.sourceFile = file;
-    const Node crsNode = top.child( "crs" );
+    const JsonNode crsNode = top.child( "crs" );
     block.crs = crsNode.string();
     try
     {
@@ -400,8 +292,8 @@ namespace geostation
       crsNode.fail( e.what() );
     }
 
-    const std::vector<Node> cameraNodes = top.child( "cameras" ).arrayItems( false, "cameras" );
-    for ( const Node &node : cameraNodes )
+    const std::vector<JsonNode> cameraNodes = top.child( "cameras" ).arrayItems( false, "cameras" );
+    for ( const JsonNode &node : cameraNodes )
     {
       json extra;
       block.cameras.push_back( readCamera( node, &extra ) );
@@ -409,15 +301,15 @@ namespace geostation
     }
     requireUniqueIds( block.cameras, cameraNodes, "camera" );
 
-    std::vector<Node> stationNodes;
+    std::vector<JsonNode> stationNodes;
     if ( top.has( "stations" ) )
       stationNodes = top.child( "stations" ).arrayItems( true, "stations" );
-    for ( const Node &node : stationNodes )
+    for ( const JsonNode &node : stationNodes )
       block.stations.push_back( readStation( node ) );
     requireUniqueIds( block.stations, stationNodes, "station" );
 
-    const std::vector<Node> imageNodes = top.child( "images" ).arrayItems( true, "images" );
-    for ( const Node &node : imageNodes )
+    const std::vector<JsonNode> imageNodes = top.child( "images" ).arrayItems( true, "images" );
+    for ( const JsonNode &node : imageNodes )
       block.images.push_back( readImage( node ) );
     requireUniqueIds( block.images, imageNodes, "image" );
 
