@@ -4,6 +4,7 @@
 #include "geometry/crs.h"
 
 #include <cmath>
+#include <limits>
 #include <memory>
 #include <stdexcept>
 
@@ -96,6 +97,54 @@ namespace geostation
       throw std::invalid_argument( "'" + definition + "' (" + d.name + ") is a " + d.kind + " CRS; a block needs a projected or local engineering CRS in metres" );
     if ( std::abs( d.unitToMetre - 1.0 ) > 1e-12 )
       throw std::invalid_argument( "'" + definition + "' (" + d.name + ") has axes in " + ( d.unitName.empty() ? std::string( "unknown units" ) : d.unitName ) + "; a block needs a CRS in metres" );
+  }
+
+  CrsTransform::CrsTransform( const std::string &from, const std::string &to )
+  {
+    PJ_CONTEXT *ctx = proj_context_create();
+    proj_log_level( ctx, PJ_LOG_NONE );
+    mContext = ctx;
+    PJ *a = proj_create( ctx, from.c_str() ), *b = proj_create( ctx, to.c_str() );
+    if ( !a || !b )
+    {
+      proj_destroy( a );
+      proj_destroy( b );
+      proj_context_destroy( ctx );
+      mContext = nullptr;
+      throw std::invalid_argument( "a CRS PROJ does not recognise: '" + ( a ? to : from ) + "'" );
+    }
+    mIdentity = proj_is_equivalent_to( a, b, PJ_COMP_EQUIVALENT );
+    proj_destroy( a );
+    proj_destroy( b );
+    if ( mIdentity )
+      return;
+    PJ *raw = proj_create_crs_to_crs( ctx, from.c_str(), to.c_str(), nullptr );
+    PJ *normalised = raw ? proj_normalize_for_visualization( ctx, raw ) : nullptr;
+    proj_destroy( raw );
+    if ( !normalised )
+    {
+      proj_context_destroy( ctx );
+      mContext = nullptr;
+      throw std::invalid_argument( "PROJ finds no transformation between the two CRSs" );
+    }
+    mTransform = normalised;
+  }
+
+  CrsTransform::~CrsTransform()
+  {
+    proj_destroy( static_cast<PJ *>( mTransform ) );
+    if ( mContext )
+      proj_context_destroy( static_cast<PJ_CONTEXT *>( mContext ) );
+  }
+
+  Eigen::Vector3d CrsTransform::transform( const Eigen::Vector3d &point ) const
+  {
+    if ( mIdentity )
+      return point;
+    const PJ_COORD out = proj_trans( static_cast<PJ *>( mTransform ), PJ_FWD, proj_coord( point.x(), point.y(), point.z(), 0.0 ) );
+    if ( out.xyz.x == HUGE_VAL )
+      return Eigen::Vector3d::Constant( std::numeric_limits<double>::quiet_NaN() );
+    return { out.xyz.x, out.xyz.y, out.xyz.z };
   }
 
 } // namespace geostation

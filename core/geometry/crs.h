@@ -6,6 +6,8 @@
 
 #include <string>
 
+#include <Eigen/Core>
+
 namespace geostation
 {
 
@@ -29,6 +31,32 @@ namespace geostation
    * the CRS is projected (or a local engineering CRS) with axes in metres.
    */
   void requireProjectedMetricCrs( const std::string &definition );
+
+  /**
+   * Coordinates from one CRS to another with PROJ, in the axis order GIS
+   * data uses (x = easting / longitude, y = northing / latitude); heights are
+   * passed through the transformation. Not thread-safe: one per thread.
+   */
+  class CrsTransform
+  {
+    public:
+      //! Throws std::invalid_argument when PROJ cannot relate the two CRSs.
+      CrsTransform( const std::string &from, const std::string &to );
+      ~CrsTransform();
+      CrsTransform( const CrsTransform & ) = delete;
+      CrsTransform &operator=( const CrsTransform & ) = delete;
+
+      //! True when both CRSs are the same: transform() returns its input.
+      bool isIdentity() const { return mIdentity; }
+
+      //! Transformed point; NaN components when PROJ fails for it.
+      Eigen::Vector3d transform( const Eigen::Vector3d &point ) const;
+
+    private:
+      void *mContext = nullptr;
+      void *mTransform = nullptr;
+      bool mIdentity = false;
+  };
 
 } // namespace geostation
 

@@ -1,0 +1,238 @@
+/***************************************************************************
+  dem.cpp - a digital elevation model read through GDAL
+ ***************************************************************************/
+#include "dem/dem.h"
+
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+
+#include <cpl_conv.h>
+#include <cpl_error.h>
+#include <gdal.h>
+#include <ogr_srs_api.h>
+
+namespace geostation
+{
+
+  namespace
+  {
+    constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+  }
+
+  Dem::Dem( const std::string &path, const DemOptions &options )
+    : mOptions( options )
+  {
+    if ( options.tileSize < 8 || options.holeFillHalo < 0 || options.cacheTiles < 9 )
+      throw std::invalid_argument( "DEM options: tiles of at least 8 cells, a non-negative halo and at least 9 cached tiles" );
+    GDALAllRegister();
+    CPLPushErrorHandler( CPLQuietErrorHandler );
+    mDataset = GDALOpenEx( path.c_str(), GDAL_OF_RASTER | GDAL_OF_READONLY, nullptr, nullptr, nullptr );
+    CPLPopErrorHandler();
+    if ( !mDataset )
+      throw std::runtime_error( "cannot open the DEM " + path );
+    const auto fail = [this, &path]( const std::string & why )
+    {
+      GDALClose( mDataset );
+      mDataset = nullptr;
+      throw std::runtime_error( "the DEM " + path + " " + why );
+    };
+    if ( GDALGetGeoTransform( mDataset, mGeoTransform.data() ) != CE_None || !GDALInvGeoTransform( mGeoTransform.data(), mInverse.data() ) )
+      fail( "has no usable georeferencing (geotransform)" );
+    OGRSpatialReferenceH srs = GDALGetSpatialRef( mDataset );
+    if ( !srs )
+      fail( "has no CRS; assign one (e.g. with gdal_edit.py -a_srs) so it can be placed under the block" );
+    char *wkt = nullptr;
+    OSRExportToWkt( srs, &wkt );
+    mCrsWkt = wkt ? wkt : "";
+    CPLFree( wkt );
+    mGeographic = OSRIsGeographic( srs );
+    mWidth = GDALGetRasterXSize( mDataset );
+    mHeight = GDALGetRasterYSize( mDataset );
+    if ( mWidth < 2 || mHeight < 2 )
+      fail( "needs at least 2 x 2 cells" );
+    int hasNoData = 0;
+    const double noData = GDALGetRasterNoDataValue( GDALGetRasterBand( mDataset, 1 ), &hasNoData );
+    if ( hasNoData )
+      mNoData = noData;
+  }
+
+  Dem::~Dem()
+  {
+    if ( mDataset )
+      GDALClose( mDataset );
+  }
+
+  Eigen::Vector2d Dem::metresPerUnit( double x, double y ) const
+  {
+    if ( !mGeographic )
+      return { 1.0, 1.0 };
+    ( void )x;
+    // Degrees: metres per degree of longitude shrink with latitude.
+    const double latitude = std::clamp( y, -89.9, 89.9 ) * M_PI / 180.0;
+    return { 111320.0 * std::cos( latitude ), 110574.0 };
+  }
+
+  const Dem::Tile *Dem::tile( int tileX, int tileY ) const
+  {
+    const std::pair<int, int> key( tileX, tileY );
+    const auto found = mTiles.find( key );
+    if ( found != mTiles.end() )
+    {
+      mRecent.splice( mRecent.begin(), mRecent, found->second.second );
+      return found->second.first.get();
+    }
+    const int T = mOptions.tileSize, H = mOptions.holeFillHalo;
+    const int x0 = tileX * T, y0 = tileY * T;
+    if ( x0 < 0 || y0 < 0 || x0 >= mWidth || y0 >= mHeight )
+      return nullptr;
+    // Read the tile with a halo, so holes near its edge see their neighbours.
+    const int rx0 = std::max( 0, x0 - H ), ry0 = std::max( 0, y0 - H );
+    const int rx1 = std::min( mWidth, x0 + T + H ), ry1 = std::min( mHeight, y0 + T + H );
+    const int rw = rx1 - rx0, rh = ry1 - ry0;
+    std::vector<double> region( static_cast<size_t>( rw ) * rh );
+    if ( GDALRasterIO( GDALGetRasterBand( static_cast<GDALDatasetH>( mDataset ), 1 ), GF_Read, rx0, ry0, rw, rh, region.data(), rw, rh, GDT_Float64, 0, 0 ) != CE_None )
+      throw std::runtime_error( std::string( "reading the DEM failed: " ) + CPLGetLastErrorMsg() );
+    for ( double &v : region )
+      if ( !std::isfinite( v ) || ( mNoData && v == *mNoData ) )
+        v = kNaN;
+
+    // The paper's filling: an empty cell takes the mean of its present
+    // neighbours in X and Y; repeated inward, one ring per pass.
+    long filledInTile = 0;
+    for ( int pass = 0; pass < H; ++pass )
+    {
+      std::vector<double> next = region;
+      bool changed = false;
+      for ( int r = 0; r < rh; ++r )
+        for ( int c = 0; c < rw; ++c )
+        {
+          const size_t i = static_cast<size_t>( r ) * rw + c;
+          if ( !std::isnan( region[i] ) )
+            continue;
+          double sum = 0.0;
+          int n = 0;
+          const int dc[4] = { -1, 1, 0, 0 }, dr[4] = { 0, 0, -1, 1 };
+          for ( int k = 0; k < 4; ++k )
+          {
+            const int cc = c + dc[k], rr = r + dr[k];
+            if ( cc < 0 || rr < 0 || cc >= rw || rr >= rh )
+              continue;
+            const double v = region[static_cast<size_t>( rr ) * rw + cc];
+            if ( !std::isnan( v ) )
+            {
+              sum += v;
+              ++n;
+            }
+          }
+          if ( n > 0 )
+          {
+            next[i] = sum / n;
+            changed = true;
+            const int col = rx0 + c, row = ry0 + r;
+            if ( col >= x0 && col < x0 + T && row >= y0 && row < y0 + T )
+              ++filledInTile;
+          }
+        }
+      region.swap( next );
+      if ( !changed )
+        break;
+    }
+    mFilledCells += filledInTile;
+
+    auto t = std::make_unique<Tile>();
+    t->values.assign( static_cast<size_t>( T ) * T, std::numeric_limits<float>::quiet_NaN() );
+    t->minHeight = std::numeric_limits<double>::infinity();
+    t->maxHeight = -std::numeric_limits<double>::infinity();
+    // Slope bound from neighbouring cell differences (the bilinear surface's
+    // gradient never exceeds them), over the tile and one cell around it.
+    const Eigen::Vector2d perUnit = metresPerUnit( mGeoTransform[0], mGeoTransform[3] + mGeoTransform[5] * ( y0 + ( mGeoTransform[5] < 0 ? T : 0 ) ) );
+    const double dxM = std::hypot( mGeoTransform[1], mGeoTransform[4] ) * perUnit.x();
+    const double dyM = std::hypot( mGeoTransform[2], mGeoTransform[5] ) * perUnit.y();
+    double maxGx = 0.0, maxGy = 0.0;
+    for ( int r = 0; r < rh; ++r )
+      for ( int c = 0; c < rw; ++c )
+      {
+        const int col = rx0 + c, row = ry0 + r;
+        if ( col < x0 - 1 || col > x0 + T || row < y0 - 1 || row > y0 + T )
+          continue;
+        const double v = region[static_cast<size_t>( r ) * rw + c];
+        if ( std::isnan( v ) )
+          continue;
+        if ( c + 1 < rw && !std::isnan( region[static_cast<size_t>( r ) * rw + c + 1] ) )
+          maxGx = std::max( maxGx, std::abs( region[static_cast<size_t>( r ) * rw + c + 1] - v ) / dxM );
+        if ( r + 1 < rh && !std::isnan( region[static_cast<size_t>( r + 1 ) * rw + c] ) )
+          maxGy = std::max( maxGy, std::abs( region[static_cast<size_t>( r + 1 ) * rw + c] - v ) / dyM );
+        if ( col >= x0 && col < x0 + T && row >= y0 && row < y0 + T )
+        {
+          t->values[static_cast<size_t>( row - y0 ) * T + ( col - x0 )] = static_cast<float>( v );
+          t->minHeight = std::min( t->minHeight, v );
+          t->maxHeight = std::max( t->maxHeight, v );
+        }
+      }
+    // 5 % margin for the latitude change across a geographic tile.
+    t->slopeBound = std::hypot( maxGx, maxGy ) * ( mGeographic ? 1.05 : 1.0 );
+
+    if ( mTiles.size() >= mOptions.cacheTiles )
+    {
+      mTiles.erase( mRecent.back() );
+      mRecent.pop_back();
+    }
+    mRecent.push_front( key );
+    const Tile *result = t.get();
+    mTiles[key] = { std::move( t ), mRecent.begin() };
+    return result;
+  }
+
+  std::optional<double> Dem::cell( int col, int row ) const
+  {
+    if ( col < 0 || row < 0 || col >= mWidth || row >= mHeight )
+      return std::nullopt;
+    const int T = mOptions.tileSize;
+    const Tile *t = tile( col / T, row / T );
+    const float v = t->values[static_cast<size_t>( row % T ) * T + ( col % T )];
+    if ( std::isnan( v ) )
+      return std::nullopt;
+    return v;
+  }
+
+  std::optional<double> Dem::heightAt( double x, double y ) const
+  {
+    // Pixel coordinates (corner convention), then cell-centre coordinates.
+    const double px = mInverse[0] + mInverse[1] * x + mInverse[2] * y;
+    const double py = mInverse[3] + mInverse[4] * x + mInverse[5] * y;
+    const double u = px - 0.5, v = py - 0.5;
+    if ( !( u >= 0.0 && v >= 0.0 && u <= mWidth - 1 && v <= mHeight - 1 ) )
+      return std::nullopt;
+    const int i = std::min( static_cast<int>( u ), mWidth - 2 ), j = std::min( static_cast<int>( v ), mHeight - 2 );
+    const double fu = u - i, fv = v - j;
+    const std::optional<double> h00 = cell( i, j ), h10 = cell( i + 1, j ), h01 = cell( i, j + 1 ), h11 = cell( i + 1, j + 1 );
+    if ( !h00 || !h10 || !h01 || !h11 )
+      return std::nullopt;
+    return ( *h00 * ( 1 - fu ) + *h10 * fu ) * ( 1 - fv ) + ( *h01 * ( 1 - fu ) + *h11 * fu ) * fv;
+  }
+
+  bool Dem::covers( double x, double y ) const
+  {
+    const double u = mInverse[0] + mInverse[1] * x + mInverse[2] * y - 0.5;
+    const double v = mInverse[3] + mInverse[4] * x + mInverse[5] * y - 0.5;
+    return u >= 0.0 && v >= 0.0 && u <= mWidth - 1 && v <= mHeight - 1;
+  }
+
+  std::optional<double> Dem::slopeBoundAt( double x, double y ) const
+  {
+    const double px = mInverse[0] + mInverse[1] * x + mInverse[2] * y;
+    const double py = mInverse[3] + mInverse[4] * x + mInverse[5] * y;
+    if ( !( px >= 0.0 && py >= 0.0 && px <= mWidth && py <= mHeight ) )
+      return std::nullopt;
+    const int T = mOptions.tileSize;
+    const int tx = std::min( static_cast<int>( px ), mWidth - 1 ) / T, ty = std::min( static_cast<int>( py ), mHeight - 1 ) / T;
+    double bound = 0.0;
+    for ( int dy = -1; dy <= 1; ++dy )
+      for ( int dx = -1; dx <= 1; ++dx )
+        if ( const Tile *t = tile( tx + dx, ty + dy ) )
+          bound = std::max( bound, t->slopeBound );
+    return bound;
+  }
+
+} // namespace geostation

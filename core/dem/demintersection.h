@@ -1,0 +1,58 @@
+/***************************************************************************
+  demintersection.h - the first intersection of a ray with a DEM
+  -------------------------------------------------------------------------
+  Marches along the ray with steps that cannot jump over the surface: the
+  height above the terrain h shrinks at most by (|dz| + S |dxy|) per metre of
+  ray, S the local slope bound of the DEM, so a step of h / (|dz| + S |dxy|)
+  stays above it. When a (small minimum) step ends below the surface, the
+  crossing is found by bisection on the bilinear surface. This works for
+  nadir rays and for grazing rays from a camera near the ground, where the
+  iterative height update of the monoplotter paper diverges.
+ ***************************************************************************/
+#ifndef GEOSTATION_DEM_DEMINTERSECTION_H
+#define GEOSTATION_DEM_DEMINTERSECTION_H
+
+#include <string>
+
+#include <Eigen/Core>
+
+#include "dem/dem.h"
+#include "geometry/crs.h"
+#include "geometry/projection.h"
+
+namespace geostation
+{
+
+  struct DemIntersectionOptions
+  {
+    double maxRangeM = 100000.0; //!< give up beyond this distance along the ray
+    double toleranceM = 1e-4;    //!< bisection stops when the bracket is this short (along the ray)
+  };
+
+  struct DemIntersection
+  {
+    enum class Status
+    {
+      Hit,
+      Miss,            //!< the ray leaves the DEM, or runs out of range, without meeting it
+      BelowSurface,    //!< the ray starts below the terrain
+      Hole,            //!< the ray meets a hole too large to fill
+    };
+    Status status = Status::Miss;
+    std::string message;
+    Eigen::Vector3d point = Eigen::Vector3d::Zero(); //!< block CRS
+    double rangeM = 0.0;
+    int steps = 0;
+
+    bool hit() const { return status == Status::Hit; }
+  };
+
+  /**
+   * Intersects a ray given in the block CRS with the DEM. `blockToDem` maps
+   * block coordinates to the DEM's CRS (identity when they agree).
+   */
+  DemIntersection intersectRayWithDem( const Ray &ray, const Dem &dem, const CrsTransform &blockToDem, const DemIntersectionOptions &options = DemIntersectionOptions() );
+
+} // namespace geostation
+
+#endif // GEOSTATION_DEM_DEMINTERSECTION_H

@@ -1,0 +1,250 @@
+// DEM access and ray / DEM intersection on synthetic terrain.
+#include <filesystem>
+#include <functional>
+#include <random>
+
+#include <gdal.h>
+#include <gtest/gtest.h>
+#include <ogr_srs_api.h>
+
+#include "dem/demintersection.h"
+
+using namespace geostation;
+
+namespace
+{
+  const double kX0 = 400000.0, kY0 = 5000000.0; // top-left corner, EPSG:32633
+
+  double terrain( double x, double y )
+  {
+    return 100.0 + 12.0 * std::sin( ( x - kX0 ) / 40.0 ) * std::cos( ( y - kY0 ) / 55.0 ) + 0.05 * ( x - kX0 );
+  }
+
+  std::string tempPath( const std::string &name )
+  {
+    return ( std::filesystem::temp_directory_path() / ( "geostation-" + name + "-" + std::to_string( ::getpid() ) + ".tif" ) ).string();
+  }
+
+  //! Writes a DEM whose cell (c, r) holds value(centre x, centre y); `hole` marks nodata cells.
+  std::string writeDem( const std::string &name, const char *crs, const std::array<double, 6> &gt, int w, int h,
+                        const std::function<double( double, double )> &value, const std::function<bool( int, int )> &hole = nullptr )
+  {
+    GDALAllRegister();
+    const std::string path = tempPath( name );
+    GDALDatasetH ds = GDALCreate( GDALGetDriverByName( "GTiff" ), path.c_str(), w, h, 1, GDT_Float32, nullptr );
+    std::array<double, 6> g = gt;
+    GDALSetGeoTransform( ds, g.data() );
+    if ( crs )
+    {
+      OGRSpatialReferenceH srs = OSRNewSpatialReference( nullptr );
+      OSRSetFromUserInput( srs, crs );
+      OSRSetAxisMappingStrategy( srs, OAMS_TRADITIONAL_GIS_ORDER );
+      GDALSetSpatialRef( ds, srs );
+      OSRDestroySpatialReference( srs );
+    }
+    GDALSetRasterNoDataValue( GDALGetRasterBand( ds, 1 ), -9999.0 );
+    std::vector<float> cells( static_cast<size_t>( w ) * h );
+    for ( int r = 0; r < h; ++r )
+      for ( int c = 0; c < w; ++c )
+      {
+        const double x = gt[0] + ( c + 0.5 ) * gt[1], y = gt[3] + ( r + 0.5 ) * gt[5];
+        cells[static_cast<size_t>( r ) * w + c] = hole && hole( c, r ) ? -9999.0f : static_cast<float>( value( x, y ) );
+      }
+    EXPECT_EQ( GDALRasterIO( GDALGetRasterBand( ds, 1 ), GF_Write, 0, 0, w, h, cells.data(), w, h, GDT_Float32, 0, 0 ), CE_None );
+    GDALClose( ds );
+    return path;
+  }
+
+  std::string projectedDem( const std::function<bool( int, int )> &hole = nullptr, const std::string &name = "dem" )
+  {
+    return writeDem( name, "EPSG:32633", { kX0, 2.0, 0.0, kY0, 0.0, -2.0 }, 500, 500, terrain, hole );
+  }
+
+  //! Brute force: first sign change of the height above the DEM every `step` metres, then bisection.
+  std::optional<double> bruteForceRange( const Ray &ray, const Dem &dem, double maxRange, double step )
+  {
+    double previous = -1.0;
+    for ( double t = 0.0; t <= maxRange; t += step )
+    {
+      const Eigen::Vector3d p = ray.origin + t * ray.direction;
+      const std::optional<double> h = dem.heightAt( p.x(), p.y() );
+      if ( !h )
+        return std::nullopt;
+      if ( p.z() - *h <= 0.0 )
+      {
+        double lo = previous, hi = t;
+        for ( int i = 0; i < 60; ++i )
+        {
+          const double mid = 0.5 * ( lo + hi );
+          const Eigen::Vector3d q = ray.origin + mid * ray.direction;
+          ( q.z() - *dem.heightAt( q.x(), q.y() ) > 0.0 ? lo : hi ) = mid;
+        }
+        return 0.5 * ( lo + hi );
+      }
+      previous = t;
+    }
+    return std::nullopt;
+  }
+} // namespace
+
+TEST( Dem, HeightsSitAtCellCentresAndInterpolateBilinearly )
+{
+  const std::string path = projectedDem();
+  const Dem dem( path );
+  EXPECT_FALSE( dem.isGeographic() );
+  // Centre of cell (10, 20) is (kX0 + 21, kY0 - 41).
+  EXPECT_NEAR( *dem.heightAt( kX0 + 21.0, kY0 - 41.0 ), static_cast<float>( terrain( kX0 + 21.0, kY0 - 41.0 ) ), 1e-9 );
+  const double mid = *dem.heightAt( kX0 + 22.0, kY0 - 42.0 ); // between four centres
+  const auto stored = []( double x, double y ) { return static_cast<double>( static_cast<float>( terrain( x, y ) ) ); };
+  const double mean = ( stored( kX0 + 21, kY0 - 41 ) + stored( kX0 + 23, kY0 - 41 ) + stored( kX0 + 21, kY0 - 43 ) + stored( kX0 + 23, kY0 - 43 ) ) / 4.0;
+  EXPECT_NEAR( mid, mean, 1e-9 );
+  EXPECT_TRUE( dem.heightAt( kX0 + 1.0, kY0 - 1.0 ).has_value() );      // first centre
+  EXPECT_FALSE( dem.heightAt( kX0 + 0.9, kY0 - 1.0 ).has_value() );     // outer half cell
+  EXPECT_FALSE( dem.heightAt( kX0 + 2000.0, kY0 - 1.0 ).has_value() );
+  std::filesystem::remove( path );
+}
+
+TEST( DemIntersection, NadirRaysLandOnTheSurface )
+{
+  const std::string path = projectedDem();
+  const Dem dem( path );
+  const CrsTransform same( "EPSG:32633", "EPSG:32633" );
+  EXPECT_TRUE( same.isIdentity() );
+  std::mt19937 rng( 1 );
+  std::uniform_real_distribution<double> x( kX0 + 5, kX0 + 995 ), y( kY0 - 995, kY0 - 5 );
+  for ( int i = 0; i < 300; ++i )
+  {
+    const Ray ray { { x( rng ), y( rng ), 900.0 }, { 0.0, 0.0, -1.0 } };
+    const DemIntersection hit = intersectRayWithDem( ray, dem, same );
+    ASSERT_TRUE( hit.hit() ) << hit.message;
+    EXPECT_NEAR( hit.point.z(), *dem.heightAt( hit.point.x(), hit.point.y() ), 1e-3 );
+    EXPECT_NEAR( hit.point.x(), ray.origin.x(), 1e-9 );
+    EXPECT_LT( hit.steps, 40 );
+  }
+  std::filesystem::remove( path );
+}
+
+TEST( DemIntersection, GrazingRaysFromNearTheGroundFindTheFirstCrossing )
+{
+  const std::string path = projectedDem();
+  const Dem dem( path );
+  const CrsTransform same( "EPSG:32633", "EPSG:32633" );
+  std::mt19937 rng( 2 );
+  std::uniform_real_distribution<double> azimuth( 0.0, 2 * M_PI ), dip( 0.3, 4.0 ), pos( 150.0, 850.0 );
+  int hits = 0;
+  for ( int i = 0; i < 60; ++i )
+  {
+    const double cx = kX0 + pos( rng ), cy = kY0 - pos( rng );
+    const double a = azimuth( rng ), down = dip( rng ) * M_PI / 180.0;
+    const Ray ray { { cx, cy, *dem.heightAt( cx, cy ) + 1.7 }, Eigen::Vector3d( std::sin( a ) * std::cos( down ), std::cos( a ) * std::cos( down ), -std::sin( down ) ) };
+    const DemIntersection hit = intersectRayWithDem( ray, dem, same );
+    const std::optional<double> expected = bruteForceRange( ray, dem, 1500.0, 0.02 );
+    ASSERT_EQ( hit.hit(), expected.has_value() ) << i << " " << hit.message;
+    if ( !expected )
+      continue;
+    ++hits;
+    EXPECT_NEAR( hit.rangeM, *expected, 0.005 ) << "ray " << i;
+    EXPECT_NEAR( hit.point.z(), *dem.heightAt( hit.point.x(), hit.point.y() ), 1e-3 );
+  }
+  EXPECT_GT( hits, 30 );
+  std::filesystem::remove( path );
+}
+
+TEST( DemIntersection, MissesAreReportedNeverAWrongPoint )
+{
+  const std::string path = projectedDem();
+  const Dem dem( path );
+  const CrsTransform same( "EPSG:32633", "EPSG:32633" );
+  const Eigen::Vector3d c( kX0 + 500, kY0 - 500, 0.0 );
+  const double ground = *dem.heightAt( c.x(), c.y() );
+  const DemIntersection sky = intersectRayWithDem( { { c.x(), c.y(), ground + 2 }, Eigen::Vector3d( 1, 0, 0.2 ).normalized() }, dem, same );
+  EXPECT_EQ( sky.status, DemIntersection::Status::Miss );
+  const DemIntersection below = intersectRayWithDem( { { c.x(), c.y(), ground - 1 }, { 0, 0, -1 } }, dem, same );
+  EXPECT_EQ( below.status, DemIntersection::Status::BelowSurface );
+  // Starting outside the DEM, flying in and hitting it is fine; flying away is a miss.
+  const DemIntersection in = intersectRayWithDem( { { kX0 - 300, kY0 - 500, 400 }, Eigen::Vector3d( 1, 0, -0.5 ).normalized() }, dem, same );
+  EXPECT_TRUE( in.hit() ) << in.message;
+  const DemIntersection away = intersectRayWithDem( { { kX0 - 300, kY0 - 500, 400 }, Eigen::Vector3d( -1, 0, -0.5 ).normalized() }, dem, same );
+  EXPECT_EQ( away.status, DemIntersection::Status::Miss );
+  std::filesystem::remove( path );
+}
+
+TEST( Dem, SmallHolesAreFilledLargeOnesReported )
+{
+  const auto holes = []( int c, int r ) { return ( c >= 100 && c < 103 && r >= 100 && r < 103 ) || ( c >= 300 && c < 360 && r >= 300 && r < 360 ); };
+  const std::string path = projectedDem( holes, "holes" );
+  const Dem dem( path );
+  const CrsTransform same( "EPSG:32633", "EPSG:32633" );
+  const std::optional<double> filled = dem.heightAt( kX0 + 203.0, kY0 - 203.0 ); // centre of the small hole
+  ASSERT_TRUE( filled.has_value() );
+  EXPECT_NEAR( *filled, terrain( kX0 + 203.0, kY0 - 203.0 ), 1.0 );
+  EXPECT_GE( dem.filledCellCount(), 9 );
+  // The 60-cell hole is filled 16 cells in from each side; its middle stays empty.
+  EXPECT_FALSE( dem.heightAt( kX0 + 660.0, kY0 - 660.0 ).has_value() );
+  const DemIntersection hole = intersectRayWithDem( { { kX0 + 660.0, kY0 - 660.0, 900.0 }, { 0, 0, -1 } }, dem, same );
+  EXPECT_EQ( hole.status, DemIntersection::Status::Hole ) << hole.message;
+  std::filesystem::remove( path );
+}
+
+TEST( Dem, TinyTilesAndCacheGiveTheSameAnswers )
+{
+  const std::string path = projectedDem();
+  const Dem big( path );
+  DemOptions tiny;
+  tiny.tileSize = 16;
+  tiny.cacheTiles = 9;
+  const Dem small( path, tiny );
+  const CrsTransform same( "EPSG:32633", "EPSG:32633" );
+  std::mt19937 rng( 3 );
+  std::uniform_real_distribution<double> azimuth( 0.0, 2 * M_PI ), pos( 100.0, 900.0 );
+  for ( int i = 0; i < 40; ++i )
+  {
+    const double cx = kX0 + pos( rng ), cy = kY0 - pos( rng ), a = azimuth( rng );
+    const Ray ray { { cx, cy, *big.heightAt( cx, cy ) + 30.0 }, Eigen::Vector3d( std::sin( a ), std::cos( a ), -0.2 ).normalized() };
+    const DemIntersection p = intersectRayWithDem( ray, big, same ), q = intersectRayWithDem( ray, small, same );
+    ASSERT_EQ( p.hit(), q.hit() );
+    if ( p.hit() )
+      EXPECT_NEAR( p.rangeM, q.rangeM, 2e-4 );
+  }
+  std::filesystem::remove( path );
+}
+
+TEST( Dem, AGeographicDemServesAProjectedBlock )
+{
+  // The same terrain sampled on a lon/lat grid over the UTM area.
+  const CrsTransform toUtm( "EPSG:4326", "EPSG:32633" ), toGeographic( "EPSG:32633", "EPSG:4326" );
+  const Eigen::Vector3d corner = toGeographic.transform( { kX0 - 50.0, kY0 + 50.0, 0.0 } );
+  const double cellDeg = 2.0 / 111000.0;
+  const std::string path = writeDem( "geographic", "EPSG:4326", { corner.x(), cellDeg * 1.4, 0.0, corner.y(), 0.0, -cellDeg }, 800, 600,
+  [&]( double lon, double lat ) { const Eigen::Vector3d p = toUtm.transform( { lon, lat, 0.0 } ); return terrain( p.x(), p.y() ); } );
+  const Dem dem( path );
+  EXPECT_TRUE( dem.isGeographic() );
+  std::mt19937 rng( 4 );
+  std::uniform_real_distribution<double> pos( 300.0, 700.0 ), azimuth( 0.0, 2 * M_PI ); // rays travel < 250 m: they stay over the DEM
+  for ( int i = 0; i < 40; ++i )
+  {
+    const double x = kX0 + pos( rng ), y = kY0 - pos( rng ), a = azimuth( rng );
+    const Ray ray { { x, y, 400.0 }, Eigen::Vector3d( std::sin( a ), std::cos( a ), -1.5 ).normalized() };
+    const DemIntersection hit = intersectRayWithDem( ray, dem, toGeographic );
+    ASSERT_TRUE( hit.hit() ) << hit.message;
+    const Eigen::Vector3d lonLat = toGeographic.transform( hit.point );
+    EXPECT_NEAR( hit.point.z(), *dem.heightAt( lonLat.x(), lonLat.y() ), 1e-3 );
+    EXPECT_NEAR( hit.point.z(), terrain( hit.point.x(), hit.point.y() ), 0.1 ); // the sampled terrain
+  }
+  std::filesystem::remove( path );
+}
+
+TEST( Dem, ADemWithoutCrsIsRefused )
+{
+  const std::string path = writeDem( "nocrs", nullptr, { kX0, 2.0, 0.0, kY0, 0.0, -2.0 }, 20, 20, terrain );
+  try
+  {
+    Dem dem( path );
+    FAIL() << "a DEM without CRS was accepted";
+  }
+  catch ( const std::runtime_error &e )
+  {
+    EXPECT_NE( std::string( e.what() ).find( "has no CRS" ), std::string::npos ) << e.what();
+  }
+  std::filesystem::remove( path );
+}
