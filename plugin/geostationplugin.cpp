@@ -93,6 +93,8 @@ void GeoStationPlugin::initGui()
                                 tr( "Find where map points with heights appear in an oriented image" ), nullptr );
   connect( project, &QAction::triggered, this, [this] { showAlgorithmDialog( QStringLiteral( "geostation:project_to_image" ) ); } );
 
+  addAlgorithmAction( mMenu, QStringLiteral( "mActionGeoStationMonoplot" ), tr( "Monoplot Image Features onto a DEM…" ), QStringLiteral( "geostation:monoplot" ) );
+
   mAdjustmentMenu = mMenu->addMenu( tr( "Adjustment" ) );
   mAdjustmentMenu->setObjectName( QStringLiteral( "mGeoStationAdjustmentMenu" ) );
   addAlgorithmAction( mAdjustmentMenu, QStringLiteral( "mActionGeoStationIntersect" ), tr( "Intersect Image Points…" ), QStringLiteral( "geostation:intersect" ) );

@@ -12,6 +12,7 @@
 #include "bundleadjustalgorithm.h"
 #include "innerorientationalgorithm.h"
 #include "intersectalgorithm.h"
+#include "monoplotalgorithm.h"
 #include "projecttoimagealgorithm.h"
 #include "resectionalgorithm.h"
 
@@ -61,6 +62,7 @@ void GeoStationProvider::loadAlgorithms()
   addAlgorithm( new ResectionAlgorithm() );
   addAlgorithm( new BundleAdjustAlgorithm() );
   addAlgorithm( new InnerOrientationAlgorithm() );
+  addAlgorithm( new MonoplotAlgorithm() );
 }
 
 bool registerGeoStationProvider()

@@ -1,0 +1,284 @@
+/***************************************************************************
+  monoplotalgorithm.cpp - geostation:monoplot
+ ***************************************************************************/
+#include "monoplotalgorithm.h"
+
+#include <qgscurvepolygon.h>
+#include <qgsexception.h>
+#include <qgsfeaturesink.h>
+#include <qgsgeometry.h>
+#include <qgsgeometrycollection.h>
+#include <qgsgeometryfactory.h>
+#include <qgslinestring.h>
+#include <qgspoint.h>
+#include <qgspolygon.h>
+#include <qgsprocessingfeedback.h>
+#include <qgsprocessingoutputs.h>
+#include <qgsprocessingparameters.h>
+#include <qgsprocessingutils.h>
+#include <qgsrasterlayer.h>
+
+#include "dem/monoplotter.h"
+#include "processingblock.h"
+
+namespace
+{
+  //! Monoplots one geometry; fills `worst` with the largest vertex sigmas and `problem` on failure.
+  struct Monoplotting
+  {
+    const geostation::Monoplotter &monoplotter;
+    double densifyPx;
+    int width, height;
+    Eigen::Vector3d worst = Eigen::Vector3d::Zero();
+    int vertices = 0;
+    QString problem;
+
+    bool inFrame( const QgsPoint &p ) const
+    {
+      return p.x() >= 0.0 && p.x() <= width && -p.y() >= 0.0 && -p.y() <= height;
+    }
+
+    std::optional<QgsPoint> point( const Eigen::Vector2d &pixel )
+    {
+      const geostation::MonoplotPoint g = monoplotter.imageToGround( pixel );
+      if ( !g.ok() )
+      {
+        problem = QObject::tr( "pixel (%1, %2): %3" ).arg( pixel.x(), 0, 'f', 1 ).arg( pixel.y(), 0, 'f', 1 ).arg( QString::fromStdString( g.message ) );
+        return std::nullopt;
+      }
+      worst = worst.cwiseMax( g.sigmaM );
+      ++vertices;
+      return QgsPoint( g.world.x(), g.world.y(), g.world.z() );
+    }
+
+    std::unique_ptr<QgsLineString> line( const QgsCurve &curve, bool closed )
+    {
+      std::unique_ptr<QgsLineString> in( curve.curveToLine() );
+      std::vector<Eigen::Vector2d> pixels;
+      for ( int i = 0; i < in->numPoints(); ++i )
+      {
+        if ( !inFrame( in->pointN( i ) ) )
+        {
+          problem = QObject::tr( "vertex (%1, %2) lies outside the image frame" ).arg( in->xAt( i ) ).arg( in->yAt( i ) );
+          return nullptr;
+        }
+        pixels.emplace_back( in->xAt( i ), -in->yAt( i ) );
+      }
+      QVector<QgsPoint> out;
+      for ( const geostation::MonoplotPoint &g : monoplotter.imageLineToGround( pixels, densifyPx ) )
+      {
+        if ( !g.ok() )
+        {
+          problem = QObject::tr( "pixel (%1, %2): %3" ).arg( g.pixelInImage.x(), 0, 'f', 1 ).arg( g.pixelInImage.y(), 0, 'f', 1 ).arg( QString::fromStdString( g.message ) );
+          return nullptr;
+        }
+        worst = worst.cwiseMax( g.sigmaM );
+        ++vertices;
+        out << QgsPoint( g.world.x(), g.world.y(), g.world.z() );
+      }
+      if ( closed && !out.isEmpty() )
+        out.last() = out.first(); // the ring closes exactly
+      return std::make_unique<QgsLineString>( out );
+    }
+
+    std::unique_ptr<QgsAbstractGeometry> geometry( const QgsAbstractGeometry *g )
+    {
+      if ( const QgsPoint *p = qgsgeometry_cast<const QgsPoint *>( g ) )
+      {
+        if ( !inFrame( *p ) )
+        {
+          problem = QObject::tr( "point (%1, %2) lies outside the image frame" ).arg( p->x() ).arg( p->y() );
+          return nullptr;
+        }
+        const std::optional<QgsPoint> q = point( { p->x(), -p->y() } );
+        return q ? std::make_unique<QgsPoint>( *q ) : nullptr;
+      }
+      if ( const QgsCurve *c = qgsgeometry_cast<const QgsCurve *>( g ) )
+        return line( *c, false );
+      if ( const QgsCurvePolygon *polygon = qgsgeometry_cast<const QgsCurvePolygon *>( g ) )
+      {
+        auto out = std::make_unique<QgsPolygon>();
+        std::unique_ptr<QgsLineString> exterior = line( *polygon->exteriorRing(), true );
+        if ( !exterior )
+          return nullptr;
+        out->setExteriorRing( exterior.release() );
+        for ( int i = 0; i < polygon->numInteriorRings(); ++i )
+        {
+          std::unique_ptr<QgsLineString> ring = line( *polygon->interiorRing( i ), true );
+          if ( !ring )
+            return nullptr;
+          out->addInteriorRing( ring.release() );
+        }
+        return out;
+      }
+      if ( const QgsGeometryCollection *collection = qgsgeometry_cast<const QgsGeometryCollection *>( g ) )
+      {
+        std::unique_ptr<QgsGeometryCollection> out( qgsgeometry_cast<QgsGeometryCollection *>( QgsGeometryFactory::geomFromWkbType( QgsWkbTypes::addZ( collection->wkbType() ) ).release() ) );
+        for ( int i = 0; i < collection->numGeometries(); ++i )
+        {
+          std::unique_ptr<QgsAbstractGeometry> part = geometry( collection->geometryN( i ) );
+          if ( !part )
+            return nullptr;
+          out->addGeometry( part.release() );
+        }
+        return out;
+      }
+      problem = QObject::tr( "geometry type %1 is not supported" ).arg( QgsWkbTypes::displayString( g->wkbType() ) );
+      return nullptr;
+    }
+  };
+} // namespace
+
+QString MonoplotAlgorithm::name() const
+{
+  return QStringLiteral( "monoplot" );
+}
+
+QString MonoplotAlgorithm::displayName() const
+{
+  return QObject::tr( "Monoplot image features onto a DEM" );
+}
+
+QStringList MonoplotAlgorithm::tags() const
+{
+  return QObject::tr( "photogrammetry,monoplotting,dem,terrain,map revision,digitise,oblique" ).split( ',' );
+}
+
+QString MonoplotAlgorithm::group() const
+{
+  return QObject::tr( "Monoplotting" );
+}
+
+QString MonoplotAlgorithm::groupId() const
+{
+  return QStringLiteral( "monoplotting" );
+}
+
+QString MonoplotAlgorithm::shortHelpString() const
+{
+  return QObject::tr( "Turns features digitised on one oriented image into map features with heights: every vertex's "
+                      "viewing ray is intersected with the DEM (the first crossing, exact on the DEM's bilinear surface).\n\n"
+                      "INPUT is an image-space layer (x = col, y = -row, no CRS), e.g. digitised over the raw image in QGIS. "
+                      "Lines and polygon rings are densified so that no image segment exceeds DENSIFY_PX pixels, so they "
+                      "drape over the terrain. The DEM may be in any CRS; it is read in tiles, and small nodata holes are "
+                      "filled from their neighbours.\n\n"
+                      "The output is in the block CRS with Z; input attributes are kept, and sigma_x, sigma_y, sigma_z "
+                      "(metres, worst vertex) propagate PIXEL_SIGMA_PX, DEM_SIGMA_M and the image's exterior-orientation "
+                      "sigmas: grazing rays far from the camera are weak, and the numbers show it." );
+}
+
+MonoplotAlgorithm *MonoplotAlgorithm::createInstance() const
+{
+  return new MonoplotAlgorithm();
+}
+
+void MonoplotAlgorithm::initAlgorithm( const QVariantMap & )
+{
+  addParameter( GeoStationProcessing::blockParameter() );
+  addParameter( new QgsProcessingParameterString( QStringLiteral( "IMAGE" ), QObject::tr( "Image id" ) ) );
+  addParameter( new QgsProcessingParameterRasterLayer( QStringLiteral( "DEM" ), QObject::tr( "DEM" ) ) );
+  addParameter( new QgsProcessingParameterFeatureSource( QStringLiteral( "INPUT" ), QObject::tr( "Features digitised on the image (pixel space)" ),
+                QList<int>() << QgsProcessing::TypeVectorAnyGeometry ) );
+  addParameter( new QgsProcessingParameterNumber( QStringLiteral( "DENSIFY_PX" ), QObject::tr( "Densify lines every (pixels)" ), QgsProcessingParameterNumber::Double, 5.0, false, 0.1 ) );
+  addParameter( new QgsProcessingParameterNumber( QStringLiteral( "PIXEL_SIGMA_PX" ), QObject::tr( "Digitising precision (pixels)" ), QgsProcessingParameterNumber::Double, 0.5, false, 0.0 ) );
+  addParameter( new QgsProcessingParameterNumber( QStringLiteral( "DEM_SIGMA_M" ), QObject::tr( "DEM height precision (m)" ), QgsProcessingParameterNumber::Double, 0.0, false, 0.0 ) );
+  addParameter( new QgsProcessingParameterFeatureSink( QStringLiteral( "OUTPUT" ), QObject::tr( "Monoplotted features" ) ) );
+  addOutput( new QgsProcessingOutputNumber( QStringLiteral( "FILLED_DEM_CELLS" ), QObject::tr( "DEM cells filled in holes" ) ) );
+}
+
+QVariantMap MonoplotAlgorithm::processAlgorithm( const QVariantMap &parameters, QgsProcessingContext &context, QgsProcessingFeedback *feedback )
+{
+  const geostation::Block block = GeoStationProcessing::loadBlock( parameterAsFile( parameters, QStringLiteral( "BLOCK" ), context ) );
+  const QString imageId = parameterAsString( parameters, QStringLiteral( "IMAGE" ), context ).trimmed();
+  const geostation::BlockImage &blockImage = GeoStationProcessing::blockImage( block, imageId );
+  const geostation::OrientedImage image( block.cameraOf( blockImage ), GeoStationProcessing::requireOriented( block, blockImage ) );
+  const QgsCoordinateReferenceSystem crs = GeoStationProcessing::blockCrs( block );
+
+  QgsRasterLayer *demLayer = parameterAsRasterLayer( parameters, QStringLiteral( "DEM" ), context );
+  if ( !demLayer )
+    throw QgsProcessingException( invalidRasterError( parameters, QStringLiteral( "DEM" ) ) );
+  std::unique_ptr<geostation::Dem> dem;
+  std::unique_ptr<geostation::CrsTransform> blockToDem;
+  try
+  {
+    dem = std::make_unique<geostation::Dem>( demLayer->source().toStdString() );
+    blockToDem = std::make_unique<geostation::CrsTransform>( block.crs, dem->crsWkt() );
+  }
+  catch ( const std::exception &e )
+  {
+    throw QgsProcessingException( QString::fromStdString( e.what() ) );
+  }
+
+  std::unique_ptr<QgsProcessingFeatureSource> source( parameterAsSource( parameters, QStringLiteral( "INPUT" ), context ) );
+  if ( !source )
+    throw QgsProcessingException( invalidSourceError( parameters, QStringLiteral( "INPUT" ) ) );
+  const QgsCoordinateReferenceSystem inputCrs = source->sourceCrs();
+  if ( inputCrs.isValid() && !inputCrs.description().startsWith( QLatin1String( "Undefined" ) ) && !inputCrs.authid().isEmpty() )
+    throw QgsProcessingException( QObject::tr( "INPUT is in %1, not in image pixel space; digitise on the raw image (x = col, y = -row, no CRS)." ).arg( inputCrs.userFriendlyIdentifier() ) );
+
+  geostation::MonoplotOptions options;
+  options.pixelSigmaPx = parameterAsDouble( parameters, QStringLiteral( "PIXEL_SIGMA_PX" ), context );
+  options.demSigmaM = parameterAsDouble( parameters, QStringLiteral( "DEM_SIGMA_M" ), context );
+  const geostation::Monoplotter monoplotter( image, *dem, *blockToDem, options );
+
+  // The DEM must lie under the image: some rays of a coarse grid over the frame must meet it.
+  const geostation::Camera &camera = image.camera();
+  int gridHits = 0;
+  for ( int i = 0; i <= 8 && gridHits == 0; ++i )
+    for ( int j = 0; j <= 8; ++j )
+      gridHits += monoplotter.imageToGround( { ( j + 0.5 ) * camera.width / 9.0, ( i + 0.5 ) * camera.height / 9.0 }, false ).ok() ? 1 : 0;
+  if ( gridHits == 0 )
+    throw QgsProcessingException( QObject::tr( "The DEM does not cover the footprint of image %1: no viewing ray of the image meets it." ).arg( imageId ) );
+
+  Monoplotting mono { monoplotter, parameterAsDouble( parameters, QStringLiteral( "DENSIFY_PX" ), context ), camera.width, camera.height };
+  QgsFields newFields;
+  for ( const char *name : { "sigma_x", "sigma_y", "sigma_z" } )
+    newFields.append( QgsField( QString::fromLatin1( name ), QVariant::Double ) );
+  newFields.append( QgsField( QStringLiteral( "n_vertices" ), QVariant::Int ) );
+  newFields.append( QgsField( QStringLiteral( "method" ), QVariant::String ) );
+  const QgsFields fields = QgsProcessingUtils::combineFields( source->fields(), newFields );
+
+  // Everything is computed before the output is created: a bad feature leaves no file.
+  QVector<QgsFeature> features;
+  const double step = source->featureCount() > 0 ? 90.0 / source->featureCount() : 0.0;
+  QgsFeatureIterator it = source->getFeatures();
+  QgsFeature f;
+  while ( it.nextFeature( f ) )
+  {
+    if ( feedback->isCanceled() )
+      return QVariantMap();
+    QgsFeature out( fields );
+    QgsAttributes attributes = f.attributes();
+    mono.worst.setZero();
+    mono.vertices = 0;
+    if ( f.hasGeometry() )
+    {
+      std::unique_ptr<QgsAbstractGeometry> g = mono.geometry( f.geometry().constGet() );
+      if ( !g )
+        throw QgsProcessingException( QObject::tr( "Feature %1 cannot be monoplotted: %2" ).arg( f.id() ).arg( mono.problem ) );
+      out.setGeometry( QgsGeometry( std::move( g ) ) );
+    }
+    attributes << mono.worst.x() << mono.worst.y() << mono.worst.z() << mono.vertices << QStringLiteral( "monoplot-DEM" );
+    out.setAttributes( attributes );
+    features << out;
+    feedback->setProgress( step * features.size() );
+  }
+
+  QString destination;
+  std::unique_ptr<QgsFeatureSink> sink( parameterAsSink( parameters, QStringLiteral( "OUTPUT" ), context, destination, fields,
+                                        QgsWkbTypes::addZ( source->wkbType() ), crs ) );
+  if ( !sink )
+    throw QgsProcessingException( invalidSinkError( parameters, QStringLiteral( "OUTPUT" ) ) );
+  for ( QgsFeature &out : features )
+    if ( !sink->addFeature( out, QgsFeatureSink::FastInsert ) )
+      throw QgsProcessingException( writeFeatureError( sink.get(), parameters, QStringLiteral( "OUTPUT" ) ) );
+  sink.reset();
+  feedback->setProgress( 100 );
+  if ( dem->filledCellCount() > 0 )
+    feedback->pushInfo( QObject::tr( "%1 DEM cells in nodata holes were filled from their neighbours." ).arg( dem->filledCellCount() ) );
+
+  QVariantMap outputs;
+  outputs.insert( QStringLiteral( "OUTPUT" ), destination );
+  outputs.insert( QStringLiteral( "FILLED_DEM_CELLS" ), static_cast<double>( dem->filledCellCount() ) );
+  return outputs;
+}

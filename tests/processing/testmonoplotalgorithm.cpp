@@ -1,0 +1,235 @@
+// geostation:monoplot on an oblique photo over synthetic terrain.
+#include <QTemporaryDir>
+#include <QtTest/QtTest>
+
+#include <Eigen/Geometry>
+#include <gdal.h>
+#include <ogr_api.h>
+#include <ogr_srs_api.h>
+
+#include <qgsapplication.h>
+#include <qgsprocessingalgorithm.h>
+#include <qgsprocessingcontext.h>
+#include <qgsprocessingregistry.h>
+#include <qgsprocessingutils.h>
+#include <qgsproject.h>
+#include <qgstest.h>
+#include <qgsvectorlayer.h>
+
+#include "geometry/projection.h"
+#include "geometry/rotation.h"
+#include "geostationprovider.h"
+#include "io/block.h"
+#include "io/pixelspacegpkg.h"
+#include "processingtestutils.h"
+
+namespace
+{
+  const double kX0 = 400000.0, kY0 = 5000000.0;
+  double terrain( double x, double y )
+  {
+    return 100.0 + 12.0 * std::sin( ( x - kX0 ) / 40.0 ) * std::cos( ( y - kY0 ) / 55.0 ) + 0.05 * ( x - kX0 );
+  }
+
+  void writeDem( const QString &path, const char *crs, double x0 )
+  {
+    const int n = 500;
+    GDALDatasetH ds = GDALCreate( GDALGetDriverByName( "GTiff" ), path.toUtf8().constData(), n, n, 1, GDT_Float32, nullptr );
+    double gt[6] = { x0, 2.0, 0.0, kY0, 0.0, -2.0 };
+    GDALSetGeoTransform( ds, gt );
+    if ( crs )
+    {
+      OGRSpatialReferenceH srs = OSRNewSpatialReference( nullptr );
+      OSRSetFromUserInput( srs, crs );
+      GDALSetSpatialRef( ds, srs );
+      OSRDestroySpatialReference( srs );
+    }
+    std::vector<float> cells( n * n );
+    for ( int r = 0; r < n; ++r )
+      for ( int c = 0; c < n; ++c )
+        cells[r * n + c] = static_cast<float>( terrain( kX0 + 2.0 * c + 1.0, kY0 - 2.0 * r - 1.0 ) );
+    QCOMPARE( GDALRasterIO( GDALGetRasterBand( ds, 1 ), GF_Write, 0, 0, n, n, cells.data(), n, n, GDT_Float32, 0, 0 ), CE_None );
+    GDALClose( ds );
+  }
+} // namespace
+
+class TestMonoplotAlgorithm : public QObject
+{
+    Q_OBJECT
+
+  private slots:
+    void initTestCase();
+    void monoplotsPointsAndDrapesLines();
+    void badInput_data();
+    void badInput();
+
+  private:
+    QString pixelLayer( const QString &name, const QList<QPair<QString, std::vector<Eigen::Vector2d>>> &features, bool line, const char *crs = nullptr );
+    QVariantMap run( const QVariantMap &parameters, bool *ok, RecordingFeedback *feedback );
+    QTemporaryDir mDir;
+    QString mBlock;
+    std::unique_ptr<geostation::OrientedImage> mImage;
+    QgsProcessingContext mContext;
+};
+
+void TestMonoplotAlgorithm::initTestCase()
+{
+  QVERIFY( registerGeoStationProvider() || QgsApplication::processingRegistry()->providerById( "geostation" ) );
+  GDALAllRegister();
+  writeDem( mDir.filePath( "dem.tif" ), "EPSG:32633", kX0 );
+  writeDem( mDir.filePath( "dem-nocrs.tif" ), nullptr, kX0 );
+  writeDem( mDir.filePath( "dem-elsewhere.tif" ), "EPSG:32633", kX0 + 50000.0 );
+  GDALClose( GDALCreate( GDALGetDriverByName( "GTiff" ), mDir.filePath( "photo.tif" ).toUtf8().constData(), 1280, 960, 1, GDT_Byte, nullptr ) );
+
+  // The camera on a 60 m mast, looking north and down (omega-phi-kappa from the look direction).
+  const Eigen::Vector3d centre( kX0 + 500.0, kY0 - 950.0, terrain( kX0 + 500.0, kY0 - 950.0 ) + 60.0 );
+  const Eigen::Vector3d forward = Eigen::Vector3d( 0.0, 300.0, -120.0 ).normalized();
+  const Eigen::Vector3d right = forward.cross( Eigen::Vector3d::UnitZ() ).normalized();
+  Eigen::Matrix3d worldFromCamera;
+  worldFromCamera << right, right.cross( forward ), -forward;
+  const Eigen::Vector3d opk = geostation::omegaPhiKappaDegFromRotation( worldFromCamera );
+  const QString block = QStringLiteral( R"json({"format": "geostation-block", "version": 1, "crs": "EPSG:32633",
+    "cameras": [{"id": "mast", "width": 1280, "height": 960, "f": 1100.0, "cx": 641.3, "cy": 478.9,
+                 "distortion": {"model": "opencv", "k1": -0.2, "k2": 0.05, "p1": 0.0005, "p2": -0.0003}}],
+    "images": [{"id": "P1", "camera": "mast", "path": "photo.tif", "X": %1, "Y": %2, "Z": %3, "omega": %4, "phi": %5, "kappa": %6,
+                "sigma": {"X": 0.05, "Y": 0.05, "Z": 0.05, "omega": 0.01, "phi": 0.01, "kappa": 0.01}}]})json" )
+                        .arg( centre.x(), 0, 'f', 6 ).arg( centre.y(), 0, 'f', 6 ).arg( centre.z(), 0, 'f', 6 )
+                        .arg( opk.x(), 0, 'f', 9 ).arg( opk.y(), 0, 'f', 9 ).arg( opk.z(), 0, 'f', 9 );
+  QFile file( mDir.filePath( "block.geostation.json" ) );
+  QVERIFY( file.open( QIODevice::WriteOnly ) );
+  file.write( block.toUtf8() );
+  file.close();
+  mBlock = file.fileName();
+  const geostation::Block loaded = geostation::Block::load( mBlock.toStdString() );
+  mImage = std::make_unique<geostation::OrientedImage>( loaded.camera( "mast" ), *loaded.image( "P1" ).exterior );
+  mContext.setProject( QgsProject::instance() );
+}
+
+QString TestMonoplotAlgorithm::pixelLayer( const QString &name, const QList<QPair<QString, std::vector<Eigen::Vector2d>>> &features, bool line, const char *crs )
+{
+  const QString path = mDir.filePath( name + ".gpkg" );
+  GDALDatasetH ds = GDALCreate( GDALGetDriverByName( "GPKG" ), path.toUtf8().constData(), 0, 0, 0, GDT_Unknown, nullptr );
+  OGRSpatialReferenceH srs = nullptr;
+  if ( crs )
+  {
+    srs = OSRNewSpatialReference( nullptr );
+    OSRSetFromUserInput( srs, crs );
+  }
+  OGRLayerH layer = GDALDatasetCreateLayer( ds, "digitised", srs, line ? wkbLineString : wkbPoint, nullptr );
+  OGRFieldDefnH field = OGR_Fld_Create( "name", OFTString );
+  OGR_L_CreateField( layer, field, TRUE );
+  OGR_Fld_Destroy( field );
+  for ( const auto &[label, pixels] : features )
+  {
+    OGRFeatureH f = OGR_F_Create( OGR_L_GetLayerDefn( layer ) );
+    OGR_F_SetFieldString( f, 0, label.toUtf8().constData() );
+    OGRGeometryH g = OGR_G_CreateGeometry( line ? wkbLineString : wkbPoint );
+    for ( const Eigen::Vector2d &p : pixels )
+      OGR_G_AddPoint_2D( g, p.x(), -p.y() ); // x = col, y = -row
+    OGR_F_SetGeometryDirectly( f, g );
+    if ( OGR_L_CreateFeature( layer, f ) != OGRERR_NONE )
+      qFatal( "cannot write the test layer" );
+    OGR_F_Destroy( f );
+  }
+  GDALClose( ds );
+  if ( srs )
+    OSRDestroySpatialReference( srs );
+  else
+    geostation::markGeoPackageLayerAsPixelSpace( path.toStdString() );
+  return path;
+}
+
+QVariantMap TestMonoplotAlgorithm::run( const QVariantMap &parameters, bool *ok, RecordingFeedback *feedback )
+{
+  std::unique_ptr<QgsProcessingAlgorithm> alg( QgsApplication::processingRegistry()->algorithmById( "geostation:monoplot" )->create() );
+  return alg->run( parameters, mContext, feedback, ok );
+}
+
+void TestMonoplotAlgorithm::monoplotsPointsAndDrapesLines()
+{
+  // Truth points on the terrain, digitised at their exact pixels.
+  QList<QPair<QString, std::vector<Eigen::Vector2d>>> points;
+  std::vector<Eigen::Vector3d> truth;
+  for ( int i = 0; i < 12; ++i )
+  {
+    const double x = kX0 + 420.0 + 15.0 * i, y = kY0 - 800.0 + 9.0 * i;
+    const Eigen::Vector3d p( x, y, terrain( x, y ) );
+    const geostation::GroundProjection g = mImage->projectGroundToPixel( p );
+    QVERIFY( g.inFrame );
+    points << qMakePair( QStringLiteral( "pt%1" ).arg( i ), std::vector<Eigen::Vector2d> { g.pixelInImage } );
+    truth.push_back( p );
+  }
+  bool ok = false;
+  RecordingFeedback feedback;
+  QVariantMap result = run( { { "BLOCK", mBlock }, { "IMAGE", "P1" }, { "DEM", mDir.filePath( "dem.tif" ) }, { "INPUT", pixelLayer( "points", points, false ) },
+    { "OUTPUT", QgsProcessing::TEMPORARY_OUTPUT } }, &ok, &feedback );
+  QVERIFY2( ok, qPrintable( feedback.errors.join( '\n' ) ) );
+  QgsVectorLayer *out = qobject_cast<QgsVectorLayer *>( QgsProcessingUtils::mapLayerFromString( result.value( "OUTPUT" ).toString(), mContext ) );
+  QVERIFY( out );
+  QCOMPARE( out->crs().authid(), QStringLiteral( "EPSG:32633" ) );
+  QVERIFY( QgsWkbTypes::hasZ( out->wkbType() ) );
+  QgsFeature f;
+  QgsFeatureIterator it = out->getFeatures();
+  int n = 0;
+  while ( it.nextFeature( f ) )
+  {
+    const int i = f.attribute( "name" ).toString().mid( 2 ).toInt();
+    const QgsPoint p = *f.geometry().vertices_begin();
+    // Truth here is the analytic terrain; the DEM's bilinear surface differs by its sampling.
+    QGSCOMPARENEAR( p.x(), truth[i].x(), 0.2 );
+    QGSCOMPARENEAR( p.y(), truth[i].y(), 0.6 );
+    QGSCOMPARENEAR( p.z(), truth[i].z(), 0.1 );
+    QVERIFY( f.attribute( "sigma_y" ).toDouble() > f.attribute( "sigma_x" ).toDouble() );
+    QCOMPARE( f.attribute( "method" ).toString(), QStringLiteral( "monoplot-DEM" ) );
+    QCOMPARE( f.attribute( "n_vertices" ).toInt(), 1 );
+    ++n;
+  }
+  QCOMPARE( n, 12 );
+
+  // A line of 900 px drapes into at least 900 / 5 vertices.
+  result = run( { { "BLOCK", mBlock }, { "IMAGE", "P1" }, { "DEM", mDir.filePath( "dem.tif" ) },
+    { "INPUT", pixelLayer( "line", { qMakePair( QStringLiteral( "ridge" ), std::vector<Eigen::Vector2d> { { 200.0, 700.0 }, { 1100.0, 650.0 } } ) }, true ) },
+    { "DENSIFY_PX", 5.0 }, { "OUTPUT", QgsProcessing::TEMPORARY_OUTPUT } }, &ok, &feedback );
+  QVERIFY2( ok, qPrintable( feedback.errors.join( '\n' ) ) );
+  out = qobject_cast<QgsVectorLayer *>( QgsProcessingUtils::mapLayerFromString( result.value( "OUTPUT" ).toString(), mContext ) );
+  QVERIFY( out->getFeatures().nextFeature( f ) );
+  QVERIFY( f.attribute( "n_vertices" ).toInt() >= 180 );
+  QVERIFY( f.geometry().constGet()->nCoordinates() >= 180 );
+}
+
+void TestMonoplotAlgorithm::badInput_data()
+{
+  QTest::addColumn<QString>( "dem" );
+  QTest::addColumn<QString>( "crs" );
+  QTest::addColumn<double>( "col" );
+  QTest::addColumn<QString>( "expected" );
+  QTest::newRow( "dem without crs" ) << "dem-nocrs.tif" << QString() << 640.0 << "has no CRS";
+  QTest::newRow( "dem elsewhere" ) << "dem-elsewhere.tif" << QString() << 640.0 << "does not cover the footprint";
+  QTest::newRow( "input in a map crs" ) << "dem.tif" << "EPSG:4326" << 640.0 << "not in image pixel space";
+  QTest::newRow( "outside the frame" ) << "dem.tif" << QString() << 1500.0 << "outside the image frame";
+}
+
+void TestMonoplotAlgorithm::badInput()
+{
+  QFETCH( QString, dem );
+  QFETCH( QString, crs );
+  QFETCH( double, col );
+  QFETCH( QString, expected );
+  const QString tag = QString( QTest::currentDataTag() ).replace( ' ', '-' );
+  const QString input = pixelLayer( "bad-" + tag, { qMakePair( QStringLiteral( "p" ), std::vector<Eigen::Vector2d> { { col, 700.0 } } ) }, false,
+                                    crs.isEmpty() ? nullptr : crs.toUtf8().constData() );
+  const QString output = mDir.filePath( "never-" + tag + ".gpkg" );
+  bool ok = true;
+  RecordingFeedback feedback;
+  run( { { "BLOCK", mBlock }, { "IMAGE", "P1" }, { "DEM", mDir.filePath( dem ) }, { "INPUT", input }, { "OUTPUT", output } }, &ok, &feedback );
+  QVERIFY( !ok );
+  QVERIFY2( feedback.errors.join( ' ' ).contains( expected ), qPrintable( feedback.errors.join( '\n' ) ) );
+  QVERIFY( !QFile::exists( output ) );
+}
+
+int main( int argc, char **argv )
+{
+  return runQgisTests<TestMonoplotAlgorithm>( argc, argv );
+}
+
+#include "testmonoplotalgorithm.moc"
