@@ -18,7 +18,9 @@
 #include <qgsprocessingoutputs.h>
 #include <qgsprocessingparameters.h>
 #include <qgsprocessingutils.h>
+#include <qgsrasterlayer.h>
 
+#include "dem/monoplotter.h"
 #include "geometry/projection.h"
 #include "processingblock.h"
 
@@ -31,6 +33,7 @@ namespace
     QgsGeometry geometryInImage; //!< null when any part is behind the camera
     bool projected = false;
     bool inFrame = false;
+    bool visible = false;
     QVariant col, row, depthM;
   };
 } // namespace
@@ -70,8 +73,9 @@ QString ProjectToImageAlgorithm::shortHelpString() const
                       "in_frame and visible are added.\n\n"
                       "A point behind the camera, or far outside its field of view (more than twice the frame-corner "
                       "angle, where the lens distortion model is extrapolated), is never projected: its feature has "
-                      "no geometry and in_frame = visible = false. Without a DEM no occlusion test is made, so "
-                      "visible = in_frame." );
+                      "no geometry and in_frame = visible = false.\n\n"
+                      "With a DEM, points without Z take the DEM's height, and visible tells whether the terrain hides "
+                      "the point from the camera. Without a DEM no occlusion test is possible, so visible = in_frame." );
 }
 
 ProjectToImageAlgorithm *ProjectToImageAlgorithm::createInstance() const
@@ -83,8 +87,9 @@ void ProjectToImageAlgorithm::initAlgorithm( const QVariantMap & )
 {
   addParameter( GeoStationProcessing::blockParameter() );
   addParameter( new QgsProcessingParameterString( QStringLiteral( "IMAGE" ), QObject::tr( "Image id" ) ) );
-  addParameter( new QgsProcessingParameterFeatureSource( QStringLiteral( "INPUT" ), QObject::tr( "Map points with Z" ),
+  addParameter( new QgsProcessingParameterFeatureSource( QStringLiteral( "INPUT" ), QObject::tr( "Map points (with Z, or draped on the DEM)" ),
                 QList<int>() << QgsProcessing::TypeVectorPoint ) );
+  addParameter( new QgsProcessingParameterRasterLayer( QStringLiteral( "DEM" ), QObject::tr( "DEM (heights for 2D points, occlusion test)" ), QVariant(), true ) );
   addParameter( new QgsProcessingParameterFeatureSink( QStringLiteral( "OUTPUT" ), QObject::tr( "Points in image space" ), QgsProcessing::TypeVectorPoint ) );
   addOutput( new QgsProcessingOutputNumber( QStringLiteral( "PROJECTED_COUNT" ), QObject::tr( "Features projected" ) ) );
   addOutput( new QgsProcessingOutputNumber( QStringLiteral( "IN_FRAME_COUNT" ), QObject::tr( "Features in the frame" ) ) );
@@ -103,10 +108,27 @@ QVariantMap ProjectToImageAlgorithm::processAlgorithm( const QVariantMap &parame
   const geostation::OrientedImage orientedImage( block.cameraOf( image ), exterior );
   const QgsCoordinateReferenceSystem blockCrs = GeoStationProcessing::blockCrs( block );
 
+  std::unique_ptr<geostation::Dem> dem;
+  std::unique_ptr<geostation::CrsTransform> blockToDem;
+  std::unique_ptr<geostation::Monoplotter> monoplotter;
+  if ( QgsRasterLayer *demLayer = parameterAsRasterLayer( parameters, QStringLiteral( "DEM" ), context ) )
+  {
+    try
+    {
+      dem = std::make_unique<geostation::Dem>( demLayer->source().toStdString() );
+      blockToDem = std::make_unique<geostation::CrsTransform>( block.crs, dem->crsWkt() );
+    }
+    catch ( const std::exception &e )
+    {
+      throw QgsProcessingException( QString::fromStdString( e.what() ) );
+    }
+    monoplotter = std::make_unique<geostation::Monoplotter>( orientedImage, *dem, *blockToDem );
+  }
+
   std::unique_ptr<QgsProcessingFeatureSource> source( parameterAsSource( parameters, QStringLiteral( "INPUT" ), context ) );
   if ( !source )
     throw QgsProcessingException( invalidSourceError( parameters, QStringLiteral( "INPUT" ) ) );
-  if ( !QgsWkbTypes::hasZ( source->wkbType() ) )
+  if ( !QgsWkbTypes::hasZ( source->wkbType() ) && !dem )
     throw QgsProcessingException( QObject::tr( "The input layer has no Z values; without a DEM, points need heights (PointZ) to be projected into the image." ) );
 
   const QgsCoordinateReferenceSystem sourceCrs = source->sourceCrs().isValid() ? source->sourceCrs() : blockCrs;
@@ -129,16 +151,19 @@ QVariantMap ProjectToImageAlgorithm::processAlgorithm( const QVariantMap &parame
     if ( feature.hasGeometry() )
     {
       QgsMultiPoint partsInImage;
-      bool behind = false, diverged = false, allInFrame = true;
+      bool behind = false, diverged = false, allInFrame = true, allVisible = true;
       double minDepth = std::numeric_limits<double>::infinity();
       const QgsGeometry geometry = feature.geometry();
       for ( auto vertex = geometry.vertices_begin(); vertex != geometry.vertices_end(); ++vertex )
       {
         double x = ( *vertex ).x(), y = ( *vertex ).y(), z = ( *vertex ).z();
-        if ( std::isnan( z ) )
+        const bool drape = std::isnan( z );
+        if ( drape && !dem )
           throw QgsProcessingException( QObject::tr( "Feature %1 has no Z value; without a DEM every point needs a height." ).arg( feature.id() ) );
         try
         {
+          if ( drape )
+            z = 0.0;
           toBlock.transformInPlace( x, y, z );
         }
         catch ( const QgsCsException & )
@@ -146,7 +171,22 @@ QVariantMap ProjectToImageAlgorithm::processAlgorithm( const QVariantMap &parame
           throw QgsProcessingException( QObject::tr( "Feature %1 cannot be transformed from %2 to the block CRS %3." )
                                         .arg( feature.id() ).arg( sourceCrs.userFriendlyIdentifier(), blockCrs.userFriendlyIdentifier() ) );
         }
-        const geostation::GroundProjection p = orientedImage.projectGroundToPixel( Eigen::Vector3d( x, y, z ) );
+        if ( drape )
+        {
+          const std::optional<double> h = monoplotter->demHeightAt( Eigen::Vector3d( x, y, 0.0 ) );
+          if ( !h )
+            throw QgsProcessingException( QObject::tr( "Feature %1 has no Z value and lies outside the DEM." ).arg( feature.id() ) );
+          z = *h;
+        }
+        geostation::GroundProjection p;
+        if ( monoplotter )
+        {
+          const geostation::MapPointInImage seen = monoplotter->groundToImage( Eigen::Vector3d( x, y, z ) );
+          p = seen.projection;
+          allVisible &= seen.visible;
+        }
+        else
+          p = orientedImage.projectGroundToPixel( Eigen::Vector3d( x, y, z ) );
         minDepth = std::min( minDepth, p.depthM );
         behind |= p.status == geostation::PixelProjection::Status::BehindCamera;
         diverged |= p.status == geostation::PixelProjection::Status::DistortionDiverged || p.status == geostation::PixelProjection::Status::OutsideLensField;
@@ -169,6 +209,8 @@ QVariantMap ProjectToImageAlgorithm::processAlgorithm( const QVariantMap &parame
       {
         out.projected = true;
         out.inFrame = allInFrame;
+        // Without a DEM nothing can hide a point: visible = in frame.
+        out.visible = allInFrame && ( !monoplotter || allVisible );
         if ( partsInImage.numGeometries() == 1 && !QgsWkbTypes::isMultiType( source->wkbType() ) )
           out.geometryInImage = QgsGeometry( partsInImage.geometryN( 0 )->clone() );
         else
@@ -200,8 +242,7 @@ QVariantMap ProjectToImageAlgorithm::processAlgorithm( const QVariantMap &parame
   for ( ProjectedFeature &r : results )
   {
     QgsAttributes attributes = r.feature.attributes();
-    // Without a DEM there is nothing that could hide a point: visible = in frame.
-    attributes << r.col << r.row << r.depthM << QVariant( r.inFrame ) << QVariant( r.inFrame );
+    attributes << r.col << r.row << r.depthM << QVariant( r.inFrame ) << QVariant( r.visible );
     QgsFeature outFeature( outFields );
     outFeature.setAttributes( attributes );
     if ( r.projected )

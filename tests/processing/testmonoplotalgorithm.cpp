@@ -16,6 +16,7 @@
 #include <qgstest.h>
 #include <qgsvectorlayer.h>
 
+#include "dem/monoplotter.h"
 #include "geometry/projection.h"
 #include "geometry/rotation.h"
 #include "geostationprovider.h"
@@ -60,6 +61,7 @@ class TestMonoplotAlgorithm : public QObject
   private slots:
     void initTestCase();
     void monoplotsPointsAndDrapesLines();
+    void projectToImageDrapesAndTestsOcclusion();
     void badInput_data();
     void badInput();
 
@@ -195,6 +197,50 @@ void TestMonoplotAlgorithm::monoplotsPointsAndDrapesLines()
   QVERIFY( out->getFeatures().nextFeature( f ) );
   QVERIFY( f.attribute( "n_vertices" ).toInt() >= 180 );
   QVERIFY( f.geometry().constGet()->nCoordinates() >= 180 );
+}
+
+void TestMonoplotAlgorithm::projectToImageDrapesAndTestsOcclusion()
+{
+  // 2D map points across the hills: draped on the DEM, some hidden by ridges.
+  const geostation::Dem dem( mDir.filePath( "dem.tif" ).toStdString() );
+  const geostation::CrsTransform same( "EPSG:32633", "EPSG:32633" );
+  const geostation::Monoplotter expected( *mImage, dem, same );
+  auto *layer = new QgsVectorLayer( QStringLiteral( "Point?crs=EPSG:32633&field=name:string" ), QStringLiteral( "map points" ), QStringLiteral( "memory" ) );
+  QMap<QString, geostation::MapPointInImage> truth;
+  int k = 0;
+  for ( double y = kY0 - 850.0; y < kY0 - 250.0; y += 40.0 )
+    for ( double x = kX0 + 300.0; x < kX0 + 700.0; x += 40.0, ++k )
+    {
+      QgsFeature f( layer->fields() );
+      f.setGeometry( QgsGeometry( new QgsPoint( x, y ) ) );
+      f.setAttribute( 0, QStringLiteral( "m%1" ).arg( k ) );
+      layer->dataProvider()->addFeature( f );
+      truth.insert( QStringLiteral( "m%1" ).arg( k ), expected.groundToImage( { x, y, *dem.heightAt( x, y ) } ) );
+    }
+  QgsProject::instance()->addMapLayer( layer );
+  bool ok = false;
+  RecordingFeedback feedback;
+  std::unique_ptr<QgsProcessingAlgorithm> alg( QgsApplication::processingRegistry()->algorithmById( "geostation:project_to_image" )->create() );
+  const QVariantMap result = alg->run( { { "BLOCK", mBlock }, { "IMAGE", "P1" }, { "INPUT", layer->id() }, { "DEM", mDir.filePath( "dem.tif" ) },
+    { "OUTPUT", QgsProcessing::TEMPORARY_OUTPUT } }, mContext, &feedback, &ok );
+  QVERIFY2( ok, qPrintable( feedback.errors.join( '\n' ) ) );
+  QgsVectorLayer *out = qobject_cast<QgsVectorLayer *>( QgsProcessingUtils::mapLayerFromString( result.value( "OUTPUT" ).toString(), mContext ) );
+  QVERIFY( out );
+  int visible = 0, hidden = 0;
+  QgsFeature f;
+  QgsFeatureIterator it = out->getFeatures();
+  while ( it.nextFeature( f ) )
+  {
+    const geostation::MapPointInImage &t = truth[f.attribute( "name" ).toString()];
+    QCOMPARE( f.attribute( "in_frame" ).toBool(), t.projection.inFrame );
+    QCOMPARE( f.attribute( "visible" ).toBool(), t.visible );
+    if ( t.projection.ok() )
+      QGSCOMPARENEAR( f.attribute( "col" ).toDouble(), t.projection.pixelInImage.x(), 1e-6 );
+    if ( t.projection.inFrame )
+      ( t.visible ? visible : hidden ) += 1;
+  }
+  QVERIFY( visible > 10 );
+  QVERIFY( hidden > 3 );
 }
 
 void TestMonoplotAlgorithm::badInput_data()
