@@ -76,11 +76,15 @@ namespace geostation
   const Dem::Tile *Dem::tile( int tileX, int tileY ) const
   {
     const std::pair<int, int> key( tileX, tileY );
+    if ( key == mLastKey )
+      return mLastTile;
     const auto found = mTiles.find( key );
     if ( found != mTiles.end() )
     {
       mRecent.splice( mRecent.begin(), mRecent, found->second.second );
-      return found->second.first.get();
+      mLastKey = key;
+      mLastTile = found->second.first.get();
+      return mLastTile;
     }
     const int T = mOptions.tileSize, H = mOptions.holeFillHalo;
     const int x0 = tileX * T, y0 = tileY * T;
@@ -175,12 +179,16 @@ namespace geostation
 
     if ( mTiles.size() >= mOptions.cacheTiles )
     {
+      if ( mRecent.back() == mLastKey )
+        mLastKey = { -1, -1 };
       mTiles.erase( mRecent.back() );
       mRecent.pop_back();
     }
     mRecent.push_front( key );
     const Tile *result = t.get();
     mTiles[key] = { std::move( t ), mRecent.begin() };
+    mLastKey = key;
+    mLastTile = result;
     return result;
   }
 
@@ -227,11 +235,15 @@ namespace geostation
       return std::nullopt;
     const int T = mOptions.tileSize;
     const int tx = std::min( static_cast<int>( px ), mWidth - 1 ) / T, ty = std::min( static_cast<int>( py ), mHeight - 1 ) / T;
+    if ( std::make_pair( tx, ty ) == mLastSlopeKey )
+      return mLastSlope;
     double bound = 0.0;
     for ( int dy = -1; dy <= 1; ++dy )
       for ( int dx = -1; dx <= 1; ++dx )
         if ( const Tile *t = tile( tx + dx, ty + dy ) )
           bound = std::max( bound, t->slopeBound );
+    mLastSlopeKey = { tx, ty };
+    mLastSlope = bound;
     return bound;
   }
 

@@ -95,6 +95,10 @@ namespace geostation
       std::optional<double> mNoData;
       mutable std::map<std::pair<int, int>, std::pair<std::unique_ptr<Tile>, std::list<std::pair<int, int>>::iterator>> mTiles;
       mutable std::list<std::pair<int, int>> mRecent; //!< most recent first
+      mutable std::pair<int, int> mLastKey { -1, -1 };  //!< the tile used last, without a map lookup
+      mutable const Tile *mLastTile = nullptr;
+      mutable std::pair<int, int> mLastSlopeKey { -1, -1 };
+      mutable double mLastSlope = 0.0;
       mutable long mFilledCells = 0;
   };
 

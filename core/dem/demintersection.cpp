@@ -19,7 +19,10 @@ namespace geostation
     const Eigen::Vector3d startInDem = blockToDem.transform( ray.origin );
     const Eigen::Vector2d perUnit = dem.metresPerUnit( startInDem.x(), startInDem.y() );
     const double cellM = std::min( std::hypot( gt[1], gt[4] ) * perUnit.x(), std::hypot( gt[2], gt[5] ) * perUnit.y() );
-    const double minStep = std::max( 1e-3 * cellM, options.toleranceM );
+    // Near the surface the slope-bounded steps shrink geometrically; below a
+    // quarter cell, fixed quarter-cell steps with a sign test take over (two
+    // crossings closer together than that are taken as one).
+    const double minStep = std::max( 0.25 * cellM, options.toleranceM );
     // The slope bound holds over the tiles around a point: steps stay shorter than a tile.
     const double maxStep = std::min( 64, dem.tileSize() ) * cellM;
 
@@ -73,19 +76,52 @@ namespace geostation
         const double rate = dz + s.slope * dxy;
         step = std::min( rate > 0.0 ? std::max( s.h / rate, minStep ) : maxStep, maxStep );
       }
-      const double tNext = t + step;
-      const Sample next = sampleAt( tNext );
+      double tNext = t + step;
+      Sample next = sampleAt( tNext );
+      // Stepping off the DEM (or into a hole) from over it: shorten the step
+      // down to the tolerance, so a crossing just before the edge is not lost.
+      while ( s.defined && !next.defined && step > options.toleranceM )
+      {
+        step = std::max( 0.5 * step, options.toleranceM );
+        tNext = t + step;
+        next = sampleAt( tNext );
+      }
       if ( next.defined && next.h <= 0.0 && s.defined )
       {
-        // Bracketed: bisection on the bilinear surface.
-        double lo = t, hi = tNext;
-        while ( hi - lo > options.toleranceM )
+        // Bracketed: Illinois false position on the bilinear surface (exact in
+        // one step where h is linear along the ray), bisection as a fallback.
+        double lo = t, hi = tNext, hLo = s.h, hHi = next.h;
+        int side = 0;
+        double root = 0.5 * ( lo + hi );
+        for ( int iteration = 0; iteration < 100 && hi - lo > options.toleranceM; ++iteration )
         {
-          const double mid = 0.5 * ( lo + hi );
-          const Sample m = sampleAt( mid );
+          root = hLo - hHi > 0.0 ? lo + ( hi - lo ) * hLo / ( hLo - hHi ) : 0.5 * ( lo + hi );
+          if ( !( root > lo && root < hi ) )
+            root = 0.5 * ( lo + hi );
+          const Sample m = sampleAt( root );
           if ( !m.defined )
             break;
-          ( m.h > 0.0 ? lo : hi ) = mid;
+          if ( std::abs( m.h ) < 0.1 * options.toleranceM )
+          {
+            lo = hi = root;
+            break;
+          }
+          if ( m.h > 0.0 )
+          {
+            lo = root;
+            hLo = m.h;
+            if ( side == +1 )
+              hHi *= 0.5;
+            side = +1;
+          }
+          else
+          {
+            hi = root;
+            hHi = m.h;
+            if ( side == -1 )
+              hLo *= 0.5;
+            side = -1;
+          }
         }
         result.status = DemIntersection::Status::Hit;
         result.rangeM = 0.5 * ( lo + hi );

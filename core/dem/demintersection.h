@@ -4,8 +4,10 @@
   Marches along the ray with steps that cannot jump over the surface: the
   height above the terrain h shrinks at most by (|dz| + S |dxy|) per metre of
   ray, S the local slope bound of the DEM, so a step of h / (|dz| + S |dxy|)
-  stays above it. When a (small minimum) step ends below the surface, the
-  crossing is found by bisection on the bilinear surface. This works for
+  stays above it; near the surface steps of a quarter cell take over (two
+  crossings closer together than that count as one). When a step ends below
+  the surface, the crossing is found by false position (Illinois) on the
+  bilinear surface, to 0.1 mm along the ray. This works for
   nadir rays and for grazing rays from a camera near the ground, where the
   iterative height update of the monoplotter paper diverges.
  ***************************************************************************/

@@ -186,6 +186,24 @@ TEST( Dem, SmallHolesAreFilledLargeOnesReported )
   std::filesystem::remove( path );
 }
 
+TEST( DemIntersection, ACrossingJustBeforeTheEdgeIsFound )
+{
+  // A shallow ray that meets the terrain a few metres before the DEM ends.
+  const std::string path = projectedDem( nullptr, "edge" );
+  const Dem dem( path );
+  const CrsTransform same( "EPSG:32633", "EPSG:32633" );
+  const double yEnd = kY0 - 1.0; // northernmost cell centres
+  const Eigen::Vector3d target( kX0 + 500.0, yEnd - 3.0, 0.0 );
+  const Eigen::Vector3d onSurface( target.x(), target.y(), *dem.heightAt( target.x(), target.y() ) );
+  const Eigen::Vector3d start = onSurface + Eigen::Vector3d( 0.0, -400.0, 20.0 );
+  const DemIntersection hit = intersectRayWithDem( { start, ( onSurface - start ).normalized() }, dem, same );
+  const std::optional<double> expected = bruteForceRange( { start, ( onSurface - start ).normalized() }, dem, 420.0, 0.01 );
+  ASSERT_TRUE( expected.has_value() );
+  ASSERT_TRUE( hit.hit() ) << hit.message;
+  EXPECT_NEAR( hit.rangeM, *expected, 0.01 );
+  std::filesystem::remove( path );
+}
+
 TEST( Dem, TinyTilesAndCacheGiveTheSameAnswers )
 {
   const std::string path = projectedDem();
@@ -202,7 +220,7 @@ TEST( Dem, TinyTilesAndCacheGiveTheSameAnswers )
     const double cx = kX0 + pos( rng ), cy = kY0 - pos( rng ), a = azimuth( rng );
     const Ray ray { { cx, cy, *big.heightAt( cx, cy ) + 30.0 }, Eigen::Vector3d( std::sin( a ), std::cos( a ), -0.2 ).normalized() };
     const DemIntersection p = intersectRayWithDem( ray, big, same ), q = intersectRayWithDem( ray, small, same );
-    ASSERT_EQ( p.hit(), q.hit() );
+    ASSERT_EQ( p.hit(), q.hit() ) << i << ": " << p.message << " / " << q.message << " ranges " << p.rangeM << " " << q.rangeM << " steps " << p.steps << " " << q.steps;
     if ( p.hit() )
       EXPECT_NEAR( p.rangeM, q.rangeM, 2e-4 );
   }
