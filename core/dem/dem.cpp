@@ -206,9 +206,23 @@ namespace geostation
 
   std::optional<double> Dem::heightAt( double x, double y ) const
   {
-    // Pixel coordinates (corner convention), then cell-centre coordinates.
+    return heightAtPixel( mInverse[0] + mInverse[1] * x + mInverse[2] * y, mInverse[3] + mInverse[4] * x + mInverse[5] * y );
+  }
+
+  Dem::Sample Dem::sample( double x, double y ) const
+  {
     const double px = mInverse[0] + mInverse[1] * x + mInverse[2] * y;
     const double py = mInverse[3] + mInverse[4] * x + mInverse[5] * y;
+    Sample s;
+    s.height = heightAtPixel( px, py );
+    s.covers = px - 0.5 >= 0.0 && py - 0.5 >= 0.0 && px - 0.5 <= mWidth - 1 && py - 0.5 <= mHeight - 1;
+    s.slopeBound = slopeBoundAtPixel( px, py );
+    return s;
+  }
+
+  std::optional<double> Dem::heightAtPixel( double px, double py ) const
+  {
+    // Pixel coordinates (corner convention) to cell-centre coordinates.
     const double u = px - 0.5, v = py - 0.5;
     if ( !( u >= 0.0 && v >= 0.0 && u <= mWidth - 1 && v <= mHeight - 1 ) )
       return std::nullopt;
@@ -233,6 +247,13 @@ namespace geostation
     const double py = mInverse[3] + mInverse[4] * x + mInverse[5] * y;
     if ( !( px >= 0.0 && py >= 0.0 && px <= mWidth && py <= mHeight ) )
       return std::nullopt;
+    return slopeBoundAtPixel( px, py );
+  }
+
+  double Dem::slopeBoundAtPixel( double px, double py ) const
+  {
+    if ( !( px >= 0.0 && py >= 0.0 && px <= mWidth && py <= mHeight ) )
+      return 0.0;
     const int T = mOptions.tileSize;
     const int tx = std::min( static_cast<int>( px ), mWidth - 1 ) / T, ty = std::min( static_cast<int>( py ), mHeight - 1 ) / T;
     if ( std::make_pair( tx, ty ) == mLastSlopeKey )

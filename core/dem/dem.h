@@ -57,6 +57,17 @@ namespace geostation
        */
       std::optional<double> heightAt( double x, double y ) const;
 
+      //! Height, coverage and slope bound at one point, for ray marching.
+      struct Sample
+      {
+        std::optional<double> height; //!< as heightAt()
+        bool covers = false;          //!< as covers()
+        double slopeBound = 0.0;      //!< as slopeBoundAt(), 0 outside
+      };
+
+      //! heightAt(), covers() and slopeBoundAt() in one pass.
+      Sample sample( double x, double y ) const;
+
       //! Whether (x, y) lies in the area between the outermost cell centres.
       bool covers( double x, double y ) const;
 
@@ -83,6 +94,8 @@ namespace geostation
         double minHeight = 0.0, maxHeight = 0.0;
       };
       const Tile *tile( int tileX, int tileY ) const;
+      std::optional<double> heightAtPixel( double px, double py ) const;
+      double slopeBoundAtPixel( double px, double py ) const;
       std::optional<double> cell( int col, int row ) const;
 
       DemOptions mOptions;

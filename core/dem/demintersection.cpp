@@ -37,10 +37,9 @@ namespace geostation
     {
       const Eigen::Vector3d p = ray.origin + t * d;
       const Eigen::Vector3d q = blockToDem.transform( p );
-      const std::optional<double> surface = dem.heightAt( q.x(), q.y() );
-      const std::optional<double> slope = dem.slopeBoundAt( q.x(), q.y() );
+      const Dem::Sample at = dem.sample( q.x(), q.y() );
       // Heights are compared in the block CRS's vertical (CONVENTIONS §4).
-      return { surface.has_value(), surface ? p.z() - *surface : 0.0, dem.covers( q.x(), q.y() ), slope.value_or( 0.0 ) };
+      return { at.height.has_value(), at.height ? p.z() - *at.height : 0.0, at.covers, at.slopeBound };
     };
 
     double t = 0.0;
