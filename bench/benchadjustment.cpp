@@ -5,6 +5,8 @@
 #include <random>
 
 #include <benchmark/benchmark.h>
+
+#include "benchutils.h"
 #include <opencv2/calib3d.hpp>
 
 #include "adjustment/bundleadjustment.h"
@@ -221,40 +223,6 @@ namespace
     state.SetLabel( options.computeCovariance ? "with covariance" : "solve only" );
   }
 
-  class RatioReporter : public benchmark::ConsoleReporter
-  {
-    public:
-      void ReportRuns( const std::vector<Run> &runs ) override
-      {
-        ConsoleReporter::ReportRuns( runs );
-        for ( const Run &run : runs )
-          if ( run.counters.count( "items_per_second" ) )
-            mRates[run.benchmark_name()] = run.counters.at( "items_per_second" ).value;
-      }
-      void Finalize() override
-      {
-        ConsoleReporter::Finalize();
-        const auto ratio = [this]( const std::string & ours, const std::string & baseline )
-        {
-          if ( mRates.count( ours ) && mRates.count( baseline ) )
-            printf( "  %-34s %12.4g /s  x%.2f of %s\n", ours.c_str(), mRates[ours], mRates[ours] / mRates[baseline], baseline.c_str() );
-        };
-        printf( "\nRates, and ratios to the OpenCV baselines measured in this run:\n" );
-        ratio( "BM_IntersectRays", "BM_OpenCvTriangulatePoints" );
-        ratio( "BM_ResectImage/10", "BM_OpenCvSolvePnPIterative/10" );
-        ratio( "BM_ResectImage/30", "BM_OpenCvSolvePnPIterative/30" );
-        if ( mRates.count( "BM_IntersectRays" ) )
-          printf( "  intersection target >= 1e6 points/s: %s\n", mRates["BM_IntersectRays"] >= 1e6 ? "met" : "NOT met" );
-        for ( const char *name : { "BM_BundleAdjust6x10000/0", "BM_BundleAdjust6x10000/1" } )
-          if ( mRates.count( name ) )
-            printf( "  %s: %.3f s per adjustment (target <= 1 s for the solve): %s\n", name, 1.0 / mRates[name], 1.0 / mRates[name] <= 1.0 ? "met" : "NOT met" );
-        if ( mRates.count( "BM_ResectImage/10" ) )
-          printf( "  resection target <= 1 ms per image (10 points): %.3f ms, %s\n", 1e3 / mRates["BM_ResectImage/10"], mRates["BM_ResectImage/10"] >= 1e3 ? "met" : "NOT met" );
-      }
-
-    private:
-      std::map<std::string, double> mRates;
-  };
 } // namespace
 
 BENCHMARK( BM_OpenCvTriangulatePoints )->Unit( benchmark::kMillisecond );
@@ -265,9 +233,24 @@ BENCHMARK( BM_BundleAdjust6x10000 )->Arg( 0 )->Arg( 1 )->Unit( benchmark::kMilli
 
 int main( int argc, char **argv )
 {
-  benchmark::Initialize( &argc, argv );
-  RatioReporter reporter;
-  benchmark::RunSpecifiedBenchmarks( &reporter );
-  benchmark::Shutdown();
-  return 0;
+  return benchutils::run( argc, argv, []( const benchutils::Rates &rates )
+  {
+    const auto ratio = [&rates]( const std::string & ours, const std::string & baseline )
+    {
+      const double a = benchutils::rate( rates, ours ), b = benchutils::rate( rates, baseline );
+      if ( a > 0.0 && b > 0.0 )
+        printf( "  %-34s %12.4g /s  x%.2f of %s\n", ours.c_str(), a, a / b, baseline.c_str() );
+    };
+    printf( "\nRates, and ratios to the OpenCV baselines measured in this run:\n" );
+    ratio( "BM_IntersectRays", "BM_OpenCvTriangulatePoints" );
+    ratio( "BM_ResectImage/10", "BM_OpenCvSolvePnPIterative/10" );
+    ratio( "BM_ResectImage/30", "BM_OpenCvSolvePnPIterative/30" );
+    for ( const char *name : { "BM_BundleAdjust6x10000/0", "BM_BundleAdjust6x10000/1" } )
+      if ( const double r = benchutils::rate( rates, name ); r > 0.0 )
+        printf( "  %s: %.3f s per adjustment (target <= 1 s for the solve): %s\n", name, 1.0 / r, 1.0 / r <= 1.0 ? "met" : "NOT met" );
+    if ( const double r = benchutils::rate( rates, "BM_IntersectRays" ); r > 0.0 )
+      printf( "  intersection target >= 1e6 points/s: %s\n", r >= 1e6 ? "met" : "NOT met" );
+    if ( const double r = benchutils::rate( rates, "BM_ResectImage/10" ); r > 0.0 )
+      printf( "  resection target <= 1 ms per image (10 points): %.3f ms, %s\n", 1e3 / r, r >= 1e3 ? "met" : "NOT met" );
+  } );
 }

@@ -5,6 +5,8 @@
 #include <random>
 
 #include <benchmark/benchmark.h>
+
+#include "benchutils.h"
 #include <opencv2/calib3d.hpp>
 
 #include "geometry/projection.h"
@@ -126,37 +128,6 @@ namespace
     state.SetLabel( distortionModelName( c.distortion.model ) );
   }
 
-  //! Prints as usual, then each result's points/s as a ratio to the baseline.
-  class RatioReporter : public benchmark::ConsoleReporter
-  {
-    public:
-      void ReportRuns( const std::vector<Run> &runs ) override
-      {
-        ConsoleReporter::ReportRuns( runs );
-        for ( const Run &run : runs )
-        {
-          const auto it = run.counters.find( "items_per_second" );
-          if ( it != run.counters.end() )
-            mRates.emplace_back( run.benchmark_name() + " (" + run.report_label + ")", it->second.value );
-        }
-      }
-      void Finalize() override
-      {
-        ConsoleReporter::Finalize();
-        double baseline = 0.0;
-        for ( const auto &[name, rate] : mRates )
-          if ( name.rfind( "BM_OpenCvProjectPoints", 0 ) == 0 )
-            baseline = rate;
-        if ( baseline <= 0.0 )
-          return;
-        printf( "\nPoints per second, and ratio to cv::projectPoints on the same points (baseline, this run):\n" );
-        for ( const auto &[name, rate] : mRates )
-          printf( "  %-48s %12.3g /s   x%.2f\n", name.c_str(), rate, rate / baseline );
-      }
-
-    private:
-      std::vector<std::pair<std::string, double>> mRates;
-  };
 } // namespace
 
 BENCHMARK( BM_OpenCvProjectPoints )->Unit( benchmark::kMillisecond );
@@ -165,9 +136,13 @@ BENCHMARK( BM_PixelToRay )->Arg( static_cast<int>( DistortionModel::None ) )->Ar
 
 int main( int argc, char **argv )
 {
-  benchmark::Initialize( &argc, argv );
-  RatioReporter reporter;
-  benchmark::RunSpecifiedBenchmarks( &reporter );
-  benchmark::Shutdown();
-  return 0;
+  return benchutils::run( argc, argv, []( const benchutils::Rates &rates )
+  {
+    const double baseline = benchutils::rate( rates, "BM_OpenCvProjectPoints" );
+    if ( baseline <= 0.0 )
+      return;
+    printf( "\nPoints per second, and ratio to cv::projectPoints on the same points (baseline, this run):\n" );
+    for ( const auto &[name, value] : rates )
+      printf( "  %-48s %12.3g /s   x%.2f\n", name.c_str(), value, value / baseline );
+  } );
 }

@@ -5,23 +5,23 @@
 #include <random>
 
 #include <benchmark/benchmark.h>
+
+#include "benchutils.h"
 #include <gdal.h>
 #include <ogr_srs_api.h>
 
 #include "dem/monoplotter.h"
+#include "syntheticterrain.h"
 #include "geometry/rotation.h"
 
 using namespace geostation;
 
 namespace
 {
-  const double kX0 = 400000.0, kY0 = 5000000.0;
+  using syntheticterrain::kX0;
+  using syntheticterrain::kY0;
   constexpr int kCells = 2000; // 4 km x 4 km at 2 m
-
-  double terrain( double x, double y )
-  {
-    return 100.0 + 12.0 * std::sin( ( x - kX0 ) / 40.0 ) * std::cos( ( y - kY0 ) / 55.0 ) + 0.02 * ( x - kX0 );
-  }
+  double terrain( double x, double y ) { return syntheticterrain::height( x, y, 0.02 ); }
 
   struct Scene
   {
@@ -31,24 +31,8 @@ namespace
     std::vector<Ray> nadir, oblique;
     Scene()
     {
-      GDALAllRegister();
-      path = ( std::filesystem::temp_directory_path() / ( "geostation-bench-dem-" + std::to_string( ::getpid() ) + ".tif" ) ).string();
-      GDALDatasetH ds = GDALCreate( GDALGetDriverByName( "GTiff" ), path.c_str(), kCells, kCells, 1, GDT_Float32, nullptr );
-      double gt[6] = { kX0, 2.0, 0.0, kY0, 0.0, -2.0 };
-      GDALSetGeoTransform( ds, gt );
-      OGRSpatialReferenceH srs = OSRNewSpatialReference( nullptr );
-      OSRSetFromUserInput( srs, "EPSG:32633" );
-      GDALSetSpatialRef( ds, srs );
-      OSRDestroySpatialReference( srs );
-      std::vector<float> row( kCells );
-      for ( int r = 0; r < kCells; ++r )
-      {
-        for ( int c = 0; c < kCells; ++c )
-          row[c] = static_cast<float>( terrain( kX0 + 2.0 * c + 1.0, kY0 - 2.0 * r - 1.0 ) );
-        if ( GDALRasterIO( GDALGetRasterBand( ds, 1 ), GF_Write, 0, r, kCells, 1, row.data(), kCells, 1, GDT_Float32, 0, 0 ) != CE_None )
-          throw std::runtime_error( "cannot write the benchmark DEM" );
-      }
-      GDALClose( ds );
+      path = syntheticterrain::tempPath( "bench-dem" );
+      syntheticterrain::writeTerrain( path, kCells, kX0, "EPSG:32633", 0.02 );
       dem = std::make_unique<Dem>( path );
 
       Camera camera;
@@ -123,29 +107,6 @@ namespace
   void BM_ObliqueFixedStep( benchmark::State &state ) { run( state, scene().oblique, true ); }
   void BM_ObliqueRayDem( benchmark::State &state ) { run( state, scene().oblique, false ); }
 
-  class RatioReporter : public benchmark::ConsoleReporter
-  {
-    public:
-      void ReportRuns( const std::vector<Run> &runs ) override
-      {
-        ConsoleReporter::ReportRuns( runs );
-        for ( const Run &run : runs )
-          if ( run.counters.count( "items_per_second" ) )
-            mRates[run.benchmark_name()] = run.counters.at( "items_per_second" ).value;
-      }
-      void Finalize() override
-      {
-        ConsoleReporter::Finalize();
-        printf( "\nRays per second, against the fixed half-cell-step baseline of this run:\n" );
-        for ( const auto &[ours, baseline, target] : { std::tuple<const char *, const char *, double> { "BM_NadirRayDem", "BM_NadirFixedStep", 1e6 },
-                                                       { "BM_ObliqueRayDem", "BM_ObliqueFixedStep", 3e5 } } )
-          if ( mRates.count( ours ) && mRates.count( baseline ) )
-            printf( "  %-18s %10.3g /s  x%.1f of the baseline; target %.0e: %s\n", ours, mRates[ours], mRates[ours] / mRates[baseline], target, mRates[ours] >= target ? "met" : "NOT met" );
-      }
-
-    private:
-      std::map<std::string, double> mRates;
-  };
 } // namespace
 
 BENCHMARK( BM_NadirFixedStep )->Unit( benchmark::kMillisecond );
@@ -155,9 +116,15 @@ BENCHMARK( BM_ObliqueRayDem )->Unit( benchmark::kMillisecond );
 
 int main( int argc, char **argv )
 {
-  benchmark::Initialize( &argc, argv );
-  RatioReporter reporter;
-  benchmark::RunSpecifiedBenchmarks( &reporter );
-  benchmark::Shutdown();
-  return 0;
+  return benchutils::run( argc, argv, []( const benchutils::Rates &rates )
+  {
+    printf( "\nRays per second, against the fixed half-cell-step baseline of this run:\n" );
+    for ( const auto &[ours, baseline, target] : { std::tuple<const char *, const char *, double> { "BM_NadirRayDem", "BM_NadirFixedStep", 1e6 },
+                                                   { "BM_ObliqueRayDem", "BM_ObliqueFixedStep", 3e5 } } )
+    {
+      const double a = benchutils::rate( rates, ours ), b = benchutils::rate( rates, baseline );
+      if ( a > 0.0 && b > 0.0 )
+        printf( "  %-18s %10.3g /s  x%.1f of the baseline; target %.0e: %s\n", ours, a, a / b, target, a >= target ? "met" : "NOT met" );
+    }
+  } );
 }

@@ -8,50 +8,22 @@
 #include <ogr_srs_api.h>
 
 #include "dem/demintersection.h"
+#include "syntheticterrain.h"
 
 using namespace geostation;
 
 namespace
 {
-  const double kX0 = 400000.0, kY0 = 5000000.0; // top-left corner, EPSG:32633
+  using syntheticterrain::kX0;
+  using syntheticterrain::kY0;
+  using syntheticterrain::tempPath;
+  double terrain( double x, double y ) { return syntheticterrain::height( x, y ); }
 
-  double terrain( double x, double y )
-  {
-    return 100.0 + 12.0 * std::sin( ( x - kX0 ) / 40.0 ) * std::cos( ( y - kY0 ) / 55.0 ) + 0.05 * ( x - kX0 );
-  }
-
-  std::string tempPath( const std::string &name )
-  {
-    return ( std::filesystem::temp_directory_path() / ( "geostation-" + name + "-" + std::to_string( ::getpid() ) + ".tif" ) ).string();
-  }
-
-  //! Writes a DEM whose cell (c, r) holds value(centre x, centre y); `hole` marks nodata cells.
   std::string writeDem( const std::string &name, const char *crs, const std::array<double, 6> &gt, int w, int h,
                         const std::function<double( double, double )> &value, const std::function<bool( int, int )> &hole = nullptr )
   {
-    GDALAllRegister();
     const std::string path = tempPath( name );
-    GDALDatasetH ds = GDALCreate( GDALGetDriverByName( "GTiff" ), path.c_str(), w, h, 1, GDT_Float32, nullptr );
-    std::array<double, 6> g = gt;
-    GDALSetGeoTransform( ds, g.data() );
-    if ( crs )
-    {
-      OGRSpatialReferenceH srs = OSRNewSpatialReference( nullptr );
-      OSRSetFromUserInput( srs, crs );
-      OSRSetAxisMappingStrategy( srs, OAMS_TRADITIONAL_GIS_ORDER );
-      GDALSetSpatialRef( ds, srs );
-      OSRDestroySpatialReference( srs );
-    }
-    GDALSetRasterNoDataValue( GDALGetRasterBand( ds, 1 ), -9999.0 );
-    std::vector<float> cells( static_cast<size_t>( w ) * h );
-    for ( int r = 0; r < h; ++r )
-      for ( int c = 0; c < w; ++c )
-      {
-        const double x = gt[0] + ( c + 0.5 ) * gt[1], y = gt[3] + ( r + 0.5 ) * gt[5];
-        cells[static_cast<size_t>( r ) * w + c] = hole && hole( c, r ) ? -9999.0f : static_cast<float>( value( x, y ) );
-      }
-    EXPECT_EQ( GDALRasterIO( GDALGetRasterBand( ds, 1 ), GF_Write, 0, 0, w, h, cells.data(), w, h, GDT_Float32, 0, 0 ), CE_None );
-    GDALClose( ds );
+    syntheticterrain::writeDem( path, crs, gt, w, h, value, hole );
     return path;
   }
 

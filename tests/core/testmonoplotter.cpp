@@ -2,23 +2,18 @@
 #include <filesystem>
 #include <random>
 
-#include <gdal.h>
 #include <gtest/gtest.h>
-#include <ogr_srs_api.h>
 
 #include "dem/monoplotter.h"
+#include "syntheticterrain.h"
 #include "vanrig.h"
 
 using namespace geostation;
 
 namespace
 {
-  const double kX0 = 400000.0, kY0 = 5000000.0;
-
-  double terrain( double x, double y )
-  {
-    return 100.0 + 12.0 * std::sin( ( x - kX0 ) / 40.0 ) * std::cos( ( y - kY0 ) / 55.0 ) + 0.05 * ( x - kX0 );
-  }
+  using syntheticterrain::kX0;
+  using syntheticterrain::kY0;
 
   struct Scene
   {
@@ -28,23 +23,8 @@ namespace
     std::unique_ptr<OrientedImage> image;
     Scene()
     {
-      GDALAllRegister();
-      path = ( std::filesystem::temp_directory_path() / ( "geostation-mono-" + std::to_string( ::getpid() ) + ".tif" ) ).string();
-      const int n = 500;
-      GDALDatasetH ds = GDALCreate( GDALGetDriverByName( "GTiff" ), path.c_str(), n, n, 1, GDT_Float32, nullptr );
-      double gt[6] = { kX0, 2.0, 0.0, kY0, 0.0, -2.0 };
-      GDALSetGeoTransform( ds, gt );
-      OGRSpatialReferenceH srs = OSRNewSpatialReference( nullptr );
-      OSRSetFromUserInput( srs, "EPSG:32633" );
-      GDALSetSpatialRef( ds, srs );
-      OSRDestroySpatialReference( srs );
-      std::vector<float> cells( n * n );
-      for ( int r = 0; r < n; ++r )
-        for ( int c = 0; c < n; ++c )
-          cells[r * n + c] = static_cast<float>( terrain( kX0 + 2.0 * c + 1.0, kY0 - 2.0 * r - 1.0 ) );
-      if ( GDALRasterIO( GDALGetRasterBand( ds, 1 ), GF_Write, 0, 0, n, n, cells.data(), n, n, GDT_Float32, 0, 0 ) != CE_None )
-        throw std::runtime_error( "cannot write the test DEM" );
-      GDALClose( ds );
+      path = syntheticterrain::tempPath( "mono" );
+      syntheticterrain::writeTerrain( path, 500 );
       dem = std::make_unique<Dem>( path );
       // An oblique photo from a hill-top mast: 60 m above the terrain, looking north and down.
       const Eigen::Vector3d centre( kX0 + 500.0, kY0 - 950.0, *dem->heightAt( kX0 + 500.0, kY0 - 950.0 ) + 60.0 );

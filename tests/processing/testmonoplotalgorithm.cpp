@@ -23,35 +23,13 @@
 #include "io/block.h"
 #include "io/pixelspacegpkg.h"
 #include "processingtestutils.h"
+#include "syntheticterrain.h"
 
 namespace
 {
-  const double kX0 = 400000.0, kY0 = 5000000.0;
-  double terrain( double x, double y )
-  {
-    return 100.0 + 12.0 * std::sin( ( x - kX0 ) / 40.0 ) * std::cos( ( y - kY0 ) / 55.0 ) + 0.05 * ( x - kX0 );
-  }
-
-  void writeDem( const QString &path, const char *crs, double x0 )
-  {
-    const int n = 500;
-    GDALDatasetH ds = GDALCreate( GDALGetDriverByName( "GTiff" ), path.toUtf8().constData(), n, n, 1, GDT_Float32, nullptr );
-    double gt[6] = { x0, 2.0, 0.0, kY0, 0.0, -2.0 };
-    GDALSetGeoTransform( ds, gt );
-    if ( crs )
-    {
-      OGRSpatialReferenceH srs = OSRNewSpatialReference( nullptr );
-      OSRSetFromUserInput( srs, crs );
-      GDALSetSpatialRef( ds, srs );
-      OSRDestroySpatialReference( srs );
-    }
-    std::vector<float> cells( n * n );
-    for ( int r = 0; r < n; ++r )
-      for ( int c = 0; c < n; ++c )
-        cells[r * n + c] = static_cast<float>( terrain( kX0 + 2.0 * c + 1.0, kY0 - 2.0 * r - 1.0 ) );
-    QCOMPARE( GDALRasterIO( GDALGetRasterBand( ds, 1 ), GF_Write, 0, 0, n, n, cells.data(), n, n, GDT_Float32, 0, 0 ), CE_None );
-    GDALClose( ds );
-  }
+  using syntheticterrain::kX0;
+  using syntheticterrain::kY0;
+  double terrain( double x, double y ) { return syntheticterrain::height( x, y ); }
 } // namespace
 
 class TestMonoplotAlgorithm : public QObject
@@ -78,9 +56,9 @@ void TestMonoplotAlgorithm::initTestCase()
 {
   QVERIFY( registerGeoStationProvider() || QgsApplication::processingRegistry()->providerById( "geostation" ) );
   GDALAllRegister();
-  writeDem( mDir.filePath( "dem.tif" ), "EPSG:32633", kX0 );
-  writeDem( mDir.filePath( "dem-nocrs.tif" ), nullptr, kX0 );
-  writeDem( mDir.filePath( "dem-elsewhere.tif" ), "EPSG:32633", kX0 + 50000.0 );
+  syntheticterrain::writeTerrain( mDir.filePath( "dem.tif" ).toStdString(), 500 );
+  syntheticterrain::writeTerrain( mDir.filePath( "dem-nocrs.tif" ).toStdString(), 500, kX0, nullptr );
+  syntheticterrain::writeTerrain( mDir.filePath( "dem-elsewhere.tif" ).toStdString(), 500, kX0 + 50000.0 );
   GDALClose( GDALCreate( GDALGetDriverByName( "GTiff" ), mDir.filePath( "photo.tif" ).toUtf8().constData(), 1280, 960, 1, GDT_Byte, nullptr ) );
 
   // The camera on a 60 m mast, looking north and down (omega-phi-kappa from the look direction).
