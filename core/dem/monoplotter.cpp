@@ -4,7 +4,6 @@
 #include "dem/monoplotter.h"
 
 #include <cmath>
-#include <functional>
 
 namespace geostation
 {
@@ -146,32 +145,10 @@ namespace geostation
 
   std::vector<MapPointInImage> Monoplotter::groundLineToImage( const std::vector<Eigen::Vector3d> &vertices, double densifyPx, bool drape ) const
   {
-    if ( !( densifyPx > 0.0 ) )
-      throw std::invalid_argument( "groundLineToImage: densifyPx must be positive" );
     std::vector<MapPointInImage> out;
-    const std::function<void( const Eigen::Vector3d &, const MapPointInImage &, const Eigen::Vector3d &, const MapPointInImage &, int )> split =
-      [&]( const Eigen::Vector3d & a, const MapPointInImage & pa, const Eigen::Vector3d & b, const MapPointInImage & pb, int depth )
-    {
-      const bool bothProjected = pa.projection.ok() && pb.projection.ok();
-      if ( depth >= 16 || ( bothProjected && ( pa.projection.pixelInImage - pb.projection.pixelInImage ).norm() <= densifyPx ) ||
-           ( !pa.projection.ok() && !pb.projection.ok() ) )
-        return;
-      Eigen::Vector3d mid = 0.5 * ( a + b );
-      if ( drape )
-        if ( const std::optional<double> h = demHeightAt( mid ) )
-          mid.z() = *h;
-      const MapPointInImage pm = groundToImage( mid );
-      split( a, pa, mid, pm, depth + 1 );
-      out.push_back( pm );
-      split( mid, pm, b, pb, depth + 1 );
-    };
-    for ( size_t i = 0; i < vertices.size(); ++i )
-    {
-      const MapPointInImage pa = groundToImage( vertices[i] );
-      out.push_back( pa );
-      if ( i + 1 < vertices.size() )
-        split( vertices[i], pa, vertices[i + 1], groundToImage( vertices[i + 1] ), 0 );
-    }
+    const auto demHeight = [this]( const Eigen::Vector3d & p ) { return demHeightAt( p ); };
+    for ( const Eigen::Vector3d &p : densifyForImage( mImage, vertices, densifyPx, drape ? std::function<std::optional<double>( const Eigen::Vector3d & )>( demHeight ) : nullptr ) )
+      out.push_back( groundToImage( p ) );
     return out;
   }
 

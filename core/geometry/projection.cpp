@@ -3,6 +3,8 @@
  ***************************************************************************/
 #include "geometry/projection.h"
 
+#include <stdexcept>
+
 #include <Eigen/Geometry>
 
 namespace geostation
@@ -46,6 +48,35 @@ namespace geostation
   std::optional<Ray> worldRayFromPixel( const Camera &camera, const ExteriorOrientation &exterior, const Eigen::Vector2d &pixelInImage )
   {
     return OrientedImage( camera, exterior ).worldRayFromPixel( pixelInImage );
+  }
+
+  std::vector<Eigen::Vector3d> densifyForImage( const OrientedImage &image, const std::vector<Eigen::Vector3d> &vertices, double densifyPx,
+      const std::function<std::optional<double>( const Eigen::Vector3d & )> &heightAt )
+  {
+    if ( !( densifyPx > 0.0 ) )
+      throw std::invalid_argument( "densifyForImage: densifyPx must be positive" );
+    std::vector<Eigen::Vector3d> out;
+    const std::function<void( const Eigen::Vector3d &, const GroundProjection &, const Eigen::Vector3d &, const GroundProjection &, int )> split =
+      [&]( const Eigen::Vector3d & a, const GroundProjection & pa, const Eigen::Vector3d & b, const GroundProjection & pb, int depth )
+    {
+      if ( depth >= 16 || !pa.ok() || !pb.ok() || ( pa.pixelInImage - pb.pixelInImage ).norm() <= densifyPx )
+        return;
+      Eigen::Vector3d mid = 0.5 * ( a + b );
+      if ( heightAt )
+        if ( const std::optional<double> h = heightAt( mid ) )
+          mid.z() = *h;
+      const GroundProjection pm = image.projectGroundToPixel( mid );
+      split( a, pa, mid, pm, depth + 1 );
+      out.push_back( mid );
+      split( mid, pm, b, pb, depth + 1 );
+    };
+    for ( size_t i = 0; i < vertices.size(); ++i )
+    {
+      out.push_back( vertices[i] );
+      if ( i + 1 < vertices.size() )
+        split( vertices[i], image.projectGroundToPixel( vertices[i] ), vertices[i + 1], image.projectGroundToPixel( vertices[i + 1] ), 0 );
+    }
+    return out;
   }
 
 } // namespace geostation

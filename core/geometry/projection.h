@@ -4,7 +4,9 @@
 #ifndef GEOSTATION_GEOMETRY_PROJECTION_H
 #define GEOSTATION_GEOMETRY_PROJECTION_H
 
+#include <functional>
 #include <optional>
+#include <vector>
 
 #include <Eigen/Core>
 
@@ -75,6 +77,17 @@ namespace geostation
    * cannot be inverted.
    */
   std::optional<Ray> worldRayFromPixel( const Camera &camera, const ExteriorOrientation &exterior, const Eigen::Vector2d &pixelInImage );
+
+  /**
+   * A map polyline (block CRS, with heights) split until every piece projects
+   * into the image no longer than `densifyPx` pixels, so a straight map
+   * segment follows its curve in the photo. Inserted points take their
+   * height from `heightAt` when it gives one (e.g. a DEM), otherwise the
+   * linear interpolation. Pieces that cannot be projected (behind the camera)
+   * are not split further. Throws std::invalid_argument if densifyPx <= 0.
+   */
+  std::vector<Eigen::Vector3d> densifyForImage( const OrientedImage &image, const std::vector<Eigen::Vector3d> &vertices, double densifyPx,
+      const std::function<std::optional<double>( const Eigen::Vector3d & )> &heightAt = nullptr );
 
 } // namespace geostation
 

@@ -4,6 +4,8 @@
 #include "projecttoimagealgorithm.h"
 
 #include <cmath>
+#include <functional>
+#include <limits>
 #include <vector>
 
 #include <qgscoordinatetransform.h>
@@ -11,7 +13,12 @@
 #include <qgsfeature.h>
 #include <qgsfeaturesink.h>
 #include <qgsgeometry.h>
+#include <qgscurvepolygon.h>
+#include <qgsgeometrycollection.h>
+#include <qgsgeometryfactory.h>
+#include <qgslinestring.h>
 #include <qgsmultipoint.h>
+#include <qgspolygon.h>
 #include <qgspoint.h>
 #include <qgsexception.h>
 #include <qgsprocessingfeedback.h>
@@ -26,6 +33,15 @@
 
 namespace
 {
+  //! What projecting one feature found out, over all its vertices.
+  struct Conversion
+  {
+    bool behind = false;       //!< some vertex lies behind the camera
+    bool allInFrame = true;
+    bool allVisible = true;
+    double minDepth = std::numeric_limits<double>::infinity();
+  };
+
   //! One input feature, projected, waiting to be written.
   struct ProjectedFeature
   {
@@ -45,7 +61,7 @@ QString ProjectToImageAlgorithm::name() const
 
 QString ProjectToImageAlgorithm::displayName() const
 {
-  return QObject::tr( "Project map points to image" );
+  return QObject::tr( "Project map features to image" );
 }
 
 QStringList ProjectToImageAlgorithm::tags() const
@@ -65,13 +81,15 @@ QString ProjectToImageAlgorithm::groupId() const
 
 QString ProjectToImageAlgorithm::shortHelpString() const
 {
-  return QObject::tr( "Projects map points with heights (PointZ) into one oriented image of a GeoStation block, "
-                      "using the collinearity equations with the camera's lens distortion.\n\n"
+  return QObject::tr( "Projects map features with heights (or draped on a DEM) into one oriented image of a GeoStation "
+                      "block, using the collinearity equations with the camera's lens distortion. Lines and polygon "
+                      "rings are densified until no projected segment exceeds DENSIFY_PX pixels, so a straight map "
+                      "segment follows its curve in the photo.\n\n"
                       "The output is an image-space layer without CRS: x = col, y = -row in pixels (origin at the "
                       "top-left corner of the image), so it overlays the raw image in QGIS. Input attributes are kept; "
-                      "the fields col, row (pixels), depth_m (distance in front of the camera along its axis), "
-                      "in_frame and visible are added.\n\n"
-                      "A point behind the camera, or far outside its field of view (more than twice the frame-corner "
+                      "the fields col, row (pixels, for single points), depth_m (smallest distance in front of the camera "
+                      "along its axis), in_frame and visible (for every vertex) are added.\n\n"
+                      "A feature with a vertex behind the camera, or far outside its field of view (more than twice the frame-corner "
                       "angle, where the lens distortion model is extrapolated), is never projected: its feature has "
                       "no geometry and in_frame = visible = false.\n\n"
                       "With a DEM, points without Z take the DEM's height, and visible tells whether the terrain hides "
@@ -87,10 +105,11 @@ void ProjectToImageAlgorithm::initAlgorithm( const QVariantMap & )
 {
   addParameter( GeoStationProcessing::blockParameter() );
   addParameter( new QgsProcessingParameterString( QStringLiteral( "IMAGE" ), QObject::tr( "Image id" ) ) );
-  addParameter( new QgsProcessingParameterFeatureSource( QStringLiteral( "INPUT" ), QObject::tr( "Map points (with Z, or draped on the DEM)" ),
-                QList<int>() << QgsProcessing::TypeVectorPoint ) );
+  addParameter( new QgsProcessingParameterFeatureSource( QStringLiteral( "INPUT" ), QObject::tr( "Map features (with Z, or draped on the DEM)" ),
+                QList<int>() << QgsProcessing::TypeVectorAnyGeometry ) );
   addParameter( new QgsProcessingParameterRasterLayer( QStringLiteral( "DEM" ), QObject::tr( "DEM (heights for 2D points, occlusion test)" ), QVariant(), true ) );
-  addParameter( new QgsProcessingParameterFeatureSink( QStringLiteral( "OUTPUT" ), QObject::tr( "Points in image space" ), QgsProcessing::TypeVectorPoint ) );
+  addParameter( new QgsProcessingParameterNumber( QStringLiteral( "DENSIFY_PX" ), QObject::tr( "Densify lines to (pixels)" ), QgsProcessingParameterNumber::Double, 5.0, false, 0.1 ) );
+  addParameter( new QgsProcessingParameterFeatureSink( QStringLiteral( "OUTPUT" ), QObject::tr( "Features in image space" ) ) );
   addOutput( new QgsProcessingOutputNumber( QStringLiteral( "PROJECTED_COUNT" ), QObject::tr( "Features projected" ) ) );
   addOutput( new QgsProcessingOutputNumber( QStringLiteral( "IN_FRAME_COUNT" ), QObject::tr( "Features in the frame" ) ) );
   addOutput( new QgsProcessingOutputNumber( QStringLiteral( "BEHIND_CAMERA_COUNT" ), QObject::tr( "Features behind the camera" ) ) );
@@ -136,6 +155,120 @@ QVariantMap ProjectToImageAlgorithm::processAlgorithm( const QVariantMap &parame
     feedback->pushWarning( QObject::tr( "The input layer has no CRS; its coordinates are taken to be in the block CRS %1." ).arg( blockCrs.userFriendlyIdentifier() ) );
   const QgsCoordinateTransform toBlock( sourceCrs, blockCrs, context.transformContext() );
 
+  const double densifyPx = parameterAsDouble( parameters, QStringLiteral( "DENSIFY_PX" ), context );
+  // Heights of inserted line points come from the DEM when the layer's came from it.
+  const bool drapeLines = dem && !QgsWkbTypes::hasZ( source->wkbType() );
+
+  // A vertex in the block CRS, with its height (from the DEM when it has none).
+  const auto groundOf = [&]( const QgsPoint & vertex, QgsFeatureId id ) -> Eigen::Vector3d
+  {
+    double x = vertex.x(), y = vertex.y(), z = vertex.z();
+    const bool drape = std::isnan( z );
+    if ( drape && !dem )
+      throw QgsProcessingException( QObject::tr( "Feature %1 has no Z value; without a DEM every vertex needs a height." ).arg( id ) );
+    try
+    {
+      if ( drape )
+        z = 0.0;
+      toBlock.transformInPlace( x, y, z );
+    }
+    catch ( const QgsCsException & )
+    {
+      throw QgsProcessingException( QObject::tr( "Feature %1 cannot be transformed from %2 to the block CRS %3." )
+                                    .arg( id ).arg( sourceCrs.userFriendlyIdentifier(), blockCrs.userFriendlyIdentifier() ) );
+    }
+    if ( drape )
+    {
+      const std::optional<double> h = monoplotter->demHeightAt( Eigen::Vector3d( x, y, 0.0 ) );
+      if ( !h )
+        throw QgsProcessingException( QObject::tr( "Feature %1 has no Z value and lies outside the DEM." ).arg( id ) );
+      z = *h;
+    }
+    return { x, y, z };
+  };
+  // A ground point in the image (x = col, y = -row); nothing when it cannot be projected.
+  const auto projectVertex = [&]( const Eigen::Vector3d & ground, Conversion & c ) -> std::optional<QgsPoint>
+  {
+    geostation::GroundProjection p;
+    if ( monoplotter )
+    {
+      const geostation::MapPointInImage seen = monoplotter->groundToImage( ground );
+      p = seen.projection;
+      c.allVisible &= seen.visible;
+    }
+    else
+      p = orientedImage.projectGroundToPixel( ground );
+    c.minDepth = std::min( c.minDepth, p.depthM );
+    c.allInFrame &= p.inFrame;
+    if ( !p.ok() )
+    {
+      c.behind |= p.status == geostation::PixelProjection::Status::BehindCamera;
+      return std::nullopt;
+    }
+    return QgsPoint( p.pixelInImage.x(), -p.pixelInImage.y() );
+  };
+  // Lines are densified so straight map segments follow their curves in the photo.
+  const auto projectLine = [&]( const QgsCurve & curve, QgsFeatureId id, Conversion & c, bool closed ) -> std::unique_ptr<QgsLineString>
+  {
+    std::unique_ptr<QgsLineString> line( curve.curveToLine() );
+    std::vector<Eigen::Vector3d> ground;
+    for ( int i = 0; i < line->numPoints(); ++i )
+      ground.push_back( groundOf( line->pointN( i ), id ) );
+    const auto demHeight = [&]( const Eigen::Vector3d & p ) { return monoplotter->demHeightAt( p ); };
+    QVector<QgsPoint> pixels;
+    for ( const Eigen::Vector3d &g : geostation::densifyForImage( orientedImage, ground, densifyPx,
+          drapeLines ? std::function<std::optional<double>( const Eigen::Vector3d & )>( demHeight ) : nullptr ) )
+    {
+      const std::optional<QgsPoint> p = projectVertex( g, c );
+      if ( !p )
+        return nullptr;
+      pixels << *p;
+    }
+    if ( closed && !pixels.isEmpty() )
+      pixels.last() = pixels.first();
+    return std::make_unique<QgsLineString>( pixels );
+  };
+  std::function<std::unique_ptr<QgsAbstractGeometry>( const QgsAbstractGeometry *, QgsFeatureId, Conversion & )> convert =
+    [&]( const QgsAbstractGeometry * g, QgsFeatureId id, Conversion & c ) -> std::unique_ptr<QgsAbstractGeometry>
+  {
+    if ( const QgsPoint *point = qgsgeometry_cast<const QgsPoint *>( g ) )
+    {
+      const std::optional<QgsPoint> p = projectVertex( groundOf( *point, id ), c );
+      return p ? std::make_unique<QgsPoint>( *p ) : nullptr;
+    }
+    if ( const QgsCurve *curve = qgsgeometry_cast<const QgsCurve *>( g ) )
+      return projectLine( *curve, id, c, false );
+    if ( const QgsCurvePolygon *polygon = qgsgeometry_cast<const QgsCurvePolygon *>( g ) )
+    {
+      auto out = std::make_unique<QgsPolygon>();
+      std::unique_ptr<QgsLineString> exterior = projectLine( *polygon->exteriorRing(), id, c, true );
+      if ( !exterior )
+        return nullptr;
+      out->setExteriorRing( exterior.release() );
+      for ( int i = 0; i < polygon->numInteriorRings(); ++i )
+      {
+        std::unique_ptr<QgsLineString> ring = projectLine( *polygon->interiorRing( i ), id, c, true );
+        if ( !ring )
+          return nullptr;
+        out->addInteriorRing( ring.release() );
+      }
+      return out;
+    }
+    if ( const QgsGeometryCollection *collection = qgsgeometry_cast<const QgsGeometryCollection *>( g ) )
+    {
+      std::unique_ptr<QgsGeometryCollection> out( qgsgeometry_cast<QgsGeometryCollection *>( QgsGeometryFactory::geomFromWkbType( QgsWkbTypes::flatType( collection->wkbType() ) ).release() ) );
+      for ( int i = 0; i < collection->numGeometries(); ++i )
+      {
+        std::unique_ptr<QgsAbstractGeometry> part = convert( collection->geometryN( i ), id, c );
+        if ( !part )
+          return nullptr;
+        out->addGeometry( part.release() );
+      }
+      return out;
+    }
+    throw QgsProcessingException( QObject::tr( "Feature %1: geometry type %2 is not supported." ).arg( id ).arg( QgsWkbTypes::displayString( g->wkbType() ) ) );
+  };
+
   std::vector<ProjectedFeature> results;
   results.reserve( static_cast<size_t>( std::max<long long>( 0, source->featureCount() ) ) );
   const double step = source->featureCount() > 0 ? 90.0 / source->featureCount() : 0;
@@ -150,74 +283,26 @@ QVariantMap ProjectToImageAlgorithm::processAlgorithm( const QVariantMap &parame
     out.feature = feature;
     if ( feature.hasGeometry() )
     {
-      QgsMultiPoint partsInImage;
-      bool behind = false, diverged = false, allInFrame = true, allVisible = true;
-      double minDepth = std::numeric_limits<double>::infinity();
-      const QgsGeometry geometry = feature.geometry();
-      for ( auto vertex = geometry.vertices_begin(); vertex != geometry.vertices_end(); ++vertex )
+      Conversion c;
+      std::unique_ptr<QgsAbstractGeometry> inImage = convert( feature.geometry().constGet(), feature.id(), c );
+      out.depthM = std::isfinite( c.minDepth ) ? QVariant( c.minDepth ) : QVariant();
+      if ( !inImage )
       {
-        double x = ( *vertex ).x(), y = ( *vertex ).y(), z = ( *vertex ).z();
-        const bool drape = std::isnan( z );
-        if ( drape && !dem )
-          throw QgsProcessingException( QObject::tr( "Feature %1 has no Z value; without a DEM every point needs a height." ).arg( feature.id() ) );
-        try
-        {
-          if ( drape )
-            z = 0.0;
-          toBlock.transformInPlace( x, y, z );
-        }
-        catch ( const QgsCsException & )
-        {
-          throw QgsProcessingException( QObject::tr( "Feature %1 cannot be transformed from %2 to the block CRS %3." )
-                                        .arg( feature.id() ).arg( sourceCrs.userFriendlyIdentifier(), blockCrs.userFriendlyIdentifier() ) );
-        }
-        if ( drape )
-        {
-          const std::optional<double> h = monoplotter->demHeightAt( Eigen::Vector3d( x, y, 0.0 ) );
-          if ( !h )
-            throw QgsProcessingException( QObject::tr( "Feature %1 has no Z value and lies outside the DEM." ).arg( feature.id() ) );
-          z = *h;
-        }
-        geostation::GroundProjection p;
-        if ( monoplotter )
-        {
-          const geostation::MapPointInImage seen = monoplotter->groundToImage( Eigen::Vector3d( x, y, z ) );
-          p = seen.projection;
-          allVisible &= seen.visible;
-        }
-        else
-          p = orientedImage.projectGroundToPixel( Eigen::Vector3d( x, y, z ) );
-        minDepth = std::min( minDepth, p.depthM );
-        behind |= p.status == geostation::PixelProjection::Status::BehindCamera;
-        diverged |= p.status == geostation::PixelProjection::Status::DistortionDiverged || p.status == geostation::PixelProjection::Status::OutsideLensField;
-        allInFrame &= p.inFrame;
-        if ( p.ok() )
-        {
-          partsInImage.addGeometry( new QgsPoint( p.pixelInImage.x(), -p.pixelInImage.y() ) );
-          out.col = p.pixelInImage.x();
-          out.row = p.pixelInImage.y();
-        }
-      }
-      out.depthM = std::isfinite( minDepth ) ? QVariant( minDepth ) : QVariant();
-      if ( behind || diverged || partsInImage.numGeometries() == 0 )
-      {
-        behindCount += behind ? 1 : 0;
-        outsideFieldCount += !behind && diverged ? 1 : 0;
-        out.col = out.row = QVariant();
+        behindCount += c.behind ? 1 : 0;
+        outsideFieldCount += !c.behind ? 1 : 0;
       }
       else
       {
         out.projected = true;
-        out.inFrame = allInFrame;
+        out.inFrame = c.allInFrame;
         // Without a DEM nothing can hide a point: visible = in frame.
-        out.visible = allInFrame && ( !monoplotter || allVisible );
-        if ( partsInImage.numGeometries() == 1 && !QgsWkbTypes::isMultiType( source->wkbType() ) )
-          out.geometryInImage = QgsGeometry( partsInImage.geometryN( 0 )->clone() );
-        else
+        out.visible = c.allInFrame && ( !monoplotter || c.allVisible );
+        if ( const QgsPoint *single = qgsgeometry_cast<const QgsPoint *>( inImage.get() ) )
         {
-          out.geometryInImage = QgsGeometry( partsInImage.clone() );
-          out.col = out.row = QVariant(); // several parts: no single pixel
+          out.col = single->x();
+          out.row = -single->y();
         }
+        out.geometryInImage = QgsGeometry( std::move( inImage ) );
       }
     }
     results.push_back( std::move( out ) );
@@ -231,7 +316,7 @@ QVariantMap ProjectToImageAlgorithm::processAlgorithm( const QVariantMap &parame
   newFields.append( QgsField( QStringLiteral( "in_frame" ), QVariant::Bool ) );
   newFields.append( QgsField( QStringLiteral( "visible" ), QVariant::Bool ) );
   const QgsFields outFields = QgsProcessingUtils::combineFields( source->fields(), newFields );
-  const QgsWkbTypes::Type outType = QgsWkbTypes::isMultiType( source->wkbType() ) ? QgsWkbTypes::MultiPoint : QgsWkbTypes::Point;
+  const QgsWkbTypes::Type outType = QgsWkbTypes::flatType( source->wkbType() );
 
   QString destination;
   std::unique_ptr<QgsFeatureSink> sink( parameterAsSink( parameters, QStringLiteral( "OUTPUT" ), context, destination, outFields, outType, QgsCoordinateReferenceSystem() ) );

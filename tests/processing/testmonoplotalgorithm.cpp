@@ -14,6 +14,8 @@
 #include <qgsprocessingutils.h>
 #include <qgsproject.h>
 #include <qgstest.h>
+#include <qgslinestring.h>
+#include <qgspolygon.h>
 #include <qgsvectorlayer.h>
 
 #include "dem/monoplotter.h"
@@ -40,6 +42,7 @@ class TestMonoplotAlgorithm : public QObject
     void initTestCase();
     void monoplotsPointsAndDrapesLines();
     void projectToImageDrapesAndTestsOcclusion();
+    void projectToImageDensifiesLinesAndPolygons();
     void badInput_data();
     void badInput();
 
@@ -219,6 +222,64 @@ void TestMonoplotAlgorithm::projectToImageDrapesAndTestsOcclusion()
   }
   QVERIFY( visible > 10 );
   QVERIFY( hidden > 3 );
+}
+
+void TestMonoplotAlgorithm::projectToImageDensifiesLinesAndPolygons()
+{
+  const geostation::Dem dem( mDir.filePath( "dem.tif" ).toStdString() );
+  const geostation::CrsTransform same( "EPSG:32633", "EPSG:32633" );
+  const geostation::Monoplotter expected( *mImage, dem, same );
+
+  // A 2D road across the hills, draped on the DEM.
+  auto *roads = new QgsVectorLayer( QStringLiteral( "LineString?crs=EPSG:32633&field=name:string" ), QStringLiteral( "roads" ), QStringLiteral( "memory" ) );
+  QgsFeature road( roads->fields() );
+  road.setGeometry( QgsGeometry::fromWkt( QStringLiteral( "LineString (%1 %2, %3 %4)" ).arg( kX0 + 400.0 ).arg( kY0 - 750.0 ).arg( kX0 + 620.0 ).arg( kY0 - 700.0 ) ) );
+  road.setAttribute( 0, QStringLiteral( "ridge road" ) );
+  roads->dataProvider()->addFeature( road );
+  QgsProject::instance()->addMapLayer( roads );
+  bool ok = false;
+  RecordingFeedback feedback;
+  std::unique_ptr<QgsProcessingAlgorithm> alg( QgsApplication::processingRegistry()->algorithmById( "geostation:project_to_image" )->create() );
+  QVariantMap result = alg->run( { { "BLOCK", mBlock }, { "IMAGE", "P1" }, { "INPUT", roads->id() }, { "DEM", mDir.filePath( "dem.tif" ) },
+    { "DENSIFY_PX", 4.0 }, { "OUTPUT", QgsProcessing::TEMPORARY_OUTPUT } }, mContext, &feedback, &ok );
+  QVERIFY2( ok, qPrintable( feedback.errors.join( '\n' ) ) );
+  QgsVectorLayer *out = qobject_cast<QgsVectorLayer *>( QgsProcessingUtils::mapLayerFromString( result.value( "OUTPUT" ).toString(), mContext ) );
+  QCOMPARE( out->wkbType(), QgsWkbTypes::LineString );
+  QgsFeature f;
+  QVERIFY( out->getFeatures().nextFeature( f ) );
+  const QgsLineString *line = qgsgeometry_cast<const QgsLineString *>( f.geometry().constGet() );
+  QVERIFY( line );
+  const Eigen::Vector3d a( kX0 + 400.0, kY0 - 750.0, *dem.heightAt( kX0 + 400.0, kY0 - 750.0 ) ), b( kX0 + 620.0, kY0 - 700.0, *dem.heightAt( kX0 + 620.0, kY0 - 700.0 ) );
+  const std::vector<geostation::MapPointInImage> curve = expected.groundLineToImage( { a, b }, 4.0, true );
+  QCOMPARE( line->numPoints(), static_cast<int>( curve.size() ) );
+  QVERIFY( line->numPoints() > 10 );
+  for ( int i = 0; i < line->numPoints(); ++i )
+  {
+    QGSCOMPARENEAR( line->xAt( i ), curve[i].projection.pixelInImage.x(), 1e-6 );
+    QGSCOMPARENEAR( line->yAt( i ), -curve[i].projection.pixelInImage.y(), 1e-6 );
+    if ( i > 0 )
+      QVERIFY( std::hypot( line->xAt( i ) - line->xAt( i - 1 ), line->yAt( i ) - line->yAt( i - 1 ) ) <= 4.0 + 1e-9 );
+  }
+  QVERIFY( f.attribute( "col" ).isNull() ); // a line has no single pixel
+
+  // A polygon with heights, without DEM: a closed, densified ring.
+  auto *parcels = new QgsVectorLayer( QStringLiteral( "PolygonZ?crs=EPSG:32633" ), QStringLiteral( "parcels" ), QStringLiteral( "memory" ) );
+  QgsFeature parcel( parcels->fields() );
+  parcel.setGeometry( QgsGeometry::fromWkt( QStringLiteral( "PolygonZ ((%1 %2 130, %3 %2 130, %3 %4 130, %1 %4 130, %1 %2 130))" )
+                      .arg( kX0 + 450.0 ).arg( kY0 - 760.0 ).arg( kX0 + 560.0 ).arg( kY0 - 690.0 ) ) );
+  parcels->dataProvider()->addFeature( parcel );
+  QgsProject::instance()->addMapLayer( parcels );
+  result = alg->run( { { "BLOCK", mBlock }, { "IMAGE", "P1" }, { "INPUT", parcels->id() }, { "DENSIFY_PX", 3.0 },
+    { "OUTPUT", QgsProcessing::TEMPORARY_OUTPUT } }, mContext, &feedback, &ok );
+  QVERIFY2( ok, qPrintable( feedback.errors.join( '\n' ) ) );
+  out = qobject_cast<QgsVectorLayer *>( QgsProcessingUtils::mapLayerFromString( result.value( "OUTPUT" ).toString(), mContext ) );
+  QCOMPARE( out->wkbType(), QgsWkbTypes::Polygon );
+  QVERIFY( out->getFeatures().nextFeature( f ) );
+  const QgsPolygon *polygon = qgsgeometry_cast<const QgsPolygon *>( f.geometry().constGet() );
+  QVERIFY( polygon );
+  const QgsCurve *ring = polygon->exteriorRing();
+  QVERIFY( ring->isClosed() );
+  QVERIFY( ring->numPoints() > 5 + 20 );
 }
 
 void TestMonoplotAlgorithm::badInput_data()
