@@ -52,6 +52,42 @@ namespace geostation
         return u;
       return std::nullopt;
     }
+    /**
+     * Measured photo coordinates whose brown_photo correction gives `ideal`:
+     * Newton's method with the analytic Jacobian of the correction (the hot
+     * path of ground -> pixel for this model). Nothing if it does not converge.
+     */
+    std::optional<Eigen::Vector2d> invertBrownPhoto( const double *k, const Eigen::Vector2d &ideal )
+    {
+      const double k1 = k[0], k2 = k[1], p1 = k[2], p2 = k[3], k3 = k[4];
+      const double tolerance = 1e-14 * std::max( 1.0, ideal.norm() );
+      Eigen::Vector2d m = ideal; // the correction is small: start at the ideal point
+      for ( int iteration = 0; iteration < 50; ++iteration )
+      {
+        const double x = m.x(), y = m.y(), r2 = x * x + y * y;
+        const double radial = r2 * ( k1 + r2 * ( k2 + r2 * k3 ) );
+        const double dRadial = k1 + r2 * ( 2.0 * k2 + 3.0 * r2 * k3 ); // dR / d(r2)
+        const Eigen::Vector2d corrected( x + x * radial + p1 * ( r2 + 2.0 * x * x ) + 2.0 * p2 * x * y,
+                                         y + y * radial + 2.0 * p1 * x * y + p2 * ( r2 + 2.0 * y * y ) );
+        const Eigen::Vector2d residual = corrected - ideal;
+        if ( !residual.allFinite() )
+          return std::nullopt;
+        if ( residual.norm() <= tolerance )
+          return m;
+        Eigen::Matrix2d jacobian;
+        jacobian << 1.0 + radial + 2.0 * x * x * dRadial + 6.0 * p1 * x + 2.0 * p2 * y, 2.0 * x * y * dRadial + 2.0 * p1 * y + 2.0 * p2 * x,
+                 2.0 * x * y * dRadial + 2.0 * p1 * y + 2.0 * p2 * x, 1.0 + radial + 2.0 * y * y * dRadial + 2.0 * p1 * x + 6.0 * p2 * y;
+        const double det = jacobian.determinant();
+        if ( !( std::abs( det ) > 1e-12 ) )
+          return std::nullopt;
+        const Eigen::Vector2d step( ( jacobian( 1, 1 ) * residual.x() - jacobian( 0, 1 ) * residual.y() ) / det,
+                                    ( -jacobian( 1, 0 ) * residual.x() + jacobian( 0, 0 ) * residual.y() ) / det );
+        m -= step;
+        if ( step.norm() <= 1e-3 * tolerance )
+          return m;
+      }
+      return std::nullopt;
+    }
   } // namespace
 
   std::string distortionModelName( DistortionModel model )
@@ -162,12 +198,7 @@ namespace geostation
         const double ps = *pixelSizeMm;
         const double c = f * ps;
         const Eigen::Vector2d idealPhoto( c * xn, c * yn );
-        const double *k = distortion.coeffs.data();
-        const auto model = [k]( const auto & xb, const auto & yb, auto * xi, auto * yi ) { brownPhotoCorrect( k, xb, yb, xi, yi ); };
-        // Start one fixed-point step from the solution: m0 = ideal - correction(ideal).
-        Eigen::Vector2d corrected;
-        model( idealPhoto.x(), idealPhoto.y(), &corrected.x(), &corrected.y() );
-        const std::optional<Eigen::Vector2d> measured = invert2d( model, idealPhoto, 2.0 * idealPhoto - corrected );
+        const std::optional<Eigen::Vector2d> measured = invertBrownPhoto( distortion.coeffs.data(), idealPhoto );
         if ( !measured )
         {
           result.status = PixelProjection::Status::DistortionDiverged;
