@@ -63,11 +63,10 @@ namespace geostation
       GDALClose( mDataset );
   }
 
-  Eigen::Vector2d Dem::metresPerUnit( double x, double y ) const
+  Eigen::Vector2d Dem::metresPerUnit( double /* x: the scale does not vary with longitude */, double y ) const
   {
     if ( !mGeographic )
       return { 1.0, 1.0 };
-    ( void )x;
     // Degrees: metres per degree of longitude shrink with latitude.
     const double latitude = std::clamp( y, -89.9, 89.9 ) * M_PI / 180.0;
     return { 111320.0 * std::cos( latitude ), 110574.0 };

@@ -3,15 +3,11 @@
  ***************************************************************************/
 #include "monoplotalgorithm.h"
 
-#include <qgscurvepolygon.h>
 #include <qgsexception.h>
 #include <qgsfeaturesink.h>
 #include <qgsgeometry.h>
-#include <qgsgeometrycollection.h>
-#include <qgsgeometryfactory.h>
 #include <qgslinestring.h>
 #include <qgspoint.h>
-#include <qgspolygon.h>
 #include <qgsprocessingfeedback.h>
 #include <qgsprocessingoutputs.h>
 #include <qgsprocessingparameters.h>
@@ -19,6 +15,7 @@
 #include <qgsrasterlayer.h>
 
 #include "dem/monoplotter.h"
+#include "geometrymapper.h"
 #include "processingblock.h"
 
 namespace
@@ -51,18 +48,17 @@ namespace
       return QgsPoint( g.world.x(), g.world.y(), g.world.z() );
     }
 
-    std::unique_ptr<QgsLineString> line( const QgsCurve &curve, bool closed )
+    std::unique_ptr<QgsLineString> line( const QgsLineString &in, bool closed )
     {
-      std::unique_ptr<QgsLineString> in( curve.curveToLine() );
       std::vector<Eigen::Vector2d> pixels;
-      for ( int i = 0; i < in->numPoints(); ++i )
+      for ( int i = 0; i < in.numPoints(); ++i )
       {
-        if ( !inFrame( in->pointN( i ) ) )
+        if ( !inFrame( in.pointN( i ) ) )
         {
-          problem = QObject::tr( "vertex (%1, %2) lies outside the image frame" ).arg( in->xAt( i ) ).arg( in->yAt( i ) );
+          problem = QObject::tr( "vertex (%1, %2) lies outside the image frame" ).arg( in.xAt( i ) ).arg( in.yAt( i ) );
           return nullptr;
         }
-        pixels.emplace_back( in->xAt( i ), -in->yAt( i ) );
+        pixels.emplace_back( in.xAt( i ), -in.yAt( i ) );
       }
       QVector<QgsPoint> out;
       for ( const geostation::MonoplotPoint &g : monoplotter.imageLineToGround( pixels, densifyPx ) )
@@ -83,48 +79,19 @@ namespace
 
     std::unique_ptr<QgsAbstractGeometry> geometry( const QgsAbstractGeometry *g )
     {
-      if ( const QgsPoint *p = qgsgeometry_cast<const QgsPoint *>( g ) )
+      GeoStationProcessing::GeometryMapper mapper;
+      mapper.point = [this]( const QgsPoint & p ) -> std::optional<QgsPoint>
       {
-        if ( !inFrame( *p ) )
+        if ( !inFrame( p ) )
         {
-          problem = QObject::tr( "point (%1, %2) lies outside the image frame" ).arg( p->x() ).arg( p->y() );
-          return nullptr;
+          problem = QObject::tr( "point (%1, %2) lies outside the image frame" ).arg( p.x() ).arg( p.y() );
+          return std::nullopt;
         }
-        const std::optional<QgsPoint> q = point( { p->x(), -p->y() } );
-        return q ? std::make_unique<QgsPoint>( *q ) : nullptr;
-      }
-      if ( const QgsCurve *c = qgsgeometry_cast<const QgsCurve *>( g ) )
-        return line( *c, false );
-      if ( const QgsCurvePolygon *polygon = qgsgeometry_cast<const QgsCurvePolygon *>( g ) )
-      {
-        auto out = std::make_unique<QgsPolygon>();
-        std::unique_ptr<QgsLineString> exterior = line( *polygon->exteriorRing(), true );
-        if ( !exterior )
-          return nullptr;
-        out->setExteriorRing( exterior.release() );
-        for ( int i = 0; i < polygon->numInteriorRings(); ++i )
-        {
-          std::unique_ptr<QgsLineString> ring = line( *polygon->interiorRing( i ), true );
-          if ( !ring )
-            return nullptr;
-          out->addInteriorRing( ring.release() );
-        }
-        return out;
-      }
-      if ( const QgsGeometryCollection *collection = qgsgeometry_cast<const QgsGeometryCollection *>( g ) )
-      {
-        std::unique_ptr<QgsGeometryCollection> out( qgsgeometry_cast<QgsGeometryCollection *>( QgsGeometryFactory::geomFromWkbType( QgsWkbTypes::addZ( collection->wkbType() ) ).release() ) );
-        for ( int i = 0; i < collection->numGeometries(); ++i )
-        {
-          std::unique_ptr<QgsAbstractGeometry> part = geometry( collection->geometryN( i ) );
-          if ( !part )
-            return nullptr;
-          out->addGeometry( part.release() );
-        }
-        return out;
-      }
-      problem = QObject::tr( "geometry type %1 is not supported" ).arg( QgsWkbTypes::displayString( g->wkbType() ) );
-      return nullptr;
+        return point( { p.x(), -p.y() } );
+      };
+      mapper.line = [this]( const QgsLineString & l, bool closed ) { return line( l, closed ); };
+      mapper.collectionType = []( QgsWkbTypes::Type type ) { return QgsWkbTypes::addZ( type ); }; // map features get heights
+      return GeoStationProcessing::mapGeometry( g, mapper );
     }
   };
 } // namespace

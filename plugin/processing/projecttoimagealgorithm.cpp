@@ -13,12 +13,7 @@
 #include <qgsfeature.h>
 #include <qgsfeaturesink.h>
 #include <qgsgeometry.h>
-#include <qgscurvepolygon.h>
-#include <qgsgeometrycollection.h>
-#include <qgsgeometryfactory.h>
 #include <qgslinestring.h>
-#include <qgsmultipoint.h>
-#include <qgspolygon.h>
 #include <qgspoint.h>
 #include <qgsexception.h>
 #include <qgsprocessingfeedback.h>
@@ -29,6 +24,7 @@
 
 #include "dem/monoplotter.h"
 #include "geometry/projection.h"
+#include "geometrymapper.h"
 #include "processingblock.h"
 
 namespace
@@ -208,12 +204,11 @@ QVariantMap ProjectToImageAlgorithm::processAlgorithm( const QVariantMap &parame
     return QgsPoint( p.pixelInImage.x(), -p.pixelInImage.y() );
   };
   // Lines are densified so straight map segments follow their curves in the photo.
-  const auto projectLine = [&]( const QgsCurve & curve, QgsFeatureId id, Conversion & c, bool closed ) -> std::unique_ptr<QgsLineString>
+  const auto projectLine = [&]( const QgsLineString & line, QgsFeatureId id, Conversion & c, bool closed ) -> std::unique_ptr<QgsLineString>
   {
-    std::unique_ptr<QgsLineString> line( curve.curveToLine() );
     std::vector<Eigen::Vector3d> ground;
-    for ( int i = 0; i < line->numPoints(); ++i )
-      ground.push_back( groundOf( line->pointN( i ), id ) );
+    for ( int i = 0; i < line.numPoints(); ++i )
+      ground.push_back( groundOf( line.pointN( i ), id ) );
     const auto demHeight = [&]( const Eigen::Vector3d & p ) { return monoplotter->demHeightAt( p ); };
     QVector<QgsPoint> pixels;
     for ( const Eigen::Vector3d &g : geostation::densifyForImage( orientedImage, ground, densifyPx,
@@ -228,45 +223,13 @@ QVariantMap ProjectToImageAlgorithm::processAlgorithm( const QVariantMap &parame
       pixels.last() = pixels.first();
     return std::make_unique<QgsLineString>( pixels );
   };
-  std::function<std::unique_ptr<QgsAbstractGeometry>( const QgsAbstractGeometry *, QgsFeatureId, Conversion & )> convert =
-    [&]( const QgsAbstractGeometry * g, QgsFeatureId id, Conversion & c ) -> std::unique_ptr<QgsAbstractGeometry>
+  const auto convert = [&]( const QgsAbstractGeometry * g, QgsFeatureId id, Conversion & c )
   {
-    if ( const QgsPoint *point = qgsgeometry_cast<const QgsPoint *>( g ) )
-    {
-      const std::optional<QgsPoint> p = projectVertex( groundOf( *point, id ), c );
-      return p ? std::make_unique<QgsPoint>( *p ) : nullptr;
-    }
-    if ( const QgsCurve *curve = qgsgeometry_cast<const QgsCurve *>( g ) )
-      return projectLine( *curve, id, c, false );
-    if ( const QgsCurvePolygon *polygon = qgsgeometry_cast<const QgsCurvePolygon *>( g ) )
-    {
-      auto out = std::make_unique<QgsPolygon>();
-      std::unique_ptr<QgsLineString> exterior = projectLine( *polygon->exteriorRing(), id, c, true );
-      if ( !exterior )
-        return nullptr;
-      out->setExteriorRing( exterior.release() );
-      for ( int i = 0; i < polygon->numInteriorRings(); ++i )
-      {
-        std::unique_ptr<QgsLineString> ring = projectLine( *polygon->interiorRing( i ), id, c, true );
-        if ( !ring )
-          return nullptr;
-        out->addInteriorRing( ring.release() );
-      }
-      return out;
-    }
-    if ( const QgsGeometryCollection *collection = qgsgeometry_cast<const QgsGeometryCollection *>( g ) )
-    {
-      std::unique_ptr<QgsGeometryCollection> out( qgsgeometry_cast<QgsGeometryCollection *>( QgsGeometryFactory::geomFromWkbType( QgsWkbTypes::flatType( collection->wkbType() ) ).release() ) );
-      for ( int i = 0; i < collection->numGeometries(); ++i )
-      {
-        std::unique_ptr<QgsAbstractGeometry> part = convert( collection->geometryN( i ), id, c );
-        if ( !part )
-          return nullptr;
-        out->addGeometry( part.release() );
-      }
-      return out;
-    }
-    throw QgsProcessingException( QObject::tr( "Feature %1: geometry type %2 is not supported." ).arg( id ).arg( QgsWkbTypes::displayString( g->wkbType() ) ) );
+    GeoStationProcessing::GeometryMapper mapper;
+    mapper.point = [&]( const QgsPoint & p ) { return projectVertex( groundOf( p, id ), c ); };
+    mapper.line = [&]( const QgsLineString & line, bool closed ) { return projectLine( line, id, c, closed ); };
+    mapper.collectionType = []( QgsWkbTypes::Type type ) { return QgsWkbTypes::flatType( type ); }; // image space is 2D
+    return GeoStationProcessing::mapGeometry( g, mapper );
   };
 
   std::vector<ProjectedFeature> results;
