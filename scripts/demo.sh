@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # GeoStation quick demo: installs missing Debian packages, builds, installs the
-# plugin into your QGIS profile and runs the main job headless on the embedded
-# demo data, printing what it produced.
+# plugin into your QGIS profile, simulates the embedded demo data (a highway run
+# and an oblique photo) and runs the main jobs headless on it, printing what
+# they produced.
 #
 #   scripts/demo.sh [--gui] [--out DIR]
 #
@@ -28,17 +29,29 @@ mkdir -p "${GEOSTATION_BUILD_DIR:-$source_dir/build}"
 rm -rf "$out"
 mkdir -p "$out"
 out="$(cd "$out" && pwd)"
-/usr/bin/python3 "$source_dir/scripts/geostation_demo_data.py" "$out" --stations 8
-
-image=S0003_front_left
 export QT_QPA_PLATFORM=offscreen
-echo
-echo "Projecting the surveyed poles and hydrants into image $image (geostation:project_to_image):"
-qgis_process.bin run geostation:project_to_image -- \
-  BLOCK="$out/block.geostation.json" IMAGE="$image" INPUT="$out/objects.gpkg" OUTPUT="$out/${image}_objects.gpkg" \
-  2>/dev/null | grep -E "^(PROJECTED_COUNT|IN_FRAME_COUNT|BEHIND_CAMERA_COUNT|OUTPUT):" | sort -u
+echo "Simulating a highway run (30 stations x 3 cameras) and an oblique photo (geostation:simulate_survey):"
+for preset in highway oblique_photo; do
+  qgis_process.bin run geostation:simulate_survey -- PRESET=$preset SEED=1 OUTPUT_DIR="$out/$preset" \
+    2>/dev/null | grep -E "^(IMAGES|BLOCK):" | sort -u
+done
 
-/usr/bin/python3 "$source_dir/scripts/demo_project.py" "$out" "$image" 2> >(grep -v -e XDG_RUNTIME_DIR -e "pixel/line and georeferenced" >&2)
+image=S0003_FL
+echo
+echo "Projecting the surveyed objects into image $image (geostation:project_to_image):"
+qgis_process.bin run geostation:project_to_image -- \
+  BLOCK="$out/highway/block.geostation.json" IMAGE="$image" INPUT="$out/highway/truth.gpkg|layername=objects" \
+  OUTPUT="$out/${image}_objects.gpkg" 2>/dev/null | grep -E "^(PROJECTED_COUNT|IN_FRAME_COUNT|BEHIND_CAMERA_COUNT|OUTPUT):" | sort -u
+
+echo
+echo "Draping the road lines over the terrain into the oblique photo (geostation:project_to_image with DEM):"
+qgis_process.bin run geostation:project_to_image -- \
+  BLOCK="$out/oblique_photo/block.geostation.json" IMAGE=S0001 INPUT="$out/oblique_photo/truth.gpkg|layername=roads" \
+  DEM="$out/oblique_photo/terrain.tif" OUTPUT="$out/oblique_roads.gpkg" 2>/dev/null \
+  | grep -E "^(PROJECTED_COUNT|IN_FRAME_COUNT|OUTPUT):" | sort -u
+
+/usr/bin/python3 "$source_dir/scripts/demo_project.py" "$out" "$image" "$out/highway/images/$image.tif" \
+  2> >(grep -v -e XDG_RUNTIME_DIR -e "pixel/line and georeferenced" >&2)
 
 if [ "$gui" = 1 ]; then
   unset QT_QPA_PLATFORM

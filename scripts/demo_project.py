@@ -2,7 +2,7 @@
 """Prints the demo's results and writes OUT_DIR/demo.qgz: the image in pixel
 space (no CRS) with the projected points on top, in the same frame.
 
-    demo_project.py OUT_DIR IMAGE_ID
+    demo_project.py OUT_DIR IMAGE_ID IMAGE_PATH
 """
 
 import os
@@ -13,7 +13,7 @@ from qgis.core import (QgsApplication, QgsCoordinateReferenceSystem, QgsProject,
                        QgsRasterLayer, QgsVectorLayer)
 
 
-def main(out_dir, image_id):
+def main(out_dir, image_id, image_path):
     app = QgsApplication([], False)
     app.initQgis()
     points_path = os.path.join(out_dir, image_id + "_objects.gpkg")
@@ -29,7 +29,7 @@ def main(out_dir, image_id):
 
     project = QgsProject.instance()
     project.setCrs(QgsCoordinateReferenceSystem())  # pixel space: x = col, y = -row
-    image = QgsRasterLayer(os.path.join(out_dir, "images", image_id + ".tif"), image_id)
+    image = QgsRasterLayer(image_path, image_id)
     project.addMapLayer(image)
     project.addMapLayer(points)
     points.renderer().symbol().setSize(3.0)
@@ -42,4 +42,4 @@ def main(out_dir, image_id):
 
 
 if __name__ == "__main__":
-    main(*sys.argv[1:3])
+    main(*sys.argv[1:4])

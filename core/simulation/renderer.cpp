@@ -124,7 +124,7 @@ namespace geostation
           if ( !edge )
             continue;
           // control targets are measured to hundredths of a pixel: sample their edges finer
-          const int n = mark ? 2 * nBase : nBase;
+          const int n = mark ? 4 * nBase : nBase;
           Eigen::Vector3f sum = Eigen::Vector3f::Zero();
           int count = 0;
           for ( int sj = 0; sj < n; ++sj )

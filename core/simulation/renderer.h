@@ -9,7 +9,7 @@
   Anti-aliasing is adaptive: one ray through each pixel centre, then every
   pixel whose 3 x 3 neighbourhood shows different surfaces (materials,
   objects, shadow edges, the horizon) is re-rendered as the mean of
-  n x n stratified samples over its area (2n x 2n on the edges of control
+  n x n stratified samples over its area (4n x 4n on the edges of control
   targets and manhole lids, which are measured to hundredths of a pixel).
  ***************************************************************************/
 #ifndef GEOSTATION_SIMULATION_RENDERER_H
@@ -53,7 +53,7 @@ namespace geostation
 
   struct RenderOptions
   {
-    int supersampling = 3; //!< n: n x n samples in pixels on an edge (1 = none); ground marks get 2n x 2n
+    int supersampling = 3; //!< n: n x n samples in pixels on an edge (1 = none); ground marks get 4n x 4n
     int threads = 1;       //!< worker threads for this image
     bool adaptive = true;  //!< false: supersample every pixel (the slow reference)
   };

@@ -88,7 +88,7 @@ namespace geostation
     return false;
   }
 
-  Eigen::Vector3f Scene::groundAlbedo( const Eigen::Vector3d &p, double footprintM, uint32_t &key ) const
+  Eigen::Vector3f Scene::groundAlbedo( const Eigen::Vector3d &p, double footprintM, uint32_t &key, const GroundMark **markHit ) const
   {
     const double x = p.x(), y = p.y();
     // Ground marks first: they lie on top of everything.
@@ -98,6 +98,8 @@ namespace geostation
       const Eigen::Vector2d rel = p.head<2>() - mark.centre.head<2>();
       if ( mark.kind == GroundMarkKind::Target )
       {
+        if ( markHit && ( rel.squaredNorm() <= mark.radiusM * mark.radiusM || ( std::abs( rel.x() ) <= mark.squareHalfM && std::abs( rel.y() ) <= mark.squareHalfM ) ) )
+          *markHit = &mark;
         if ( rel.squaredNorm() <= mark.radiusM * mark.radiusM )
         {
           key = TargetWhite;
@@ -295,12 +297,14 @@ namespace geostation
       const double cosIncidence = std::max( 0.15, std::abs( ground->normal.dot( direction ) ) );
       const double footprintM = ground->t * pixelAngleRad / cosIncidence;
       uint32_t material = 0;
-      const Eigen::Vector3f albedo = groundAlbedo( ground->point, footprintM, material );
+      const GroundMark *mark = nullptr;
+      const Eigen::Vector3f albedo = groundAlbedo( ground->point, footprintM, material, &mark );
       const bool shadow = inShadow( ground->point.head<2>() );
+      const Eigen::Vector3d normal = mark ? mTerrain.normalAt( mark->centre.x(), mark->centre.y() ) : ground->normal;
       sample.sky = false;
       sample.ground = true;
       sample.t = ground->t;
-      sample.rgb = albedo * lightAt( ground->normal, shadow );
+      sample.rgb = albedo * lightAt( normal, shadow );
       sample.key = makeKey( material, shadow );
       return sample;
     }

@@ -132,13 +132,25 @@ namespace geostation
     std::vector<Road> loadRoads( const std::string &path, const std::string &blockCrs, std::vector<std::string> &notes )
     {
       GDALAllRegister();
-      std::unique_ptr<void, OgrDataSourceCloser> ds( GDALOpenEx( path.c_str(), GDAL_OF_VECTOR | GDAL_OF_READONLY, nullptr, nullptr, nullptr ) );
+      // "file|layername=name" picks a layer; otherwise the first
+      std::string file = path, layerName;
+      if ( const size_t bar = path.find( '|' ); bar != std::string::npos )
+      {
+        file = path.substr( 0, bar );
+        const size_t key = path.find( "layername=", bar );
+        if ( key != std::string::npos )
+          layerName = path.substr( key + 10, path.find( '|', key ) - key - 10 );
+      }
+      std::unique_ptr<void, OgrDataSourceCloser> ds( GDALOpenEx( file.c_str(), GDAL_OF_VECTOR | GDAL_OF_READONLY, nullptr, nullptr, nullptr ) );
       if ( !ds )
         throw std::invalid_argument( "the road layer " + path + " cannot be opened as a vector layer" );
-      OGRLayerH layer = GDALDatasetGetLayer( ds.get(), 0 );
+      OGRLayerH layer = layerName.empty() ? GDALDatasetGetLayer( ds.get(), 0 ) : GDALDatasetGetLayerByName( ds.get(), layerName.c_str() );
       if ( !layer )
         throw std::invalid_argument( "the road layer " + path + " has no layer" );
       OGRSpatialReferenceH srs = OGR_L_GetSpatialRef( layer );
+      // a GeoPackage layer without a CRS reports an "Undefined geographic/Cartesian SRS"
+      if ( srs && OSRGetName( srs ) && std::string( OSRGetName( srs ) ).rfind( "Undefined", 0 ) == 0 )
+        srs = nullptr;
       if ( !srs )
         throw std::invalid_argument( "the road layer " + path + " has no CRS; set one (e.g. with ogr2ogr -a_srs) so it can be placed" );
       char *wkt = nullptr;
@@ -171,9 +183,10 @@ namespace geostation
             road.lanesPerDirection = std::clamp( OGR_F_GetFieldAsInteger( feature, lanesField ), 1, 4 );
           for ( int v = 0; v < OGR_G_GetPointCount( parts[k] ); ++v )
           {
-            const Eigen::Vector3d p = toBlock.transform( Eigen::Vector3d( OGR_G_GetX( parts[k], v ), OGR_G_GetY( parts[k], v ), 0.0 ) );
+            const double x = OGR_G_GetX( parts[k], v ), y = OGR_G_GetY( parts[k], v );
+            const Eigen::Vector3d p = toBlock.transform( Eigen::Vector3d( x, y, 0.0 ) );
             if ( !std::isfinite( p.x() ) || !std::isfinite( p.y() ) )
-              throw std::invalid_argument( "a vertex of road " + road.id + " cannot be transformed to the block CRS" );
+              throw std::invalid_argument( "vertex " + fmt( x ) + ", " + fmt( y ) + " of road " + road.id + " cannot be transformed to the block CRS" );
             if ( road.centreline.empty() || ( road.centreline.back() - p.head<2>() ).norm() > 1e-6 )
               road.centreline.push_back( p.head<2>() );
           }
@@ -580,7 +593,7 @@ namespace geostation
           marks.push_back( m );
         }
       }
-      const double targetSpacing = request.preset == SurveyPreset::Highway ? 20.0 : 6.0 * 2.5 * targetRadius / 0.25 * 3.0;
+      const double targetSpacing = request.preset == SurveyPreset::Highway ? 20.0 : std::max( 25.0, 60.0 * targetRadius );
       for ( double s = 15.0; s < length; s += targetSpacing )
       {
         const double side = ( static_cast<int>( s / targetSpacing ) % 2 ) ? 1.0 : -1.0;
@@ -603,7 +616,7 @@ namespace geostation
     {
       std::uniform_real_distribution<double> ux( lo.x() + 5, hi.x() - 5 ), uy( lo.y() + 5, hi.y() - 5 );
       const double area = ( hi.x() - lo.x() ) * ( hi.y() - lo.y() );
-      const int fieldTargets = std::clamp( static_cast<int>( area / 4000.0 ), 8, 200 );
+      const int fieldTargets = std::clamp( static_cast<int>( area / ( 5000.0 * targetRadius * targetRadius ) ), 8, 150 );
       for ( int k = 0, tries = 0; k < fieldTargets && tries < 20 * fieldTargets; ++tries )
       {
         const Eigen::Vector2d p( ux( random ), uy( random ) );

@@ -44,24 +44,23 @@ namespace geostation
         throw std::runtime_error( "cannot write the image " + path.string() );
     }
 
-    //! Refuses an image whose view holds no terrain at all.
-    void requireGroundInView( const Scene &scene, const Block &block, const BlockImage &image )
-    {
-      const Camera &camera = block.cameraOf( image );
-      const OrientedImage oriented( camera, *image.exterior );
-      for ( int j = 0; j < 18; ++j )
-        for ( int i = 0; i < 24; ++i )
-          if ( const std::optional<Ray> ray = oriented.worldRayFromPixel( Eigen::Vector2d( ( i + 0.5 ) * camera.width / 24.0, ( j + 0.5 ) * camera.height / 18.0 ) ) )
-            if ( !scene.trace( ray->origin, ray->direction, 1.0 / camera.f ).sky )
-              return;
-      throw std::invalid_argument( "image " + image.id + " looks at the sky only: no ray of it meets the terrain (check the DEM's extent and the camera's orientation)" );
-    }
-
     nlohmann::json degradationJson( const DegradationOptions &d )
     {
       return { { "exposure", d.exposure }, { "vignetting", d.vignetting }, { "blur_sigma_px", d.blurSigmaPx }, { "noise_sigma", d.noiseSigma },
                { "bit_error_rate", d.bitErrorRate }, { "jpeg_quality", d.jpegQuality } };
     }
+  }
+
+  void requireGroundInView( const Scene &scene, const Block &block, const BlockImage &image )
+  {
+    const Camera &camera = block.cameraOf( image );
+    const OrientedImage oriented( camera, *image.exterior );
+    for ( int j = 0; j < 18; ++j )
+      for ( int i = 0; i < 24; ++i )
+        if ( const std::optional<Ray> ray = oriented.worldRayFromPixel( Eigen::Vector2d( ( i + 0.5 ) * camera.width / 24.0, ( j + 0.5 ) * camera.height / 18.0 ) ) )
+          if ( !scene.trace( ray->origin, ray->direction, 1.0 / camera.f ).sky )
+            return;
+    throw std::invalid_argument( "image " + image.id + " looks at the sky only: no ray of it meets the terrain (check the DEM's extent and the camera's orientation)" );
   }
 
   void SimulationOptions::validate() const

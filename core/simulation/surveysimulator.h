@@ -28,6 +28,7 @@
 #include <vector>
 
 #include "simulation/degradation.h"
+#include "io/block.h"
 #include "simulation/scenebuilder.h"
 
 namespace geostation
@@ -56,7 +57,7 @@ namespace geostation
     double groundPixelSizeM = 0.10; //!< aerial_stereo: ground sample distance
     DegradationOptions degradation;
     double poseNoiseScale = 1.0;    //!< multiplies the preset's GNSS/INS sigmas (0: block = truth)
-    int supersampling = 3;          //!< n x n samples in edge pixels (2n x 2n on target edges)
+    int supersampling = 3;          //!< n x n samples in edge pixels (4n x 4n on target edges)
     int threads = 0;                //!< 0: all cores
     //! Called with the fraction done and a message; return false to cancel.
     std::function<bool( double fraction, const std::string &message )> progress;
@@ -80,6 +81,12 @@ namespace geostation
     std::filesystem::path blockFile, truthBlockFile, truthGeoPackage, terrainFile;
     std::vector<std::string> notes;
   };
+
+  /**
+   * Throws std::invalid_argument when none of a 24 x 18 grid of the image's
+   * rays meets the terrain or an object (a camera looking at the sky only).
+   */
+  void requireGroundInView( const Scene &scene, const Block &block, const BlockImage &image );
 
   /**
    * Runs a simulation. Throws std::invalid_argument (bad options or input,

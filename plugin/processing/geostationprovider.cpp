@@ -13,6 +13,7 @@
 #include "innerorientationalgorithm.h"
 #include "intersectalgorithm.h"
 #include "monoplotalgorithm.h"
+#include "simulatesurveyalgorithm.h"
 #include "projecttoimagealgorithm.h"
 #include "resectionalgorithm.h"
 
@@ -63,6 +64,7 @@ void GeoStationProvider::loadAlgorithms()
   addAlgorithm( new BundleAdjustAlgorithm() );
   addAlgorithm( new InnerOrientationAlgorithm() );
   addAlgorithm( new MonoplotAlgorithm() );
+  addAlgorithm( new SimulateSurveyAlgorithm() );
 }
 
 bool registerGeoStationProvider()

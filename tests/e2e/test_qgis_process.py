@@ -12,6 +12,7 @@ import shutil
 import subprocess
 import sys
 import tempfile
+import time
 import unittest
 
 from osgeo import ogr
@@ -254,6 +255,73 @@ class AdjustmentTest(unittest.TestCase):
         self.assertNotEqual(result.returncode, 0)
         self.assertIn("needs at least 4 control points", result.stdout + result.stderr)
         self.assertFalse(os.path.exists(out_block))
+
+
+class SimulateSurveyTest(unittest.TestCase):
+    """geostation:simulate_survey and geostation-simulate: the embedded highway
+    preset (30 stations x 3 cameras, 640 x 480) and the interface contract."""
+
+    @classmethod
+    def setUpClass(cls):
+        cls.tmp = tempfile.mkdtemp(prefix="geostation-sim-e2e-")
+        cls.home = os.path.join(cls.tmp, "home")
+        os.makedirs(cls.home)
+        install(cls.home)
+
+    @classmethod
+    def tearDownClass(cls):
+        shutil.rmtree(cls.tmp, ignore_errors=True)
+
+    def test_highway_preset_through_processing_and_the_command_line(self):
+        out = os.path.join(self.tmp, "highway")
+        started = time.monotonic()
+        result = qgis_process(self.home, "run", "geostation:simulate_survey", "--", "PRESET=highway", "SEED=7", "OUTPUT_DIR=" + out)
+        seconds = time.monotonic() - started
+        self.assertEqual(result.returncode, 0, result.stdout + result.stderr)
+        print("\nhighway preset (30 x 3 images, 640 x 480) through qgis_process: %.1f s" % seconds)
+        self.assertIn("IMAGES:\t90", result.stdout)
+        with open(os.path.join(out, "block.geostation.json")) as f:
+            block = json.load(f)
+        self.assertEqual(len(block["stations"]), 30)
+        self.assertEqual(len(block["images"]), 90)
+        self.assertEqual(block["cameras"][0]["width"], 640)
+        for image in block["images"]:
+            self.assertTrue(os.path.exists(os.path.join(out, image["path"])), image["path"])
+            self.assertIn("sigma", image)
+        truth = ogr.Open(os.path.join(out, "truth.gpkg"))
+        layers = {truth.GetLayer(i).GetName(): truth.GetLayer(i) for i in range(truth.GetLayerCount())}
+        for name, geometry, fields in [("objects", ogr.wkbPoint25D, ["id", "kind"]), ("roads", ogr.wkbLineString25D, ["id", "kind"]),
+                                       ("control", ogr.wkbPoint25D, ["id"]), ("image_truth", ogr.wkbNone, ["point_id", "image_id", "col", "row"])]:
+            self.assertIn(name, layers)
+            layer = layers[name]
+            self.assertEqual(layer.GetGeomType(), geometry, name)
+            defn = layer.GetLayerDefn()
+            self.assertEqual([defn.GetFieldDefn(i).GetName() for i in range(defn.GetFieldCount())][:len(fields)], fields)
+            self.assertGreater(layer.GetFeatureCount(), 0, name)
+        kinds = {f.GetField("kind") for f in layers["roads"]}
+        self.assertEqual(kinds, {"centre", "edge", "marking", "kerb"})
+        kinds = {f.GetField("kind") for f in layers["objects"]}
+        self.assertTrue({"pole", "sign", "hydrant", "manhole"} <= kinds, kinds)
+        self.assertGreater(layers["image_truth"].GetFeatureCount(), 10000)
+
+        # the command line takes the same options and gives the same output
+        cli_out = os.path.join(self.tmp, "highway-cli")
+        cli = subprocess.run([os.path.join(BUILD_DIR, "core", "geostation-simulate"), "--quiet", "PRESET=highway", "SEED=7", "--output-dir", cli_out],
+                             capture_output=True, text=True, timeout=300)
+        self.assertEqual(cli.returncode, 0, cli.stderr)
+        with open(os.path.join(cli_out, "block.geostation.json")) as f:
+            self.assertEqual(json.load(f), block)
+
+    def test_bad_options_fail_with_one_sentence_and_no_output(self):
+        out = os.path.join(self.tmp, "bad")
+        result = qgis_process(self.home, "run", "geostation:simulate_survey", "--", "PRESET=highway", "IMAGE_WIDTH=10", "OUTPUT_DIR=" + out)
+        self.assertNotEqual(result.returncode, 0)
+        self.assertIn("between 32 and 8000 pixels", result.stdout + result.stderr)
+        self.assertFalse(os.path.exists(os.path.join(out, "block.geostation.json")))
+        cli = subprocess.run([os.path.join(BUILD_DIR, "core", "geostation-simulate"), "--preset", "motorbike", "--output-dir", out],
+                             capture_output=True, text=True)
+        self.assertEqual(cli.returncode, 2)
+        self.assertIn("unknown preset", cli.stderr)
 
 
 class InstallTest(unittest.TestCase):

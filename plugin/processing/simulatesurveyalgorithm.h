@@ -1,0 +1,27 @@
+/***************************************************************************
+  simulatesurveyalgorithm.h - geostation:simulate_survey
+ ***************************************************************************/
+#ifndef SIMULATESURVEYALGORITHM_H
+#define SIMULATESURVEYALGORITHM_H
+
+#include <qgsprocessingalgorithm.h>
+
+#include "geostation_processing_export.h"
+
+class GEOSTATION_PROCESSING_EXPORT SimulateSurveyAlgorithm : public QgsProcessingAlgorithm
+{
+  public:
+    QString name() const override;
+    QString displayName() const override;
+    QStringList tags() const override;
+    QString group() const override;
+    QString groupId() const override;
+    QString shortHelpString() const override;
+    SimulateSurveyAlgorithm *createInstance() const override;
+
+  protected:
+    void initAlgorithm( const QVariantMap &configuration = QVariantMap() ) override;
+    QVariantMap processAlgorithm( const QVariantMap &parameters, QgsProcessingContext &context, QgsProcessingFeedback *feedback ) override;
+};
+
+#endif // SIMULATESURVEYALGORITHM_H

@@ -1,0 +1,587 @@
+// The survey simulator: exact terrain ray casting, camera-ray lattice, the
+// rendered images against the camera model (control target centroids to
+// 0.01 px), the truth outputs, determinism, GNSS/INS noise and bad input.
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <random>
+#include <sstream>
+
+#include <gdal.h>
+#include <gtest/gtest.h>
+#include <ogr_api.h>
+#include <ogr_srs_api.h>
+
+#include "dem/dem.h"
+#include "geometry/projection.h"
+#include "io/block.h"
+#include "simulation/degradation.h"
+#include "simulation/heightfield.h"
+#include "simulation/renderer.h"
+#include "simulation/surveyrig.h"
+#include "simulation/surveysimulator.h"
+#include "simulation/truthwriter.h"
+#include "syntheticterrain.h"
+
+using namespace geostation;
+
+namespace
+{
+  std::filesystem::path tempDir( const std::string &name )
+  {
+    const std::filesystem::path dir = std::filesystem::temp_directory_path() / ( "geostation-sim-" + name + "-" + std::to_string( ::getpid() ) );
+    std::filesystem::remove_all( dir );
+    return dir;
+  }
+
+  cv::Mat readRgb( const std::filesystem::path &path )
+  {
+    GDALDatasetH ds = GDALOpen( path.string().c_str(), GA_ReadOnly );
+    if ( !ds )
+      return {};
+    cv::Mat rgb( GDALGetRasterYSize( ds ), GDALGetRasterXSize( ds ), CV_8UC3 );
+    int bands[3] = { 1, 2, 3 };
+    const CPLErr err = GDALDatasetRasterIO( ds, GF_Read, 0, 0, rgb.cols, rgb.rows, rgb.data, rgb.cols, rgb.rows, GDT_Byte, 3, bands, 3, rgb.step[0], 1 );
+    GDALClose( ds );
+    return err == CE_None ? rgb : cv::Mat();
+  }
+
+  struct TruthTable
+  {
+    std::map<std::string, Eigen::Vector3d> control, objects;
+    std::map<std::pair<std::string, std::string>, Eigen::Vector2d> imageTruth; // (point, image) -> pixel
+    int roads = 0;
+    std::string controlCrsName;
+  };
+
+  TruthTable readTruth( const std::filesystem::path &gpkg )
+  {
+    TruthTable truth;
+    GDALDatasetH ds = GDALOpenEx( gpkg.string().c_str(), GDAL_OF_VECTOR, nullptr, nullptr, nullptr );
+    EXPECT_NE( ds, nullptr );
+    if ( !ds )
+      return truth;
+    for ( const char *name : { "control", "objects" } )
+    {
+      OGRLayerH layer = GDALDatasetGetLayerByName( ds, name );
+      EXPECT_NE( layer, nullptr ) << name;
+      if ( !layer )
+        continue;
+      if ( std::string( name ) == "control" && OGR_L_GetSpatialRef( layer ) )
+        truth.controlCrsName = OSRGetName( OGR_L_GetSpatialRef( layer ) );
+      while ( OGRFeatureH f = OGR_L_GetNextFeature( layer ) )
+      {
+        OGRGeometryH g = OGR_F_GetGeometryRef( f );
+        ( std::string( name ) == "control" ? truth.control : truth.objects )[OGR_F_GetFieldAsString( f, OGR_F_GetFieldIndex( f, "id" ) )] =
+          Eigen::Vector3d( OGR_G_GetX( g, 0 ), OGR_G_GetY( g, 0 ), OGR_G_GetZ( g, 0 ) );
+        OGR_F_Destroy( f );
+      }
+    }
+    OGRLayerH roads = GDALDatasetGetLayerByName( ds, "roads" );
+    EXPECT_NE( roads, nullptr );
+    if ( roads )
+      truth.roads = static_cast<int>( OGR_L_GetFeatureCount( roads, TRUE ) );
+    OGRLayerH table = GDALDatasetGetLayerByName( ds, "image_truth" );
+    EXPECT_NE( table, nullptr );
+    if ( table )
+      while ( OGRFeatureH f = OGR_L_GetNextFeature( table ) )
+      {
+        truth.imageTruth[{ OGR_F_GetFieldAsString( f, 0 ), OGR_F_GetFieldAsString( f, 1 ) }] = Eigen::Vector2d( OGR_F_GetFieldAsDouble( f, 2 ), OGR_F_GetFieldAsDouble( f, 3 ) );
+        OGR_F_Destroy( f );
+      }
+    GDALClose( ds );
+    return truth;
+  }
+
+  //! A small aerial survey, simulated once for the tests that read outputs.
+  const std::filesystem::path &aerialRun()
+  {
+    static std::filesystem::path dir;
+    if ( dir.empty() )
+    {
+      dir = tempDir( "aerial" );
+      SimulationOptions options;
+      options.preset = SurveyPreset::AerialStereo;
+      options.seed = 11;
+      options.outputDir = dir;
+      options.imageWidth = 768;
+      options.imageHeight = 768;
+      options.stations = 3;
+      geostation::simulateSurvey( options );
+    }
+    return dir;
+  }
+}
+
+TEST( HeightField, RayHitsTheBilinearSurfaceExactly )
+{
+  const HeightField field( 1000.0, 2000.0, 0.5, 200, 160, []( double x, double y ) { return 50.0 + 4.0 * std::sin( x / 7.0 ) * std::cos( y / 5.0 ); } );
+  std::mt19937 random( 3 );
+  std::uniform_real_distribution<double> ux( 1010, 1090 ), uy( 1930, 1990 ), angle( 0, 2 * M_PI ), elevation( 0.02, 1.5 );
+  int hits = 0;
+  for ( int k = 0; k < 2000; ++k )
+  {
+    const Eigen::Vector3d origin( ux( random ), uy( random ), 62.0 );
+    const double a = angle( random ), e = elevation( random );
+    const Eigen::Vector3d direction( std::cos( a ) * std::cos( e ), std::sin( a ) * std::cos( e ), -std::sin( e ) );
+    const std::optional<TerrainHit> hit = field.intersect( origin, direction );
+    // brute force: fine steps, first sign change
+    std::optional<double> first;
+    for ( double t = 0.0; t < 400.0; t += 0.002 )
+    {
+      const Eigen::Vector3d p = origin + t * direction;
+      const std::optional<double> h = field.heightAt( p.x(), p.y() );
+      if ( !h )
+        break;
+      if ( p.z() <= *h )
+      {
+        first = t;
+        break;
+      }
+    }
+    ASSERT_EQ( hit.has_value(), first.has_value() ) << k;
+    if ( !hit )
+      continue;
+    ++hits;
+    EXPECT_NEAR( hit->t, *first, 0.0025 ) << k;
+    EXPECT_NEAR( ( origin + hit->t * direction ).z(), *field.heightAt( hit->point.x(), hit->point.y() ), 1e-6 ) << k;
+  }
+  EXPECT_GT( hits, 1000 );
+}
+
+TEST( HeightField, GeoTiffReadsBackThroughDemUnchanged )
+{
+  const HeightField field( 400000.25, 5000000.75, 0.5, 64, 48, []( double x, double y ) { return 120.0 + 0.3 * ( x - 400000 ) - 0.2 * ( y - 5000000 ); } );
+  const std::string path = syntheticterrain::tempPath( "heightfield" );
+  field.writeGeoTiff( path, "EPSG:32633" );
+  const Dem dem( path );
+  std::mt19937 random( 5 );
+  std::uniform_real_distribution<double> ux( 400000.3, 400031.7 ), uy( 4999977.3, 5000000.7 );
+  for ( int k = 0; k < 500; ++k )
+  {
+    const double x = ux( random ), y = uy( random );
+    ASSERT_TRUE( dem.heightAt( x, y ).has_value() );
+    EXPECT_NEAR( *dem.heightAt( x, y ), *field.heightAt( x, y ), 1e-4 );
+  }
+  std::filesystem::remove( path );
+}
+
+TEST( CameraRays, LatticeRaysAgreeWithTheCameraModel )
+{
+  Camera camera;
+  camera.id = "c";
+  camera.width = 640;
+  camera.height = 480;
+  camera.f = 512;
+  camera.cx = 321.3;
+  camera.cy = 239.2;
+  camera.distortion.model = DistortionModel::OpenCV;
+  camera.distortion.coeffs = { -0.12, 0.03, 2e-4, -1e-4, 0 };
+  const CameraRays rays( camera );
+  std::mt19937 random( 7 );
+  std::uniform_real_distribution<double> uc( 0, 640 ), ur( 0, 480 );
+  double worst = 0.0;
+  for ( int k = 0; k < 5000; ++k )
+  {
+    const Eigen::Vector2d pixel( uc( random ), ur( random ) );
+    Eigen::Vector3d ray;
+    ASSERT_TRUE( rays.rayAt( pixel.x(), pixel.y(), ray ) );
+    const PixelProjection back = camera.pixelFromCamera( ray );
+    ASSERT_TRUE( back.ok() );
+    worst = std::max( worst, ( back.pixelInImage - pixel ).norm() );
+  }
+  EXPECT_LT( worst, 1e-3 ) << "lattice interpolation error, px";
+}
+
+TEST( Simulation, TargetCentroidsAgreeWithTheCameraModel )
+{
+  // Each control target's white disc, located in the rendered image by its
+  // intensity centroid, against the area centroid of the disc's outline
+  // projected with the exact orientation (which includes the perspective
+  // and lens shift of the centroid).
+  const std::filesystem::path &dir = aerialRun();
+  const Block truthBlock = Block::load( dir / "truth.geostation.json" );
+  const TruthTable truth = readTruth( dir / "truth.gpkg" );
+  const Dem terrain( ( dir / "terrain.tif" ).string() );
+  int measured = 0;
+  double worst = 0.0;
+  for ( const BlockImage &image : truthBlock.images )
+  {
+    const cv::Mat rgb = readRgb( dir / image.path );
+    ASSERT_FALSE( rgb.empty() );
+    const OrientedImage oriented( truthBlock.cameraOf( image ), *image.exterior );
+    for ( const auto &[id, centre] : truth.control )
+    {
+      if ( !truth.imageTruth.count( { id, image.id } ) )
+        continue;
+      // the disc outline on the terrain, projected; its polygon's area centroid
+      const double radius = 0.4; // aerial_stereo at 0.1 m: 4 x GSD
+      std::vector<Eigen::Vector2d> outline;
+      for ( int k = 0; k < 720; ++k )
+      {
+        const double a = 2 * M_PI * k / 720;
+        const double x = centre.x() + radius * std::cos( a ), y = centre.y() + radius * std::sin( a );
+        outline.push_back( oriented.projectGroundToPixel( Eigen::Vector3d( x, y, *terrain.heightAt( x, y ) ) ).pixelInImage );
+      }
+      double area = 0.0;
+      Eigen::Vector2d centroid = Eigen::Vector2d::Zero();
+      for ( size_t k = 0; k < outline.size(); ++k )
+      {
+        const Eigen::Vector2d &p = outline[k], &q = outline[( k + 1 ) % outline.size()];
+        const double cross = p.x() * q.y() - q.x() * p.y();
+        area += cross;
+        centroid += ( p + q ) * cross;
+      }
+      centroid /= 3.0 * area;
+      // window: the pixels within the disc plus 1.5 px, all on the black square
+      const double reach = std::sqrt( std::abs( area ) / 2 / M_PI ) + 1.5;
+      const int c0 = static_cast<int>( std::floor( centroid.x() - reach ) ), r0 = static_cast<int>( std::floor( centroid.y() - reach ) );
+      const int c1 = static_cast<int>( std::ceil( centroid.x() + reach ) ), r1 = static_cast<int>( std::ceil( centroid.y() + reach ) );
+      if ( c0 < 0 || r0 < 0 || c1 >= rgb.cols || r1 >= rgb.rows )
+        continue;
+      const auto inWindow = [&]( int c, int r ) { return ( Eigen::Vector2d( c + 0.5, r + 0.5 ) - centroid ).norm() <= reach; };
+      // black and white levels of this target (it may lie in shade)
+      double black = 255.0, white = 0.0;
+      for ( int r = r0; r <= r1; ++r )
+        for ( int c = c0; c <= c1; ++c )
+          if ( inWindow( c, r ) )
+          {
+            black = std::min<double>( black, rgb.at<cv::Vec3b>( r, c )[1] );
+            white = std::max<double>( white, rgb.at<cv::Vec3b>( r, c )[1] );
+          }
+      double sum = 0.0;
+      Eigen::Vector2d moment = Eigen::Vector2d::Zero();
+      for ( int r = r0; r <= r1; ++r )
+        for ( int c = c0; c <= c1; ++c )
+          if ( inWindow( c, r ) )
+          {
+            const double w = ( rgb.at<cv::Vec3b>( r, c )[1] - black ) / ( white - black );
+            sum += w;
+            moment += w * Eigen::Vector2d( c + 0.5, r + 0.5 );
+          }
+      const Eigen::Vector2d found = moment / sum;
+      // the white area must match the projected disc (the window held all of it and nothing else)
+      if ( std::abs( sum - std::abs( area ) / 2 ) > 0.05 * std::abs( area ) / 2 )
+      {
+        std::cout << id << " in " << image.id << ": white area " << sum << " px, projected disc " << std::abs( area ) / 2 << " px (shaded or partly hidden), skipped\n";
+        continue;
+      }
+      worst = std::max( worst, ( found - centroid ).norm() );
+      EXPECT_LT( ( found - centroid ).norm(), 0.01 ) << id << " in " << image.id;
+      ++measured;
+    }
+  }
+  EXPECT_GE( measured, 4 );
+  std::cout << "target centroids: " << measured << " measured, worst " << worst << " px\n";
+}
+
+TEST( Simulation, OutputsAreCompleteAndConsistent )
+{
+  const std::filesystem::path &dir = aerialRun();
+  for ( const char *name : { "block.geostation.json", "truth.geostation.json", "truth.gpkg", "terrain.tif", "simulation.json", "images/S0001.tif", "images/S0002.tif" } )
+    EXPECT_TRUE( std::filesystem::exists( dir / name ) ) << name;
+  for ( const auto &entry : std::filesystem::directory_iterator( dir ) )
+    EXPECT_EQ( entry.path().filename().string().rfind( ".simulate-staging", 0 ), std::string::npos ) << "staging left behind";
+  const Block truthBlock = Block::load( dir / "truth.geostation.json" );
+  const Block noisy = Block::load( dir / "block.geostation.json" );
+  ASSERT_EQ( truthBlock.images.size(), 3u );
+  ASSERT_EQ( noisy.images.size(), 3u );
+  EXPECT_EQ( truthBlock.crs, "EPSG:32617" );
+  for ( const BlockImage &image : noisy.images )
+  {
+    ASSERT_TRUE( image.exterior && image.exterior->sigma );
+    EXPECT_NO_THROW( requireReadableImageFile( noisy, image ) );
+  }
+  const TruthTable truth = readTruth( dir / "truth.gpkg" );
+  EXPECT_GT( truth.control.size(), 4u );
+  EXPECT_GT( truth.objects.size(), 4u );
+  EXPECT_GT( truth.roads, 10 );
+  EXPECT_NE( truth.controlCrsName.find( "UTM zone 17N" ), std::string::npos ) << truth.controlCrsName;
+  // image truth = projection of the truth point with the exact orientation
+  const Dem terrain( ( dir / "terrain.tif" ).string() );
+  int checked = 0;
+  for ( const auto &[key, pixel] : truth.imageTruth )
+  {
+    const auto point = truth.control.count( key.first ) ? truth.control.find( key.first ) : truth.objects.find( key.first );
+    if ( point == truth.objects.end() )
+      continue; // a road vertex
+    const BlockImage &image = truthBlock.image( key.second );
+    const GroundProjection p = projectGroundToPixel( truthBlock.cameraOf( image ), *image.exterior, point->second );
+    ASSERT_TRUE( p.ok() && p.inFrame );
+    EXPECT_LT( ( p.pixelInImage - pixel ).norm(), 1e-6 );
+    ++checked;
+  }
+  EXPECT_GT( checked, 10 );
+  // ground points sit on the written terrain
+  for ( const auto &[id, point] : truth.control )
+    EXPECT_NEAR( *terrain.heightAt( point.x(), point.y() ), point.z(), 1e-4 ) << id;
+}
+
+TEST( Simulation, SameSeedSameOutputOtherSeedOtherOutput )
+{
+  const auto run = []( uint32_t seed, const std::string &name )
+  {
+    SimulationOptions options;
+    options.preset = SurveyPreset::Highway;
+    options.seed = seed;
+    options.outputDir = tempDir( name );
+    options.stations = 2;
+    options.cameras = 2;
+    options.imageWidth = 320;
+    options.imageHeight = 240;
+    options.degradation.noiseSigma = 2.0;
+    options.degradation.blurSigmaPx = 0.5;
+    simulateSurvey( options );
+    return options.outputDir;
+  };
+  const std::filesystem::path a = run( 5, "seed-a" ), b = run( 5, "seed-b" ), c = run( 6, "seed-c" );
+  const auto bytes = []( const std::filesystem::path &p )
+  {
+    std::ifstream in( p, std::ios::binary );
+    return std::string( std::istreambuf_iterator<char>( in ), {} );
+  };
+  EXPECT_EQ( bytes( a / "block.geostation.json" ), bytes( b / "block.geostation.json" ) );
+  EXPECT_EQ( cv::norm( readRgb( a / "images/S0001_FL.tif" ), readRgb( b / "images/S0001_FL.tif" ), cv::NORM_INF ), 0.0 );
+  EXPECT_NE( bytes( a / "block.geostation.json" ), bytes( c / "block.geostation.json" ) );
+  EXPECT_GT( cv::norm( readRgb( a / "images/S0001_FL.tif" ), readRgb( c / "images/S0001_FL.tif" ), cv::NORM_L1 ), 0.0 );
+  for ( const auto &dir : { a, b, c } )
+    std::filesystem::remove_all( dir );
+}
+
+TEST( Simulation, HighwayRigMatchesItsDescription )
+{
+  SimulationOptions options;
+  options.preset = SurveyPreset::Highway;
+  options.seed = 2;
+  options.outputDir = "unused";
+  options.stations = 30;
+  options.cameras = 6;
+  const RigSettings settings = rigSettings( options );
+  SceneRequest request;
+  request.seed = options.seed;
+  request.extentMin = settings.extentMin;
+  request.extentMax = settings.extentMax;
+  request.nodeSpacingM = settings.nodeSpacingM;
+  const BuiltScene built = buildScene( request );
+  Block truth, noisy;
+  buildRig( options, settings, built, truth, noisy );
+  ASSERT_EQ( truth.stations.size(), 30u );
+  ASSERT_EQ( truth.images.size(), 180u );
+  // forward stereo base about 2 m, cameras 2-3 m above the road, stations 5 m apart
+  const ExteriorOrientation &fl = *truth.image( "S0001_FL" ).exterior, &fr = *truth.image( "S0001_FR" ).exterior;
+  EXPECT_NEAR( ( fl.projectionCentre - fr.projectionCentre ).norm(), 2.0, 0.01 );
+  const double ground = *built.scene->terrain().heightAt( fl.projectionCentre.x(), fl.projectionCentre.y() );
+  EXPECT_GT( fl.projectionCentre.z() - ground, 2.0 );
+  EXPECT_LT( fl.projectionCentre.z() - ground, 3.0 );
+  EXPECT_NEAR( ( truth.image( "S0002_FL" ).exterior->projectionCentre - fl.projectionCentre ).head<2>().norm(), 5.0, 0.05 );
+  // the forward camera looks along the road, slightly down
+  EXPECT_GT( fl.viewingDirection().x(), 0.95 );
+  EXPECT_LT( fl.viewingDirection().z(), 0.0 );
+  // GNSS/INS errors: per station, shared by its cameras; statistics near the sigmas
+  double sumX = 0.0;
+  for ( size_t i = 0; i < truth.images.size(); i += 6 )
+  {
+    const Eigen::Vector3d d = noisy.images[i].exterior->projectionCentre - truth.images[i].exterior->projectionCentre;
+    sumX += d.x() * d.x();
+  }
+  const double rmsX = std::sqrt( sumX / 30 );
+  EXPECT_GT( rmsX, 0.05 );
+  EXPECT_LT( rmsX, 0.17 );
+  EXPECT_DOUBLE_EQ( noisy.images[0].exterior->sigma->x, 0.10 );
+}
+
+TEST( Simulation, HighwayImageTruthSeesPolesAndRoadVertices )
+{
+  SimulationOptions options;
+  options.preset = SurveyPreset::Highway;
+  options.seed = 4;
+  options.outputDir = tempDir( "highway" );
+  options.stations = 3;
+  simulateSurvey( options );
+  const TruthTable truth = readTruth( options.outputDir / "truth.gpkg" );
+  int poles = 0, roadVertices = 0;
+  for ( const auto &[key, pixel] : truth.imageTruth )
+  {
+    poles += key.first.rfind( "pole_", 0 ) == 0 ? 1 : 0;
+    roadVertices += key.first.find( ':' ) != std::string::npos ? 1 : 0;
+    EXPECT_TRUE( pixel.x() >= 0 && pixel.y() >= 0 && pixel.x() < 640 && pixel.y() < 480 );
+  }
+  EXPECT_GT( poles, 3 );
+  EXPECT_GT( roadVertices, 200 );
+  std::filesystem::remove_all( options.outputDir );
+}
+
+TEST( Simulation, BadInputGetsOneClearMessageAndNoOutput )
+{
+  const auto expectMessage = []( SimulationOptions options, const std::string &fragment )
+  {
+    options.outputDir = tempDir( "bad" );
+    try
+    {
+      simulateSurvey( options );
+      ADD_FAILURE() << "no error for " << fragment;
+    }
+    catch ( const std::invalid_argument &e )
+    {
+      EXPECT_NE( std::string( e.what() ).find( fragment ), std::string::npos ) << e.what();
+    }
+    EXPECT_FALSE( std::filesystem::exists( options.outputDir / "block.geostation.json" ) );
+    std::filesystem::remove_all( options.outputDir );
+  };
+  SimulationOptions options;
+  options.stations = 2;
+  options.imageWidth = 64;
+  options.imageHeight = 48;
+  SimulationOptions bad = options;
+  bad.cameras = 9;
+  expectMessage( bad, "2 to 6 cameras" );
+  bad = options;
+  bad.degradation.jpegQuality = 101;
+  expectMessage( bad, "JPEG quality" );
+  bad = options;
+  bad.demPath = "/nonexistent/dem.tif";
+  expectMessage( bad, "dem.tif" );
+
+  // a DEM far from the roads
+  const std::string dem = syntheticterrain::tempPath( "sim-dem" );
+  syntheticterrain::writeTerrain( dem, 200 );
+  const std::filesystem::path roads = tempDir( "roads" ).string() + ".gpkg";
+  const auto writeRoads = [&]( const char *crs, double x0, double y0 )
+  {
+    std::filesystem::remove( roads );
+    GDALDatasetH ds = GDALCreate( GDALGetDriverByName( "GPKG" ), roads.string().c_str(), 0, 0, 0, GDT_Unknown, nullptr );
+    OGRSpatialReferenceH srs = nullptr;
+    if ( crs )
+    {
+      srs = OSRNewSpatialReference( nullptr );
+      OSRSetFromUserInput( srs, crs );
+      OSRSetAxisMappingStrategy( srs, OAMS_TRADITIONAL_GIS_ORDER );
+    }
+    OGRLayerH layer = GDALDatasetCreateLayer( ds, "roads", srs, wkbLineString, nullptr );
+    OGRFeatureH f = OGR_F_Create( OGR_L_GetLayerDefn( layer ) );
+    OGRGeometryH g = OGR_G_CreateGeometry( wkbLineString );
+    const double step = crs && std::string( crs ) == "EPSG:4326" ? 1e-5 : 1.0;
+    for ( int k = 0; k <= 300; k += 10 )
+      OGR_G_AddPoint_2D( g, x0 + k * step, y0 - 0.3 * k * step );
+    OGR_F_SetGeometryDirectly( f, g );
+    OGR_L_CreateFeature( layer, f );
+    OGR_F_Destroy( f );
+    GDALClose( ds );
+    if ( srs )
+      OSRDestroySpatialReference( srs );
+  };
+  writeRoads( "EPSG:32633", 900000.0, 5000000.0 );
+  bad = options;
+  bad.demPath = dem;
+  bad.roadsPath = roads.string();
+  expectMessage( bad, "does not overlap the DEM" );
+  writeRoads( nullptr, 400050.0, 4999900.0 );
+  expectMessage( bad, "has no CRS" );
+
+  // roads in another CRS are reprojected, and the run works on the DEM
+  double lon = 0, lat = 0;
+  {
+    OGRSpatialReferenceH utm = OSRNewSpatialReference( nullptr ), wgs = OSRNewSpatialReference( nullptr );
+    OSRSetFromUserInput( utm, "EPSG:32633" );
+    OSRSetFromUserInput( wgs, "EPSG:4326" );
+    OSRSetAxisMappingStrategy( utm, OAMS_TRADITIONAL_GIS_ORDER );
+    OSRSetAxisMappingStrategy( wgs, OAMS_TRADITIONAL_GIS_ORDER );
+    OGRCoordinateTransformationH ct = OCTNewCoordinateTransformation( utm, wgs );
+    double x = 400060.0, y = 4999850.0;
+    OCTTransform( ct, 1, &x, &y, nullptr );
+    lon = x;
+    lat = y;
+    OCTDestroyCoordinateTransformation( ct );
+    OSRDestroySpatialReference( utm );
+    OSRDestroySpatialReference( wgs );
+  }
+  writeRoads( "EPSG:4326", lon, lat );
+  SimulationOptions good = options;
+  good.demPath = dem;
+  good.roadsPath = roads.string();
+  good.outputDir = tempDir( "reprojected" );
+  const SimulationSummary summary = simulateSurvey( good );
+  bool noted = false;
+  for ( const std::string &note : summary.notes )
+    noted = noted || note.find( "roads reprojected" ) != std::string::npos;
+  EXPECT_TRUE( noted );
+  EXPECT_NE( summary.crs.find( "UTM zone 33N" ), std::string::npos );
+  std::filesystem::remove_all( good.outputDir );
+  std::filesystem::remove( roads );
+  std::filesystem::remove( dem );
+}
+
+TEST( Simulation, CameraLookingAtTheSkyIsRefused )
+{
+  SceneRequest request;
+  request.extentMin = Eigen::Vector2d( -100, -100 );
+  request.extentMax = Eigen::Vector2d( 100, 100 );
+  const BuiltScene built = buildScene( request );
+  Block block;
+  block.crs = built.crs;
+  Camera camera;
+  camera.id = "c";
+  camera.width = 64;
+  camera.height = 48;
+  camera.f = 60;
+  camera.cx = 32;
+  camera.cy = 24;
+  block.cameras.push_back( camera );
+  BlockImage image;
+  image.id = "up";
+  image.cameraId = "c";
+  ExteriorOrientation eo;
+  eo.projectionCentre = Eigen::Vector3d( built.siteCentre.x(), built.siteCentre.y(), 260.0 );
+  eo.omegaDeg = 180.0; // looks straight up
+  image.exterior = eo;
+  block.images.push_back( image );
+  try
+  {
+    requireGroundInView( *built.scene, block, block.images.front() );
+    ADD_FAILURE() << "a camera looking up was accepted";
+  }
+  catch ( const std::invalid_argument &e )
+  {
+    EXPECT_NE( std::string( e.what() ).find( "looks at the sky only" ), std::string::npos );
+  }
+  block.images.front().exterior->omegaDeg = 0.0; // nadir
+  EXPECT_NO_THROW( requireGroundInView( *built.scene, block, block.images.front() ) );
+}
+
+TEST( Degradation, EachFaultDoesWhatItSays )
+{
+  const cv::Mat grey( 200, 300, CV_32FC3, cv::Scalar( 0.4f, 0.4f, 0.4f ) );
+  DegradationOptions none;
+  cv::Mat clean = degradeAndQuantise( grey, none, 1 );
+  EXPECT_EQ( clean.at<cv::Vec3b>( 10, 10 )[0], 102 );
+  DegradationOptions noisy;
+  noisy.noiseSigma = 5.0;
+  cv::Mat n = degradeAndQuantise( grey, noisy, 1 );
+  cv::Scalar mean, stddev;
+  cv::meanStdDev( n, mean, stddev );
+  EXPECT_NEAR( stddev[0], 5.0, 0.3 );
+  DegradationOptions bright;
+  bright.exposure = 3.0;
+  EXPECT_EQ( degradeAndQuantise( grey, bright, 1 ).at<cv::Vec3b>( 5, 5 )[0], 255 ); // clipped
+  DegradationOptions bits;
+  bits.bitErrorRate = 0.01;
+  cv::Mat b = degradeAndQuantise( grey, bits, 1 );
+  int flipped = 0;
+  for ( int r = 0; r < b.rows; ++r )
+    for ( int c = 0; c < b.cols; ++c )
+      flipped += ( b.at<cv::Vec3b>( r, c )[0] == 0 || b.at<cv::Vec3b>( r, c )[0] == 255 ) ? 1 : 0;
+  EXPECT_NEAR( flipped / 60000.0, 0.01, 0.002 );
+  DegradationOptions vignette;
+  vignette.vignetting = 0.4;
+  cv::Mat v = degradeAndQuantise( grey, vignette, 1 );
+  EXPECT_EQ( v.at<cv::Vec3b>( 100, 150 )[0], 102 );
+  EXPECT_NEAR( v.at<cv::Vec3b>( 0, 0 )[0], 102 * 0.6, 2 );
+  DegradationOptions jpeg;
+  jpeg.jpegQuality = 50;
+  jpeg.noiseSigma = 8.0;
+  noisy.noiseSigma = 8.0;
+  EXPECT_GT( cv::norm( degradeAndQuantise( grey, jpeg, 1 ), degradeAndQuantise( grey, noisy, 1 ), cv::NORM_L1 ), 0.0 );
+  DegradationOptions bad;
+  bad.vignetting = 2.0;
+  EXPECT_THROW( bad.validate(), std::invalid_argument );
+}
