@@ -13,6 +13,7 @@
 #include <ogr_srs_api.h>
 
 #include "dem/dem.h"
+#include "dem/monoplotter.h"
 #include "geometry/projection.h"
 #include "io/block.h"
 #include "simulation/degradation.h"
@@ -584,4 +585,61 @@ TEST( Degradation, EachFaultDoesWhatItSays )
   DegradationOptions bad;
   bad.vignetting = 2.0;
   EXPECT_THROW( bad.validate(), std::invalid_argument );
+}
+
+TEST( SimulatedObliquePhoto, MonoplottedTruthPointsLandOnTheTruth )
+{
+  // The oblique_photo preset with an exact orientation: every visible truth
+  // point's true pixel, monoplotted against terrain.tif, comes back within
+  // 1 mm; and the monoplotter agrees that these points are visible.
+  SimulationOptions options;
+  options.preset = SurveyPreset::ObliquePhoto;
+  options.seed = 8;
+  options.outputDir = tempDir( "oblique" );
+  options.imageWidth = 640;
+  options.imageHeight = 480;
+  options.poseNoiseScale = 0.0;
+  simulateSurvey( options );
+  const Block block = Block::load( options.outputDir / "block.geostation.json" );
+  const BlockImage &image = block.images.front();
+  const OrientedImage oriented( block.cameraOf( image ), *image.exterior );
+  const Dem dem( ( options.outputDir / "terrain.tif" ).string() );
+  const CrsTransform same( block.crs, block.crs );
+  const Monoplotter monoplotter( oriented, dem, same );
+  const TruthTable truth = readTruth( options.outputDir / "truth.gpkg" );
+  // road vertices: their 3-D positions from the roads layer
+  std::map<std::string, Eigen::Vector3d> vertices;
+  {
+    GDALDatasetH ds = GDALOpenEx( ( options.outputDir / "truth.gpkg" ).string().c_str(), GDAL_OF_VECTOR, nullptr, nullptr, nullptr );
+    OGRLayerH roads = GDALDatasetGetLayerByName( ds, "roads" );
+    while ( OGRFeatureH f = OGR_L_GetNextFeature( roads ) )
+    {
+      OGRGeometryH g = OGR_F_GetGeometryRef( f );
+      for ( int v = 0; v < OGR_G_GetPointCount( g ); ++v )
+        vertices[std::string( OGR_F_GetFieldAsString( f, 0 ) ) + ":" + std::to_string( v )] = Eigen::Vector3d( OGR_G_GetX( g, v ), OGR_G_GetY( g, v ), OGR_G_GetZ( g, v ) );
+      OGR_F_Destroy( f );
+    }
+    GDALClose( ds );
+  }
+  int checked = 0;
+  double worst = 0.0;
+  for ( const auto &[key, pixel] : truth.imageTruth )
+  {
+    Eigen::Vector3d point;
+    if ( truth.control.count( key.first ) )
+      point = truth.control.at( key.first );
+    else if ( vertices.count( key.first ) )
+      point = vertices.at( key.first );
+    else
+      continue; // objects stand above the ground
+    const MonoplotPoint ground = monoplotter.imageToGround( pixel, false );
+    ASSERT_TRUE( ground.ok() ) << key.first << ": " << ground.message;
+    worst = std::max( worst, ( ground.world - point ).norm() );
+    EXPECT_LT( ( ground.world - point ).norm(), 0.001 ) << key.first;
+    EXPECT_TRUE( monoplotter.groundToImage( point ).visible ) << key.first;
+    ++checked;
+  }
+  EXPECT_GT( checked, 300 );
+  std::cout << "oblique photo: " << checked << " truth points monoplotted, worst " << worst * 1000 << " mm\n";
+  std::filesystem::remove_all( options.outputDir );
 }
