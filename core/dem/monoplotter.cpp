@@ -95,7 +95,7 @@ namespace geostation
           const double d = side == 0 ? steps[k] : -steps[k];
           double *values[6] = { &eo.projectionCentre.x(), &eo.projectionCentre.y(), &eo.projectionCentre.z(), &eo.omegaDeg, &eo.phiDeg, &eo.kappaDeg };
           *values[k] += d;
-          ends[side] = hit( OrientedImage( mImage.camera(), eo ), pixelInImage, 0.0 );
+          ends[side] = hit( mImage.withExterior( eo ), pixelInImage, 0.0 );
         }
         complete &= add( ends[0], ends[1], steps[k], sigmas[k] );
       }

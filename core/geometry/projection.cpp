@@ -3,6 +3,7 @@
  ***************************************************************************/
 #include "geometry/projection.h"
 
+#include <cmath>
 #include <stdexcept>
 
 #include <Eigen/Geometry>
@@ -26,15 +27,45 @@ namespace geostation
     result.depthM = -pointInCamera.z();
     if ( projection.ok() )
     {
-      result.pixelInImage = projection.pixelInImage;
-      result.inFrame = mCamera.isInFrame( projection.pixelInImage );
+      result.pixelInImage = mScanAffine ? scanFromNominal( projection.pixelInImage ) : projection.pixelInImage;
+      result.inFrame = mCamera.isInFrame( result.pixelInImage );
     }
     return result;
   }
 
+  void OrientedImage::setScanAffine( const Eigen::Matrix<double, 2, 3> &nominalFromScan )
+  {
+    const Eigen::Matrix2d linear = nominalFromScan.leftCols<2>();
+    if ( !( std::abs( linear.determinant() ) > 1e-12 ) )
+      throw std::invalid_argument( "the scan affine is singular" );
+    mScanAffine = true;
+    mNominalFromScan = nominalFromScan;
+    const Eigen::Matrix2d inverse = linear.inverse();
+    mScanFromNominal.leftCols<2>() = inverse;
+    mScanFromNominal.col( 2 ) = -inverse * nominalFromScan.col( 2 );
+  }
+
+  Eigen::Vector2d OrientedImage::nominalFromScan( const Eigen::Vector2d &pixelInScan ) const
+  {
+    return mScanAffine ? Eigen::Vector2d( mNominalFromScan.leftCols<2>() * pixelInScan + mNominalFromScan.col( 2 ) ) : pixelInScan;
+  }
+
+  Eigen::Vector2d OrientedImage::scanFromNominal( const Eigen::Vector2d &nominalPixel ) const
+  {
+    return mScanAffine ? Eigen::Vector2d( mScanFromNominal.leftCols<2>() * nominalPixel + mScanFromNominal.col( 2 ) ) : nominalPixel;
+  }
+
+  OrientedImage OrientedImage::withExterior( const ExteriorOrientation &exterior ) const
+  {
+    OrientedImage other( mCamera, exterior );
+    if ( mScanAffine )
+      other.setScanAffine( mNominalFromScan );
+    return other;
+  }
+
   std::optional<Ray> OrientedImage::worldRayFromPixel( const Eigen::Vector2d &pixelInImage ) const
   {
-    const std::optional<Eigen::Vector3d> rayInCamera = mCamera.rayInCameraFromPixel( pixelInImage );
+    const std::optional<Eigen::Vector3d> rayInCamera = mCamera.rayInCameraFromPixel( nominalFromScan( pixelInImage ) );
     if ( !rayInCamera )
       return std::nullopt;
     return Ray { mExterior.projectionCentre, ( mCameraFromWorld.transpose() * *rayInCamera ).normalized() };

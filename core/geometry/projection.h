@@ -58,11 +58,28 @@ namespace geostation
       //! The viewing ray of a pixel; see worldRayFromPixel().
       std::optional<Ray> worldRayFromPixel( const Eigen::Vector2d &pixelInImage ) const;
 
+      /**
+       * Scanned film: the affine from the scan's pixels to the camera's
+       * nominal pixels (where the camera model applies). Both directions of
+       * projection then work in scan pixels. See Block::orientedImage().
+       * Throws std::invalid_argument for a singular affine.
+       */
+      void setScanAffine( const Eigen::Matrix<double, 2, 3> &nominalFromScan );
+      bool hasScanAffine() const { return mScanAffine; }
+      Eigen::Vector2d nominalFromScan( const Eigen::Vector2d &pixelInScan ) const;
+      Eigen::Vector2d scanFromNominal( const Eigen::Vector2d &nominalPixel ) const;
+
+      //! The same image (camera, scan affine) with another exterior orientation.
+      OrientedImage withExterior( const ExteriorOrientation &exterior ) const;
+
     private:
       Camera mCamera;
       ExteriorOrientation mExterior;
       Eigen::Matrix3d mCameraFromWorld;
       double mLensFieldRadius;
+      bool mScanAffine = false;
+      Eigen::Matrix<double, 2, 3> mNominalFromScan = Eigen::Matrix<double, 2, 3>::Identity();
+      Eigen::Matrix<double, 2, 3> mScanFromNominal = Eigen::Matrix<double, 2, 3>::Identity();
   };
 
   /**

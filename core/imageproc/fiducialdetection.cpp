@@ -76,7 +76,8 @@ namespace geostation
       const double noise = 1.4826 * deviations[deviations.size() / 2];
       double peak = 0.0;
       cv::minMaxLoc( excess, nullptr, &peak );
-      const double threshold = std::max( 3.0 * noise, 0.25 * peak );
+      // above the noise, but never above half the peak: a textured background must not hide the mark itself
+      const double threshold = std::min( std::max( 3.0 * noise, 0.25 * peak ), 0.5 * peak );
       cv::Mat mask = excess > threshold;
       if ( cv::countNonZero( mask ) == 0 )
         return std::nullopt;
@@ -175,7 +176,8 @@ namespace geostation
       }
       if ( !located )
       {
-        d.reason = "the mark has no contrast against its background";
+        d.reason = "the mark near (" + std::to_string( static_cast<int>( approx.x() ) ) + ", " + std::to_string( static_cast<int>( approx.y() ) ) +
+                   ") has no contrast against its background";
         continue;
       }
       d.pixelInImage = centre;

@@ -440,6 +440,26 @@ namespace geostation
     }
   }
 
+  Eigen::Matrix<double, 2, 3> nominalFromScanAffine( const Camera &camera, const ImageInnerOrientation &innerOrientation )
+  {
+    if ( !camera.pixelSizeMm || !( *camera.pixelSizeMm > 0.0 ) )
+      throw std::invalid_argument( "camera " + camera.id + " needs pixel_size_mm to use an image's inner orientation" );
+    const double ps = *camera.pixelSizeMm;
+    Eigen::Matrix<double, 2, 3> nominalFromPhoto;
+    nominalFromPhoto << 1.0 / ps, 0.0, camera.cx, 0.0, -camera.aspect / ps, camera.cy;
+    Eigen::Matrix3d photoFromPixel = Eigen::Matrix3d::Identity();
+    photoFromPixel.topRows<2>() = innerOrientation.photoFromPixel;
+    return nominalFromPhoto * photoFromPixel;
+  }
+
+  OrientedImage Block::orientedImage( const BlockImage &image ) const
+  {
+    OrientedImage oriented( cameraOf( image ), requireExterior( image ) );
+    if ( image.innerOrientation )
+      oriented.setScanAffine( nominalFromScanAffine( cameraOf( image ), *image.innerOrientation ) );
+    return oriented;
+  }
+
   const Camera *Block::findCamera( const std::string &cameraId ) const
   {
     for ( const Camera &c : cameras )

@@ -17,6 +17,7 @@
 
 #include "camera/camera.h"
 #include "geometry/exteriororientation.h"
+#include "geometry/projection.h"
 
 namespace geostation
 {
@@ -106,7 +107,24 @@ namespace geostation
 
       //! The exterior orientation, or std::invalid_argument if not oriented yet.
       const ExteriorOrientation &requireExterior( const BlockImage &image ) const;
+
+      /**
+       * The oriented image, with its scan affine when it has an inner
+       * orientation (scanned film; see nominalFromScanAffine()). Throws like
+       * requireExterior(), and std::invalid_argument when an image with an
+       * inner orientation has a camera without pixel_size_mm.
+       */
+      OrientedImage orientedImage( const BlockImage &image ) const;
   };
+
+  /**
+   * Scanned film: the affine from scan pixels to the camera's nominal pixels.
+   * The inner orientation gives photo mm = M (col, row, 1); the camera's
+   * nominal pixel of photo point (x, y) is (cx + x / ps, cy - y * aspect / ps)
+   * with ps its pixel_size_mm: the calibrated fiducials are in the photo
+   * system whose origin is the principal point.
+   */
+  Eigen::Matrix<double, 2, 3> nominalFromScanAffine( const Camera &camera, const ImageInnerOrientation &innerOrientation );
 
   /**
    * Checks that an image's file exists, can be decoded by GDAL and has the

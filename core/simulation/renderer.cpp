@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <atomic>
+#include <cmath>
 #include <memory>
 #include <thread>
 
@@ -14,13 +15,15 @@ namespace geostation
   CameraRays::CameraRays( const Camera &camera )
   {
     mStep = static_cast<long>( camera.width ) * camera.height > 4'000'000 ? 2 : 1;
-    mNodesX = ( camera.width + mStep - 1 ) / mStep + 1;
-    mNodesY = ( camera.height + mStep - 1 ) / mStep + 1;
+    // a margin, for scanned film whose scan pixels map a little outside the nominal frame
+    mMargin = mStep * static_cast<int>( std::ceil( ( 8 + 0.03 * std::max( camera.width, camera.height ) ) / mStep ) );
+    mNodesX = ( camera.width + 2 * mMargin + mStep - 1 ) / mStep + 1;
+    mNodesY = ( camera.height + 2 * mMargin + mStep - 1 ) / mStep + 1;
     mRays.resize( static_cast<size_t>( mNodesX ) * mNodesY );
     mValid.assign( mRays.size(), 0 );
     for ( int j = 0; j < mNodesY; ++j )
       for ( int i = 0; i < mNodesX; ++i )
-        if ( const std::optional<Eigen::Vector3d> ray = camera.rayInCameraFromPixel( Eigen::Vector2d( i * mStep, j * mStep ) ) )
+        if ( const std::optional<Eigen::Vector3d> ray = camera.rayInCameraFromPixel( Eigen::Vector2d( i * mStep - mMargin, j * mStep - mMargin ) ) )
         {
           // scaled to z = -1, so that interpolating them interpolates the ideal image plane
           mRays[static_cast<size_t>( j ) * mNodesX + i] = ( *ray / -ray->z() ).cast<float>();
@@ -30,7 +33,7 @@ namespace geostation
 
   bool CameraRays::rayAt( double col, double row, Eigen::Vector3d &rayInCamera ) const
   {
-    const double gx = std::clamp( col / mStep, 0.0, mNodesX - 1.0 ), gy = std::clamp( row / mStep, 0.0, mNodesY - 1.0 );
+    const double gx = std::clamp( ( col + mMargin ) / mStep, 0.0, mNodesX - 1.0 ), gy = std::clamp( ( row + mMargin ) / mStep, 0.0, mNodesY - 1.0 );
     const int i = std::min( static_cast<int>( gx ), mNodesX - 2 ), j = std::min( static_cast<int>( gy ), mNodesY - 2 );
     const size_t k = static_cast<size_t>( j ) * mNodesX + i;
     if ( !mValid[k] || !mValid[k + 1] || !mValid[k + mNodesX] || !mValid[k + mNodesX + 1] )
@@ -88,7 +91,8 @@ namespace geostation
       for ( int col = 0; col < width; ++col )
       {
         Eigen::Vector3d ray;
-        if ( !rays->rayAt( col + 0.5, row + 0.5, ray ) )
+        const Eigen::Vector2d nominal = image.nominalFromScan( Eigen::Vector2d( col + 0.5, row + 0.5 ) );
+        if ( !rays->rayAt( nominal.x(), nominal.y(), ray ) )
           continue;
         const Eigen::Vector3d direction = worldFromCamera * ray;
         const SurfaceSample sample = scene.trace( origin, direction.normalized(), pixelAngle );
@@ -131,7 +135,8 @@ namespace geostation
             for ( int si = 0; si < n; ++si )
             {
               Eigen::Vector3d ray;
-              if ( !rays->rayAt( col + ( si + 0.5 ) / n, row + ( sj + 0.5 ) / n, ray ) )
+              const Eigen::Vector2d nominal = image.nominalFromScan( Eigen::Vector2d( col + ( si + 0.5 ) / n, row + ( sj + 0.5 ) / n ) );
+              if ( !rays->rayAt( nominal.x(), nominal.y(), ray ) )
                 continue;
               const SurfaceSample sample = scene.trace( origin, ( worldFromCamera * ray ).normalized(), pixelAngle / n );
               sum += sample.rgb;

@@ -46,6 +46,7 @@ namespace geostation
 
     private:
       int mStep = 1;
+      int mMargin = 0; //!< lattice nodes reach this many pixels beyond the frame
       int mNodesX = 0, mNodesY = 0;
       std::vector<Eigen::Vector3f> mRays;
       std::vector<char> mValid;
@@ -68,7 +69,7 @@ namespace geostation
 
   /**
    * Renders `image` of `scene` as linear RGB (CV_32FC3, 0..1 for a white
-   * surface in full sun). `rays` must belong to the image's camera (may be
+   * surface in full sun); a scan affine (scanned film) is honoured. `rays` must belong to the image's camera (may be
    * null: computed here).
    */
   cv::Mat renderImage( const Scene &scene, const OrientedImage &image, const CameraRays *rays, const RenderOptions &options,

@@ -11,6 +11,7 @@
 #include <Eigen/Geometry>
 
 #include "geometry/rotation.h"
+#include "simulation/filmscan.h"
 #include "simulation/surveysimulator.h"
 
 namespace geostation
@@ -263,15 +264,26 @@ namespace geostation
       case SurveyPreset::ObliquePhoto:
       {
         Camera camera;
-        camera.id = "oblique";
+        camera.id = options.scannedFilm ? "film" : "oblique";
         camera.width = settings.width;
         camera.height = settings.height;
         camera.f = 1.1 * w;
         camera.cx = 0.5 * w - 2.1;
         camera.cy = 0.5 * h + 1.6;
-        camera.pixelSizeMm = 0.0065 * 1024.0 / w;
         camera.distortion.model = DistortionModel::BrownPhoto;
-        camera.distortion.coeffs = { -1.0e-3, 2.0e-6, 3.0e-5, -2.0e-5, 0.0 };
+        if ( options.scannedFilm )
+        {
+          // a 100 x 75 mm film frame scanned at 0.1 mm (for the default 1024 x 768)
+          camera.pixelSizeMm = 0.1 * 1024.0 / w;
+          const double s = *camera.pixelSizeMm / 0.0065; // the digital lens scaled to the film format
+          camera.distortion.coeffs = { -1.0e-3 / ( s * s ), 2.0e-6 / ( s * s * s * s ), 3.0e-5 / s, -2.0e-5 / s, 0.0 };
+          camera.fiducials = filmFiducials( camera );
+        }
+        else
+        {
+          camera.pixelSizeMm = 0.0065 * 1024.0 / w;
+          camera.distortion.coeffs = { -1.0e-3, 2.0e-6, 3.0e-5, -2.0e-5, 0.0 };
+        }
         Eigen::Matrix<double, 3, 4> identity = Eigen::Matrix<double, 3, 4>::Zero();
         identity.leftCols<3>().setIdentity();
         cameras.push_back( { camera, identity } );
@@ -320,7 +332,12 @@ namespace geostation
         const Eigen::Matrix3d R = exact[i].worldFromVehicle * cameras[k].second.leftCols<3>();
         image.exterior = exteriorFrom( exact[i].origin + exact[i].worldFromVehicle * cameras[k].second.col( 3 ), R );
       }
+    if ( options.scannedFilm && options.preset == SurveyPreset::ObliquePhoto )
+      for ( BlockImage &image : truth.images )
+        image.innerOrientation = ImageInnerOrientation { simulatedScan( truth.camera( image.cameraId ), random ), 0.0 };
     noisy = truth;
+    for ( BlockImage &image : noisy.images )
+      image.innerOrientation.reset(); // to be measured from the fiducial marks
     index = 0;
     for ( size_t i = 0; i < exact.size(); ++i )
     {

@@ -12,6 +12,7 @@
 #include <gdal.h>
 #include <nlohmann/json.hpp>
 
+#include "simulation/filmscan.h"
 #include "simulation/renderer.h"
 #include "simulation/surveyrig.h"
 #include "simulation/truthwriter.h"
@@ -54,7 +55,7 @@ namespace geostation
   void requireGroundInView( const Scene &scene, const Block &block, const BlockImage &image )
   {
     const Camera &camera = block.cameraOf( image );
-    const OrientedImage oriented( camera, *image.exterior );
+    const OrientedImage oriented = block.orientedImage( image );
     for ( int j = 0; j < 18; ++j )
       for ( int i = 0; i < 24; ++i )
         if ( const std::optional<Ray> ray = oriented.worldRayFromPixel( Eigen::Vector2d( ( i + 0.5 ) * camera.width / 24.0, ( j + 0.5 ) * camera.height / 18.0 ) ) )
@@ -79,6 +80,8 @@ namespace geostation
       throw std::invalid_argument( "the ground pixel size must be between 0.01 and 5 m" );
     if ( !( poseNoiseScale >= 0.0 && poseNoiseScale <= 100.0 ) )
       throw std::invalid_argument( "the pose noise scale must be between 0 and 100" );
+    if ( scannedFilm && preset != SurveyPreset::ObliquePhoto )
+      throw std::invalid_argument( "the scanned-film variant belongs to the oblique_photo preset" );
     if ( supersampling < 1 || supersampling > 16 )
       throw std::invalid_argument( "supersampling must be between 1 and 16" );
     degradation.validate();
@@ -136,8 +139,10 @@ namespace geostation
       {
         const BlockImage &image = truth.images[i];
         report( 0.02 + 0.83 * i / truth.images.size(), "rendering " + image.id );
-        const OrientedImage oriented( truth.cameraOf( image ), *image.exterior );
-        const cv::Mat linear = renderImage( scene, oriented, rays[image.cameraId].get(), renderOptions, &renderSummary );
+        const OrientedImage oriented = truth.orientedImage( image );
+        cv::Mat linear = renderImage( scene, oriented, rays[image.cameraId].get(), renderOptions, &renderSummary );
+        if ( image.innerOrientation )
+          drawFiducialMarks( linear, truth.cameraOf( image ), oriented );
         const cv::Mat rgb = degradeAndQuantise( linear, options.degradation, options.seed * 2654435761u + static_cast<uint32_t>( i ) );
         writeRgbGeoTiff( staging / image.path, rgb );
       }
@@ -170,7 +175,7 @@ namespace geostation
         { "stations", summary.stations }, { "images", summary.images },
         { "image_width", settings.width }, { "image_height", settings.height },
         { "dem", options.demPath }, { "roads", options.roadsPath }, { "ortho", options.orthoPath },
-        { "station_spacing_m", options.stationSpacingM }, { "ground_pixel_size_m", options.groundPixelSizeM },
+        { "station_spacing_m", options.stationSpacingM }, { "scanned_film", options.scannedFilm }, { "ground_pixel_size_m", options.groundPixelSizeM },
         { "pose_sigma", { { "X", settings.sigma.x }, { "Y", settings.sigma.y }, { "Z", settings.sigma.z }, { "omega", settings.sigma.omegaDeg },
             { "phi", settings.sigma.phiDeg }, { "kappa", settings.sigma.kappaDeg } } },
         { "degradation", degradationJson( options.degradation ) }, { "supersampling", options.supersampling },

@@ -55,6 +55,7 @@ namespace geostation
     int cameras = 3;        //!< highway: cameras on the van, 2..6
     double stationSpacingM = 5.0;   //!< highway: metres between stations
     double groundPixelSizeM = 0.10; //!< aerial_stereo: ground sample distance
+    bool scannedFilm = false;       //!< oblique_photo: a scanned film photo with fiducial marks (see filmscan.h)
     DegradationOptions degradation;
     double poseNoiseScale = 1.0;    //!< multiplies the preset's GNSS/INS sigmas (0: block = truth)
     int supersampling = 3;          //!< n x n samples in edge pixels (4n x 4n on target edges)

@@ -133,7 +133,7 @@ namespace geostation
     size_t done = 0;
     for ( const BlockImage &image : block.images )
     {
-      const OrientedImage oriented( block.cameraOf( image ), block.requireExterior( image ) );
+      const OrientedImage oriented = block.orientedImage( image );
       const Eigen::Vector3d &centre = oriented.exterior().projectionCentre;
       for ( const TruthPoint &point : points )
       {

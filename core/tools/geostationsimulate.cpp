@@ -27,6 +27,7 @@ namespace
     "  --cameras N           highway: cameras on the van, 2..6 (default 3)\n"
     "  --spacing M           highway: metres between stations (default 5)\n"
     "  --gsd M               aerial_stereo: ground pixel size (default 0.10)\n"
+    "  --scanned-film 1      oblique_photo: scanned film with fiducial marks\n"
     "  --noise SIGMA         Gaussian noise, grey levels (default 0)\n"
     "  --blur SIGMA          Gaussian blur, pixels\n"
     "  --vignetting F        fall-off at the corners, 0..1\n"
@@ -128,11 +129,15 @@ int main( int argc, char **argv )
     integer( "JPEG_QUALITY", options.degradation.jpegQuality );
     number( "POSE_NOISE_SCALE", options.poseNoiseScale );
     integer( "SUPERSAMPLING", options.supersampling );
+    int film = 0;
+    integer( "SCANNED_FILM", film );
+    options.scannedFilm = film != 0;
     integer( "THREADS", options.threads );
     for ( const auto &[name, value] : values )
     {
       static const char *known[] = { "PRESET", "OUTPUT_DIR", "DEM", "ROADS", "ORTHO", "SEED", "STATIONS", "IMAGE_WIDTH", "IMAGE_HEIGHT", "CAMERAS", "SPACING", "GSD",
-                                     "NOISE", "BLUR", "VIGNETTING", "EXPOSURE", "BIT_ERRORS", "JPEG_QUALITY", "POSE_NOISE_SCALE", "SUPERSAMPLING", "THREADS" };
+                                     "NOISE", "BLUR", "VIGNETTING", "EXPOSURE", "BIT_ERRORS", "JPEG_QUALITY", "POSE_NOISE_SCALE", "SUPERSAMPLING", "THREADS",
+                                     "SCANNED_FILM" };
       if ( std::find_if( std::begin( known ), std::end( known ), [&]( const char *k ) { return name == k; } ) == std::end( known ) )
         throw std::invalid_argument( "unknown option " + name );
       (void)value;

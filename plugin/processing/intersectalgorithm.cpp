@@ -89,7 +89,7 @@ QVariantMap IntersectAlgorithm::processAlgorithm( const QVariantMap &parameters,
     if ( !images.count( r.imageId ) )
     {
       const geostation::BlockImage &image = GeoStationProcessing::blockImage( block, r.imageId );
-      images[r.imageId] = std::make_unique<geostation::OrientedImage>( block.cameraOf( image ), GeoStationProcessing::requireOriented( block, image ) );
+      images[r.imageId] = std::make_unique<geostation::OrientedImage>( GeoStationProcessing::orientedImage( block, image ) );
     }
 
   // Group by point, in order of first appearance.

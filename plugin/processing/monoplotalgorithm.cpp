@@ -158,7 +158,7 @@ QVariantMap MonoplotAlgorithm::processAlgorithm( const QVariantMap &parameters, 
   const geostation::Block block = GeoStationProcessing::loadBlock( parameterAsFile( parameters, QStringLiteral( "BLOCK" ), context ) );
   const QString imageId = parameterAsString( parameters, QStringLiteral( "IMAGE" ), context ).trimmed();
   const geostation::BlockImage &blockImage = GeoStationProcessing::blockImage( block, imageId );
-  const geostation::OrientedImage image( block.cameraOf( blockImage ), GeoStationProcessing::requireOriented( block, blockImage ) );
+  const geostation::OrientedImage image = GeoStationProcessing::orientedImage( block, blockImage );
   const QgsCoordinateReferenceSystem crs = GeoStationProcessing::blockCrs( block );
 
   QgsRasterLayer *demLayer = parameterAsRasterLayer( parameters, QStringLiteral( "DEM" ), context );

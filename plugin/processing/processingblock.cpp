@@ -54,6 +54,18 @@ namespace GeoStationProcessing
     }
   }
 
+  geostation::OrientedImage orientedImage( const geostation::Block &block, const geostation::BlockImage &image )
+  {
+    try
+    {
+      return block.orientedImage( image );
+    }
+    catch ( const std::exception &e )
+    {
+      throw QgsProcessingException( QString::fromStdString( e.what() ) );
+    }
+  }
+
   void requireImageFile( const geostation::Block &block, const geostation::BlockImage &image )
   {
     try

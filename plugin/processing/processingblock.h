@@ -27,6 +27,12 @@ namespace GeoStationProcessing
   //! The image's exterior orientation; throws QgsProcessingException if not oriented.
   const geostation::ExteriorOrientation &requireOriented( const geostation::Block &block, const geostation::BlockImage &image );
 
+  /**
+   * The oriented image, with the scan affine of its inner orientation when it
+   * has one (scanned film); throws QgsProcessingException like requireOriented().
+   */
+  geostation::OrientedImage orientedImage( const geostation::Block &block, const geostation::BlockImage &image );
+
   //! Checks the image file exists, decodes and has its camera's size.
   void requireImageFile( const geostation::Block &block, const geostation::BlockImage &image );
 

@@ -118,9 +118,8 @@ QVariantMap ProjectToImageAlgorithm::processAlgorithm( const QVariantMap &parame
   const geostation::Block block = GeoStationProcessing::loadBlock( parameterAsFile( parameters, QStringLiteral( "BLOCK" ), context ) );
   const QString imageId = parameterAsString( parameters, QStringLiteral( "IMAGE" ), context ).trimmed();
   const geostation::BlockImage &image = GeoStationProcessing::blockImage( block, imageId );
-  const geostation::ExteriorOrientation &exterior = GeoStationProcessing::requireOriented( block, image );
+  const geostation::OrientedImage orientedImage = GeoStationProcessing::orientedImage( block, image );
   GeoStationProcessing::requireImageFile( block, image );
-  const geostation::OrientedImage orientedImage( block.cameraOf( image ), exterior );
   const QgsCoordinateReferenceSystem blockCrs = GeoStationProcessing::blockCrs( block );
 
   std::unique_ptr<geostation::Dem> dem;

@@ -105,6 +105,7 @@ void SimulateSurveyAlgorithm::initAlgorithm( const QVariantMap & )
   addAdvanced( this, new QgsProcessingParameterNumber( QStringLiteral( "CAMERAS" ), QObject::tr( "highway: cameras on the van" ), QgsProcessingParameterNumber::Integer, 3, true, 2, 6 ), advanced );
   addAdvanced( this, new QgsProcessingParameterNumber( QStringLiteral( "SPACING" ), QObject::tr( "highway: station spacing (m)" ), QgsProcessingParameterNumber::Double, 5.0, true, 1.0, 100.0 ), advanced );
   addAdvanced( this, new QgsProcessingParameterNumber( QStringLiteral( "GSD" ), QObject::tr( "aerial_stereo: ground pixel size (m)" ), QgsProcessingParameterNumber::Double, 0.10, true, 0.01, 5.0 ), advanced );
+  addAdvanced( this, new QgsProcessingParameterBoolean( QStringLiteral( "SCANNED_FILM" ), QObject::tr( "oblique_photo: scanned film with fiducial marks" ), false, true ), advanced );
   addAdvanced( this, new QgsProcessingParameterNumber( QStringLiteral( "BLUR" ), QObject::tr( "Blur (Gaussian sigma, px)" ), QgsProcessingParameterNumber::Double, 0.0, true, 0.0, 50.0 ), advanced );
   addAdvanced( this, new QgsProcessingParameterNumber( QStringLiteral( "VIGNETTING" ), QObject::tr( "Vignetting (fall-off at the corners, 0-1)" ), QgsProcessingParameterNumber::Double, 0.0, true, 0.0, 1.0 ), advanced );
   addAdvanced( this, new QgsProcessingParameterNumber( QStringLiteral( "EXPOSURE" ), QObject::tr( "Exposure gain (<1 under, >1 over)" ), QgsProcessingParameterNumber::Double, 1.0, true, 0.01, 20.0 ), advanced );
@@ -160,6 +161,7 @@ QVariantMap SimulateSurveyAlgorithm::processAlgorithm( const QVariantMap &parame
   options.degradation.jpegQuality = static_cast<int>( number( "JPEG_QUALITY", 0 ) );
   options.poseNoiseScale = number( "POSE_NOISE_SCALE", 1.0 );
   options.supersampling = static_cast<int>( number( "SUPERSAMPLING", 3 ) );
+  options.scannedFilm = parameterAsBool( parameters, QStringLiteral( "SCANNED_FILM" ), context );
   QString lastMessage;
   options.progress = [feedback, &lastMessage]( double fraction, const std::string &message )
   {

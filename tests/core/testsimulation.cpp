@@ -14,6 +14,9 @@
 
 #include "dem/dem.h"
 #include "dem/monoplotter.h"
+#include "adjustment/innerorientation.h"
+#include "imageproc/fiducialdetection.h"
+#include "simulation/filmscan.h"
 #include "geometry/projection.h"
 #include "io/block.h"
 #include "simulation/degradation.h"
@@ -641,5 +644,74 @@ TEST( SimulatedObliquePhoto, MonoplottedTruthPointsLandOnTheTruth )
   }
   EXPECT_GT( checked, 300 );
   std::cout << "oblique photo: " << checked << " truth points monoplotted, worst " << worst * 1000 << " mm\n";
+  std::filesystem::remove_all( options.outputDir );
+}
+
+TEST( SimulatedObliquePhoto, ScannedFilmInnerOrientationFromTheRenderedMarks )
+{
+  // The scanned-film variant: the fiducial marks found automatically in the
+  // rendered scan give back the true scan affine, and with it the truth
+  // points project to their true pixels.
+  SimulationOptions options;
+  options.preset = SurveyPreset::ObliquePhoto;
+  options.scannedFilm = true;
+  options.seed = 21;
+  options.outputDir = tempDir( "film" );
+  options.degradation.noiseSigma = 1.5;
+  simulateSurvey( options );
+  const Block truth = Block::load( options.outputDir / "truth.geostation.json" );
+  Block noisy = Block::load( options.outputDir / "block.geostation.json" );
+  const BlockImage &truthImage = truth.images.front();
+  ASSERT_TRUE( truthImage.innerOrientation.has_value() );
+  EXPECT_FALSE( noisy.images.front().innerOrientation.has_value() );
+  const Camera &camera = truth.cameraOf( truthImage );
+  ASSERT_EQ( camera.fiducials.size(), 8u );
+
+  FiducialDetectionOptions detection;
+  detection.scanPixelMm = *camera.pixelSizeMm;
+  detection.markDiameterPx = kFiducialDiameterPx;
+  const std::array<DetectedFiducial, 4> found = detectCornerFiducials( ( options.outputDir / truthImage.path ).string(), detection );
+  const std::array<std::string, 4> ids = cornerFiducialIds( camera.fiducials );
+  std::vector<FiducialMeasurement> measured;
+  for ( int k = 0; k < 4; ++k )
+  {
+    ASSERT_TRUE( found[k].found ) << "corner " << k << ": " << found[k].reason << " at " << found[k].pixelInImage.transpose() << " score " << found[k].score;
+    measured.push_back( { ids[k], found[k].pixelInImage } );
+    const Eigen::Vector2d photo = std::find_if( camera.fiducials.begin(), camera.fiducials.end(), [&]( const Fiducial &f ) { return f.id == ids[k]; } )->photoMm;
+    const Eigen::Vector2d expected = truth.orientedImage( truthImage ).scanFromNominal(
+                                       Eigen::Vector2d( camera.cx + photo.x() / *camera.pixelSizeMm, camera.cy - photo.y() * camera.aspect / *camera.pixelSizeMm ) );
+    EXPECT_LT( ( found[k].pixelInImage - expected ).norm(), 0.1 ) << ids[k] << " found at " << found[k].pixelInImage.transpose() << ", truth " << expected.transpose();
+  }
+  const InnerOrientationSummary io = innerOrientation( camera.fiducials, measured );
+  ASSERT_TRUE( io.ok() ) << io.message;
+  // the estimated affine against the true one, over the whole frame (mm)
+  double worstMm = 0.0;
+  for ( const Eigen::Vector2d corner : { Eigen::Vector2d( 0, 0 ), Eigen::Vector2d( camera.width, 0 ), Eigen::Vector2d( 0, camera.height ),
+                                         Eigen::Vector2d( camera.width, camera.height ) } )
+  {
+    const Eigen::Vector3d h( corner.x(), corner.y(), 1.0 );
+    worstMm = std::max( worstMm, ( io.photoFromPixel * h - truthImage.innerOrientation->photoFromPixel * h ).norm() );
+  }
+  EXPECT_LT( worstMm, 0.01 ) << "estimated vs true scan affine at the frame corners";
+
+  // with the measured inner orientation, the truth points land on their true scan pixels
+  BlockImage &image = noisy.images.front();
+  image.innerOrientation = ImageInnerOrientation { io.photoFromPixel, io.sigma0Mm };
+  image.exterior = truthImage.exterior; // exact exterior, to see the inner orientation alone
+  const OrientedImage oriented = noisy.orientedImage( image );
+  const TruthTable table = readTruth( options.outputDir / "truth.gpkg" );
+  int checked = 0;
+  double worstPx = 0.0;
+  for ( const auto &[key, pixel] : table.imageTruth )
+    if ( table.control.count( key.first ) )
+    {
+      const GroundProjection p = oriented.projectGroundToPixel( table.control.at( key.first ) );
+      ASSERT_TRUE( p.ok() );
+      worstPx = std::max( worstPx, ( p.pixelInImage - pixel ).norm() );
+      ++checked;
+    }
+  EXPECT_GT( checked, 10 );
+  EXPECT_LT( worstPx, 0.1 );
+  std::cout << "scanned film: affine within " << worstMm * 1000 << " um at the corners; " << checked << " control points within " << worstPx << " px\n";
   std::filesystem::remove_all( options.outputDir );
 }
