@@ -40,6 +40,7 @@ namespace
       request.extentMax = settings.extentMax;
       request.nodeSpacingM = settings.nodeSpacingM;
       request.targetRadiusM = settings.targetRadiusM;
+      request.textureFloorM = settings.textureFloorM;
       entry = std::make_unique<PresetScene>();
       entry->built = buildScene( request );
       buildRig( options, settings, entry->built, entry->truth, entry->noisy );

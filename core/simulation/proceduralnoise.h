@@ -50,7 +50,7 @@ namespace geostation::noise
   /**
    * Fractal noise of `octaves` octaves from `wavelengthM` down by halves,
    * amplitude `gain`^i, roughly in [-1, 1]. Octaves whose wavelength is below
-   * two footprints are left out, fading in up to four footprints.
+   * two footprints (the Nyquist limit) are left out, fading in up to three.
    */
   inline double fbm( double x, double y, double wavelengthM, int octaves, double footprintM, uint32_t seed, double gain = 0.55 )
   {
@@ -58,7 +58,7 @@ namespace geostation::noise
     for ( int i = 0; i < octaves; ++i )
     {
       const double ratio = wavelength / footprintM;
-      const double weight = ratio >= 4.0 ? 1.0 : ( ratio <= 2.0 ? 0.0 : ( ratio - 2.0 ) / 2.0 );
+      const double weight = ratio >= 3.0 ? 1.0 : ( ratio <= 2.0 ? 0.0 : ratio - 2.0 );
       if ( weight > 0.0 )
         sum += weight * amplitude * value( x / wavelength, y / wavelength, seed + 7919u * static_cast<uint32_t>( i ) );
       norm += amplitude;

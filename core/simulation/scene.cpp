@@ -137,7 +137,9 @@ namespace geostation
         return sum;
       }
     }
-    const double fine = noise::fbm( x, y, 0.5, 6, footprintM, mSeed + 11, 0.72 );
+    // detail from 2 m down to millimetres with slowly falling amplitude, so every
+    // scale an image resolves has texture to match on
+    const double fine = noise::fbm( x, y, 2.0, 9, footprintM, mSeed + 11, 1.0 );
     if ( const std::optional<RoadLocation> location = mRoads.locate( x, y ) )
     {
       const Road &road = mRoads.roads()[location->road];
@@ -145,7 +147,7 @@ namespace geostation
       if ( ad <= road.halfWidthM() )
       {
         const double coarse = noise::fbm( x, y, 6.0, 3, footprintM, mSeed + 12 );
-        const float grey = static_cast<float>( 0.27 + 0.07 * fine + 0.025 * coarse );
+        const float grey = static_cast<float>( 0.27 + 0.1 * fine + 0.03 * coarse );
         key = Asphalt;
         Eigen::Vector3f colour( grey, grey, grey * 1.02f );
         if ( location->road == 0 || !mRoads.onHigherPriorityRoad( location->road, x, y ) )
@@ -175,14 +177,14 @@ namespace geostation
       }
       const double grit = noise::fbm( x, y, 0.12, 4, footprintM, mSeed + 14 );
       key = Gravel;
-      const float grey = static_cast<float>( 0.46 + 0.12 * grit + 0.04 * fine );
+      const float grey = static_cast<float>( 0.46 + 0.16 * grit + 0.05 * fine );
       return Eigen::Vector3f( grey * 1.04f, grey, grey * 0.9f );
     }
     // fields: grass and bare soil in patches
     const double patch = noise::fbm( x, y, 30.0, 3, footprintM, mSeed + 15 );
     const double blade = noise::fbm( x, y, 0.3, 5, footprintM, mSeed + 16 );
-    const Eigen::Vector3f grass = Eigen::Vector3f( 0.22f, 0.38f, 0.14f ) * static_cast<float>( 1.0 + 0.3 * blade + 0.15 * fine );
-    const Eigen::Vector3f soil = Eigen::Vector3f( 0.42f, 0.33f, 0.22f ) * static_cast<float>( 1.0 + 0.25 * fine );
+    const Eigen::Vector3f grass = Eigen::Vector3f( 0.22f, 0.38f, 0.14f ) * static_cast<float>( std::max( 0.1, 1.0 + 0.25 * blade + 0.75 * fine ) );
+    const Eigen::Vector3f soil = Eigen::Vector3f( 0.42f, 0.33f, 0.22f ) * static_cast<float>( std::max( 0.1, 1.0 + 0.7 * fine ) );
     const double w = std::clamp( ( patch - 0.2 ) / 0.15, 0.0, 1.0 );
     key = Grass; // grass and soil blend smoothly: no edge to anti-alias
     return mix( grass, soil, w );
@@ -295,7 +297,7 @@ namespace geostation
     if ( ground )
     {
       const double cosIncidence = std::max( 0.15, std::abs( ground->normal.dot( direction ) ) );
-      const double footprintM = ground->t * pixelAngleRad / cosIncidence;
+      const double footprintM = mTextureFloorM > 0.0 ? mTextureFloorM : ground->t * pixelAngleRad / cosIncidence;
       uint32_t material = 0;
       const GroundMark *mark = nullptr;
       const Eigen::Vector3f albedo = groundAlbedo( ground->point, footprintM, material, &mark );

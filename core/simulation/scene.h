@@ -71,6 +71,16 @@ namespace geostation
       void setOrtho( std::shared_ptr<const OrthoTexture> ortho ) { mOrtho = std::move( ortho ); }
 
       /**
+       * A fixed band limit for the ground textures, metres: every ray sees
+       * the ground as if its footprint were this, so all images of a survey
+       * see the same ground signal (aerial surveys, whose footprints hardly
+       * differ: set it a little above the ground pixel size). 0 (default)
+       * band-limits to each ray's own footprint, for scenes from a metre to
+       * the horizon.
+       */
+      void setTextureFloorM( double floorM ) { mTextureFloorM = floorM; }
+
+      /**
        * The colour seen along a unit ray. `pixelAngleRad` is the angle one
        * sample covers, for band-limiting the textures.
        */
@@ -103,6 +113,7 @@ namespace geostation
       double mAmbient;
       uint32_t mSeed;
       std::shared_ptr<const OrthoTexture> mOrtho;
+      double mTextureFloorM = 0.0;
   };
 
 } // namespace geostation

@@ -644,6 +644,7 @@ namespace geostation
     }
 
     built.scene = std::make_unique<Scene>( std::move( terrain ), std::move( network ), std::move( objects ), std::move( marks ), SceneLighting(), seed );
+    built.scene->setTextureFloorM( request.textureFloorM );
     if ( !request.orthoPath.empty() )
     {
       built.scene->setOrtho( loadOrtho( request.orthoPath, built.crs, lo, hi ) );

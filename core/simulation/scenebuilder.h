@@ -45,6 +45,7 @@ namespace geostation
     Eigen::Vector2d extentMin = Eigen::Vector2d( -200, -200 ), extentMax = Eigen::Vector2d( 200, 200 );
     double nodeSpacingM = 0.5;
     double targetRadiusM = 0.25; //!< white disc radius of the control targets
+    double textureFloorM = 0.0;  //!< see Scene::setTextureFloorM()
   };
 
   struct BuiltScene

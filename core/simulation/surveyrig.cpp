@@ -130,6 +130,7 @@ namespace geostation
         s.extentMax = Eigen::Vector2d( halfX, halfY );
         s.nodeSpacingM = std::max( 0.5, 4.0 * gsd );
         s.targetRadiusM = std::max( 0.25, 4.0 * gsd );
+        s.textureFloorM = 1.5 * gsd;
         s.sigma = { 0.05, 0.05, 0.08, 0.005, 0.005, 0.008 };
         break;
       }

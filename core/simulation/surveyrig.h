@@ -33,6 +33,7 @@ namespace geostation
     Eigen::Vector2d extentMin, extentMax; //!< scene extent around the site centre
     double nodeSpacingM = 0.5;
     double targetRadiusM = 0.25;
+    double textureFloorM = 0.0; //!< aerial: just above the ground pixel size (see Scene::setTextureFloorM())
     ExteriorSigma sigma; //!< GNSS/INS quality of the noisy block
   };
 

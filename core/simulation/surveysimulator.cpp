@@ -109,6 +109,7 @@ namespace geostation
     request.extentMax = settings.extentMax;
     request.nodeSpacingM = settings.nodeSpacingM;
     request.targetRadiusM = settings.targetRadiusM;
+    request.textureFloorM = settings.textureFloorM;
     const BuiltScene built = buildScene( request );
     const Scene &scene = *built.scene;
     summary.crs = built.crs;

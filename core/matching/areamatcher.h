@@ -1,0 +1,68 @@
+/***************************************************************************
+  areamatcher.h - finding the conjugate point (thesis §5.1-5.3)
+  -------------------------------------------------------------------------
+  Correlation along the epipolar band: candidate windows centred on the
+  pixels of the epipolar curve (the segment for the depth range) and on
+  its parallels up to bandHalfWidthPx away (the thesis searches the line
+  and its two neighbours, as the orientation is not perfect). Optionally
+  the thesis' jump rule: below 0.2 / 0.4 / 0.6 the search skips 4 / 3 / 2
+  pixels. Or a 2-D search around an approximate position, for unoriented
+  pairs. The best score is refined to sub-pixel by parabolas (eqs. 5.5-5.6)
+  and then, optionally, by least-squares matching.
+  Expected failures (window outside, flat texture, score below the
+  threshold, LSM rejected) give a result with matched = false and a reason.
+ ***************************************************************************/
+#ifndef GEOSTATION_MATCHING_AREAMATCHER_H
+#define GEOSTATION_MATCHING_AREAMATCHER_H
+
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "matching/leastsquaresmatching.h"
+#include "matching/similarity.h"
+
+namespace geostation
+{
+
+  struct AreaMatchOptions
+  {
+    SimilarityMeasure measure = SimilarityMeasure::NCC;
+    int windowWidth = 15;       //!< odd; 15 x 15 in general, 15 x 3 (w x h) for road lines
+    int windowHeight = 15;
+    double minScore = 0.7;      //!< below it: no match
+    int bandHalfWidthPx = 1;    //!< parallels searched on each side of the epipolar curve
+    bool jumpRule = false;      //!< the thesis' 4 / 3 / 2 pixel jumps below 0.2 / 0.4 / 0.6
+    bool lsm = true;            //!< refine by least-squares matching
+    LsmOptions lsmOptions;
+  };
+
+  struct AreaMatch
+  {
+    bool matched = false;
+    std::string reason;                                    //!< why not, when not matched
+    Eigen::Vector2d pixelInImage = Eigen::Vector2d::Zero(); //!< the conjugate point (best guess even when not matched)
+    double score = 0.0;                                    //!< best correlation
+    double secondScore = 0.0;                              //!< best correlation of a separate peak (ambiguity)
+    Eigen::Vector2d correlationPixel = Eigen::Vector2d::Zero(); //!< after the parabola, before LSM
+    double sigmaPx = 0.0;                                  //!< LSM's larger shift sigma (0 without LSM)
+    int candidates = 0;                                    //!< windows correlated
+    LsmResult lsm;
+  };
+
+  /**
+   * Searches `search` along `curve` (pixels of the epipolar curve, e.g.
+   * densified by epipolarCurve(), in order of depth) for the point of
+   * `reference` at `pixelInReference`.
+   */
+  AreaMatch matchAlongEpipolarBand( const MatchImage &reference, const Eigen::Vector2d &pixelInReference, const MatchImage &search,
+                                    const std::vector<Eigen::Vector2d> &curve, const AreaMatchOptions &options );
+
+  //! Searches every pixel within `radiusPx` of `approximate` (2-D search, no orientation needed).
+  AreaMatch matchAroundPosition( const MatchImage &reference, const Eigen::Vector2d &pixelInReference, const MatchImage &search,
+                                 const Eigen::Vector2d &approximate, double radiusPx, const AreaMatchOptions &options );
+
+} // namespace geostation
+
+#endif // GEOSTATION_MATCHING_AREAMATCHER_H

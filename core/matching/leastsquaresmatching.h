@@ -1,0 +1,56 @@
+/***************************************************************************
+  leastsquaresmatching.h - Gruen's least-squares matching (thesis §5.1.2)
+  -------------------------------------------------------------------------
+  The target window around a reference pixel is related to the search image
+  by an affine transformation and a linear radiometric one (eq. 5.9):
+      g_t(x, y) = h0 + h1 g_s(a0 + a1 x + a2 y, b0 + b1 x + b2 y),
+  (x, y) the offsets from the reference pixel. Gauss-Newton on the
+  linearised observation equations (eq. 5.10), resampling the search image
+  bicubically with the kernel's own derivatives as gradients. (The thesis
+  resamples bilinearly with central-difference gradients, eqs. 5.12-5.15;
+  their mismatch stalls the iteration short of hundredths of a pixel.)
+  until the shift changes by less than a threshold. (a0, b0) is the match.
+  Divergent, degenerate or runaway solutions are rejected with a reason.
+ ***************************************************************************/
+#ifndef GEOSTATION_MATCHING_LEASTSQUARESMATCHING_H
+#define GEOSTATION_MATCHING_LEASTSQUARESMATCHING_H
+
+#include <string>
+
+#include <Eigen/Core>
+
+#include "matching/matchimage.h"
+
+namespace geostation
+{
+
+  struct LsmOptions
+  {
+    int windowWidth = 9;          //!< odd; the thesis' best size for general objects is 9 x 9
+    int windowHeight = 9;
+    int maxIterations = 30;
+    double convergencePx = 1e-3;  //!< stop when the shift changes by less than this
+    double maxShiftPx = -1.0;     //!< reject a match this far from the start (default: half the window)
+    bool shape = true;            //!< estimate the affine shape (false: shifts and radiometry only)
+  };
+
+  struct LsmResult
+  {
+    bool converged = false;
+    std::string reason;                                //!< why not, when not converged
+    Eigen::Vector2d pixelInImage = Eigen::Vector2d::Zero(); //!< (a0, b0) in the search image
+    Eigen::Vector2d sigmaPx = Eigen::Vector2d::Zero();       //!< standard deviations of a0, b0
+    double sigma0 = 0.0;                               //!< grey levels
+    int iterations = 0;
+    Eigen::Matrix2d affine = Eigen::Matrix2d::Identity(); //!< [a1 a2; b1 b2]
+    double h0 = 0.0, h1 = 1.0;
+
+    double sigmaPxMax() const { return sigmaPx.maxCoeff(); }
+  };
+
+  LsmResult leastSquaresMatch( const MatchImage &reference, const Eigen::Vector2d &pixelInReference, const MatchImage &search,
+                               const Eigen::Vector2d &approximateInSearch, const LsmOptions &options = LsmOptions() );
+
+} // namespace geostation
+
+#endif // GEOSTATION_MATCHING_LEASTSQUARESMATCHING_H

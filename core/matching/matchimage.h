@@ -1,0 +1,77 @@
+/***************************************************************************
+  matchimage.h - an image prepared for area-based matching
+  -------------------------------------------------------------------------
+  Matching works on one grey channel: RGB is reduced to luminance, 16-bit
+  is scaled linearly from its own range to 0..255 (kept in floating point
+  for least-squares matching, rounded for correlation). The central-
+  difference gradients of thesis eqs. 5.12-5.13 are computed once.
+
+  Pixel convention (CONVENTIONS §1): the value of pixel (i, j) belongs to
+  its centre (i + 0.5, j + 0.5); sampleAt() interpolates bilinearly between
+  centres (thesis eq. 5.15).
+ ***************************************************************************/
+#ifndef GEOSTATION_MATCHING_MATCHIMAGE_H
+#define GEOSTATION_MATCHING_MATCHIMAGE_H
+
+#include <Eigen/Core>
+#include <opencv2/core.hpp>
+
+namespace geostation
+{
+
+  class MatchImage
+  {
+    public:
+      MatchImage() = default;
+      /**
+       * From an 8- or 16-bit image with 1, 3 (RGB) or 4 (RGBA) channels.
+       * Throws std::invalid_argument for anything else.
+       */
+      explicit MatchImage( const cv::Mat &image );
+
+      int width() const { return mGrey.cols; }
+      int height() const { return mGrey.rows; }
+      bool empty() const { return mGrey.empty(); }
+
+      const cv::Mat &grey() const { return mGrey; }     //!< CV_8U, for correlation
+      const cv::Mat &value() const { return mValue; }   //!< CV_32F, 0..255
+      const cv::Mat &gradX() const { return mGradX; }   //!< CV_32F, (g(x+1) - g(x-1)) / 2
+      const cv::Mat &gradY() const { return mGradY; }
+
+      //! Whether bilinear samples at (col, row) and its neighbours stay inside the centres.
+      bool canSample( double col, double row ) const
+      {
+        return col >= 0.5 && row >= 0.5 && col <= mGrey.cols - 0.5 && row <= mGrey.rows - 0.5;
+      }
+
+      //! Bilinear value at a continuous pixel position (caller checks canSample()).
+      float sampleAt( const cv::Mat &plane, double col, double row ) const
+      {
+        const double x = col - 0.5, y = row - 0.5;
+        int i = static_cast<int>( x ), j = static_cast<int>( y );
+        i = i >= plane.cols - 1 ? plane.cols - 2 : i;
+        j = j >= plane.rows - 1 ? plane.rows - 2 : j;
+        const float u = static_cast<float>( x - i ), v = static_cast<float>( y - j );
+        const float *r0 = plane.ptr<float>( j ), *r1 = plane.ptr<float>( j + 1 );
+        return ( 1 - u ) * ( 1 - v ) * r0[i] + u * ( 1 - v ) * r0[i + 1] + ( 1 - u ) * v * r1[i] + u * v * r1[i + 1];
+      }
+
+      //! Whether bicubic samples at (col, row) stay inside the image (one more pixel than bilinear).
+      bool canSampleCubic( double col, double row ) const
+      {
+        return col >= 1.5 && row >= 1.5 && col <= mGrey.cols - 2.5 && row <= mGrey.rows - 2.5;
+      }
+
+      /**
+       * Bicubic (Keys, a = -0.5) value and its derivatives along col and row
+       * at a continuous pixel position (caller checks canSampleCubic()).
+       */
+      float sampleCubic( double col, double row, float *dCol = nullptr, float *dRow = nullptr ) const;
+
+    private:
+      cv::Mat mGrey, mValue, mGradX, mGradY;
+  };
+
+} // namespace geostation
+
+#endif // GEOSTATION_MATCHING_MATCHIMAGE_H

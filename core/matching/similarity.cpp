@@ -1,0 +1,160 @@
+/***************************************************************************
+  similarity.cpp - cc, ncc, wcc, wncc and the parabola peak
+ ***************************************************************************/
+#include "matching/similarity.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+
+namespace geostation
+{
+
+  std::string similarityMeasureName( SimilarityMeasure measure )
+  {
+    switch ( measure )
+    {
+      case SimilarityMeasure::CC:
+        return "cc";
+      case SimilarityMeasure::NCC:
+        return "ncc";
+      case SimilarityMeasure::WCC:
+        return "wcc";
+      case SimilarityMeasure::WNCC:
+        return "wncc";
+    }
+    return "ncc";
+  }
+
+  std::optional<SimilarityMeasure> similarityMeasureFromName( const std::string &name )
+  {
+    for ( SimilarityMeasure m : { SimilarityMeasure::CC, SimilarityMeasure::NCC, SimilarityMeasure::WCC, SimilarityMeasure::WNCC } )
+      if ( similarityMeasureName( m ) == name )
+        return m;
+    return std::nullopt;
+  }
+
+  double centreWeight( int dx, int dy, int width, int height )
+  {
+    const double hx = std::max( 1, width / 2 ), hy = std::max( 1, height / 2 );
+    const double r = std::min( 1.0, std::max( width > 1 ? std::abs( dx ) / hx : 0.0, height > 1 ? std::abs( dy ) / hy : 0.0 ) );
+    return 2.0 + 3.0 * ( 1.0 - r ) * ( 1.0 - r );
+  }
+
+  CorrelationTemplate::CorrelationTemplate( const MatchImage &image, int centreCol, int centreRow, int width, int height, SimilarityMeasure measure )
+    : mWidth( width ), mHeight( height ), mMeasure( measure )
+  {
+    if ( width < 1 || height < 1 || width % 2 == 0 || height % 2 == 0 || width * height > 101 * 101 )
+    {
+      mReason = "the window must have odd sizes, at most 101 x 101 pixels";
+      return;
+    }
+    const int c0 = centreCol - width / 2, r0 = centreRow - height / 2;
+    if ( c0 < 0 || r0 < 0 || c0 + width > image.width() || r0 + height > image.height() )
+    {
+      mReason = "the window leaves the reference image";
+      return;
+    }
+    const bool weighted = measure == SimilarityMeasure::WCC || measure == SimilarityMeasure::WNCC;
+    mValues.reserve( static_cast<size_t>( width ) * height );
+    double plainSum = 0, plainSq = 0;
+    for ( int r = 0; r < height; ++r )
+    {
+      const uint8_t *row = image.grey().ptr<uint8_t>( r0 + r ) + c0;
+      for ( int c = 0; c < width; ++c )
+      {
+        const int v = row[c];
+        mValues.push_back( v );
+        const double w = weighted ? centreWeight( c - width / 2, r - height / 2, width, height ) : 1.0;
+        if ( weighted )
+          mWeights.push_back( w );
+        mWeightSum += w;
+        mSum += w * v;
+        mSumSq += w * v * v;
+        plainSum += v;
+        plainSq += static_cast<double>( v ) * v;
+      }
+    }
+    const double n = static_cast<double>( width ) * height;
+    mContrast = std::sqrt( std::max( 0.0, plainSq / n - ( plainSum / n ) * ( plainSum / n ) ) );
+    const bool normalised = measure == SimilarityMeasure::NCC || measure == SimilarityMeasure::WNCC;
+    if ( ( normalised && mContrast < 0.5 ) || ( !normalised && mSumSq <= 0.0 ) )
+      mReason = "the window is flat (no texture to correlate)";
+  }
+
+  std::optional<double> CorrelationTemplate::score( const MatchImage &search, int centreCol, int centreRow ) const
+  {
+    const int c0 = centreCol - mWidth / 2, r0 = centreRow - mHeight / 2;
+    if ( !valid() || c0 < 0 || r0 < 0 || c0 + mWidth > search.width() || r0 + mHeight > search.height() )
+      return std::nullopt;
+    const double n = static_cast<double>( mWidth ) * mHeight;
+    if ( mMeasure == SimilarityMeasure::CC || mMeasure == SimilarityMeasure::NCC )
+    {
+      // integer sums: exact, and the compiler vectorises these loops
+      int64_t st = 0, s = 0, ss = 0;
+      const int *t = mValues.data();
+      for ( int r = 0; r < mHeight; ++r, t += mWidth )
+      {
+        const uint8_t *row = search.grey().ptr<uint8_t>( r0 + r ) + c0;
+        int32_t rowSt = 0, rowS = 0, rowSs = 0;
+        for ( int c = 0; c < mWidth; ++c )
+        {
+          const int32_t v = row[c];
+          rowSt += t[c] * v;
+          rowS += v;
+          rowSs += v * v;
+        }
+        st += rowSt;
+        s += rowS;
+        ss += rowSs;
+      }
+      if ( mMeasure == SimilarityMeasure::CC )
+      {
+        const double denominator = std::sqrt( mSumSq * static_cast<double>( ss ) );
+        return denominator > 0.0 ? std::optional<double>( st / denominator ) : std::nullopt;
+      }
+      const double covariance = st - mSum * s / n;
+      const double searchVariance = ss - static_cast<double>( s ) * s / n;
+      const double templateVariance = mSumSq - mSum * mSum / n;
+      if ( searchVariance < 0.25 * n )
+        return std::nullopt; // flat search window
+      return covariance / std::sqrt( templateVariance * searchVariance );
+    }
+    // weighted measures
+    double st = 0, s = 0, ss = 0;
+    const int *t = mValues.data();
+    const double *w = mWeights.data();
+    for ( int r = 0; r < mHeight; ++r, t += mWidth, w += mWidth )
+    {
+      const uint8_t *row = search.grey().ptr<uint8_t>( r0 + r ) + c0;
+      for ( int c = 0; c < mWidth; ++c )
+      {
+        const double v = row[c];
+        st += w[c] * t[c] * v;
+        s += w[c] * v;
+        ss += w[c] * v * v;
+      }
+    }
+    if ( mMeasure == SimilarityMeasure::WCC )
+    {
+      const double denominator = std::sqrt( mSumSq * ss );
+      return denominator > 0.0 ? std::optional<double>( st / denominator ) : std::nullopt;
+    }
+    const double covariance = st - mSum * s / mWeightSum;
+    const double searchVariance = ss - s * s / mWeightSum;
+    const double templateVariance = mSumSq - mSum * mSum / mWeightSum;
+    if ( searchVariance < 0.25 * mWeightSum )
+      return std::nullopt;
+    return covariance / std::sqrt( templateVariance * searchVariance );
+  }
+
+  double parabolaPeakOffset( double before, double at, double after )
+  {
+    // f = a0 + a1 x + a2 x^2 through (-1, before), (0, at), (1, after); x = -a1 / (2 a2)
+    const double a1 = 0.5 * ( after - before ), a2 = 0.5 * ( after + before ) - at;
+    if ( !( a2 < 0.0 ) )
+      return 0.0;
+    return std::clamp( -a1 / ( 2.0 * a2 ), -0.5, 0.5 );
+  }
+
+} // namespace geostation

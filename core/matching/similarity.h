@@ -1,0 +1,83 @@
+/***************************************************************************
+  similarity.h - correlation measures of area-based matching (thesis §5.1.1)
+  -------------------------------------------------------------------------
+  cc    cross-correlation coefficient            (eq. 5.1)
+  ncc   normalised cross-correlation             (eq. 5.2)
+  wcc   weighted cross-correlation               (eq. 5.3)
+  wncc  weighted normalised cross-correlation    (eq. 5.4)
+  Windows are w x h pixels (odd sizes: square 15 x 15, or rectangular such as
+  3 x 15 for road lines), centred on a pixel. The weights of wcc and wncc
+  fall from 5 at the centre to 2 at the border, as in the thesis' 5 x 5
+  example (Figure 5.2): w = 2 + 3 (1 - r)^2, r the normalised ring.
+  cc and ncc run on integer sums (exact, vectorised); the sub-pixel peak is
+  the parabola through the best score and its neighbours (eqs. 5.5-5.6).
+ ***************************************************************************/
+#ifndef GEOSTATION_MATCHING_SIMILARITY_H
+#define GEOSTATION_MATCHING_SIMILARITY_H
+
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "matching/matchimage.h"
+
+namespace geostation
+{
+
+  enum class SimilarityMeasure
+  {
+    CC,
+    NCC,
+    WCC,
+    WNCC,
+  };
+
+  std::string similarityMeasureName( SimilarityMeasure measure );
+  //! Parses "cc", "ncc", "wcc" or "wncc"; nothing otherwise.
+  std::optional<SimilarityMeasure> similarityMeasureFromName( const std::string &name );
+
+  //! The weight of a window pixel at offset (dx, dy) from the centre of a w x h window.
+  double centreWeight( int dx, int dy, int width, int height );
+
+  /**
+   * The target window of the reference image, ready to be compared with
+   * windows of other images. Invalid (with a reason) when the window leaves
+   * the image, the sizes are not odd, or it has no texture.
+   */
+  class CorrelationTemplate
+  {
+    public:
+      CorrelationTemplate( const MatchImage &image, int centreCol, int centreRow, int width, int height, SimilarityMeasure measure );
+
+      bool valid() const { return mReason.empty(); }
+      const std::string &reason() const { return mReason; }
+      int width() const { return mWidth; }
+      int height() const { return mHeight; }
+      SimilarityMeasure measure() const { return mMeasure; }
+      //! Standard deviation of the template's grey values.
+      double contrast() const { return mContrast; }
+
+      /**
+       * The score against the window of `search` centred on pixel
+       * (centreCol, centreRow); nothing when that window leaves the image or
+       * has no texture. Scores lie in [-1, 1] (cc, wcc: [0, 1] for grey values).
+       */
+      std::optional<double> score( const MatchImage &search, int centreCol, int centreRow ) const;
+
+    private:
+      int mWidth, mHeight;
+      SimilarityMeasure mMeasure;
+      std::string mReason;
+      std::vector<int> mValues;     //!< template grey values, row by row
+      std::vector<double> mWeights; //!< weighted measures
+      double mSum = 0, mSumSq = 0;  //!< of the values (weighted for wcc/wncc)
+      double mWeightSum = 0;
+      double mContrast = 0;
+  };
+
+  //! The sub-pixel offset of a peak from three scores at -1, 0, +1 (eq. 5.6); 0 when not a peak.
+  double parabolaPeakOffset( double before, double at, double after );
+
+} // namespace geostation
+
+#endif // GEOSTATION_MATCHING_SIMILARITY_H
