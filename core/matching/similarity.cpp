@@ -75,6 +75,11 @@ namespace geostation
         plainSq += static_cast<double>( v ) * v;
       }
     }
+    mPaddedWidth = ( width + 15 ) / 16 * 16;
+    mPadded.assign( static_cast<size_t>( mPaddedWidth ) * height, 0 );
+    for ( int r = 0; r < height; ++r )
+      for ( int c = 0; c < width; ++c )
+        mPadded[static_cast<size_t>( r ) * mPaddedWidth + c] = static_cast<int16_t>( mValues[static_cast<size_t>( r ) * width + c] );
     const double n = static_cast<double>( width ) * height;
     mContrast = std::sqrt( std::max( 0.0, plainSq / n - ( plainSum / n ) * ( plainSum / n ) ) );
     const bool normalised = measure == SimilarityMeasure::NCC || measure == SimilarityMeasure::WNCC;
@@ -90,23 +95,47 @@ namespace geostation
     const double n = static_cast<double>( mWidth ) * mHeight;
     if ( mMeasure == SimilarityMeasure::CC || mMeasure == SimilarityMeasure::NCC )
     {
-      // integer sums: exact, and the compiler vectorises these loops
+      // integer sums: exact; rows padded to 16 so the compiler vectorises them
       int64_t st = 0, s = 0, ss = 0;
-      const int *t = mValues.data();
-      for ( int r = 0; r < mHeight; ++r, t += mWidth )
+      if ( c0 + mPaddedWidth <= search.grey().cols )
       {
-        const uint8_t *row = search.grey().ptr<uint8_t>( r0 + r ) + c0;
-        int32_t rowSt = 0, rowS = 0, rowSs = 0;
-        for ( int c = 0; c < mWidth; ++c )
+        // the padding columns are summed too (the template is 0 there) and taken off afterwards
+        const int16_t *t = mPadded.data();
+        for ( int r = 0; r < mHeight; ++r, t += mPaddedWidth )
         {
-          const int32_t v = row[c];
-          rowSt += t[c] * v;
-          rowS += v;
-          rowSs += v * v;
+          const uint8_t *row = search.grey().ptr<uint8_t>( r0 + r ) + c0;
+          int32_t rowSt = 0, rowS = 0, rowSs = 0;
+          for ( int c = 0; c < mPaddedWidth; ++c )
+          {
+            const int16_t v = row[c];
+            rowSt += static_cast<int32_t>( t[c] ) * static_cast<int32_t>( v );
+            rowS += v;
+            rowSs += static_cast<int32_t>( v ) * static_cast<int32_t>( v );
+          }
+          for ( int c = mWidth; c < mPaddedWidth; ++c )
+          {
+            rowS -= row[c];
+            rowSs -= static_cast<int32_t>( row[c] ) * row[c];
+          }
+          st += rowSt;
+          s += rowS;
+          ss += rowSs;
         }
-        st += rowSt;
-        s += rowS;
-        ss += rowSs;
+      }
+      else
+      {
+        const int *t = mValues.data();
+        for ( int r = 0; r < mHeight; ++r, t += mWidth )
+        {
+          const uint8_t *row = search.grey().ptr<uint8_t>( r0 + r ) + c0;
+          for ( int c = 0; c < mWidth; ++c )
+          {
+            const int32_t v = row[c];
+            st += t[c] * v;
+            s += v;
+            ss += v * v;
+          }
+        }
       }
       if ( mMeasure == SimilarityMeasure::CC )
       {

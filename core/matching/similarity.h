@@ -15,6 +15,7 @@
 #ifndef GEOSTATION_MATCHING_SIMILARITY_H
 #define GEOSTATION_MATCHING_SIMILARITY_H
 
+#include <cstdint>
 #include <optional>
 #include <string>
 #include <vector>
@@ -69,6 +70,8 @@ namespace geostation
       SimilarityMeasure mMeasure;
       std::string mReason;
       std::vector<int> mValues;     //!< template grey values, row by row
+      int mPaddedWidth = 0;         //!< row length rounded up to 16, for the vectorised kernel
+      std::vector<int16_t> mPadded; //!< values padded with zeros to mPaddedWidth per row
       std::vector<double> mWeights; //!< weighted measures
       double mSum = 0, mSumSq = 0;  //!< of the values (weighted for wcc/wncc)
       double mWeightSum = 0;
