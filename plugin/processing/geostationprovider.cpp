@@ -10,6 +10,7 @@
 #include <qgsprocessingregistry.h>
 
 #include "bundleadjustalgorithm.h"
+#include "enhanceimagealgorithm.h"
 #include "innerorientationalgorithm.h"
 #include "intersectalgorithm.h"
 #include "monoplotalgorithm.h"
@@ -65,6 +66,7 @@ void GeoStationProvider::loadAlgorithms()
   addAlgorithm( new InnerOrientationAlgorithm() );
   addAlgorithm( new MonoplotAlgorithm() );
   addAlgorithm( new SimulateSurveyAlgorithm() );
+  addAlgorithm( new EnhanceImageAlgorithm() );
 }
 
 bool registerGeoStationProvider()
