@@ -119,11 +119,14 @@ namespace geostation
             for ( int dc = -1; dc <= 1; ++dc )
             {
               const int r = row + dr, c = col + dc;
-              if ( r >= 0 && c >= 0 && r < height && c < width && keys[static_cast<size_t>( r ) * width + c] != key )
-              {
-                edge = true;
-                mark = mark || Scene::isGroundMarkKey( keys[static_cast<size_t>( r ) * width + c] );
-              }
+              if ( r < 0 || c < 0 || r >= height || c >= width || keys[static_cast<size_t>( r ) * width + c] == key )
+                continue;
+              const bool otherMark = Scene::isGroundMarkKey( keys[static_cast<size_t>( r ) * width + c] );
+              // diagonal neighbours count only around control targets, which must be covered completely
+              if ( dr != 0 && dc != 0 && !otherMark && !Scene::isGroundMarkKey( key ) )
+                continue;
+              edge = true;
+              mark = mark || otherMark;
             }
           if ( !edge )
             continue;

@@ -7,10 +7,11 @@
   projectGroundToPixel() to where the renderer drew it.
 
   Anti-aliasing is adaptive: one ray through each pixel centre, then every
-  pixel whose 3 x 3 neighbourhood shows different surfaces (materials,
+  pixel whose 4-neighbourhood (3 x 3 next to control targets) shows
+  different surfaces (materials,
   objects, shadow edges, the horizon) is re-rendered as the mean of
   n x n stratified samples over its area (4n x 4n on the edges of control
-  targets and manhole lids, which are measured to hundredths of a pixel).
+  targets, which are measured to hundredths of a pixel).
  ***************************************************************************/
 #ifndef GEOSTATION_SIMULATION_RENDERER_H
 #define GEOSTATION_SIMULATION_RENDERER_H

@@ -77,7 +77,7 @@ namespace geostation
   bool Scene::isGroundMarkKey( uint32_t key )
   {
     const uint32_t material = key >> 27;
-    return material == TargetWhite || material == TargetBlack || material == Manhole;
+    return material == TargetWhite || material == TargetBlack;
   }
 
   bool Scene::inShadow( const Eigen::Vector2d &xy ) const

@@ -65,7 +65,7 @@ namespace geostation
       const std::vector<GroundMark> &marks() const { return mMarks; }
       const Eigen::Vector3d &towardsSun() const { return mTowardsSun; }
 
-      //! Whether a sample key is a ground mark (control target or manhole lid): worth finer anti-aliasing.
+      //! Whether a sample key is a control target: worth finer anti-aliasing (they are measured by centroid).
       static bool isGroundMarkKey( uint32_t key );
 
       void setOrtho( std::shared_ptr<const OrthoTexture> ortho ) { mOrtho = std::move( ortho ); }

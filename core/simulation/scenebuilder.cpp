@@ -616,7 +616,7 @@ namespace geostation
     {
       std::uniform_real_distribution<double> ux( lo.x() + 5, hi.x() - 5 ), uy( lo.y() + 5, hi.y() - 5 );
       const double area = ( hi.x() - lo.x() ) * ( hi.y() - lo.y() );
-      const int fieldTargets = std::clamp( static_cast<int>( area / ( 5000.0 * targetRadius * targetRadius ) ), 8, 150 );
+      const int fieldTargets = std::clamp( static_cast<int>( area / ( 5000.0 * targetRadius * targetRadius ) ), 8, 60 );
       for ( int k = 0, tries = 0; k < fieldTargets && tries < 20 * fieldTargets; ++tries )
       {
         const Eigen::Vector2d p( ux( random ), uy( random ) );
@@ -632,7 +632,7 @@ namespace geostation
         marks.push_back( m );
         ++k;
       }
-      const int fieldTrees = std::clamp( static_cast<int>( area / 1500.0 ), 10, 3000 );
+      const int fieldTrees = std::clamp( static_cast<int>( area / ( request.preset == SurveyPreset::ObliquePhoto ? 4000.0 : 1500.0 ) ), 10, 3000 );
       for ( int k = 0, tries = 0; k < fieldTrees && tries < 10 * fieldTrees; ++tries )
       {
         const Eigen::Vector2d p( ux( random ), uy( random ) );
