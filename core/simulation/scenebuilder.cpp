@@ -493,6 +493,8 @@ namespace geostation
     } );
     if ( filled > 0 )
       built.notes.push_back( std::to_string( filled ) + " terrain nodes outside the DEM's data took its mean height" );
+    if ( dem && dem->filledCellCount() > 0 )
+      built.notes.push_back( std::to_string( dem->filledCellCount() ) + " DEM cells without data were filled from their neighbours" );
 
     // Objects, ground marks and control targets along the roads.
     std::mt19937 random( seed * 7919u + 17u );

@@ -9,6 +9,7 @@
 
 #include <gdal.h>
 #include <gtest/gtest.h>
+#include <opencv2/imgproc.hpp>
 #include <ogr_api.h>
 #include <ogr_srs_api.h>
 
@@ -714,4 +715,82 @@ TEST( SimulatedObliquePhoto, ScannedFilmInnerOrientationFromTheRenderedMarks )
   EXPECT_LT( worstPx, 0.1 );
   std::cout << "scanned film: affine within " << worstMm * 1000 << " um at the corners; " << checked << " control points within " << worstPx << " px\n";
   std::filesystem::remove_all( options.outputDir );
+}
+
+TEST( Simulation, GeographicDemWithHolesAndAnOrthophoto )
+{
+  // A DEM in geographic coordinates with nodata holes: the block gets the UTM
+  // zone of its centre, the holes are filled, and the rendered terrain agrees
+  // with the DEM; an orthophoto in another CRS drapes the ground.
+  const std::string dem = syntheticterrain::tempPath( "sim-geodem" );
+  // 0.0002 deg cells (about 16 x 22 m) around 13.7 E, 45.1 N
+  syntheticterrain::writeDem( dem.c_str(), "EPSG:4326", { 13.68, 0.0002, 0.0, 45.12, 0.0, -0.0002 }, 200, 200,
+                              []( double lon, double lat ) { return 150.0 + 900.0 * ( lon - 13.68 ) - 600.0 * ( lat - 45.1 ); },
+                              []( int c, int r ) { return c >= 90 && c < 94 && r >= 100 && r < 103; } );
+  // a checkerboard orthophoto in Web Mercator covering the DEM
+  const std::string ortho = syntheticterrain::tempPath( "sim-ortho" );
+  {
+    GDALDatasetH ds = GDALCreate( GDALGetDriverByName( "GTiff" ), ortho.c_str(), 400, 400, 3, GDT_Byte, nullptr );
+    double gt[6] = { 1524077.0, 5.0, 0.0, 5638278.0, 0.0, -5.0 }; // EPSG:3857, 2 km around 13.70 E, 45.10 N
+    GDALSetGeoTransform( ds, gt );
+    OGRSpatialReferenceH srs = OSRNewSpatialReference( nullptr );
+    OSRSetFromUserInput( srs, "EPSG:3857" );
+    GDALSetSpatialRef( ds, srs );
+    OSRDestroySpatialReference( srs );
+    std::vector<uint8_t> band( 400 * 400 );
+    for ( int b = 1; b <= 3; ++b )
+    {
+      for ( int r = 0; r < 400; ++r )
+        for ( int c = 0; c < 400; ++c )
+          band[r * 400 + c] = static_cast<uint8_t>( ( ( r / 10 + c / 10 ) % 2 ) ? 200 : 40 + 20 * b );
+      ASSERT_EQ( GDALRasterIO( GDALGetRasterBand( ds, b ), GF_Write, 0, 0, 400, 400, band.data(), 400, 400, GDT_Byte, 0, 0 ), CE_None );
+    }
+    GDALClose( ds );
+  }
+  SimulationOptions options;
+  options.preset = SurveyPreset::AerialStereo;
+  options.seed = 3;
+  options.stations = 2;
+  options.imageWidth = 400;
+  options.imageHeight = 400;
+  options.groundPixelSizeM = 0.5;
+  options.demPath = dem;
+  options.orthoPath = ortho;
+  options.outputDir = tempDir( "geodem" );
+  const SimulationSummary summary = simulateSurvey( options );
+  EXPECT_EQ( summary.crs, "EPSG:32633" );
+  bool geographicNote = false, filledNote = false, orthoNote = false;
+  for ( const std::string &note : summary.notes )
+  {
+    geographicNote = geographicNote || note.find( "the DEM is geographic" ) != std::string::npos;
+    filledNote = filledNote || note.find( "DEM cells without data were filled" ) != std::string::npos;
+    orthoNote = orthoNote || note.find( "orthophoto" ) != std::string::npos;
+  }
+  EXPECT_TRUE( geographicNote );
+  EXPECT_TRUE( filledNote );
+  EXPECT_TRUE( orthoNote );
+  // the terrain written agrees with the DEM (hole cells: with the filled values) at control points
+  const Dem source( dem ), terrain( ( options.outputDir / "terrain.tif" ).string() );
+  const CrsTransform toGeographic( "EPSG:32633", "EPSG:4326" );
+  const TruthTable truth = readTruth( options.outputDir / "truth.gpkg" );
+  ASSERT_GT( truth.control.size(), 3u );
+  for ( const auto &[id, p] : truth.control )
+  {
+    const Eigen::Vector3d geo = toGeographic.transform( p );
+    ASSERT_TRUE( source.heightAt( geo.x(), geo.y() ).has_value() ) << id;
+    // the terrain grid samples the DEM surface; on this plane-like DEM they agree closely (roads flatten it a little)
+    EXPECT_NEAR( p.z(), *source.heightAt( geo.x(), geo.y() ), 1.0 ) << id;
+    EXPECT_NEAR( *terrain.heightAt( p.x(), p.y() ), p.z(), 1e-4 ) << id;
+  }
+  // the ortho's checkerboard shows: the images have both dark and bright squares
+  const cv::Mat image = readRgb( options.outputDir / "images/S0001.tif" );
+  double lo = 0, hi = 0;
+  cv::Mat grey;
+  cv::cvtColor( image, grey, cv::COLOR_RGB2GRAY );
+  cv::minMaxLoc( grey, &lo, &hi );
+  EXPECT_LT( lo, 70 );
+  EXPECT_GT( hi, 140 );
+  std::filesystem::remove_all( options.outputDir );
+  std::filesystem::remove( dem );
+  std::filesystem::remove( ortho );
 }
