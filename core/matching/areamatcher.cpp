@@ -51,6 +51,8 @@ namespace geostation
       return out;
     }
 
+    constexpr double kCorrelationSigmaPx = 0.5; //!< the precision of a correlation peak without LSM (thesis: about a pixel at worst)
+
     //! Parabola refinement around an integer peak, then LSM; fills the result.
     void refine( const MatchImage &reference, const Eigen::Vector2d &pixelInReference, const MatchImage &search, const CorrelationTemplate &target,
                  int col, int row, const AreaMatchOptions &options, AreaMatch &result )
@@ -67,16 +69,21 @@ namespace geostation
         result.reason = "best correlation " + std::to_string( result.score ).substr( 0, 5 ) + " is below the threshold " + std::to_string( options.minScore ).substr( 0, 4 );
         return;
       }
+      result.sigmaPx = kCorrelationSigmaPx;
       if ( options.lsm )
       {
         result.lsm = leastSquaresMatch( reference, pixelInReference, search, result.correlationPixel, options.lsmOptions );
-        if ( !result.lsm.converged )
+        if ( result.lsm.converged )
         {
-          result.reason = "least-squares matching: " + result.lsm.reason;
-          return;
+          result.pixelInImage = result.lsm.pixelInImage;
+          result.sigmaPx = result.lsm.sigmaPxMax();
         }
-        result.pixelInImage = result.lsm.pixelInImage;
-        result.sigmaPx = result.lsm.sigmaPxMax();
+        else
+        {
+          // a line or an edge: LSM cannot fix the shift along it; the correlation peak stands, at its precision
+          result.reason = "least-squares matching could not refine: " + result.lsm.reason;
+          result.sigmaPx = kCorrelationSigmaPx;
+        }
       }
       result.matched = true;
     }

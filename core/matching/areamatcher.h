@@ -8,9 +8,11 @@
   the thesis' jump rule: below 0.2 / 0.4 / 0.6 the search skips 4 / 3 / 2
   pixels. Or a 2-D search around an approximate position, for unoriented
   pairs. The best score is refined to sub-pixel by parabolas (eqs. 5.5-5.6)
-  and then, optionally, by least-squares matching.
+  and then, optionally, by least-squares matching; where LSM cannot refine
+  (a line or an edge, whose shift along itself it cannot fix) the
+  correlation peak stands with sigma 0.5 px and the reason is kept.
   Expected failures (window outside, flat texture, score below the
-  threshold, LSM rejected) give a result with matched = false and a reason.
+  threshold) give a result with matched = false and a reason.
  ***************************************************************************/
 #ifndef GEOSTATION_MATCHING_AREAMATCHER_H
 #define GEOSTATION_MATCHING_AREAMATCHER_H
@@ -41,12 +43,12 @@ namespace geostation
   struct AreaMatch
   {
     bool matched = false;
-    std::string reason;                                    //!< why not, when not matched
+    std::string reason;                                    //!< why not, when not matched (or why LSM did not refine)
     Eigen::Vector2d pixelInImage = Eigen::Vector2d::Zero(); //!< the conjugate point (best guess even when not matched)
     double score = 0.0;                                    //!< best correlation
     double secondScore = 0.0;                              //!< best correlation of a separate peak (ambiguity)
     Eigen::Vector2d correlationPixel = Eigen::Vector2d::Zero(); //!< after the parabola, before LSM
-    double sigmaPx = 0.0;                                  //!< LSM's larger shift sigma (0 without LSM)
+    double sigmaPx = 0.0;                                  //!< LSM's larger shift sigma, or 0.5 px for a correlation peak
     int candidates = 0;                                    //!< windows correlated
     LsmResult lsm;
   };

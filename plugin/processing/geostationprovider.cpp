@@ -13,6 +13,7 @@
 #include "enhanceimagealgorithm.h"
 #include "innerorientationalgorithm.h"
 #include "intersectalgorithm.h"
+#include "matchpointsalgorithm.h"
 #include "monoplotalgorithm.h"
 #include "simulatesurveyalgorithm.h"
 #include "projecttoimagealgorithm.h"
@@ -67,6 +68,7 @@ void GeoStationProvider::loadAlgorithms()
   addAlgorithm( new MonoplotAlgorithm() );
   addAlgorithm( new SimulateSurveyAlgorithm() );
   addAlgorithm( new EnhanceImageAlgorithm() );
+  addAlgorithm( new MatchPointsAlgorithm() );
 }
 
 bool registerGeoStationProvider()

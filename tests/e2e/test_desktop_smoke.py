@@ -78,7 +78,7 @@ class DesktopSmokeTest(unittest.TestCase):
         self.assertEqual(self.result.get("adjustment_actions"), ["mActionGeoStationIntersect", "mActionGeoStationResection",
                                                                   "mActionGeoStationBundleAdjust", "mActionGeoStationInnerOrientation"])
         self.assertEqual(self.result.get("algorithms"), ["geostation:bundle_adjust", "geostation:enhance_image", "geostation:inner_orientation", "geostation:intersect",
-                                                         "geostation:monoplot", "geostation:project_to_image", "geostation:resection",
+                                                         "geostation:match_points", "geostation:monoplot", "geostation:project_to_image", "geostation:resection",
                                                          "geostation:simulate_survey"])
         self.assertIn("mActionGeoStationMonoplot", self.result.get("menu_actions", []))
         self.assertTrue(self.result.get("provider"))

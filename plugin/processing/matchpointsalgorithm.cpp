@@ -1,0 +1,224 @@
+/***************************************************************************
+  matchpointsalgorithm.cpp - geostation:match_points
+  -------------------------------------------------------------------------
+  Points measured in reference images are found in target images by area
+  matching (core/matching): along the epipolar band between two oriented
+  images, otherwise in a 2-D window around an approximate position. The
+  output is an observation table (CONVENTIONS §6) ready for intersect: the
+  reference rows and every match, with score and sigma_px.
+ ***************************************************************************/
+#include "matchpointsalgorithm.h"
+
+#include <map>
+
+#include <qgsexception.h>
+#include <qgsfeaturesink.h>
+#include <qgsprocessingfeedback.h>
+#include <qgsprocessingoutputs.h>
+#include <qgsprocessingparameters.h>
+
+#include "geometry/epipolar.h"
+#include "io/rasterfile.h"
+#include "matching/areamatcher.h"
+#include "processingblock.h"
+#include "processingtables.h"
+
+QString MatchPointsAlgorithm::name() const
+{
+  return QStringLiteral( "match_points" );
+}
+
+QString MatchPointsAlgorithm::displayName() const
+{
+  return QObject::tr( "Match points into other images" );
+}
+
+QStringList MatchPointsAlgorithm::tags() const
+{
+  return QObject::tr( "matching,correlation,ncc,least squares,lsm,epipolar,conjugate,tie points" ).split( ',' );
+}
+
+QString MatchPointsAlgorithm::group() const
+{
+  return QObject::tr( "Image processing" );
+}
+
+QString MatchPointsAlgorithm::groupId() const
+{
+  return QStringLiteral( "imageprocessing" );
+}
+
+QString MatchPointsAlgorithm::shortHelpString() const
+{
+  return QObject::tr( "Finds points measured in reference images (OBSERVATIONS: point_id, image_id, col, row) in other images "
+                      "of the block. TARGETS lists the image ids to search (comma-separated; default: the other images of the "
+                      "reference image's station).\n\n"
+                      "When both images are oriented the search runs along the epipolar band (the curve for depths MIN_DEPTH_M "
+                      "to MAX_DEPTH_M, and BAND_PX parallels on each side); otherwise it searches SEARCH_RADIUS pixels around "
+                      "approx_col, approx_row given per point. METHOD is cc, ncc, wcc or wncc (thesis eqs. 5.1-5.4) on a "
+                      "WINDOW_W x WINDOW_H window (15 x 15; 15 x 3 for road lines); the best score above MIN_SCORE is refined "
+                      "by a parabola and, with LSM, by least-squares matching.\n\n"
+                      "OUTPUT holds the reference rows and every match (point_id, image_id, col, row, sigma_px, score), ready "
+                      "for geostation:intersect. Points that find no match are listed in the log with the reason." );
+}
+
+MatchPointsAlgorithm *MatchPointsAlgorithm::createInstance() const
+{
+  return new MatchPointsAlgorithm();
+}
+
+void MatchPointsAlgorithm::initAlgorithm( const QVariantMap & )
+{
+  addParameter( GeoStationProcessing::blockParameter() );
+  addParameter( new QgsProcessingParameterFeatureSource( QStringLiteral( "OBSERVATIONS" ), QObject::tr( "Points in reference images (point_id, image_id, col, row)" ),
+                QList<int>() << QgsProcessing::TypeVector ) );
+  addParameter( new QgsProcessingParameterString( QStringLiteral( "TARGETS" ), QObject::tr( "Target image ids (comma-separated; default: the station's other images)" ), QVariant(), false, true ) );
+  addParameter( new QgsProcessingParameterEnum( QStringLiteral( "METHOD" ), QObject::tr( "Similarity" ),
+                QStringList { QStringLiteral( "cc" ), QStringLiteral( "ncc" ), QStringLiteral( "wcc" ), QStringLiteral( "wncc" ) }, false, QStringLiteral( "ncc" ), false, true ) );
+  addParameter( new QgsProcessingParameterNumber( QStringLiteral( "WINDOW_W" ), QObject::tr( "Window width (odd, px)" ), QgsProcessingParameterNumber::Integer, 15, false, 3, 101 ) );
+  addParameter( new QgsProcessingParameterNumber( QStringLiteral( "WINDOW_H" ), QObject::tr( "Window height (odd, px)" ), QgsProcessingParameterNumber::Integer, 15, false, 1, 101 ) );
+  addParameter( new QgsProcessingParameterBoolean( QStringLiteral( "LSM" ), QObject::tr( "Refine by least-squares matching" ), true ) );
+  addParameter( new QgsProcessingParameterNumber( QStringLiteral( "MIN_SCORE" ), QObject::tr( "Minimum correlation" ), QgsProcessingParameterNumber::Double, 0.7, false, -1.0, 1.0 ) );
+  addParameter( new QgsProcessingParameterNumber( QStringLiteral( "MIN_DEPTH_M" ), QObject::tr( "Epipolar search: nearest depth (m)" ), QgsProcessingParameterNumber::Double, 2.0, false, 0.01 ) );
+  addParameter( new QgsProcessingParameterNumber( QStringLiteral( "MAX_DEPTH_M" ), QObject::tr( "Epipolar search: farthest depth (m)" ), QgsProcessingParameterNumber::Double, 50.0, false, 0.02 ) );
+  addParameter( new QgsProcessingParameterNumber( QStringLiteral( "BAND_PX" ), QObject::tr( "Epipolar search: parallels on each side (px)" ), QgsProcessingParameterNumber::Integer, 1, false, 0, 20 ) );
+  addParameter( new QgsProcessingParameterNumber( QStringLiteral( "SEARCH_RADIUS" ), QObject::tr( "2-D search radius, unoriented images (px)" ), QgsProcessingParameterNumber::Double, 20.0, false, 1.0, 500.0 ) );
+  addParameter( new QgsProcessingParameterNumber( QStringLiteral( "REFERENCE_SIGMA_PX" ), QObject::tr( "sigma_px of the reference measurements" ), QgsProcessingParameterNumber::Double, 0.5, false, 0.001 ) );
+  addParameter( new QgsProcessingParameterFeatureSink( QStringLiteral( "OUTPUT" ), QObject::tr( "Observations" ), QgsProcessing::TypeVector ) );
+  addOutput( new QgsProcessingOutputNumber( QStringLiteral( "MATCHED_COUNT" ), QObject::tr( "Matches" ) ) );
+  addOutput( new QgsProcessingOutputNumber( QStringLiteral( "NO_MATCH_COUNT" ), QObject::tr( "Points without a match" ) ) );
+}
+
+QVariantMap MatchPointsAlgorithm::processAlgorithm( const QVariantMap &parameters, QgsProcessingContext &context, QgsProcessingFeedback *feedback )
+{
+  const geostation::Block block = GeoStationProcessing::loadBlock( parameterAsFile( parameters, QStringLiteral( "BLOCK" ), context ) );
+  std::unique_ptr<QgsProcessingFeatureSource> source( parameterAsSource( parameters, QStringLiteral( "OBSERVATIONS" ), context ) );
+  if ( !source )
+    throw QgsProcessingException( QObject::tr( "The observation table cannot be read." ) );
+  const GeoStationProcessing::ObservationTable table = GeoStationProcessing::readObservations( source.get(), QObject::tr( "OBSERVATIONS" ), feedback );
+  const int approxCol = table.extraFields.lookupField( QStringLiteral( "approx_col" ) ), approxRow = table.extraFields.lookupField( QStringLiteral( "approx_row" ) );
+
+  geostation::AreaMatchOptions options;
+  options.measure = *geostation::similarityMeasureFromName( parameterAsEnumString( parameters, QStringLiteral( "METHOD" ), context ).toStdString() );
+  options.windowWidth = parameterAsInt( parameters, QStringLiteral( "WINDOW_W" ), context );
+  options.windowHeight = parameterAsInt( parameters, QStringLiteral( "WINDOW_H" ), context );
+  if ( options.windowWidth % 2 == 0 || options.windowHeight % 2 == 0 )
+    throw QgsProcessingException( QObject::tr( "The window sizes must be odd (the point sits in the centre pixel)." ) );
+  options.lsm = parameterAsBool( parameters, QStringLiteral( "LSM" ), context );
+  options.minScore = parameterAsDouble( parameters, QStringLiteral( "MIN_SCORE" ), context );
+  options.bandHalfWidthPx = parameterAsInt( parameters, QStringLiteral( "BAND_PX" ), context );
+  geostation::EpipolarOptions epipolar;
+  epipolar.minDistanceM = parameterAsDouble( parameters, QStringLiteral( "MIN_DEPTH_M" ), context );
+  epipolar.maxDistanceM = parameterAsDouble( parameters, QStringLiteral( "MAX_DEPTH_M" ), context );
+  if ( !( epipolar.maxDistanceM > epipolar.minDistanceM ) )
+    throw QgsProcessingException( QObject::tr( "MAX_DEPTH_M must be larger than MIN_DEPTH_M." ) );
+  const double searchRadius = parameterAsDouble( parameters, QStringLiteral( "SEARCH_RADIUS" ), context );
+  const double referenceSigma = parameterAsDouble( parameters, QStringLiteral( "REFERENCE_SIGMA_PX" ), context );
+  QStringList targetIds;
+  for ( const QString &id : parameterAsString( parameters, QStringLiteral( "TARGETS" ), context ).split( ',', Qt::SkipEmptyParts ) )
+    targetIds << id.trimmed();
+  for ( const QString &id : targetIds )
+    GeoStationProcessing::blockImage( block, id ); // unknown ids fail here, before any output
+
+  // images are decoded once; a failure is remembered as the reason for every point that needs the image
+  std::map<std::string, std::unique_ptr<geostation::MatchImage>> images;
+  std::map<std::string, std::string> unreadable;
+  const auto imageFor = [&]( const geostation::BlockImage &image ) -> const geostation::MatchImage *
+  {
+    if ( images.count( image.id ) )
+      return images[image.id].get();
+    if ( unreadable.count( image.id ) )
+      return nullptr;
+    try
+    {
+      images[image.id] = std::make_unique<geostation::MatchImage>( geostation::readRaster( block.imageFilePath( image ).string() ).pixels );
+      return images[image.id].get();
+    }
+    catch ( const std::exception &e )
+    {
+      unreadable[image.id] = e.what();
+      return nullptr;
+    }
+  };
+
+  QgsFields fields;
+  fields.append( QgsField( QStringLiteral( "point_id" ), QVariant::String ) );
+  fields.append( QgsField( QStringLiteral( "image_id" ), QVariant::String ) );
+  fields.append( QgsField( QStringLiteral( "col" ), QVariant::Double ) );
+  fields.append( QgsField( QStringLiteral( "row" ), QVariant::Double ) );
+  fields.append( QgsField( QStringLiteral( "sigma_px" ), QVariant::Double ) );
+  fields.append( QgsField( QStringLiteral( "score" ), QVariant::Double ) );
+  QString destination;
+  std::unique_ptr<QgsFeatureSink> sink( parameterAsSink( parameters, QStringLiteral( "OUTPUT" ), context, destination, fields, QgsWkbTypes::NoGeometry, QgsCoordinateReferenceSystem() ) );
+  if ( !sink )
+    throw QgsProcessingException( invalidSinkError( parameters, QStringLiteral( "OUTPUT" ) ) );
+  const auto write = [&]( const QString &pointId, const QString &imageId, const Eigen::Vector2d &pixel, double sigma, double score )
+  {
+    QgsFeature f( fields );
+    f.setAttributes( QgsAttributes() << pointId << imageId << pixel.x() << pixel.y() << sigma << score );
+    if ( !sink->addFeature( f, QgsFeatureSink::FastInsert ) )
+      throw QgsProcessingException( writeFeatureError( sink.get(), parameters, QStringLiteral( "OUTPUT" ) ) );
+  };
+
+  long matched = 0, unmatched = 0;
+  for ( int i = 0; i < table.rows.size(); ++i )
+  {
+    if ( feedback->isCanceled() )
+      break;
+    feedback->setProgress( 100.0 * i / std::max( 1, table.rows.size() ) );
+    const GeoStationProcessing::ObservationRecord &r = table.rows[i];
+    const geostation::BlockImage &reference = GeoStationProcessing::blockImage( block, r.imageId );
+    write( r.pointId, r.imageId, r.pixel, r.sigmaPx > 0 ? r.sigmaPx : referenceSigma, 1.0 );
+    QStringList targets = targetIds;
+    if ( targets.isEmpty() )
+      for ( const geostation::BlockImage &other : block.images )
+        if ( other.id != reference.id && !reference.stationId.empty() && other.stationId == reference.stationId )
+          targets << QString::fromStdString( other.id );
+    const geostation::MatchImage *from = imageFor( reference );
+    for ( const QString &targetId : targets )
+    {
+      if ( targetId == r.imageId )
+        continue;
+      const geostation::BlockImage &target = GeoStationProcessing::blockImage( block, targetId );
+      const geostation::MatchImage *to = imageFor( target );
+      geostation::AreaMatch m;
+      if ( !from || !to )
+        m.reason = "the image " + ( from ? target.id : reference.id ) + " cannot be read: " + unreadable[from ? target.id : reference.id];
+      else if ( reference.exterior && target.exterior )
+      {
+        std::vector<Eigen::Vector2d> curve;
+        for ( const auto &piece : geostation::epipolarCurve( block.orientedImage( reference ), r.pixel, block.orientedImage( target ), epipolar ).pieces )
+          for ( const geostation::EpipolarVertex &v : piece )
+            curve.push_back( v.pixelInImage );
+        m = geostation::matchAlongEpipolarBand( *from, r.pixel, *to, curve, options );
+      }
+      else if ( approxCol >= 0 && approxRow >= 0 )
+      {
+        bool okCol = false, okRow = false;
+        const double col = r.extra.value( approxCol ).toString().toDouble( &okCol ), row = r.extra.value( approxRow ).toString().toDouble( &okRow );
+        if ( okCol && okRow )
+          m = geostation::matchAroundPosition( *from, r.pixel, *to, Eigen::Vector2d( col, row ), searchRadius, options );
+        else
+          m.reason = "approx_col and approx_row are not numbers";
+      }
+      else
+        m.reason = "the images are not both oriented and the table has no approx_col, approx_row";
+      if ( m.matched )
+      {
+        write( r.pointId, targetId, m.pixelInImage, std::max( 0.02, m.sigmaPx ), m.score );
+        ++matched;
+      }
+      else
+      {
+        feedback->pushWarning( QObject::tr( "%1 in %2: no match (%3)." ).arg( r.pointId, targetId, QString::fromStdString( m.reason ) ) );
+        ++unmatched;
+      }
+    }
+  }
+  feedback->pushInfo( QObject::tr( "%1 matches, %2 without a match." ).arg( matched ).arg( unmatched ) );
+  QVariantMap outputs;
+  outputs.insert( QStringLiteral( "OUTPUT" ), destination );
+  outputs.insert( QStringLiteral( "MATCHED_COUNT" ), static_cast<qlonglong>( matched ) );
+  outputs.insert( QStringLiteral( "NO_MATCH_COUNT" ), static_cast<qlonglong>( unmatched ) );
+  return outputs;
+}
