@@ -33,14 +33,7 @@ namespace
       options.stations = preset == SurveyPreset::Highway ? 12 : 0;
       options.outputDir = "unused";
       const RigSettings settings = rigSettings( options );
-      SceneRequest request;
-      request.preset = preset;
-      request.seed = options.seed;
-      request.extentMin = settings.extentMin;
-      request.extentMax = settings.extentMax;
-      request.nodeSpacingM = settings.nodeSpacingM;
-      request.targetRadiusM = settings.targetRadiusM;
-      request.textureFloorM = settings.textureFloorM;
+      const SceneRequest request = sceneRequest( options, settings );
       entry = std::make_unique<PresetScene>();
       entry->built = buildScene( request );
       buildRig( options, settings, entry->built, entry->truth, entry->noisy );

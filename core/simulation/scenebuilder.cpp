@@ -538,6 +538,16 @@ namespace geostation
     };
     const Eigen::Vector3f carColours[] = { { 0.7f, 0.1f, 0.1f }, { 0.15f, 0.25f, 0.6f }, { 0.85f, 0.85f, 0.85f }, { 0.1f, 0.1f, 0.1f }, { 0.5f, 0.5f, 0.45f } };
     const double targetRadius = request.targetRadiusM;
+    const auto addTarget = [&]( const Eigen::Vector2d &p )
+    {
+      GroundMark m;
+      m.id = id( "GCP", ++targets );
+      m.kind = GroundMarkKind::Target;
+      m.centre = Eigen::Vector3d( p.x(), p.y(), *heightAt( p ) );
+      m.radiusM = targetRadius;
+      m.squareHalfM = 1.6 * targetRadius;
+      marks.push_back( m );
+    };
     for ( size_t r = 0; r < roads.size(); ++r )
     {
       const Road &road = roads[r];
@@ -602,15 +612,7 @@ namespace geostation
         const double half = 1.6 * targetRadius;
         const Eigen::Vector2d p = network.pointAt( ri, s, side * ( outside + std::max( 0.5 * kShoulderWidthM, half + 0.1 ) ) );
         if ( freeSpot( p, half * 1.5, ri, request.preset != SurveyPreset::Highway ) || ( request.preset == SurveyPreset::Highway && freeSpot( p, half * 1.5, ri, false ) ) )
-        {
-          GroundMark m;
-          m.id = id( "GCP", ++targets );
-          m.kind = GroundMarkKind::Target;
-          m.centre = Eigen::Vector3d( p.x(), p.y(), *heightAt( p ) );
-          m.radiusM = targetRadius;
-          m.squareHalfM = half;
-          marks.push_back( m );
-        }
+          addTarget( p );
       }
     }
     // Open-field targets and trees for the aerial and oblique scenes.
@@ -625,13 +627,7 @@ namespace geostation
         const double half = 1.6 * targetRadius;
         if ( !freeSpot( p, half * 1.5, -1, true ) )
           continue;
-        GroundMark m;
-        m.id = id( "GCP", ++targets );
-        m.kind = GroundMarkKind::Target;
-        m.centre = Eigen::Vector3d( p.x(), p.y(), *heightAt( p ) );
-        m.radiusM = targetRadius;
-        m.squareHalfM = half;
-        marks.push_back( m );
+        addTarget( p );
         ++k;
       }
       const int fieldTrees = std::clamp( static_cast<int>( area / ( request.preset == SurveyPreset::ObliquePhoto ? 4000.0 : 1500.0 ) ), 10, 3000 );

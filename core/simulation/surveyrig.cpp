@@ -152,6 +152,22 @@ namespace geostation
     return s;
   }
 
+  SceneRequest sceneRequest( const SimulationOptions &options, const RigSettings &settings )
+  {
+    SceneRequest request;
+    request.preset = options.preset;
+    request.seed = options.seed;
+    request.demPath = options.demPath;
+    request.roadsPath = options.roadsPath;
+    request.orthoPath = options.orthoPath;
+    request.extentMin = settings.extentMin;
+    request.extentMax = settings.extentMax;
+    request.nodeSpacingM = settings.nodeSpacingM;
+    request.targetRadiusM = settings.targetRadiusM;
+    request.textureFloorM = settings.textureFloorM;
+    return request;
+  }
+
   void buildRig( const SimulationOptions &options, const RigSettings &settings, const BuiltScene &built, Block &truth, Block &noisy )
   {
     const Scene &scene = *built.scene;

@@ -39,6 +39,9 @@ namespace geostation
 
   RigSettings rigSettings( const SimulationOptions &options );
 
+  //! The scene a simulation needs: its preset, seed, inputs and the rig's extent and sizes.
+  SceneRequest sceneRequest( const SimulationOptions &options, const RigSettings &settings );
+
   /**
    * The exact block (cameras, stations, images with true exterior
    * orientation) and, in `noisy`, the same with GNSS/INS errors and sigmas.

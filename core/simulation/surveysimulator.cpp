@@ -99,18 +99,7 @@ namespace geostation
     const RigSettings settings = rigSettings( options );
 
     report( 0.0, "building the scene" );
-    SceneRequest request;
-    request.preset = options.preset;
-    request.seed = options.seed;
-    request.demPath = options.demPath;
-    request.roadsPath = options.roadsPath;
-    request.orthoPath = options.orthoPath;
-    request.extentMin = settings.extentMin;
-    request.extentMax = settings.extentMax;
-    request.nodeSpacingM = settings.nodeSpacingM;
-    request.targetRadiusM = settings.targetRadiusM;
-    request.textureFloorM = settings.textureFloorM;
-    const BuiltScene built = buildScene( request );
+    const BuiltScene built = buildScene( sceneRequest( options, settings ) );
     const Scene &scene = *built.scene;
     summary.crs = built.crs;
     summary.notes = built.notes;

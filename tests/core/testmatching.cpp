@@ -46,14 +46,7 @@ namespace
     options.stations = 2;
     options.outputDir = "unused";
     const RigSettings settings = rigSettings( options );
-    SceneRequest request;
-    request.preset = options.preset;
-    request.seed = options.seed;
-    request.extentMin = settings.extentMin;
-    request.extentMax = settings.extentMax;
-    request.nodeSpacingM = settings.nodeSpacingM;
-    request.targetRadiusM = settings.targetRadiusM;
-    request.textureFloorM = settings.textureFloorM;
+    const SceneRequest request = sceneRequest( options, settings );
     pair->built = buildScene( request );
     buildRig( options, settings, pair->built, pair->truth, pair->noisy );
     DegradationOptions degradation;

@@ -362,11 +362,7 @@ TEST( Simulation, HighwayRigMatchesItsDescription )
   options.stations = 30;
   options.cameras = 6;
   const RigSettings settings = rigSettings( options );
-  SceneRequest request;
-  request.seed = options.seed;
-  request.extentMin = settings.extentMin;
-  request.extentMax = settings.extentMax;
-  request.nodeSpacingM = settings.nodeSpacingM;
+  const SceneRequest request = sceneRequest( options, settings );
   const BuiltScene built = buildScene( request );
   Block truth, noisy;
   buildRig( options, settings, built, truth, noisy );
@@ -469,7 +465,7 @@ TEST( Simulation, BadInputGetsOneClearMessageAndNoOutput )
     for ( int k = 0; k <= 300; k += 10 )
       OGR_G_AddPoint_2D( g, x0 + k * step, y0 - 0.3 * k * step );
     OGR_F_SetGeometryDirectly( f, g );
-    OGR_L_CreateFeature( layer, f );
+    EXPECT_EQ( OGR_L_CreateFeature( layer, f ), OGRERR_NONE );
     OGR_F_Destroy( f );
     GDALClose( ds );
     if ( srs )
