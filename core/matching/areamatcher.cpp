@@ -140,6 +140,20 @@ namespace geostation
       for ( const auto &[score, candidate] : scored )
         if ( std::hypot( candidate->col - bestCandidate->col, candidate->row - bestCandidate->row ) > 2.5 )
           result.secondScore = std::max( result.secondScore, score );
+      // the separate peaks, best first (greedy: a candidate joins when no better one is within 2.5 px)
+      std::sort( scored.begin(), scored.end(), []( const auto &a, const auto &b ) { return a.first > b.first; } );
+      const Eigen::Vector2d offset = pixelInReference - Eigen::Vector2d( centreCol + 0.5, centreRow + 0.5 );
+      for ( const auto &[score, candidate] : scored )
+      {
+        const Eigen::Vector2d at( candidate->col + 0.5, candidate->row + 0.5 );
+        bool separate = true;
+        for ( const auto &peak : result.peaks )
+          separate = separate && ( peak.first - offset - at ).norm() > 2.5;
+        if ( separate )
+          result.peaks.emplace_back( at + offset, score );
+        if ( result.peaks.size() >= 8 )
+          break;
+      }
       refine( reference, pixelInReference, search, target, bestCandidate->col, bestCandidate->row, options, result );
       return result;
     }

@@ -50,6 +50,8 @@ namespace geostation
     Eigen::Vector2d correlationPixel = Eigen::Vector2d::Zero(); //!< after the parabola, before LSM
     double sigmaPx = 0.0;                                  //!< LSM's larger shift sigma, or 0.5 px for a correlation peak
     int candidates = 0;                                    //!< windows correlated
+    //! The best separate peaks (more than 2.5 px apart), best first, as conjugate-point pixels (integer precision)
+    std::vector<std::pair<Eigen::Vector2d, double>> peaks;
     LsmResult lsm;
   };
 
