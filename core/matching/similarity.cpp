@@ -7,6 +7,10 @@
 #include <cmath>
 #include <cstdint>
 
+#ifdef __SSE2__
+#include <emmintrin.h>
+#endif
+
 namespace geostation
 {
 
@@ -77,6 +81,8 @@ namespace geostation
     }
     mPaddedWidth = ( width + 15 ) / 16 * 16;
     mPadded.assign( static_cast<size_t>( mPaddedWidth ) * height, 0 );
+    mOnes.assign( mPaddedWidth, 0 );
+    std::fill( mOnes.begin(), mOnes.begin() + width, 1 );
     for ( int r = 0; r < height; ++r )
       for ( int c = 0; c < width; ++c )
         mPadded[static_cast<size_t>( r ) * mPaddedWidth + c] = static_cast<int16_t>( mValues[static_cast<size_t>( r ) * width + c] );
@@ -101,6 +107,38 @@ namespace geostation
       {
         // the padding columns are summed too (the template is 0 there) and taken off afterwards
         const int16_t *t = mPadded.data();
+#ifdef __SSE2__
+        // 16 pixels at a time: pmaddwd does eight multiply-adds into four 32-bit sums
+        __m128i accSt = _mm_setzero_si128(), accS = _mm_setzero_si128(), accSs = _mm_setzero_si128();
+        const __m128i zero = _mm_setzero_si128();
+        for ( int r = 0; r < mHeight; ++r, t += mPaddedWidth )
+        {
+          const uint8_t *row = search.grey().ptr<uint8_t>( r0 + r ) + c0;
+          for ( int c = 0; c < mPaddedWidth; c += 16 )
+          {
+            // the window's pixels only: the mask is 1 on the window, 0 on the padding
+            const __m128i maskLo = _mm_loadu_si128( reinterpret_cast<const __m128i *>( mOnes.data() + c ) );
+            const __m128i maskHi = _mm_loadu_si128( reinterpret_cast<const __m128i *>( mOnes.data() + c + 8 ) );
+            const __m128i v = _mm_loadu_si128( reinterpret_cast<const __m128i *>( row + c ) );
+            const __m128i lo = _mm_unpacklo_epi8( v, zero ), hi = _mm_unpackhi_epi8( v, zero );
+            const __m128i tlo = _mm_loadu_si128( reinterpret_cast<const __m128i *>( t + c ) ), thi = _mm_loadu_si128( reinterpret_cast<const __m128i *>( t + c + 8 ) );
+            const __m128i mlo = _mm_mullo_epi16( lo, maskLo ), mhi = _mm_mullo_epi16( hi, maskHi );
+            accSt = _mm_add_epi32( accSt, _mm_add_epi32( _mm_madd_epi16( lo, tlo ), _mm_madd_epi16( hi, thi ) ) );
+            accS = _mm_add_epi32( accS, _mm_add_epi32( _mm_madd_epi16( lo, maskLo ), _mm_madd_epi16( hi, maskHi ) ) );
+            accSs = _mm_add_epi32( accSs, _mm_add_epi32( _mm_madd_epi16( lo, mlo ), _mm_madd_epi16( hi, mhi ) ) );
+          }
+        }
+        alignas( 16 ) int32_t lanes[3][4];
+        _mm_store_si128( reinterpret_cast<__m128i *>( lanes[0] ), accSt );
+        _mm_store_si128( reinterpret_cast<__m128i *>( lanes[1] ), accS );
+        _mm_store_si128( reinterpret_cast<__m128i *>( lanes[2] ), accSs );
+        for ( int k = 0; k < 4; ++k )
+        {
+          st += lanes[0][k];
+          s += lanes[1][k];
+          ss += lanes[2][k];
+        }
+#else
         for ( int r = 0; r < mHeight; ++r, t += mPaddedWidth )
         {
           const uint8_t *row = search.grey().ptr<uint8_t>( r0 + r ) + c0;
@@ -121,6 +159,7 @@ namespace geostation
           s += rowS;
           ss += rowSs;
         }
+#endif
       }
       else
       {
