@@ -33,6 +33,7 @@ namespace
   struct Conversion
   {
     bool behind = false;       //!< some vertex lies behind the camera
+    bool clipped = false;      //!< a line was cut where it leaves the projectable field
     bool allInFrame = true;
     bool allVisible = true;
     double minDepth = std::numeric_limits<double>::infinity();
@@ -85,9 +86,10 @@ QString ProjectToImageAlgorithm::shortHelpString() const
                       "top-left corner of the image), so it overlays the raw image in QGIS. Input attributes are kept; "
                       "the fields col, row (pixels, for single points), depth_m (smallest distance in front of the camera "
                       "along its axis), in_frame and visible (for every vertex) are added.\n\n"
-                      "A feature with a vertex behind the camera, or far outside its field of view (more than twice the frame-corner "
-                      "angle, where the lens distortion model is extrapolated), is never projected: its feature has "
-                      "no geometry and in_frame = visible = false.\n\n"
+                      "A point or polygon with a vertex behind the camera, or far outside its field of view (more than twice the "
+                      "frame-corner angle, where the lens distortion model is extrapolated), is never projected: its feature has "
+                      "no geometry and in_frame = visible = false. A line is cut where it leaves that field (CLIPPED_COUNT); "
+                      "a line cut into several parts keeps its longest part.\n\n"
                       "With a DEM, points without Z take the DEM's height, and visible tells whether the terrain hides "
                       "the point from the camera. Without a DEM no occlusion test is possible, so visible = in_frame." );
 }
@@ -109,6 +111,7 @@ void ProjectToImageAlgorithm::initAlgorithm( const QVariantMap & )
   addOutput( new QgsProcessingOutputNumber( QStringLiteral( "PROJECTED_COUNT" ), QObject::tr( "Features projected" ) ) );
   addOutput( new QgsProcessingOutputNumber( QStringLiteral( "IN_FRAME_COUNT" ), QObject::tr( "Features in the frame" ) ) );
   addOutput( new QgsProcessingOutputNumber( QStringLiteral( "BEHIND_CAMERA_COUNT" ), QObject::tr( "Features behind the camera" ) ) );
+  addOutput( new QgsProcessingOutputNumber( QStringLiteral( "CLIPPED_COUNT" ), QObject::tr( "Lines cut at the camera plane" ) ) );
 }
 
 QVariantMap ProjectToImageAlgorithm::processAlgorithm( const QVariantMap &parameters, QgsProcessingContext &context, QgsProcessingFeedback *feedback )
@@ -209,14 +212,73 @@ QVariantMap ProjectToImageAlgorithm::processAlgorithm( const QVariantMap &parame
     for ( int i = 0; i < line.numPoints(); ++i )
       ground.push_back( groundOf( line.pointN( i ), id ) );
     const auto demHeight = [&]( const Eigen::Vector3d & p ) { return monoplotter->demHeightAt( p ); };
+    const std::vector<Eigen::Vector3d> dense = geostation::densifyForImage( orientedImage, ground, densifyPx,
+        drapeLines ? std::function<std::optional<double>( const Eigen::Vector3d & )>( demHeight ) : nullptr );
+    std::vector<std::optional<QgsPoint>> projected;
+    for ( const Eigen::Vector3d &g : dense )
+      projected.push_back( projectVertex( g, c ) );
+    bool all = true;
+    for ( const std::optional<QgsPoint> &p : projected )
+      all = all && p.has_value();
     QVector<QgsPoint> pixels;
-    for ( const Eigen::Vector3d &g : geostation::densifyForImage( orientedImage, ground, densifyPx,
-          drapeLines ? std::function<std::optional<double>( const Eigen::Vector3d & )>( demHeight ) : nullptr ) )
+    if ( all )
     {
-      const std::optional<QgsPoint> p = projectVertex( g, c );
-      if ( !p )
+      for ( const std::optional<QgsPoint> &p : projected )
+        pixels << *p;
+    }
+    else
+    {
+      if ( closed )
+        return nullptr; // a ring behind the camera cannot be drawn in the photo
+      // A line leaving the projectable field (behind the camera, or far outside the lens field) is cut
+      // where it leaves it: the boundary is found by bisection along the ground segment.
+      Conversion probe;
+      const auto boundary = [&]( const Eigen::Vector3d & inside, const Eigen::Vector3d & outside )
+      {
+        Eigen::Vector3d a = inside, b = outside;
+        for ( int k = 0; k < 40; ++k )
+        {
+          const Eigen::Vector3d mid = 0.5 * ( a + b );
+          ( projectVertex( mid, probe ) ? a : b ) = mid;
+        }
+        return projectVertex( a, probe );
+      };
+      std::vector<QVector<QgsPoint>> runs( 1 );
+      for ( size_t i = 0; i < dense.size(); ++i )
+      {
+        if ( projected[i] )
+        {
+          if ( runs.back().isEmpty() && i > 0 )
+            if ( const std::optional<QgsPoint> start = boundary( dense[i], dense[i - 1] ) )
+              runs.back() << *start;
+          runs.back() << *projected[i];
+        }
+        else if ( !runs.back().isEmpty() )
+        {
+          if ( const std::optional<QgsPoint> end = boundary( dense[i - 1], dense[i] ) )
+            runs.back() << *end;
+          runs.emplace_back();
+        }
+      }
+      // the longest part in front of the camera (reported when a line falls into several)
+      double bestLength = 0.0;
+      int parts = 0;
+      for ( const QVector<QgsPoint> &run : runs )
+      {
+        if ( run.size() < 2 )
+          continue;
+        ++parts;
+        const double length = QgsLineString( run ).length();
+        if ( length > bestLength )
+        {
+          bestLength = length;
+          pixels = run;
+        }
+      }
+      if ( pixels.size() < 2 )
         return nullptr;
-      pixels << *p;
+      c.clipped = true;
+      c.behind = c.behind || parts > 1;
     }
     if ( closed && !pixels.isEmpty() )
       pixels.last() = pixels.first();
@@ -236,7 +298,7 @@ QVariantMap ProjectToImageAlgorithm::processAlgorithm( const QVariantMap &parame
   const double step = source->featureCount() > 0 ? 90.0 / source->featureCount() : 0;
   QgsFeatureIterator it = source->getFeatures( QgsFeatureRequest(), QgsProcessingFeatureSource::FlagSkipGeometryValidityChecks );
   QgsFeature feature;
-  long long behindCount = 0, outsideFieldCount = 0;
+  long long behindCount = 0, outsideFieldCount = 0, clippedCount = 0;
   while ( it.nextFeature( feature ) )
   {
     if ( feedback->isCanceled() )
@@ -255,6 +317,7 @@ QVariantMap ProjectToImageAlgorithm::processAlgorithm( const QVariantMap &parame
       }
       else
       {
+        clippedCount += c.clipped ? 1 : 0;
         out.projected = true;
         out.inFrame = c.allInFrame;
         // Without a DEM nothing can hide a point: visible = in frame.
@@ -305,6 +368,8 @@ QVariantMap ProjectToImageAlgorithm::processAlgorithm( const QVariantMap &parame
 
   feedback->pushInfo( QObject::tr( "%1 of %2 features projected into image %3 (%4 in the frame)." )
                       .arg( projectedCount ).arg( results.size() ).arg( imageId ).arg( inFrameCount ) );
+  if ( clippedCount > 0 )
+    feedback->pushWarning( QObject::tr( "%1 lines were cut where they pass behind the camera (or out of the lens field); a line cut into several parts keeps its longest part." ).arg( clippedCount ) );
   if ( behindCount > 0 )
     feedback->pushWarning( QObject::tr( "%1 features lie behind the camera and were not projected." ).arg( behindCount ) );
   if ( outsideFieldCount > 0 )
@@ -315,5 +380,6 @@ QVariantMap ProjectToImageAlgorithm::processAlgorithm( const QVariantMap &parame
   outputs.insert( QStringLiteral( "PROJECTED_COUNT" ), projectedCount );
   outputs.insert( QStringLiteral( "IN_FRAME_COUNT" ), inFrameCount );
   outputs.insert( QStringLiteral( "BEHIND_CAMERA_COUNT" ), behindCount );
+  outputs.insert( QStringLiteral( "CLIPPED_COUNT" ), clippedCount );
   return outputs;
 }

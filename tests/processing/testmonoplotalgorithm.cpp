@@ -43,6 +43,7 @@ class TestMonoplotAlgorithm : public QObject
     void monoplotsPointsAndDrapesLines();
     void projectToImageDrapesAndTestsOcclusion();
     void projectToImageDensifiesLinesAndPolygons();
+    void projectToImageCutsLinesAtTheCameraPlane();
     void badInput_data();
     void badInput();
 
@@ -310,6 +311,41 @@ void TestMonoplotAlgorithm::badInput()
   QVERIFY( !ok );
   QVERIFY2( feedback.errors.join( ' ' ).contains( expected ), qPrintable( feedback.errors.join( '\n' ) ) );
   QVERIFY( !QFile::exists( output ) );
+}
+
+void TestMonoplotAlgorithm::projectToImageCutsLinesAtTheCameraPlane()
+{
+  // A 3-D line from the ground in view to a point behind the camera: the part in front is kept, cut
+  // where the line leaves the projectable field, and counted.
+  const Eigen::Vector3d centre = mImage->exterior().projectionCentre, view = mImage->exterior().viewingDirection();
+  const Eigen::Vector3d front = mImage->worldRayFromPixel( { 640.5, 700.5 } )->origin + 250.0 * mImage->worldRayFromPixel( { 640.5, 700.5 } )->direction;
+  const Eigen::Vector3d behind = centre - 80.0 * view + Eigen::Vector3d( 5.0, 0.0, 0.0 );
+  auto *lines = new QgsVectorLayer( QStringLiteral( "LineStringZ?crs=EPSG:32633&field=name:string" ), QStringLiteral( "through" ), QStringLiteral( "memory" ) );
+  QgsFeature f( lines->fields() );
+  f.setGeometry( QgsGeometry( new QgsLineString( QVector<QgsPoint> { QgsPoint( front.x(), front.y(), front.z() ), QgsPoint( behind.x(), behind.y(), behind.z() ) } ) ) );
+  f.setAttribute( 0, QStringLiteral( "through the camera" ) );
+  lines->dataProvider()->addFeature( f );
+  QgsProject::instance()->addMapLayer( lines );
+  bool ok = false;
+  RecordingFeedback feedback;
+  std::unique_ptr<QgsProcessingAlgorithm> alg( QgsApplication::processingRegistry()->algorithmById( "geostation:project_to_image" )->create() );
+  const QVariantMap result = alg->run( { { "BLOCK", mBlock }, { "IMAGE", "P1" }, { "INPUT", lines->id() }, { "DENSIFY_PX", 4.0 },
+    { "OUTPUT", QgsProcessing::TEMPORARY_OUTPUT } }, mContext, &feedback, &ok );
+  QVERIFY2( ok, qPrintable( feedback.errors.join( '\n' ) ) );
+  QCOMPARE( result.value( "CLIPPED_COUNT" ).toInt(), 1 );
+  QCOMPARE( result.value( "PROJECTED_COUNT" ).toInt(), 1 );
+  QVERIFY( feedback.warnings.join( ' ' ).contains( "cut" ) );
+  QgsVectorLayer *out = qobject_cast<QgsVectorLayer *>( QgsProcessingUtils::mapLayerFromString( result.value( "OUTPUT" ).toString(), mContext ) );
+  QgsFeature g;
+  QVERIFY( out->getFeatures().nextFeature( g ) );
+  const QgsLineString *line = qgsgeometry_cast<const QgsLineString *>( g.geometry().constGet() );
+  QVERIFY( line && line->numPoints() >= 2 );
+  // it starts at the ground point in view and ends where the line leaves the lens field, outside the frame
+  QGSCOMPARENEAR( line->xAt( 0 ), 640.5, 1e-6 );
+  QGSCOMPARENEAR( line->yAt( 0 ), -700.5, 1e-6 );
+  const QgsPoint end = line->endPoint();
+  QVERIFY( end.x() < 0 || end.x() > 1280 || -end.y() < 0 || -end.y() > 960 );
+  QCOMPARE( g.attribute( "in_frame" ).toBool(), false );
 }
 
 int main( int argc, char **argv )
