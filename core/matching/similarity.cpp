@@ -60,34 +60,48 @@ namespace geostation
       return;
     }
     const bool weighted = measure == SimilarityMeasure::WCC || measure == SimilarityMeasure::WNCC;
-    mValues.reserve( static_cast<size_t>( width ) * height );
-    double plainSum = 0, plainSq = 0;
+    mPaddedWidth = ( width + 15 ) / 16 * 16;
+    mPadded.assign( static_cast<size_t>( mPaddedWidth ) * height, 0 );
+    mMask.assign( mPaddedWidth, 0 );
+    std::fill( mMask.begin(), mMask.begin() + width, static_cast<int16_t>( -1 ) );
+    mValues.resize( static_cast<size_t>( width ) * height );
+    int64_t plainSum = 0, plainSq = 0;
     for ( int r = 0; r < height; ++r )
     {
       const uint8_t *row = image.grey().ptr<uint8_t>( r0 + r ) + c0;
+      int *values = mValues.data() + static_cast<size_t>( r ) * width;
+      int16_t *padded = mPadded.data() + static_cast<size_t>( r ) * mPaddedWidth;
       for ( int c = 0; c < width; ++c )
       {
         const int v = row[c];
-        mValues.push_back( v );
-        const double w = weighted ? centreWeight( c - width / 2, r - height / 2, width, height ) : 1.0;
-        if ( weighted )
-          mWeights.push_back( w );
-        mWeightSum += w;
-        mSum += w * v;
-        mSumSq += w * v * v;
+        values[c] = v;
+        padded[c] = static_cast<int16_t>( v );
         plainSum += v;
-        plainSq += static_cast<double>( v ) * v;
+        plainSq += v * v;
       }
     }
-    mPaddedWidth = ( width + 15 ) / 16 * 16;
-    mPadded.assign( static_cast<size_t>( mPaddedWidth ) * height, 0 );
-    mOnes.assign( mPaddedWidth, 0 );
-    std::fill( mOnes.begin(), mOnes.begin() + width, 1 );
-    for ( int r = 0; r < height; ++r )
-      for ( int c = 0; c < width; ++c )
-        mPadded[static_cast<size_t>( r ) * mPaddedWidth + c] = static_cast<int16_t>( mValues[static_cast<size_t>( r ) * width + c] );
+    if ( weighted )
+    {
+      mWeights.reserve( mValues.size() );
+      for ( int r = 0; r < height; ++r )
+        for ( int c = 0; c < width; ++c )
+        {
+          const double w = centreWeight( c - width / 2, r - height / 2, width, height );
+          const double v = mValues[static_cast<size_t>( r ) * width + c];
+          mWeights.push_back( w );
+          mWeightSum += w;
+          mSum += w * v;
+          mSumSq += w * v * v;
+        }
+    }
+    else
+    {
+      mWeightSum = static_cast<double>( width ) * height;
+      mSum = static_cast<double>( plainSum );
+      mSumSq = static_cast<double>( plainSq );
+    }
     const double n = static_cast<double>( width ) * height;
-    mContrast = std::sqrt( std::max( 0.0, plainSq / n - ( plainSum / n ) * ( plainSum / n ) ) );
+    mContrast = std::sqrt( std::max( 0.0, static_cast<double>( plainSq ) / n - ( static_cast<double>( plainSum ) / n ) * ( static_cast<double>( plainSum ) / n ) ) );
     const bool normalised = measure == SimilarityMeasure::NCC || measure == SimilarityMeasure::WNCC;
     if ( ( normalised && mContrast < 0.5 ) || ( !normalised && mSumSq <= 0.0 ) )
       mReason = "the window is flat (no texture to correlate)";
@@ -105,27 +119,24 @@ namespace geostation
       int64_t st = 0, s = 0, ss = 0;
       if ( c0 + mPaddedWidth <= search.grey().cols )
       {
-        // the padding columns are summed too (the template is 0 there) and taken off afterwards
-        const int16_t *t = mPadded.data();
 #ifdef __SSE2__
         // 16 pixels at a time: pmaddwd does eight multiply-adds into four 32-bit sums
         __m128i accSt = _mm_setzero_si128(), accS = _mm_setzero_si128(), accSs = _mm_setzero_si128();
-        const __m128i zero = _mm_setzero_si128();
-        for ( int r = 0; r < mHeight; ++r, t += mPaddedWidth )
+        const __m128i zero = _mm_setzero_si128(), ones = _mm_set1_epi16( 1 );
+        for ( int c = 0; c < mPaddedWidth; c += 16 )
         {
-          const uint8_t *row = search.grey().ptr<uint8_t>( r0 + r ) + c0;
-          for ( int c = 0; c < mPaddedWidth; c += 16 )
+          // the window's pixels only: the mask keeps the window's columns and clears the padding
+          const __m128i maskLo = _mm_loadu_si128( reinterpret_cast<const __m128i *>( mMask.data() + c ) );
+          const __m128i maskHi = _mm_loadu_si128( reinterpret_cast<const __m128i *>( mMask.data() + c + 8 ) );
+          const int16_t *t = mPadded.data() + c;
+          for ( int r = 0; r < mHeight; ++r, t += mPaddedWidth )
           {
-            // the window's pixels only: the mask is 1 on the window, 0 on the padding
-            const __m128i maskLo = _mm_loadu_si128( reinterpret_cast<const __m128i *>( mOnes.data() + c ) );
-            const __m128i maskHi = _mm_loadu_si128( reinterpret_cast<const __m128i *>( mOnes.data() + c + 8 ) );
-            const __m128i v = _mm_loadu_si128( reinterpret_cast<const __m128i *>( row + c ) );
-            const __m128i lo = _mm_unpacklo_epi8( v, zero ), hi = _mm_unpackhi_epi8( v, zero );
-            const __m128i tlo = _mm_loadu_si128( reinterpret_cast<const __m128i *>( t + c ) ), thi = _mm_loadu_si128( reinterpret_cast<const __m128i *>( t + c + 8 ) );
-            const __m128i mlo = _mm_mullo_epi16( lo, maskLo ), mhi = _mm_mullo_epi16( hi, maskHi );
+            const __m128i v = _mm_loadu_si128( reinterpret_cast<const __m128i *>( search.grey().ptr<uint8_t>( r0 + r ) + c0 + c ) );
+            const __m128i lo = _mm_and_si128( _mm_unpacklo_epi8( v, zero ), maskLo ), hi = _mm_and_si128( _mm_unpackhi_epi8( v, zero ), maskHi );
+            const __m128i tlo = _mm_loadu_si128( reinterpret_cast<const __m128i *>( t ) ), thi = _mm_loadu_si128( reinterpret_cast<const __m128i *>( t + 8 ) );
             accSt = _mm_add_epi32( accSt, _mm_add_epi32( _mm_madd_epi16( lo, tlo ), _mm_madd_epi16( hi, thi ) ) );
-            accS = _mm_add_epi32( accS, _mm_add_epi32( _mm_madd_epi16( lo, maskLo ), _mm_madd_epi16( hi, maskHi ) ) );
-            accSs = _mm_add_epi32( accSs, _mm_add_epi32( _mm_madd_epi16( lo, mlo ), _mm_madd_epi16( hi, mhi ) ) );
+            accS = _mm_add_epi32( accS, _mm_add_epi32( _mm_madd_epi16( lo, ones ), _mm_madd_epi16( hi, ones ) ) );
+            accSs = _mm_add_epi32( accSs, _mm_add_epi32( _mm_madd_epi16( lo, lo ), _mm_madd_epi16( hi, hi ) ) );
           }
         }
         alignas( 16 ) int32_t lanes[3][4];
@@ -139,6 +150,8 @@ namespace geostation
           ss += lanes[2][k];
         }
 #else
+        // the padding columns are summed too (the template is 0 there) and taken off afterwards
+        const int16_t *t = mPadded.data();
         for ( int r = 0; r < mHeight; ++r, t += mPaddedWidth )
         {
           const uint8_t *row = search.grey().ptr<uint8_t>( r0 + r ) + c0;

@@ -72,7 +72,7 @@ namespace geostation
       std::vector<int> mValues;     //!< template grey values, row by row
       int mPaddedWidth = 0;         //!< row length rounded up to 16, for the vectorised kernel
       std::vector<int16_t> mPadded; //!< values padded with zeros to mPaddedWidth per row
-      std::vector<int16_t> mOnes;   //!< 1 on the window's columns, 0 on the padding
+      std::vector<int16_t> mMask;   //!< all bits set on the window's columns, 0 on the padding
       std::vector<double> mWeights; //!< weighted measures
       double mSum = 0, mSumSq = 0;  //!< of the values (weighted for wcc/wncc)
       double mWeightSum = 0;
