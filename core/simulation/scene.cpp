@@ -239,17 +239,20 @@ namespace geostation
     {
       const double tNext = std::min( tx, ty );
       const double zMin = std::min( origin.z() + direction.z() * tCell, origin.z() + direction.z() * std::min( tNext, tb ) );
+      // a cell whose objects all stand below the ray is skipped
       if ( zMin <= mObjectCellTop[static_cast<size_t>( cj ) * mObjectGrid.cellsX() + ci] )
-      for ( int item : mObjectGrid.cell( ci, cj ) )
       {
-        if ( item == ignore )
-          continue;
-        ObjectHit candidate;
-        if ( intersectObject( mObjects[item], origin, direction, bestT, candidate ) && candidate.t < bestT )
+        for ( int item : mObjectGrid.cell( ci, cj ) )
         {
-          bestT = candidate.t;
-          best = item;
-          hit = candidate;
+          if ( item == ignore )
+            continue;
+          ObjectHit candidate;
+          if ( intersectObject( mObjects[item], origin, direction, bestT, candidate ) && candidate.t < bestT )
+          {
+            bestT = candidate.t;
+            best = item;
+            hit = candidate;
+          }
         }
       }
       if ( tNext >= tb || bestT <= tNext )
