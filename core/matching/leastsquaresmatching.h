@@ -6,9 +6,10 @@
       g_t(x, y) = h0 + h1 g_s(a0 + a1 x + a2 y, b0 + b1 x + b2 y),
   (x, y) the offsets from the reference pixel. Gauss-Newton on the
   linearised observation equations (eq. 5.10), resampling the search image
-  bicubically with the kernel's own derivatives as gradients. (The thesis
-  resamples bilinearly with central-difference gradients, eqs. 5.12-5.15;
-  their mismatch stalls the iteration short of hundredths of a pixel.)
+  by cubic B-spline interpolation with the spline's own derivatives as
+  gradients. (The thesis resamples bilinearly with central-difference
+  gradients, eqs. 5.12-5.15; their mismatch stalls the iteration short of
+  hundredths of a pixel, and bilinear or Keys resampling bias the shift.)
   until the shift changes by less than a threshold. (a0, b0) is the match.
   Divergent, degenerate or runaway solutions are rejected with a reason.
  ***************************************************************************/

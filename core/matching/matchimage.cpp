@@ -44,6 +44,32 @@ namespace geostation
       grey.convertTo( mValue, CV_32F, scale, -lo * scale );
     }
     mValue.convertTo( mGrey, CV_8U ); // rounds
+    // cubic B-spline coefficients (Unser's recursive prefilter, mirror boundaries), so that
+    // sampleCubic() interpolates the pixel values exactly with the spline's flat frequency response
+    mCoefficients = mValue.clone();
+    const double z = std::sqrt( 3.0 ) - 2.0, lambda = ( 1 - z ) * ( 1 - 1 / z );
+    const auto prefilter = [&]( float *c, int n, int stride )
+    {
+      if ( n < 2 )
+        return;
+      for ( int k = 0; k < n; ++k )
+        c[k * stride] = static_cast<float>( c[k * stride] * lambda );
+      // causal initialisation (mirror), truncated sum
+      double sum = c[0], zk = z;
+      const int horizon = std::min( n, 24 );
+      for ( int k = 1; k < horizon; ++k, zk *= z )
+        sum += zk * c[k * stride];
+      c[0] = static_cast<float>( sum );
+      for ( int k = 1; k < n; ++k )
+        c[k * stride] = static_cast<float>( c[k * stride] + z * c[( k - 1 ) * stride] );
+      c[( n - 1 ) * stride] = static_cast<float>( ( z / ( z * z - 1 ) ) * ( z * c[( n - 2 ) * stride] + c[( n - 1 ) * stride] ) );
+      for ( int k = n - 2; k >= 0; --k )
+        c[k * stride] = static_cast<float>( z * ( c[( k + 1 ) * stride] - c[k * stride] ) );
+    };
+    for ( int r = 0; r < mCoefficients.rows; ++r )
+      prefilter( mCoefficients.ptr<float>( r ), mCoefficients.cols, 1 );
+    for ( int c = 0; c < mCoefficients.cols; ++c )
+      prefilter( mCoefficients.ptr<float>( 0 ) + c, mCoefficients.rows, static_cast<int>( mCoefficients.step1() ) );
     mGradX = cv::Mat::zeros( mValue.size(), CV_32F );
     mGradY = cv::Mat::zeros( mValue.size(), CV_32F );
     for ( int r = 0; r < mValue.rows; ++r )
@@ -63,18 +89,18 @@ namespace geostation
 
   namespace
   {
-    //! Keys' cubic convolution weights (a = -0.5) and their derivatives for fractional offset t in [0, 1).
-    void keys( float t, float w[4], float d[4] )
+    //! Cubic B-spline weights and their derivatives for fractional offset t in [0, 1).
+    void bspline( float t, float w[4], float d[4] )
     {
-      const float t2 = t * t, t3 = t2 * t;
-      w[0] = -0.5f * t3 + t2 - 0.5f * t;
-      w[1] = 1.5f * t3 - 2.5f * t2 + 1.0f;
-      w[2] = -1.5f * t3 + 2.0f * t2 + 0.5f * t;
-      w[3] = 0.5f * t3 - 0.5f * t2;
-      d[0] = -1.5f * t2 + 2.0f * t - 0.5f;
-      d[1] = 4.5f * t2 - 5.0f * t;
-      d[2] = -4.5f * t2 + 4.0f * t + 0.5f;
-      d[3] = 1.5f * t2 - t;
+      const float t2 = t * t, t3 = t2 * t, u = 1.0f - t;
+      w[0] = u * u * u / 6.0f;
+      w[1] = ( 3.0f * t3 - 6.0f * t2 + 4.0f ) / 6.0f;
+      w[2] = ( -3.0f * t3 + 3.0f * t2 + 3.0f * t + 1.0f ) / 6.0f;
+      w[3] = t3 / 6.0f;
+      d[0] = -0.5f * u * u;
+      d[1] = 1.5f * t2 - 2.0f * t;
+      d[2] = -1.5f * t2 + t + 0.5f;
+      d[3] = 0.5f * t2;
     }
   }
 
@@ -83,12 +109,12 @@ namespace geostation
     const double x = col - 0.5, y = row - 0.5;
     const int i = static_cast<int>( std::floor( x ) ), j = static_cast<int>( std::floor( y ) );
     float wx[4], dx[4], wy[4], dy[4];
-    keys( static_cast<float>( x - i ), wx, dx );
-    keys( static_cast<float>( y - j ), wy, dy );
+    bspline( static_cast<float>( x - i ), wx, dx );
+    bspline( static_cast<float>( y - j ), wy, dy );
     float value = 0, gx = 0, gy = 0;
     for ( int m = 0; m < 4; ++m )
     {
-      const float *line = mValue.ptr<float>( j - 1 + m ) + ( i - 1 );
+      const float *line = mCoefficients.ptr<float>( j - 1 + m ) + ( i - 1 );
       float rowValue = 0, rowDerivative = 0;
       for ( int k = 0; k < 4; ++k )
       {

@@ -63,13 +63,15 @@ namespace geostation
       }
 
       /**
-       * Bicubic (Keys, a = -0.5) value and its derivatives along col and row
-       * at a continuous pixel position (caller checks canSampleCubic()).
+       * Cubic B-spline interpolation (of prefiltered coefficients: it passes
+       * through the pixel values) and its derivatives along col and row at a
+       * continuous pixel position (caller checks canSampleCubic()).
        */
       float sampleCubic( double col, double row, float *dCol = nullptr, float *dRow = nullptr ) const;
 
     private:
       cv::Mat mGrey, mValue, mGradX, mGradY;
+      cv::Mat mCoefficients; //!< cubic B-spline coefficients of mValue
   };
 
 } // namespace geostation
