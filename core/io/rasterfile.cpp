@@ -9,6 +9,7 @@
 #include <stdexcept>
 
 #include <cpl_conv.h>
+#include <cpl_error.h>
 #include <gdal.h>
 
 namespace geostation
@@ -63,8 +64,8 @@ namespace geostation
     const std::string temporary = path + ".tmp-write.tif";
     const GDALDataType type = pixels.depth() == CV_8U ? GDT_Byte : GDT_UInt16;
     const int bands = pixels.channels();
-    const char *rgb[] = { "PHOTOMETRIC=RGB", "INTERLEAVE=PIXEL", "TILED=YES", "COMPRESS=DEFLATE", nullptr };
-    const char *grey[] = { "TILED=YES", "COMPRESS=DEFLATE", nullptr };
+    const char *rgb[] = { "PHOTOMETRIC=RGB", "INTERLEAVE=PIXEL", "TILED=YES", "COMPRESS=DEFLATE", "BIGTIFF=IF_SAFER", nullptr };
+    const char *grey[] = { "TILED=YES", "COMPRESS=DEFLATE", "BIGTIFF=IF_SAFER", nullptr };
     {
       std::unique_ptr<void, DatasetCloser> ds( GDALCreate( GDALGetDriverByName( "GTiff" ), temporary.c_str(), pixels.cols, pixels.rows, bands, type,
                                               const_cast<char **>( bands == 3 ? rgb : grey ) ) );
@@ -90,6 +91,12 @@ namespace geostation
         ds.reset();
         std::remove( temporary.c_str() );
         throw std::runtime_error( "writing " + path + " failed (disk full?)" );
+      }
+      if ( static_cast<long>( pixels.cols ) * pixels.rows > 4'000'000 )
+      {
+        int levels[] = { 2, 4, 8, 16 };
+        if ( GDALBuildOverviews( ds.get(), "AVERAGE", 4, levels, 0, nullptr, nullptr, nullptr ) != CE_None )
+          CPLErrorReset(); // overviews are a convenience; the image itself is written
       }
     }
     std::error_code ec;

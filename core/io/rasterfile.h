@@ -30,7 +30,11 @@ namespace geostation
   //! Throws std::invalid_argument (unreadable, not 1 or 3 bands, not 8/16-bit) naming the file.
   RasterImage readRaster( const std::string &path );
 
-  //! Throws std::runtime_error naming the file; `like` supplies geotransform, CRS and nodata.
+  /**
+   * Throws std::runtime_error naming the file; `like` supplies geotransform,
+   * CRS and nodata (an empty RasterImage: pixel space). Images over 4 Mpx
+   * get overviews (2-16), so QGIS draws them quickly.
+   */
   void writeGeoTiffLike( const std::string &path, const cv::Mat &pixels, const RasterImage &like );
 
 } // namespace geostation

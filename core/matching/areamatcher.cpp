@@ -82,7 +82,6 @@ namespace geostation
         {
           // a line or an edge: LSM cannot fix the shift along it; the correlation peak stands, at its precision
           result.reason = "least-squares matching could not refine: " + result.lsm.reason;
-          result.sigmaPx = kCorrelationSigmaPx;
         }
       }
       result.matched = true;

@@ -52,8 +52,12 @@ namespace geostation
     for ( int k = 0; k < n; ++k )
     {
       const double col = approximateInSearch.x() + dx[k], row = approximateInSearch.y() + dy[k];
-      if ( search.canSample( col, row ) )
-        gradientEnergy += std::pow( search.sampleAt( search.gradX(), col, row ), 2 ) + std::pow( search.sampleAt( search.gradY(), col, row ), 2 );
+      float dCol = 0, dRow = 0;
+      if ( search.canSampleCubic( col, row ) )
+      {
+        search.sampleCubic( col, row, &dCol, &dRow );
+        gradientEnergy += static_cast<double>( dCol ) * dCol + static_cast<double>( dRow ) * dRow;
+      }
     }
     if ( gradientEnergy < 0.25 * n )
     {

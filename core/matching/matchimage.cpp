@@ -70,21 +70,6 @@ namespace geostation
       prefilter( mCoefficients.ptr<float>( r ), mCoefficients.cols, 1 );
     for ( int c = 0; c < mCoefficients.cols; ++c )
       prefilter( mCoefficients.ptr<float>( 0 ) + c, mCoefficients.rows, static_cast<int>( mCoefficients.step1() ) );
-    mGradX = cv::Mat::zeros( mValue.size(), CV_32F );
-    mGradY = cv::Mat::zeros( mValue.size(), CV_32F );
-    for ( int r = 0; r < mValue.rows; ++r )
-    {
-      const float *row = mValue.ptr<float>( r );
-      const float *up = mValue.ptr<float>( std::max( 0, r - 1 ) ), *down = mValue.ptr<float>( std::min( mValue.rows - 1, r + 1 ) );
-      float *gx = mGradX.ptr<float>( r ), *gy = mGradY.ptr<float>( r );
-      const float yScale = ( r == 0 || r == mValue.rows - 1 ) ? 1.0f : 0.5f;
-      for ( int c = 0; c < mValue.cols; ++c )
-      {
-        const int left = std::max( 0, c - 1 ), right = std::min( mValue.cols - 1, c + 1 );
-        gx[c] = ( row[right] - row[left] ) / static_cast<float>( right - left );
-        gy[c] = ( down[c] - up[c] ) * yScale;
-      }
-    }
   }
 
   namespace

@@ -35,25 +35,10 @@ namespace geostation
 
       const cv::Mat &grey() const { return mGrey; }     //!< CV_8U, for correlation
       const cv::Mat &value() const { return mValue; }   //!< CV_32F, 0..255
-      const cv::Mat &gradX() const { return mGradX; }   //!< CV_32F, (g(x+1) - g(x-1)) / 2
-      const cv::Mat &gradY() const { return mGradY; }
-
-      //! Whether bilinear samples at (col, row) and its neighbours stay inside the centres.
+      //! Whether (col, row) lies between the outermost pixel centres.
       bool canSample( double col, double row ) const
       {
         return col >= 0.5 && row >= 0.5 && col <= mGrey.cols - 0.5 && row <= mGrey.rows - 0.5;
-      }
-
-      //! Bilinear value at a continuous pixel position (caller checks canSample()).
-      float sampleAt( const cv::Mat &plane, double col, double row ) const
-      {
-        const double x = col - 0.5, y = row - 0.5;
-        int i = static_cast<int>( x ), j = static_cast<int>( y );
-        i = i >= plane.cols - 1 ? plane.cols - 2 : i;
-        j = j >= plane.rows - 1 ? plane.rows - 2 : j;
-        const float u = static_cast<float>( x - i ), v = static_cast<float>( y - j );
-        const float *r0 = plane.ptr<float>( j ), *r1 = plane.ptr<float>( j + 1 );
-        return ( 1 - u ) * ( 1 - v ) * r0[i] + u * ( 1 - v ) * r0[i + 1] + ( 1 - u ) * v * r1[i] + u * v * r1[i + 1];
       }
 
       //! Whether bicubic samples at (col, row) stay inside the image (one more pixel than bilinear).
@@ -70,7 +55,7 @@ namespace geostation
       float sampleCubic( double col, double row, float *dCol = nullptr, float *dRow = nullptr ) const;
 
     private:
-      cv::Mat mGrey, mValue, mGradX, mGradY;
+      cv::Mat mGrey, mValue;
       cv::Mat mCoefficients; //!< cubic B-spline coefficients of mValue
   };
 

@@ -114,16 +114,16 @@ namespace geostation
         for ( int col = 0; col < width; ++col )
         {
           const uint32_t key = keys[static_cast<size_t>( row ) * width + col];
-          bool edge = !options.adaptive, mark = Scene::isGroundMarkKey( key );
+          bool edge = !options.adaptive, mark = Scene::isControlTargetKey( key );
           for ( int dr = -1; dr <= 1; ++dr )
             for ( int dc = -1; dc <= 1; ++dc )
             {
               const int r = row + dr, c = col + dc;
               if ( r < 0 || c < 0 || r >= height || c >= width || keys[static_cast<size_t>( r ) * width + c] == key )
                 continue;
-              const bool otherMark = Scene::isGroundMarkKey( keys[static_cast<size_t>( r ) * width + c] );
+              const bool otherMark = Scene::isControlTargetKey( keys[static_cast<size_t>( r ) * width + c] );
               // diagonal neighbours count only around control targets, which must be covered completely
-              if ( dr != 0 && dc != 0 && !otherMark && !Scene::isGroundMarkKey( key ) )
+              if ( dr != 0 && dc != 0 && !otherMark && !Scene::isControlTargetKey( key ) )
                 continue;
               edge = true;
               mark = mark || otherMark;

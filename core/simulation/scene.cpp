@@ -74,7 +74,7 @@ namespace geostation
     }
   }
 
-  bool Scene::isGroundMarkKey( uint32_t key )
+  bool Scene::isControlTargetKey( uint32_t key )
   {
     const uint32_t material = key >> 27;
     return material == TargetWhite || material == TargetBlack;

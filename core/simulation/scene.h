@@ -66,7 +66,7 @@ namespace geostation
       const Eigen::Vector3d &towardsSun() const { return mTowardsSun; }
 
       //! Whether a sample key is a control target: worth finer anti-aliasing (they are measured by centroid).
-      static bool isGroundMarkKey( uint32_t key );
+      static bool isControlTargetKey( uint32_t key );
 
       void setOrtho( std::shared_ptr<const OrthoTexture> ortho ) { mOrtho = std::move( ortho ); }
 

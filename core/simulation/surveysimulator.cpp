@@ -8,10 +8,9 @@
 #include <thread>
 #include <unistd.h>
 
-#include <cpl_error.h>
-#include <gdal.h>
 #include <nlohmann/json.hpp>
 
+#include "io/rasterfile.h"
 #include "simulation/filmscan.h"
 #include "simulation/renderer.h"
 #include "simulation/surveyrig.h"
@@ -21,30 +20,6 @@ namespace geostation
 {
   namespace
   {
-    void writeRgbGeoTiff( const std::filesystem::path &path, const cv::Mat &rgb )
-    {
-      GDALAllRegister();
-      const bool large = static_cast<long>( rgb.cols ) * rgb.rows > 4'000'000;
-      const char *smallOptions[] = { "PHOTOMETRIC=RGB", "INTERLEAVE=PIXEL", nullptr };
-      const char *largeOptions[] = { "PHOTOMETRIC=RGB", "INTERLEAVE=PIXEL", "TILED=YES", "COMPRESS=DEFLATE", "BIGTIFF=IF_SAFER", nullptr };
-      GDALDatasetH ds = GDALCreate( GDALGetDriverByName( "GTiff" ), path.string().c_str(), rgb.cols, rgb.rows, 3, GDT_Byte,
-                                    const_cast<char **>( large ? largeOptions : smallOptions ) );
-      if ( !ds )
-        throw std::runtime_error( "cannot create the image " + path.string() );
-      int bandMap[3] = { 1, 2, 3 };
-      const CPLErr err = GDALDatasetRasterIO( ds, GF_Write, 0, 0, rgb.cols, rgb.rows, const_cast<uchar *>( rgb.data ), rgb.cols, rgb.rows, GDT_Byte, 3, bandMap,
-                                              3, static_cast<GSpacing>( rgb.step[0] ), 1 );
-      if ( err == CE_None && large )
-      {
-        int levels[] = { 2, 4, 8, 16 };
-        if ( GDALBuildOverviews( ds, "AVERAGE", 4, levels, 0, nullptr, nullptr, nullptr ) != CE_None )
-          CPLErrorReset(); // overviews are a convenience; the image itself is written
-      }
-      GDALClose( ds );
-      if ( err != CE_None )
-        throw std::runtime_error( "cannot write the image " + path.string() );
-    }
-
     nlohmann::json degradationJson( const DegradationOptions &d )
     {
       return { { "exposure", d.exposure }, { "vignetting", d.vignetting }, { "blur_sigma_px", d.blurSigmaPx }, { "noise_sigma", d.noiseSigma },
@@ -134,7 +109,7 @@ namespace geostation
         if ( image.innerOrientation )
           drawFiducialMarks( linear, truth.cameraOf( image ), oriented );
         const cv::Mat rgb = degradeAndQuantise( linear, options.degradation, options.seed * 2654435761u + static_cast<uint32_t>( i ) );
-        writeRgbGeoTiff( staging / image.path, rgb );
+        writeGeoTiffLike( ( staging / image.path ).string(), rgb, RasterImage() ); // pixel space: no georeferencing
       }
       summary.renderSeconds = std::chrono::duration<double>( std::chrono::steady_clock::now() - start ).count();
       summary.pixels = renderSummary.pixels;

@@ -165,7 +165,8 @@ namespace
     for ( int r = r0 - w / 2; r <= r0 + w / 2; ++r )
       for ( int c = c0 - w / 2; c <= c0 + w / 2; ++c )
       {
-        const Eigen::Vector2d g( image.gradX().at<float>( r, c ), image.gradY().at<float>( r, c ) );
+        const cv::Mat &v = image.value();
+        const Eigen::Vector2d g( 0.5 * ( v.at<float>( r, c + 1 ) - v.at<float>( r, c - 1 ) ), 0.5 * ( v.at<float>( r + 1, c ) - v.at<float>( r - 1, c ) ) );
         n += g * g.transpose();
       }
     const Eigen::Vector2d eigen = Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d>( n / ( w * w ) ).eigenvalues();

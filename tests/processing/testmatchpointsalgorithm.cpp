@@ -35,6 +35,8 @@ class TestMatchPointsAlgorithm : public QObject
     //! (point_id -> pixel) of an image in image_truth
     QMap<QString, QPointF> truthOf( const QString &imageId );
     QString observations( const QString &name, int count, bool approx );
+    //! (matches into S0002, of them within 1 px of the truth) in an output table
+    std::pair<int, int> matchesInSecondImage( const QString &output );
     QTemporaryDir mDir;
     QgsProcessingContext mContext;
     QString mRun;
@@ -96,6 +98,23 @@ QString TestMatchPointsAlgorithm::observations( const QString &name, int count, 
   return file.fileName();
 }
 
+std::pair<int, int> TestMatchPointsAlgorithm::matchesInSecondImage( const QString &output )
+{
+  const QMap<QString, QPointF> truth = truthOf( "S0002" );
+  QgsVectorLayer matched( output, "matched", "ogr" );
+  int total = 0, correct = 0;
+  QgsFeature f;
+  QgsFeatureIterator it = matched.getFeatures();
+  while ( it.nextFeature( f ) )
+    if ( f.attribute( "image_id" ).toString() == "S0002" )
+    {
+      ++total;
+      const QPointF t = truth.value( f.attribute( "point_id" ).toString() );
+      correct += std::hypot( f.attribute( "col" ).toDouble() - t.x(), f.attribute( "row" ).toDouble() - t.y() ) < 1.0 ? 1 : 0;
+    }
+  return { total, correct };
+}
+
 QVariantMap TestMatchPointsAlgorithm::run( const QVariantMap &parameters, bool *ok, RecordingFeedback *feedback )
 {
   std::unique_ptr<QgsProcessingAlgorithm> alg( QgsApplication::processingRegistry()->algorithmById( "geostation:match_points" )->create() );
@@ -112,19 +131,7 @@ void TestMatchPointsAlgorithm::epipolarBandMatchesTheTruth()
   const QVariantMap result = run( { { "BLOCK", mRun + "/block.geostation.json" }, { "OBSERVATIONS", input }, { "TARGETS", "S0002" },
     { "MIN_DEPTH_M", 50.0 }, { "MAX_DEPTH_M", 150.0 }, { "BAND_PX", 1 }, { "OUTPUT", output } }, &ok, &feedback );
   QVERIFY2( ok, qPrintable( feedback.errors.join( '\n' ) ) );
-  const QMap<QString, QPointF> truth = truthOf( "S0002" );
-  QgsVectorLayer matched( output, "matched", "ogr" );
-  int total = 0, correct = 0;
-  QgsFeature f;
-  QgsFeatureIterator it = matched.getFeatures();
-  while ( it.nextFeature( f ) )
-  {
-    if ( f.attribute( "image_id" ).toString() != "S0002" )
-      continue;
-    ++total;
-    const QPointF t = truth.value( f.attribute( "point_id" ).toString() );
-    correct += std::hypot( f.attribute( "col" ).toDouble() - t.x(), f.attribute( "row" ).toDouble() - t.y() ) < 1.0 ? 1 : 0;
-  }
+  const auto [total, correct] = matchesInSecondImage( output );
   const int tried = result.value( "MATCHED_COUNT" ).toInt() + result.value( "NO_MATCH_COUNT" ).toInt();
   qInfo() << "epipolar band:" << total << "of" << tried << "matched," << correct << "within 1 px";
   QVERIFY( tried >= 10 );
@@ -146,18 +153,7 @@ void TestMatchPointsAlgorithm::twoDimensionalSearchForAnUnorientedTarget()
   run( { { "BLOCK", mRun + "/unoriented.geostation.json" }, { "OBSERVATIONS", input }, { "TARGETS", "S0002" }, { "SEARCH_RADIUS", 6.0 },
     { "OUTPUT", output } }, &ok, &feedback );
   QVERIFY2( ok, qPrintable( feedback.errors.join( '\n' ) ) );
-  const QMap<QString, QPointF> truth = truthOf( "S0002" );
-  QgsVectorLayer matched( output, "matched", "ogr" );
-  int total = 0, correct = 0;
-  QgsFeature f;
-  QgsFeatureIterator it = matched.getFeatures();
-  while ( it.nextFeature( f ) )
-    if ( f.attribute( "image_id" ).toString() == "S0002" )
-    {
-      ++total;
-      const QPointF t = truth.value( f.attribute( "point_id" ).toString() );
-      correct += std::hypot( f.attribute( "col" ).toDouble() - t.x(), f.attribute( "row" ).toDouble() - t.y() ) < 1.0 ? 1 : 0;
-    }
+  const auto [total, correct] = matchesInSecondImage( output );
   qInfo() << "2-D search:" << total << "matched," << correct << "within 1 px";
   QVERIFY( total >= 10 );
   QVERIFY( correct >= 0.8 * total );
