@@ -26,6 +26,7 @@
 #include "simulation/surveyrig.h"
 #include "simulation/surveysimulator.h"
 #include "simulation/truthwriter.h"
+#include "simulationtruth.h"
 #include "syntheticterrain.h"
 
 using namespace geostation;
@@ -49,53 +50,6 @@ namespace
     const CPLErr err = GDALDatasetRasterIO( ds, GF_Read, 0, 0, rgb.cols, rgb.rows, rgb.data, rgb.cols, rgb.rows, GDT_Byte, 3, bands, 3, rgb.step[0], 1 );
     GDALClose( ds );
     return err == CE_None ? rgb : cv::Mat();
-  }
-
-  struct TruthTable
-  {
-    std::map<std::string, Eigen::Vector3d> control, objects;
-    std::map<std::pair<std::string, std::string>, Eigen::Vector2d> imageTruth; // (point, image) -> pixel
-    int roads = 0;
-    std::string controlCrsName;
-  };
-
-  TruthTable readTruth( const std::filesystem::path &gpkg )
-  {
-    TruthTable truth;
-    GDALDatasetH ds = GDALOpenEx( gpkg.string().c_str(), GDAL_OF_VECTOR, nullptr, nullptr, nullptr );
-    EXPECT_NE( ds, nullptr );
-    if ( !ds )
-      return truth;
-    for ( const char *name : { "control", "objects" } )
-    {
-      OGRLayerH layer = GDALDatasetGetLayerByName( ds, name );
-      EXPECT_NE( layer, nullptr ) << name;
-      if ( !layer )
-        continue;
-      if ( std::string( name ) == "control" && OGR_L_GetSpatialRef( layer ) )
-        truth.controlCrsName = OSRGetName( OGR_L_GetSpatialRef( layer ) );
-      while ( OGRFeatureH f = OGR_L_GetNextFeature( layer ) )
-      {
-        OGRGeometryH g = OGR_F_GetGeometryRef( f );
-        ( std::string( name ) == "control" ? truth.control : truth.objects )[OGR_F_GetFieldAsString( f, OGR_F_GetFieldIndex( f, "id" ) )] =
-          Eigen::Vector3d( OGR_G_GetX( g, 0 ), OGR_G_GetY( g, 0 ), OGR_G_GetZ( g, 0 ) );
-        OGR_F_Destroy( f );
-      }
-    }
-    OGRLayerH roads = GDALDatasetGetLayerByName( ds, "roads" );
-    EXPECT_NE( roads, nullptr );
-    if ( roads )
-      truth.roads = static_cast<int>( OGR_L_GetFeatureCount( roads, TRUE ) );
-    OGRLayerH table = GDALDatasetGetLayerByName( ds, "image_truth" );
-    EXPECT_NE( table, nullptr );
-    if ( table )
-      while ( OGRFeatureH f = OGR_L_GetNextFeature( table ) )
-      {
-        truth.imageTruth[{ OGR_F_GetFieldAsString( f, 0 ), OGR_F_GetFieldAsString( f, 1 ) }] = Eigen::Vector2d( OGR_F_GetFieldAsDouble( f, 2 ), OGR_F_GetFieldAsDouble( f, 3 ) );
-        OGR_F_Destroy( f );
-      }
-    GDALClose( ds );
-    return truth;
   }
 
   //! A small aerial survey, simulated once for the tests that read outputs.

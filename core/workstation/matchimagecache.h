@@ -1,0 +1,56 @@
+/***************************************************************************
+  matchimagecache.h - the images of the last few stations, ready to match
+  -------------------------------------------------------------------------
+  Reading an image and preparing it for matching (grey values, B-spline
+  coefficients) takes tens of milliseconds for a full-HD frame, so the
+  Multiview prepares the images of a station while the operator looks at
+  it, and keeps the last `capacity` ones. Safe to use from several threads:
+  a second request for an image being loaded waits for the first.
+ ***************************************************************************/
+#ifndef GEOSTATION_WORKSTATION_MATCHIMAGECACHE_H
+#define GEOSTATION_WORKSTATION_MATCHIMAGECACHE_H
+
+#include <condition_variable>
+#include <list>
+#include <map>
+#include <memory>
+#include <mutex>
+#include <set>
+#include <string>
+
+#include "matching/matchimage.h"
+
+namespace geostation
+{
+
+  class MatchImageCache
+  {
+    public:
+      explicit MatchImageCache( size_t capacity = 18 );
+
+      struct Entry
+      {
+        std::shared_ptr<const MatchImage> image; //!< nullptr when it cannot be read
+        std::string error;                       //!< one sentence when it cannot be read
+      };
+
+      //! The prepared image of a file, read on first use (errors are remembered too).
+      Entry get( const std::string &path );
+
+      //! Whether the file is prepared already (no reading).
+      bool contains( const std::string &path ) const;
+
+      void clear();
+
+    private:
+      size_t mCapacity;
+      mutable std::mutex mMutex;
+      std::condition_variable mLoaded;
+      std::set<std::string> mLoading;
+      std::list<std::string> mOrder; //!< most recent first
+      std::map<std::string, Entry> mEntries;
+  };
+
+} // namespace geostation
+
+#endif // GEOSTATION_WORKSTATION_MATCHIMAGECACHE_H

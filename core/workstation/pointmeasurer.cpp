@@ -1,0 +1,196 @@
+/***************************************************************************
+  pointmeasurer.cpp
+ ***************************************************************************/
+#include "workstation/pointmeasurer.h"
+
+#include <algorithm>
+#include <limits>
+#include <stdexcept>
+
+#include "dem/monoplotter.h"
+
+namespace geostation
+{
+
+  namespace
+  {
+    std::vector<Eigen::Vector2d> curvePixels( const EpipolarCurve &curve )
+    {
+      std::vector<Eigen::Vector2d> pixels;
+      for ( const auto &piece : curve.pieces )
+        for ( const EpipolarVertex &v : piece )
+          pixels.push_back( v.pixelInImage );
+      return pixels;
+    }
+  }
+
+  std::vector<ConjugateProposal> proposeConjugates( const std::vector<MeasurementView> &views, size_t reference, const Eigen::Vector2d &pixelInReference,
+      const ProposalOptions &options )
+  {
+    if ( reference >= views.size() || !views[reference].image )
+      throw std::invalid_argument( "proposeConjugates: the reference view must exist and be oriented" );
+    std::vector<ConjugateProposal> proposals( views.size() );
+    std::vector<size_t> matchable;
+    for ( size_t i = 0; i < views.size(); ++i )
+    {
+      ConjugateProposal &p = proposals[i];
+      p.imageId = views[i].imageId;
+      if ( i == reference )
+        continue;
+      if ( !views[i].image )
+      {
+        p.reason = "the image is not oriented";
+        continue;
+      }
+      p.curve = epipolarCurve( *views[reference].image, pixelInReference, *views[i].image, options.epipolar );
+      for ( const auto &piece : p.curve.pieces )
+        for ( const EpipolarVertex &v : piece )
+          p.curveInFrame = p.curveInFrame || v.inFrame;
+      if ( !p.curveInFrame )
+        p.reason = "the epipolar curve does not cross the image";
+      else if ( !views[i].pixels || !views[reference].pixels )
+        p.reason = "the image cannot be read";
+      else
+        matchable.push_back( i );
+    }
+
+    // all views together first: a candidate must be confirmed in each
+    bool together = false;
+    if ( options.multiImage && matchable.size() >= 2 )
+    {
+      std::vector<MatchView> matchViews { MatchView { views[reference].image, views[reference].pixels } };
+      for ( size_t i : matchable )
+        matchViews.push_back( MatchView { views[i].image, views[i].pixels } );
+      MultiImageMatchOptions multi;
+      multi.area = options.area;
+      multi.epipolar = options.epipolar;
+      const MultiImageMatch m = matchMultiImage( matchViews, 0, 1, pixelInReference, multi );
+      if ( m.matched )
+      {
+        together = true;
+        for ( size_t k = 0; k < matchable.size(); ++k )
+        {
+          ConjugateProposal &p = proposals[matchable[k]];
+          if ( m.pixels[k + 1] )
+          {
+            p.matched = true;
+            p.pixelInImage = *m.pixels[k + 1];
+            p.score = m.scores[k + 1];
+            p.sigmaPx = 0.5;
+          }
+        }
+      }
+    }
+    // then each view with the reference alone (also refines the multi-image positions by LSM)
+    for ( size_t i : matchable )
+    {
+      ConjugateProposal &p = proposals[i];
+      if ( together && !p.matched )
+        continue;
+      const std::vector<Eigen::Vector2d> curve = curvePixels( p.curve );
+      const AreaMatch m = together
+                          ? matchAroundPosition( *views[reference].pixels, pixelInReference, *views[i].pixels, p.pixelInImage, 1.5, options.area )
+                          : matchAlongEpipolarBand( *views[reference].pixels, pixelInReference, *views[i].pixels, curve, options.area );
+      if ( m.matched )
+      {
+        p.matched = true;
+        p.pixelInImage = m.pixelInImage;
+        p.score = m.score;
+        p.sigmaPx = std::max( 0.02, m.sigmaPx );
+      }
+      else if ( !together )
+      {
+        p.matched = false;
+        p.reason = m.reason.empty() ? "no match" : m.reason;
+      }
+    }
+    return proposals;
+  }
+
+  std::string vertexMethodName( VertexMethod method )
+  {
+    switch ( method )
+    {
+      case VertexMethod::Intersection:
+        return "intersection";
+      case VertexMethod::MonoplotDem:
+        return "monoplot-DEM";
+      case VertexMethod::RoadPlane:
+        return "road-plane";
+    }
+    return "intersection";
+  }
+
+  MeasuredVertex intersectVertex( const std::vector<VertexObservation> &observations, const IntersectionOptions &options )
+  {
+    MeasuredVertex v;
+    v.method = VertexMethod::Intersection;
+    std::vector<RayObservation> rays;
+    for ( const VertexObservation &o : observations )
+    {
+      rays.push_back( RayObservation { o.image, o.pixelInImage, o.sigmaPx } );
+      v.imageIds.push_back( o.imageId );
+    }
+    const IntersectionSummary s = intersectRays( rays, options );
+    if ( !s.ok() )
+    {
+      v.message = s.message;
+      return v;
+    }
+    v.ok = true;
+    v.point = s.point;
+    v.sigmaM = s.sigmaM;
+    v.rmsPx = s.rmsPx;
+    v.maxRayAngleDeg = s.maxRayAngleDeg;
+    v.rangeM = std::numeric_limits<double>::infinity();
+    for ( size_t i = 0; i < s.residuals.size(); ++i )
+    {
+      v.residualsPx.push_back( s.residuals[i].residualPx );
+      v.rangeM = std::min( v.rangeM, s.residuals[i].rangeM );
+      if ( s.residuals[i].suspect && s.grossError )
+        v.message = "The ray of " + observations[i].imageId + " may carry a gross error (normalised residual "
+                    + std::to_string( s.residuals[i].normalised ).substr( 0, 4 ) + ").";
+    }
+    return v;
+  }
+
+  MeasuredVertex roadPlaneVertex( const VertexObservation &observation, double roadHeightM, double planeSigmaM )
+  {
+    MeasuredVertex v;
+    v.method = VertexMethod::RoadPlane;
+    v.imageIds = { observation.imageId };
+    v.residualsPx = { Eigen::Vector2d::Zero() };
+    const PlaneIntersectionSummary s = intersectRayWithPlane( RayObservation { observation.image, observation.pixelInImage, observation.sigmaPx },
+                                       Plane::horizontal( roadHeightM ), planeSigmaM );
+    if ( !s.ok() )
+    {
+      v.message = s.message;
+      return v;
+    }
+    v.ok = true;
+    v.point = s.point;
+    v.sigmaM = s.sigmaM;
+    v.rangeM = s.rangeM;
+    return v;
+  }
+
+  MeasuredVertex demVertex( const VertexObservation &observation, const Monoplotter &monoplotter )
+  {
+    MeasuredVertex v;
+    v.method = VertexMethod::MonoplotDem;
+    v.imageIds = { observation.imageId };
+    v.residualsPx = { Eigen::Vector2d::Zero() };
+    const MonoplotPoint p = monoplotter.imageToGround( observation.pixelInImage, true );
+    if ( !p.ok() )
+    {
+      v.message = p.message.empty() ? "The ray does not meet the DEM." : p.message;
+      return v;
+    }
+    v.ok = true;
+    v.point = p.world;
+    v.sigmaM = p.sigmaM;
+    v.rangeM = p.rangeM;
+    return v;
+  }
+
+} // namespace geostation

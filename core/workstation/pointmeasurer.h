@@ -1,0 +1,117 @@
+/***************************************************************************
+  pointmeasurer.h - one 3D vertex from a click in one image (thesis ch. 2)
+  -------------------------------------------------------------------------
+  The Multiview's measurement loop, without any GUI:
+  1. proposeConjugates(): the epipolar curve of the clicked pixel in every
+     other view and, where the images can be matched, the proposed
+     conjugate point with its score. All views that see the curve are
+     matched together (multi-image matching: a candidate must be confirmed
+     in every view); when that fails (the point is hidden in one view),
+     each view is matched with the reference alone.
+  2. The operator accepts or corrects the proposals; then
+     intersectVertex() intersects the rays (two or more) with standard
+     deviations and pixel residuals, or, for an object seen in one image
+     only, roadPlaneVertex() / demVertex() give a single-ray vertex, marked
+     by its method.
+ ***************************************************************************/
+#ifndef GEOSTATION_WORKSTATION_POINTMEASURER_H
+#define GEOSTATION_WORKSTATION_POINTMEASURER_H
+
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "adjustment/intersection.h"
+#include "geometry/epipolar.h"
+#include "matching/multiimagematcher.h"
+
+namespace geostation
+{
+  class Monoplotter;
+
+  //! An image shown in a view.
+  struct MeasurementView
+  {
+    std::string imageId;
+    const OrientedImage *image = nullptr; //!< nullptr: not oriented (no curve, no match)
+    const MatchImage *pixels = nullptr;   //!< nullptr: image not readable (curve only)
+  };
+
+  struct ProposalOptions
+  {
+    EpipolarOptions epipolar { 1.5, 80.0, 2.0, 20000 }; //!< the depth range searched (metres along the ray)
+    AreaMatchOptions area;       //!< correlation window, threshold, LSM
+    bool multiImage = true;      //!< confirm candidates in all views that see the curve
+  };
+
+  struct ConjugateProposal
+  {
+    std::string imageId;
+    EpipolarCurve curve;           //!< of the reference pixel, in this view
+    bool curveInFrame = false;     //!< some of the curve lies in the frame
+    bool matched = false;
+    Eigen::Vector2d pixelInImage = Eigen::Vector2d::Zero();
+    double score = 0.0;
+    double sigmaPx = 0.5;
+    std::string reason;            //!< why not matched
+  };
+
+  /**
+   * Curves and proposed conjugate points of `pixelInReference` for every view
+   * except the reference (in view order; the reference's entry is empty).
+   * Throws std::invalid_argument if the reference is out of range or not
+   * oriented.
+   */
+  std::vector<ConjugateProposal> proposeConjugates( const std::vector<MeasurementView> &views, size_t reference, const Eigen::Vector2d &pixelInReference,
+      const ProposalOptions &options = ProposalOptions() );
+
+  enum class VertexMethod
+  {
+    Intersection,
+    MonoplotDem,
+    RoadPlane,
+  };
+
+  //! "intersection", "monoplot-DEM", "road-plane" (CONVENTIONS §7)
+  std::string vertexMethodName( VertexMethod method );
+
+  struct VertexObservation
+  {
+    std::string imageId;
+    const OrientedImage *image = nullptr;
+    Eigen::Vector2d pixelInImage = Eigen::Vector2d::Zero();
+    double sigmaPx = 0.5;
+  };
+
+  struct MeasuredVertex
+  {
+    bool ok = false;
+    std::string message;                       //!< one sentence when not ok; a warning (gross error) when ok
+    VertexMethod method = VertexMethod::Intersection;
+    Eigen::Vector3d point = Eigen::Vector3d::Zero();  //!< block CRS, metres
+    Eigen::Vector3d sigmaM = Eigen::Vector3d::Zero();
+    std::vector<std::string> imageIds;
+    std::vector<Eigen::Vector2d> residualsPx;  //!< per image (projected - observed); zero for a single ray
+    double rmsPx = 0.0;
+    double maxRayAngleDeg = 0.0;
+    double rangeM = 0.0;                       //!< from the nearest projection centre
+  };
+
+  //! Two or more rays. Throws like intersectRays().
+  MeasuredVertex intersectVertex( const std::vector<VertexObservation> &observations, const IntersectionOptions &options = IntersectionOptions() );
+
+  /**
+   * One ray and the road plane: the horizontal plane `roadHeightM` (block
+   * CRS Z), e.g. the projection centre's height minus the camera's height
+   * above the road, with its sigma.
+   */
+  MeasuredVertex roadPlaneVertex( const VertexObservation &observation, double roadHeightM, double planeSigmaM );
+
+  //! One ray and the DEM, through a monoplotter of the observation's image.
+  MeasuredVertex demVertex( const VertexObservation &observation, const Monoplotter &monoplotter );
+
+} // namespace geostation
+
+#endif // GEOSTATION_WORKSTATION_POINTMEASURER_H

@@ -1,0 +1,67 @@
+// The simulator's truth.gpkg read back for tests: control points, objects,
+// the number of road lines and the image truth (point, image) -> pixel.
+#ifndef GEOSTATION_TESTS_SIMULATIONTRUTH_H
+#define GEOSTATION_TESTS_SIMULATIONTRUTH_H
+
+#include <filesystem>
+#include <map>
+#include <string>
+
+#include <Eigen/Core>
+#include <gdal.h>
+#include <gtest/gtest.h>
+#include <ogr_api.h>
+#include <ogr_srs_api.h>
+
+namespace geostation
+{
+  struct TruthTable
+  {
+    std::map<std::string, Eigen::Vector3d> control, objects;
+    std::map<std::pair<std::string, std::string>, Eigen::Vector2d> imageTruth; // (point, image) -> pixel
+    int roads = 0;
+    std::string controlCrsName;
+  };
+
+  inline TruthTable readTruth( const std::filesystem::path &gpkg )
+  {
+    TruthTable truth;
+    GDALDatasetH ds = GDALOpenEx( gpkg.string().c_str(), GDAL_OF_VECTOR, nullptr, nullptr, nullptr );
+    EXPECT_NE( ds, nullptr );
+    if ( !ds )
+      return truth;
+    for ( const char *name : { "control", "objects" } )
+    {
+      OGRLayerH layer = GDALDatasetGetLayerByName( ds, name );
+      EXPECT_NE( layer, nullptr ) << name;
+      if ( !layer )
+        continue;
+      if ( std::string( name ) == "control" && OGR_L_GetSpatialRef( layer ) )
+        truth.controlCrsName = OSRGetName( OGR_L_GetSpatialRef( layer ) );
+      while ( OGRFeatureH f = OGR_L_GetNextFeature( layer ) )
+      {
+        OGRGeometryH g = OGR_F_GetGeometryRef( f );
+        ( std::string( name ) == "control" ? truth.control : truth.objects )[OGR_F_GetFieldAsString( f, OGR_F_GetFieldIndex( f, "id" ) )] =
+          Eigen::Vector3d( OGR_G_GetX( g, 0 ), OGR_G_GetY( g, 0 ), OGR_G_GetZ( g, 0 ) );
+        OGR_F_Destroy( f );
+      }
+    }
+    OGRLayerH roads = GDALDatasetGetLayerByName( ds, "roads" );
+    EXPECT_NE( roads, nullptr );
+    if ( roads )
+      truth.roads = static_cast<int>( OGR_L_GetFeatureCount( roads, TRUE ) );
+    OGRLayerH table = GDALDatasetGetLayerByName( ds, "image_truth" );
+    EXPECT_NE( table, nullptr );
+    if ( table )
+      while ( OGRFeatureH f = OGR_L_GetNextFeature( table ) )
+      {
+        truth.imageTruth[{ OGR_F_GetFieldAsString( f, 0 ), OGR_F_GetFieldAsString( f, 1 ) }] = Eigen::Vector2d( OGR_F_GetFieldAsDouble( f, 2 ), OGR_F_GetFieldAsDouble( f, 3 ) );
+        OGR_F_Destroy( f );
+      }
+    GDALClose( ds );
+    return truth;
+  }
+
+}
+
+#endif // GEOSTATION_TESTS_SIMULATIONTRUTH_H

@@ -1,0 +1,232 @@
+// The Multiview's core: the station sequence of a run, camera view cones,
+// conjugate-point proposals and vertices against the simulator's truth
+// (highway preset), and the image cache.
+#include <cmath>
+#include <filesystem>
+
+#include <gtest/gtest.h>
+
+#include "io/block.h"
+#include "simulation/surveysimulator.h"
+#include "workstation/matchimagecache.h"
+#include "workstation/pointmeasurer.h"
+#include "workstation/stationsequence.h"
+#include "workstation/viewcone.h"
+#include "simulationtruth.h"
+
+using namespace geostation;
+
+namespace
+{
+  //! A short highway run with exact orientations (the block is the truth), simulated once.
+  const std::filesystem::path &highwayRun()
+  {
+    static std::filesystem::path dir;
+    if ( dir.empty() )
+    {
+      dir = std::filesystem::temp_directory_path() / ( "geostation-ws-highway-" + std::to_string( ::getpid() ) );
+      std::filesystem::remove_all( dir );
+      SimulationOptions options;
+      options.preset = SurveyPreset::Highway;
+      options.seed = 7;
+      options.outputDir = dir;
+      options.stations = 10;
+      options.degradation.noiseSigma = 1.0;
+      simulateSurvey( options );
+    }
+    return dir;
+  }
+
+  bool insideRing( const std::vector<Eigen::Vector2d> &ring, const Eigen::Vector2d &p )
+  {
+    bool inside = false;
+    for ( size_t i = 0, j = ring.size() - 1; i < ring.size(); j = i++ )
+      if ( ( ring[i].y() > p.y() ) != ( ring[j].y() > p.y() )
+           && p.x() < ( ring[j].x() - ring[i].x() ) * ( p.y() - ring[i].y() ) / ( ring[j].y() - ring[i].y() ) + ring[i].x() )
+        inside = !inside;
+    return inside;
+  }
+}
+
+TEST( StationSequence, RunOrderNavigationAndPicking )
+{
+  const Block block = Block::load( highwayRun() / "truth.geostation.json" );
+  const StationSequence run( block );
+  ASSERT_EQ( run.size(), 10 );
+  for ( int i = 0; i < run.size(); ++i )
+  {
+    EXPECT_EQ( run.at( i ).imageIds.size(), 3u );
+    ASSERT_TRUE( run.at( i ).position.has_value() );
+    if ( i > 0 )
+      EXPECT_LT( run.at( i - 1 ).time, run.at( i ).time );
+    // picking a station on the map: a point 1 m beside it finds it
+    EXPECT_EQ( run.indexNearest( run.at( i ).position->head<2>() + Eigen::Vector2d( 0.7, 0.7 ) ), i );
+    EXPECT_EQ( run.indexNearestTime( run.at( i ).time ), i );
+  }
+  EXPECT_EQ( run.stepped( 0, -1 ), 0 );
+  EXPECT_EQ( run.stepped( 2, 10 ), 9 );
+  EXPECT_EQ( run.stepped( 2, 1 ), 3 );
+  EXPECT_EQ( run.indexOf( run.at( 4 ).id ), 4 );
+  EXPECT_EQ( run.indexOf( "nope" ), -1 );
+  EXPECT_EQ( run.indexNearestTime( "not a time" ), -1 );
+  const double t0 = *StationSequence::secondsFromIsoTime( "2025-05-01T10:00:00.000Z" );
+  EXPECT_NEAR( *StationSequence::secondsFromIsoTime( "2025-05-01T10:00:01.250Z" ) - t0, 1.25, 1e-9 );
+  EXPECT_NEAR( t0, 1746093600.0, 1e-6 );
+
+  // an image without a station is a station of its own
+  Block loose = block;
+  loose.images[0].stationId.clear();
+  const StationSequence looseRun( loose );
+  EXPECT_EQ( looseRun.size(), 11 );
+  EXPECT_GE( looseRun.indexOf( loose.images[0].id ), 0 );
+}
+
+TEST( ViewCone, HoldsWhatTheCameraSeesAndNothingBehindIt )
+{
+  const Block block = Block::load( highwayRun() / "truth.geostation.json" );
+  const TruthTable truth = readTruth( highwayRun() / "truth.gpkg" );
+  int seen = 0, behind = 0;
+  for ( const BlockImage &image : block.images )
+  {
+    const OrientedImage oriented = block.orientedImage( image );
+    ViewConeOptions options;
+    options.groundHeightM = oriented.exterior().projectionCentre.z() - 2.6;
+    options.maxRangeM = 60.0;
+    const std::vector<Eigen::Vector2d> cone = viewCone( oriented, options );
+    ASSERT_GE( cone.size(), 3u ) << image.id;
+    for ( const auto &[id, point] : truth.objects )
+    {
+      const bool inImage = truth.imageTruth.count( { id, image.id } ) > 0;
+      const double range = ( point.head<2>() - oriented.exterior().projectionCentre.head<2>() ).norm();
+      if ( inImage && range < 55.0 )
+      {
+        EXPECT_TRUE( insideRing( cone, point.head<2>() ) ) << id << " in " << image.id;
+        ++seen;
+      }
+      if ( oriented.cameraFromWorld( point ).z() > 0 )
+      {
+        EXPECT_FALSE( insideRing( cone, point.head<2>() ) ) << id << " behind " << image.id;
+        ++behind;
+      }
+    }
+  }
+  EXPECT_GT( seen, 20 );
+  EXPECT_GT( behind, 20 );
+  EXPECT_THROW( viewCone( block.orientedImage( block.images[0] ), ViewConeOptions { 0, -1, 8 } ), std::invalid_argument );
+}
+
+TEST( PointMeasurer, ProposalsAndIntersectionAgreeWithTheTruth )
+{
+  const Block block = Block::load( highwayRun() / "truth.geostation.json" );
+  const TruthTable truth = readTruth( highwayRun() / "truth.gpkg" );
+  const StationSequence run( block );
+  MatchImageCache cache;
+  int tried = 0, matchedCount = 0, proposedWithinPixel = 0, within3Sigma = 0, intersected = 0;
+  double sumSquaredErrorPx = 0;
+  for ( const SequenceStation &station : run.stations() )
+  {
+    std::vector<OrientedImage> oriented;
+    std::vector<std::shared_ptr<const MatchImage>> pixels;
+    for ( const std::string &id : station.imageIds )
+    {
+      oriented.push_back( block.orientedImage( block.image( id ) ) );
+      pixels.push_back( cache.get( block.imageFilePath( block.image( id ) ).string() ).image );
+      ASSERT_TRUE( pixels.back() );
+    }
+    std::vector<MeasurementView> views;
+    for ( size_t i = 0; i < oriented.size(); ++i )
+      views.push_back( MeasurementView { station.imageIds[i], &oriented[i], pixels[i].get() } );
+    for ( const auto &[id, point] : truth.objects )
+    {
+      // clicked at its true pixel in the front-left image, seen in front-right too
+      const auto left = truth.imageTruth.find( { id, station.imageIds[0] } );
+      const auto right = truth.imageTruth.find( { id, station.imageIds[1] } );
+      if ( left == truth.imageTruth.end() || right == truth.imageTruth.end() )
+        continue;
+      // objects with an outline at their truth point (a lid's centre or a sign panel is featureless)
+      if ( id.rfind( "pole_", 0 ) != 0 && id.rfind( "hydrant_", 0 ) != 0 )
+        continue;
+      if ( ( point - oriented[0].exterior().projectionCentre ).norm() > 40.0 )
+        continue;
+      ++tried;
+      const std::vector<ConjugateProposal> proposals = proposeConjugates( views, 0, left->second );
+      ASSERT_EQ( proposals.size(), 3u );
+      EXPECT_TRUE( proposals[1].curveInFrame );
+      // the true conjugate lies on the epipolar curve (the orientation is exact)
+      EXPECT_LT( proposals[1].curve.distanceToCurvePx( right->second ), 0.05 ) << id;
+      const double errorPx = ( proposals[1].pixelInImage - right->second ).norm();
+      if ( std::getenv( "GEOSTATION_DEBUG" ) )
+        std::cout << id << " " << station.id << " matched " << proposals[1].matched << " score " << proposals[1].score << " err " << errorPx << " reason " << proposals[1].reason
+                  << " third " << proposals[2].matched << " " << proposals[2].curveInFrame << " range " << ( point - oriented[0].exterior().projectionCentre ).norm() << "\n";
+      if ( !proposals[1].matched )
+        continue;
+      ++matchedCount;
+      sumSquaredErrorPx += errorPx * errorPx;
+      proposedWithinPixel += errorPx < 1.0 ? 1 : 0;
+      std::vector<VertexObservation> observations { { station.imageIds[0], &oriented[0], left->second, 0.5 } };
+      for ( size_t i = 1; i < proposals.size(); ++i )
+        if ( proposals[i].matched )
+          observations.push_back( { station.imageIds[i], &oriented[i], proposals[i].pixelInImage, 0.5 } );
+      const MeasuredVertex v = intersectVertex( observations );
+      ASSERT_TRUE( v.ok ) << v.message;
+      ++intersected;
+      EXPECT_EQ( v.method, VertexMethod::Intersection );
+      EXPECT_EQ( v.imageIds.size(), observations.size() );
+      EXPECT_GT( v.maxRayAngleDeg, 0.5 );
+      const Eigen::Vector3d error = v.point - point;
+      if ( std::abs( error.x() ) < 3 * v.sigmaM.x() + 0.01 && std::abs( error.y() ) < 3 * v.sigmaM.y() + 0.01 && std::abs( error.z() ) < 3 * v.sigmaM.z() + 0.01 )
+        ++within3Sigma;
+    }
+  }
+  std::cout << "pole feet: " << tried << " clicked, " << matchedCount << " matched, " << proposedWithinPixel << " proposals within 1 px (RMS "
+            << std::sqrt( sumSquaredErrorPx / std::max( 1, matchedCount ) ) << " px), " << within3Sigma << " of " << intersected
+            << " intersections within 3 sigma\n";
+  ASSERT_GE( tried, 6 );
+  EXPECT_GE( proposedWithinPixel, 0.8 * tried ) << proposedWithinPixel << " of " << tried;
+  EXPECT_GE( within3Sigma, 0.8 * intersected ) << within3Sigma << " of " << intersected;
+}
+
+TEST( PointMeasurer, SingleRayVerticesOnTheRoadPlane )
+{
+  const Block block = Block::load( highwayRun() / "truth.geostation.json" );
+  const TruthTable truth = readTruth( highwayRun() / "truth.gpkg" );
+  const BlockImage &image = block.images[0];
+  const OrientedImage oriented = block.orientedImage( image );
+  int n = 0;
+  for ( const auto &[id, point] : truth.objects )
+  {
+    const auto pixel = truth.imageTruth.find( { id, image.id } );
+    if ( pixel == truth.imageTruth.end() )
+      continue;
+    const MeasuredVertex v = roadPlaneVertex( VertexObservation { image.id, &oriented, pixel->second, 0.5 }, point.z(), 0.05 );
+    ASSERT_TRUE( v.ok ) << v.message;
+    EXPECT_EQ( vertexMethodName( v.method ), "road-plane" );
+    EXPECT_LT( ( v.point - point ).norm(), 1e-3 ) << id; // the plane through the point gives the point
+    EXPECT_GT( v.sigmaM.z(), 0.04 );
+    ++n;
+  }
+  EXPECT_GT( n, 2 );
+  // a plane above the camera is behind it for a ray pointing down
+  const MeasuredVertex sky = roadPlaneVertex( VertexObservation { image.id, &oriented, { 320, 470 }, 0.5 }, oriented.exterior().projectionCentre.z() + 5, 0.0 );
+  EXPECT_FALSE( sky.ok );
+  EXPECT_FALSE( sky.message.empty() );
+}
+
+TEST( MatchImageCache, ReadsOnceRemembersErrorsAndForgetsTheOldest )
+{
+  const Block block = Block::load( highwayRun() / "truth.geostation.json" );
+  MatchImageCache cache( 2 );
+  const std::string a = block.imageFilePath( block.images[0] ).string(), b = block.imageFilePath( block.images[1] ).string(),
+                    c = block.imageFilePath( block.images[2] ).string();
+  const auto first = cache.get( a ).image;
+  ASSERT_TRUE( first );
+  EXPECT_EQ( first->width(), block.cameraOf( block.images[0] ).width );
+  EXPECT_EQ( cache.get( a ).image.get(), first.get() );
+  cache.get( b );
+  cache.get( c );
+  EXPECT_FALSE( cache.contains( a ) );
+  EXPECT_TRUE( cache.contains( c ) );
+  const MatchImageCache::Entry missing = cache.get( "/nonexistent/image.tif" );
+  EXPECT_FALSE( missing.image );
+  EXPECT_NE( missing.error.find( "/nonexistent/image.tif" ), std::string::npos ) << missing.error;
+}
