@@ -5,6 +5,7 @@
 
 #include <QAction>
 #include <QFileDialog>
+#include <QInputDialog>
 #include <QFileInfo>
 #include <QMainWindow>
 #include <QMenu>
@@ -12,13 +13,22 @@
 #include <QToolBar>
 
 #include <qgisinterface.h>
+#include <qgsmapcanvas.h>
 #include <qgsmessagebar.h>
+#include <qgsproject.h>
 #include <qgspythonrunner.h>
 #include <qgssettings.h>
 
 #include "blockinfodialog.h"
+#include "featureclassdialog.h"
 #include "geostationprovider.h"
 #include "io/block.h"
+#include "measurementcontroller.h"
+#include "measurementsettingsdialog.h"
+#include "measurementstore.h"
+#include "multiviewdock.h"
+#include "multiviewsession.h"
+#include "overviewlayers.h"
 
 namespace
 {
@@ -39,6 +49,11 @@ GeoStationPlugin::GeoStationPlugin( QgisInterface *iface )
 }
 
 GeoStationPlugin::~GeoStationPlugin() = default;
+
+const geostation::Block *GeoStationPlugin::block() const
+{
+  return mSession ? mSession->block() : nullptr;
+}
 
 QAction *GeoStationPlugin::addAction( const QString &objectName, const QString &icon, const QString &text, const QString &tip, void ( GeoStationPlugin::*slot )() )
 {
@@ -95,6 +110,57 @@ void GeoStationPlugin::initGui()
 
   addAlgorithmAction( mMenu, QStringLiteral( "mActionGeoStationMonoplot" ), tr( "Monoplot Image Features onto a DEM…" ), QStringLiteral( "geostation:monoplot" ) );
 
+  // the Multiview, the Overview and measuring
+  mSession = new GeoStationSession( this );
+  mStore = new GeoStationMeasurementStore( mSession, QgsProject::instance(), this );
+  mController = new GeoStationMeasurementController( mSession, mStore, this );
+  mOverview = new GeoStationOverview( mSession, QgsProject::instance(), mIface->mapCanvas(), this );
+  mMenu->addSeparator();
+  mMultiviewAction = addAction( QStringLiteral( "mActionGeoStationMultiview" ), QStringLiteral( ":/geostation/icons/multiview.svg" ), tr( "Multiview" ),
+                                tr( "Show the image views of the current station and measure in them" ), &GeoStationPlugin::showMultiview );
+  mPickStationAction = addAction( QStringLiteral( "mActionGeoStationPickStation" ), QStringLiteral( ":/geostation/icons/pickstation.svg" ), tr( "Pick Station on Map" ),
+                                  tr( "Click near the trajectory on the map to load that station into the Multiview" ), nullptr );
+  mPickStationAction->setCheckable( true );
+  mPickTool = new GeoStationStationPickTool( mIface->mapCanvas() );
+  mPickTool->setAction( mPickStationAction );
+  connect( mPickStationAction, &QAction::triggered, this, [this]( bool on )
+  {
+    if ( on )
+      mIface->mapCanvas()->setMapTool( mPickTool );
+    else if ( mIface->mapCanvas()->mapTool() == mPickTool )
+      mIface->mapCanvas()->unsetMapTool( mPickTool );
+  } );
+  connect( mPickTool, &GeoStationStationPickTool::picked, this, [this]( const QgsPointXY &point )
+  {
+    const int index = mOverview->stationNearestToMapPoint( point );
+    if ( index < 0 )
+      return;
+    mSession->setCurrentStation( index );
+    showMultiview();
+  } );
+  QAction *goTo = new QAction( tr( "Go to Coordinate…" ), mIface->mainWindow() );
+  goTo->setObjectName( QStringLiteral( "mActionGeoStationGoTo" ) );
+  connect( goTo, &QAction::triggered, this, &GeoStationPlugin::goToCoordinate );
+  mMenu->addAction( goTo );
+  mActions << goTo;
+  QAction *classes = new QAction( tr( "Feature Classes…" ), mIface->mainWindow() );
+  classes->setObjectName( QStringLiteral( "mActionGeoStationFeatureClasses" ) );
+  connect( classes, &QAction::triggered, this, &GeoStationPlugin::editFeatureClasses );
+  mMenu->addAction( classes );
+  mActions << classes;
+  QAction *settings = new QAction( tr( "Measurement Settings…" ), mIface->mainWindow() );
+  settings->setObjectName( QStringLiteral( "mActionGeoStationMeasurementSettings" ) );
+  connect( settings, &QAction::triggered, this, &GeoStationPlugin::editMeasurementSettings );
+  mMenu->addAction( settings );
+  mActions << settings;
+  addAlgorithmAction( mMenu, QStringLiteral( "mActionGeoStationExportMeasurements" ), tr( "Export Measurements to Shapefile and DXF…" ), QStringLiteral( "geostation:export_measurements" ) );
+  mMenu->addSeparator();
+
+  connect( QgsProject::instance(), &QgsProject::writeProject, this, [this]( QDomDocument & ) { writeProject(); } );
+  connect( QgsProject::instance(), &QgsProject::readProject, this, [this]( const QDomDocument & ) { readProject(); } );
+  connect( QgsProject::instance(), &QgsProject::cleared, this, [this] { mSession->closeBlock(); } );
+  connect( mSession, &GeoStationSession::blockChanged, this, &GeoStationPlugin::updateActions );
+
   mAdjustmentMenu = mMenu->addMenu( tr( "Adjustment" ) );
   mAdjustmentMenu->setObjectName( QStringLiteral( "mGeoStationAdjustmentMenu" ) );
   addAlgorithmAction( mAdjustmentMenu, QStringLiteral( "mActionGeoStationIntersect" ), tr( "Intersect Image Points…" ), QStringLiteral( "geostation:intersect" ) );
@@ -106,12 +172,30 @@ void GeoStationPlugin::initGui()
 
 void GeoStationPlugin::updateActions()
 {
-  if ( mBlockInfoAction )
-    mBlockInfoAction->setEnabled( static_cast<bool>( mBlock ) );
+  const bool open = block() != nullptr;
+  for ( QAction *action : { mBlockInfoAction, mPickStationAction } )
+    if ( action )
+      action->setEnabled( open );
 }
 
 void GeoStationPlugin::unload()
 {
+  if ( mIface->mapCanvas()->mapTool() == mPickTool )
+    mIface->mapCanvas()->unsetMapTool( mPickTool );
+  delete mPickTool;
+  delete mDock;
+  if ( mOverview )
+    mOverview->removeLayers();
+  delete mController;
+  mController = nullptr;
+  delete mOverview;
+  mOverview = nullptr;
+  delete mStore;
+  mStore = nullptr;
+  delete mSession;
+  mSession = nullptr;
+  mMultiviewAction = nullptr;
+  mPickStationAction = nullptr;
   for ( QAction *action : std::as_const( mActions ) )
     delete action;
   mActions.clear();
@@ -122,7 +206,6 @@ void GeoStationPlugin::unload()
   if ( mRegisteredProvider )
     unregisterGeoStationProvider();
   mRegisteredProvider = false;
-  mBlock.reset();
   setParent( nullptr ); // QGIS deletes the plugin itself after unload()
 }
 
@@ -136,20 +219,17 @@ QString GeoStationPlugin::blockSummary( const geostation::Block &block ) const
 
 bool GeoStationPlugin::openBlockFile( const QString &path )
 {
-  try
+  QString error;
+  if ( !mSession->openBlock( path, &error ) )
   {
-    auto block = std::make_unique<geostation::Block>( geostation::Block::load( path.toStdString() ) );
-    mIface->messageBar()->pushMessage( tr( "GeoStation block opened" ), blockSummary( *block ), Qgis::MessageLevel::Success );
-    mBlock = std::move( block );
-    updateActions();
-    emit blockOpened( path );
-    return true;
-  }
-  catch ( const std::exception &e )
-  {
-    mIface->messageBar()->pushMessage( tr( "Cannot open the GeoStation block" ), QString::fromStdString( e.what() ), Qgis::MessageLevel::Critical );
+    mIface->messageBar()->pushMessage( tr( "Cannot open the GeoStation block" ), error, Qgis::MessageLevel::Critical );
     return false;
   }
+  mIface->messageBar()->pushMessage( tr( "GeoStation block opened" ), blockSummary( *mSession->block() ), Qgis::MessageLevel::Success );
+  updateActions();
+  writeProject();
+  emit blockOpened( path );
+  return true;
 }
 
 void GeoStationPlugin::openBlock()
@@ -165,13 +245,13 @@ void GeoStationPlugin::openBlock()
 
 void GeoStationPlugin::showBlockInfo()
 {
-  if ( !mBlock )
+  if ( !block() )
   {
     mIface->messageBar()->pushMessage( tr( "GeoStation" ), tr( "Open a block first (GeoStation ▸ Open Block…)." ), Qgis::MessageLevel::Info );
     return;
   }
-  // Modal: the dialog shows mBlock, which must not change while it is open.
-  GeoStationBlockInfoDialog dialog( *mBlock, mIface->mainWindow() );
+  // Modal: the dialog shows the block, which must not change while it is open.
+  GeoStationBlockInfoDialog dialog( *block(), mIface->mainWindow() );
   dialog.exec();
 }
 
@@ -181,6 +261,139 @@ void GeoStationPlugin::showAlgorithmDialog( const QString &algorithmId )
   if ( QgsPythonRunner::isValid() && QgsPythonRunner::run( QStringLiteral( "import processing\nprocessing.execAlgorithmDialog('%1')" ).arg( algorithmId ) ) )
     return;
   mIface->messageBar()->pushMessage( tr( "GeoStation" ), tr( "Open %1 from the Processing Toolbox (GeoStation)." ).arg( algorithmId ), Qgis::MessageLevel::Info );
+}
+
+void GeoStationPlugin::showMultiview()
+{
+  if ( !mDock )
+  {
+    mDock = new GeoStationMultiviewDock( mSession, mController, mStore, mIface->mainWindow() );
+    mIface->addDockWidget( Qt::RightDockWidgetArea, mDock );
+  }
+  mDock->setUserVisible( true );
+  mDock->raise();
+}
+
+QObject *GeoStationPlugin::multiviewDock() const
+{
+  return mDock;
+}
+
+void GeoStationPlugin::editFeatureClasses()
+{
+  GeoStationFeatureClassDialog dialog( mSession->featureClasses(), mIface->mainWindow() );
+  if ( dialog.exec() == QDialog::Accepted )
+  {
+    mSession->setFeatureClasses( dialog.classes() );
+    writeProject();
+  }
+}
+
+void GeoStationPlugin::editMeasurementSettings()
+{
+  GeoStationMeasurementSettingsDialog dialog( mSession, mStore, mIface->mainWindow() );
+  if ( dialog.exec() == QDialog::Accepted )
+    writeProject();
+}
+
+void GeoStationPlugin::goToCoordinate()
+{
+  if ( !block() )
+  {
+    mIface->messageBar()->pushMessage( tr( "GeoStation" ), tr( "Open a block first (GeoStation ▸ Open Block…)." ), Qgis::MessageLevel::Info );
+    return;
+  }
+  bool ok = false;
+  const QString text = QInputDialog::getText( mIface->mainWindow(), tr( "Go to Coordinate" ),
+                       tr( "X Y in %1, a station id or a time (ISO 8601):" ).arg( QString::fromStdString( block()->crs ) ), QLineEdit::Normal, QString(), &ok );
+  if ( !ok || text.trimmed().isEmpty() )
+    return;
+  const QStringList parts = text.simplified().replace( ',', ' ' ).split( ' ', Qt::SkipEmptyParts );
+  bool okX = false, okY = false;
+  if ( parts.size() == 2 )
+  {
+    const double x = parts[0].toDouble( &okX ), y = parts[1].toDouble( &okY );
+    if ( okX && okY && goToCoordinateXY( x, y ) )
+      return;
+  }
+  const geostation::StationSequence &run = mSession->run();
+  int index = run.indexOf( text.trimmed().toStdString() );
+  if ( index < 0 )
+    index = run.indexNearestTime( text.trimmed().toStdString() );
+  if ( index < 0 )
+  {
+    mIface->messageBar()->pushMessage( tr( "GeoStation" ), tr( "“%1” is neither X Y, a station id nor a time." ).arg( text ), Qgis::MessageLevel::Warning );
+    return;
+  }
+  mSession->setCurrentStation( index );
+  showMultiview();
+}
+
+bool GeoStationPlugin::goToCoordinateXY( double x, double y )
+{
+  const int index = mSession->run().indexNearest( Eigen::Vector2d( x, y ) );
+  if ( index < 0 )
+    return false;
+  mSession->setCurrentStation( index );
+  showMultiview();
+  return true;
+}
+
+bool GeoStationPlugin::setFeatureClassesJson( const QString &json )
+{
+  QList<GeoStationFeatureClass> classes;
+  QString error;
+  if ( !GeoStationFeatureClass::fromJson( json, classes, &error ) )
+  {
+    mIface->messageBar()->pushMessage( tr( "GeoStation feature classes" ), error, Qgis::MessageLevel::Critical );
+    return false;
+  }
+  mSession->setFeatureClasses( classes );
+  writeProject();
+  return true;
+}
+
+void GeoStationPlugin::setCurrentClass( const QString &name )
+{
+  mSession->setCurrentClass( name );
+}
+
+bool GeoStationPlugin::setTargetGeoPackage( const QString &path )
+{
+  const QString previous = mSession->targetGeoPackage();
+  mSession->setTargetGeoPackage( path );
+  QString error;
+  if ( !mStore->checkWritable( &error ) )
+  {
+    mSession->setTargetGeoPackage( previous );
+    mIface->messageBar()->pushMessage( tr( "GeoStation" ), error, Qgis::MessageLevel::Critical );
+    return false;
+  }
+  writeProject();
+  return true;
+}
+
+void GeoStationPlugin::setDemLayer( const QString &layerId )
+{
+  mSession->setDemLayerId( layerId );
+}
+
+void GeoStationPlugin::writeProject()
+{
+  if ( mSession )
+    mSession->writeToProject( QgsProject::instance() );
+}
+
+void GeoStationPlugin::readProject()
+{
+  QString error;
+  if ( !mSession->readFromProject( QgsProject::instance(), &error ) )
+    return;
+  if ( !error.isEmpty() )
+    mIface->messageBar()->pushMessage( tr( "GeoStation session" ), error, Qgis::MessageLevel::Warning );
+  updateActions();
+  if ( mSession->block() )
+    showMultiview();
 }
 
 // ---- the entry points QGIS looks for in a C++ plugin ----

@@ -19,6 +19,12 @@ class QAction;
 class QMenu;
 class QToolBar;
 class QgisInterface;
+class GeoStationMeasurementController;
+class GeoStationMeasurementStore;
+class GeoStationMultiviewDock;
+class GeoStationOverview;
+class GeoStationSession;
+class GeoStationStationPickTool;
 
 namespace geostation
 {
@@ -37,7 +43,8 @@ class GeoStationPlugin : public QObject, public QgisPlugin
     void unload() override;
 
     //! The block opened last, or nullptr.
-    const geostation::Block *block() const { return mBlock.get(); }
+    const geostation::Block *block() const;
+    GeoStationSession *session() const { return mSession; }
 
   public slots:
     /**
@@ -56,6 +63,26 @@ class GeoStationPlugin : public QObject, public QgisPlugin
     //! Opens the Processing dialog of an algorithm (e.g. "geostation:resection").
     void showAlgorithmDialog( const QString &algorithmId );
 
+    //! Shows the Multiview dock (created on first use).
+    void showMultiview();
+    //! Edits the feature classes in a dialog.
+    void editFeatureClasses();
+    //! Measurement GeoPackage, DEM layer and road plane in a dialog.
+    void editMeasurementSettings();
+    //! Asks for coordinates (block CRS), a station id or a time, and goes to the nearest station.
+    void goToCoordinate();
+    //! Goes to the station nearest to X, Y in the block CRS; false if there is none.
+    bool goToCoordinateXY( double x, double y );
+
+    // ---- for scripts and tests (also reachable through the GUI) ----
+    //! Feature classes as JSON (see GeoStationFeatureClass::toJson); false with a message bar note when invalid.
+    bool setFeatureClassesJson( const QString &json );
+    void setCurrentClass( const QString &name );
+    //! Sets the measurement GeoPackage; false (and a message) if it cannot be written.
+    bool setTargetGeoPackage( const QString &path );
+    void setDemLayer( const QString &layerId );
+    QObject *multiviewDock() const;
+
   signals:
     void blockOpened( const QString &path );
 
@@ -65,6 +92,8 @@ class GeoStationPlugin : public QObject, public QgisPlugin
     QAction *addAlgorithmAction( QMenu *menu, const QString &objectName, const QString &text, const QString &algorithmId );
     QString blockSummary( const geostation::Block &block ) const;
     void updateActions();
+    void writeProject();
+    void readProject();
 
     QgisInterface *mIface = nullptr;
     QPointer<QMenu> mMenu;
@@ -72,8 +101,15 @@ class GeoStationPlugin : public QObject, public QgisPlugin
     QPointer<QToolBar> mToolBar;
     QList<QAction *> mActions;
     QAction *mBlockInfoAction = nullptr;
+    QAction *mMultiviewAction = nullptr;
+    QAction *mPickStationAction = nullptr;
     bool mRegisteredProvider = false;
-    std::unique_ptr<geostation::Block> mBlock;
+    GeoStationSession *mSession = nullptr;
+    GeoStationMeasurementStore *mStore = nullptr;
+    GeoStationMeasurementController *mController = nullptr;
+    GeoStationOverview *mOverview = nullptr;
+    QPointer<GeoStationMultiviewDock> mDock;
+    QPointer<GeoStationStationPickTool> mPickTool;
 };
 
 #endif // GEOSTATIONPLUGIN_H

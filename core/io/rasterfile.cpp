@@ -10,6 +10,7 @@
 
 #include <cpl_conv.h>
 #include <cpl_error.h>
+#include <cpl_vsi.h>
 #include <gdal.h>
 
 namespace geostation
@@ -61,11 +62,18 @@ namespace geostation
   void writeGeoTiffLike( const std::string &path, const cv::Mat &pixels, const RasterImage &like )
   {
     GDALAllRegister();
-    const std::string temporary = path + ".tmp-write.tif";
+    // an in-memory raster (/vsimem/, e.g. an enhanced view) is written in place, uncompressed
+    const bool memory = path.rfind( "/vsimem/", 0 ) == 0;
+    const std::string temporary = memory ? path : path + ".tmp-write.tif";
     const GDALDataType type = pixels.depth() == CV_8U ? GDT_Byte : GDT_UInt16;
     const int bands = pixels.channels();
     const char *rgb[] = { "PHOTOMETRIC=RGB", "INTERLEAVE=PIXEL", "TILED=YES", "COMPRESS=DEFLATE", "BIGTIFF=IF_SAFER", nullptr };
     const char *grey[] = { "TILED=YES", "COMPRESS=DEFLATE", "BIGTIFF=IF_SAFER", nullptr };
+    if ( memory )
+    {
+      rgb[3] = nullptr;
+      grey[1] = nullptr;
+    }
     {
       std::unique_ptr<void, DatasetCloser> ds( GDALCreate( GDALGetDriverByName( "GTiff" ), temporary.c_str(), pixels.cols, pixels.rows, bands, type,
                                               const_cast<char **>( bands == 3 ? rgb : grey ) ) );
@@ -99,6 +107,8 @@ namespace geostation
           CPLErrorReset(); // overviews are a convenience; the image itself is written
       }
     }
+    if ( memory )
+      return;
     std::error_code ec;
     std::filesystem::rename( temporary, path, ec );
     if ( ec )
@@ -106,6 +116,12 @@ namespace geostation
       std::remove( temporary.c_str() );
       throw std::runtime_error( "cannot replace " + path + ": " + ec.message() );
     }
+  }
+
+  void discardMemoryRaster( const std::string &path )
+  {
+    if ( path.rfind( "/vsimem/", 0 ) == 0 )
+      VSIUnlink( path.c_str() );
   }
 
 } // namespace geostation

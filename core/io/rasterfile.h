@@ -33,9 +33,16 @@ namespace geostation
   /**
    * Throws std::runtime_error naming the file; `like` supplies geotransform,
    * CRS and nodata (an empty RasterImage: pixel space). Images over 4 Mpx
-   * get overviews (2-16), so QGIS draws them quickly.
+   * get overviews (2-16), so QGIS draws them quickly. A "/vsimem/" path is
+   * written directly, uncompressed (GDAL's memory files).
    */
   void writeGeoTiffLike( const std::string &path, const cv::Mat &pixels, const RasterImage &like );
+
+  /**
+   * Frees an in-memory raster written by writeGeoTiffLike() to a "/vsimem/"
+   * path (written in place and uncompressed); other paths are left alone.
+   */
+  void discardMemoryRaster( const std::string &path );
 
 } // namespace geostation
 

@@ -1,5 +1,6 @@
 // The simulator's truth.gpkg read back for tests: control points, objects,
 // the number of road lines and the image truth (point, image) -> pixel.
+// Throws std::runtime_error when the file or a layer is missing.
 #ifndef GEOSTATION_TESTS_SIMULATIONTRUTH_H
 #define GEOSTATION_TESTS_SIMULATIONTRUTH_H
 
@@ -9,7 +10,7 @@
 
 #include <Eigen/Core>
 #include <gdal.h>
-#include <gtest/gtest.h>
+#include <stdexcept>
 #include <ogr_api.h>
 #include <ogr_srs_api.h>
 
@@ -26,16 +27,22 @@ namespace geostation
   inline TruthTable readTruth( const std::filesystem::path &gpkg )
   {
     TruthTable truth;
+    GDALAllRegister();
     GDALDatasetH ds = GDALOpenEx( gpkg.string().c_str(), GDAL_OF_VECTOR, nullptr, nullptr, nullptr );
-    EXPECT_NE( ds, nullptr );
     if ( !ds )
-      return truth;
+      throw std::runtime_error( "cannot open the simulation truth " + gpkg.string() );
+    const auto require = [&]( OGRLayerH layer, const char *name )
+    {
+      if ( !layer )
+      {
+        GDALClose( ds );
+        throw std::runtime_error( std::string( "the simulation truth has no layer " ) + name );
+      }
+      return layer;
+    };
     for ( const char *name : { "control", "objects" } )
     {
-      OGRLayerH layer = GDALDatasetGetLayerByName( ds, name );
-      EXPECT_NE( layer, nullptr ) << name;
-      if ( !layer )
-        continue;
+      OGRLayerH layer = require( GDALDatasetGetLayerByName( ds, name ), name );
       if ( std::string( name ) == "control" && OGR_L_GetSpatialRef( layer ) )
         truth.controlCrsName = OSRGetName( OGR_L_GetSpatialRef( layer ) );
       while ( OGRFeatureH f = OGR_L_GetNextFeature( layer ) )
@@ -46,18 +53,14 @@ namespace geostation
         OGR_F_Destroy( f );
       }
     }
-    OGRLayerH roads = GDALDatasetGetLayerByName( ds, "roads" );
-    EXPECT_NE( roads, nullptr );
-    if ( roads )
-      truth.roads = static_cast<int>( OGR_L_GetFeatureCount( roads, TRUE ) );
-    OGRLayerH table = GDALDatasetGetLayerByName( ds, "image_truth" );
-    EXPECT_NE( table, nullptr );
-    if ( table )
-      while ( OGRFeatureH f = OGR_L_GetNextFeature( table ) )
-      {
-        truth.imageTruth[{ OGR_F_GetFieldAsString( f, 0 ), OGR_F_GetFieldAsString( f, 1 ) }] = Eigen::Vector2d( OGR_F_GetFieldAsDouble( f, 2 ), OGR_F_GetFieldAsDouble( f, 3 ) );
-        OGR_F_Destroy( f );
-      }
+    OGRLayerH roads = require( GDALDatasetGetLayerByName( ds, "roads" ), "roads" );
+    truth.roads = static_cast<int>( OGR_L_GetFeatureCount( roads, TRUE ) );
+    OGRLayerH table = require( GDALDatasetGetLayerByName( ds, "image_truth" ), "image_truth" );
+    while ( OGRFeatureH f = OGR_L_GetNextFeature( table ) )
+    {
+      truth.imageTruth[{ OGR_F_GetFieldAsString( f, 0 ), OGR_F_GetFieldAsString( f, 1 ) }] = Eigen::Vector2d( OGR_F_GetFieldAsDouble( f, 2 ), OGR_F_GetFieldAsDouble( f, 3 ) );
+      OGR_F_Destroy( f );
+    }
     GDALClose( ds );
     return truth;
   }

@@ -1,0 +1,360 @@
+/***************************************************************************
+  imageview.cpp
+ ***************************************************************************/
+#include "imageview.h"
+
+#include <QComboBox>
+#include <QFileInfo>
+#include <QHBoxLayout>
+#include <QLabel>
+#include <QStackedWidget>
+#include <QVBoxLayout>
+
+#include <qgsmapcanvas.h>
+#include <qgsrasterdataprovider.h>
+#include <qgsrasterlayer.h>
+#include <qgsrubberband.h>
+#include <qgsvertexmarker.h>
+
+#include "imagepointtool.h"
+#include "imageproc/enhancement.h"
+#include "io/rasterfile.h"
+
+GeoStationImageView::GeoStationImageView( int index, QWidget *parent )
+  : QWidget( parent )
+  , mIndex( index )
+{
+  setObjectName( QStringLiteral( "mGeoStationImageView%1" ).arg( index ) );
+  QVBoxLayout *layout = new QVBoxLayout( this );
+  layout->setContentsMargins( 0, 0, 0, 0 );
+  layout->setSpacing( 2 );
+  QHBoxLayout *header = new QHBoxLayout();
+  mImageCombo = new QComboBox( this );
+  mImageCombo->setObjectName( QStringLiteral( "mImageCombo" ) );
+  mImageCombo->setToolTip( tr( "Image shown in this view (any image of the block)" ) );
+  mImageCombo->setSizeAdjustPolicy( QComboBox::AdjustToContents );
+  mEnhancementCombo = new QComboBox( this );
+  mEnhancementCombo->setObjectName( QStringLiteral( "mEnhancementCombo" ) );
+  mEnhancementCombo->setToolTip( tr( "Enhancement, computed for viewing only" ) );
+  for ( const auto &choice : enhancementChoices() )
+    mEnhancementCombo->addItem( choice.second, choice.first );
+  mStatus = new QLabel( this );
+  mStatus->setObjectName( QStringLiteral( "mStatus" ) );
+  header->addWidget( mImageCombo );
+  header->addWidget( mEnhancementCombo );
+  header->addWidget( mStatus, 1 );
+  layout->addLayout( header );
+
+  mStack = new QStackedWidget( this );
+  mCanvas = new QgsMapCanvas( mStack );
+  mCanvas->setObjectName( QStringLiteral( "mGeoStationViewCanvas%1" ).arg( index ) );
+  mCanvas->setCanvasColor( QColor( 40, 40, 40 ) );
+  mCanvas->setDestinationCrs( QgsCoordinateReferenceSystem() );
+  mCanvas->setParallelRenderingEnabled( true );
+  mCanvas->setCachingEnabled( true );
+  mCanvas->setPreviewJobsEnabled( false );
+  mPlaceholder = new QLabel( mStack );
+  mPlaceholder->setObjectName( QStringLiteral( "mPlaceholder" ) );
+  mPlaceholder->setAlignment( Qt::AlignCenter );
+  mPlaceholder->setWordWrap( true );
+  mStack->addWidget( mCanvas );
+  mStack->addWidget( mPlaceholder );
+  layout->addWidget( mStack, 1 );
+
+  mTool = new GeoStationImagePointTool( mCanvas );
+  mCanvas->setMapTool( mTool );
+  connect( mTool, &GeoStationImagePointTool::pixelPicked, this, [this]( QPointF p ) { emit pixelPicked( mIndex, p ); } );
+  connect( mTool, &GeoStationImagePointTool::pixelHovered, this, [this]( QPointF p ) { emit pixelHovered( mIndex, p ); } );
+  connect( mTool, &GeoStationImagePointTool::undoRequested, this, &GeoStationImageView::undoRequested );
+  connect( mImageCombo, qOverload<int>( &QComboBox::activated ), this, [this]( int )
+  {
+    emit imageChosen( mIndex, mImageCombo->currentText() );
+  } );
+  connect( mEnhancementCombo, qOverload<int>( &QComboBox::activated ), this, [this]( int )
+  {
+    setEnhancement( mEnhancementCombo->currentData().toString() );
+    emit enhancementChosen( mIndex, mEnhancement );
+  } );
+
+  mEpipolar = new QgsRubberBand( mCanvas, QgsWkbTypes::LineGeometry );
+  mEpipolar->setStrokeColor( QColor( 0, 220, 255, 220 ) );
+  mEpipolar->setWidth( 1 );
+  mOverlayLines = new QgsRubberBand( mCanvas, QgsWkbTypes::LineGeometry );
+  mOverlayLines->setStrokeColor( QColor( 255, 200, 0, 230 ) );
+  mOverlayLines->setWidth( 2 );
+  mOverlayPoints = new QgsRubberBand( mCanvas, QgsWkbTypes::PointGeometry );
+  mOverlayPoints->setStrokeColor( QColor( 255, 200, 0, 230 ) );
+  mOverlayPoints->setIcon( QgsRubberBand::ICON_CIRCLE );
+  mOverlayPoints->setIconSize( 9 );
+  mOverlayPoints->setWidth( 2 );
+  mProposal = new QgsVertexMarker( mCanvas );
+  mProposal->setIconType( QgsVertexMarker::ICON_BOX );
+  mProposal->setIconSize( 14 );
+  mProposal->setPenWidth( 2 );
+  mProposal->setColor( QColor( 40, 255, 40 ) );
+  mProposal->hide();
+  mObservation = new QgsVertexMarker( mCanvas );
+  mObservation->setIconType( QgsVertexMarker::ICON_CROSS );
+  mObservation->setIconSize( 18 );
+  mObservation->setPenWidth( 2 );
+  mObservation->setColor( QColor( 255, 40, 40 ) );
+  mObservation->hide();
+  showPlaceholder( tr( "No image" ) );
+}
+
+GeoStationImageView::~GeoStationImageView()
+{
+  mCanvas->setLayers( {} );
+  mLayer.reset();
+  geostation::discardMemoryRaster( mMemoryPath.toStdString() );
+}
+
+QList<QPair<QString, QString>> GeoStationImageView::enhancementChoices()
+{
+  return { { QString(), tr( "Original" ) },
+    { QStringLiteral( "linear" ), tr( "Linear stretch 1 %" ) },
+    { QStringLiteral( "equalise" ), tr( "Equalise" ) },
+    { QStringLiteral( "two_segment" ), tr( "Two-segment stretch" ) },
+    { QStringLiteral( "three_segment" ), tr( "Three-segment stretch" ) },
+    { QStringLiteral( "sobel_addback" ), tr( "Sharpen (Sobel add-back)" ) },
+    { QStringLiteral( "difference_addback" ), tr( "Sharpen (difference add-back)" ) },
+    { QStringLiteral( "box_filter" ), tr( "Adaptive box filter" ) } };
+}
+
+bool GeoStationImageView::hasImage() const
+{
+  return mStack->currentWidget() == mCanvas && mLayer;
+}
+
+QString GeoStationImageView::placeholderText() const
+{
+  return mStack->currentWidget() == mPlaceholder ? mPlaceholder->text() : QString();
+}
+
+void GeoStationImageView::setImageChoices( const QStringList &imageIds )
+{
+  const QString current = mImageCombo->currentText();
+  mImageCombo->blockSignals( true );
+  mImageCombo->clear();
+  mImageCombo->addItems( imageIds );
+  mImageCombo->setCurrentIndex( std::max( 0, imageIds.indexOf( mImageId.isEmpty() ? current : mImageId ) ) );
+  mImageCombo->blockSignals( false );
+}
+
+void GeoStationImageView::showPlaceholder( const QString &reason )
+{
+  mCanvas->setLayers( {} );
+  mLayer.reset();
+  mPlaceholder->setText( reason );
+  mStack->setCurrentWidget( mPlaceholder );
+  clearMeasurementOverlays();
+}
+
+void GeoStationImageView::setStatus( const QString &text )
+{
+  mStatus->setText( text );
+}
+
+void GeoStationImageView::showImage( const QString &imageId, const QString &path, int expectedWidth, int expectedHeight )
+{
+  if ( imageId == mImageId && path == mPath && ( mLayer || imageId.isEmpty() ) )
+    return;
+  const bool sameSize = mLayer && expectedWidth == mWidth && expectedHeight == mHeight;
+  mImageId = imageId;
+  mPath = path;
+  mWidth = expectedWidth;
+  mHeight = expectedHeight;
+  const int comboIndex = mImageCombo->findText( imageId );
+  if ( comboIndex >= 0 )
+    mImageCombo->setCurrentIndex( comboIndex );
+  setStatus( imageId );
+  clearMeasurementOverlays();
+  if ( imageId.isEmpty() )
+  {
+    showPlaceholder( tr( "No image of this camera at this station." ) );
+    return;
+  }
+  if ( !QFileInfo::exists( path ) )
+  {
+    showPlaceholder( tr( "%1: the file %2 does not exist." ).arg( imageId, path ) );
+    return;
+  }
+  const QgsRectangle previousExtent = mCanvas->extent();
+  updateLayer();
+  if ( !mLayer )
+    return;
+  if ( sameSize )
+    mCanvas->setExtent( previousExtent );
+  else
+    zoomToFullImage();
+  mCanvas->refresh();
+}
+
+void GeoStationImageView::updateLayer()
+{
+  QString source = mPath;
+  QString problem;
+  if ( !mEnhancement.isEmpty() )
+  {
+    // the enhanced copy lives in GDAL's memory files, never on disk
+    try
+    {
+      const geostation::RasterImage original = geostation::readRaster( mPath.toStdString() );
+      geostation::EnhancementOptions options;
+      options.method = *geostation::enhancementMethodFromName( mEnhancement.toStdString() );
+      if ( options.method == geostation::EnhancementMethod::LinearStretch )
+        options.clipPercent = 1.0;
+      const cv::Mat enhanced = geostation::enhanceImage( original.pixels, options );
+      const QString memoryPath = QStringLiteral( "/vsimem/geostation/view%1/%2-%3.tif" ).arg( mIndex ).arg( mImageId, mEnhancement );
+      geostation::writeGeoTiffLike( memoryPath.toStdString(), enhanced, geostation::RasterImage() );
+      source = memoryPath;
+    }
+    catch ( const std::exception &e )
+    {
+      problem = QString::fromStdString( e.what() );
+    }
+  }
+  QgsRasterLayer::LayerOptions options;
+  options.skipCrsValidation = true;
+  std::unique_ptr<QgsRasterLayer> layer;
+  if ( problem.isEmpty() )
+  {
+    layer = std::make_unique<QgsRasterLayer>( source, mImageId, QStringLiteral( "gdal" ), options );
+    if ( !layer->isValid() )
+      problem = tr( "the file cannot be decoded (%1)" ).arg( layer->error().summary().trimmed() );
+    else if ( layer->width() != mWidth || layer->height() != mHeight )
+      problem = tr( "it is %1 × %2 pixels, its camera says %3 × %4" ).arg( layer->width() ).arg( layer->height() ).arg( mWidth ).arg( mHeight );
+  }
+  if ( !problem.isEmpty() )
+  {
+    showPlaceholder( tr( "%1 cannot be shown: %2." ).arg( mImageId, problem ) );
+    return;
+  }
+  layer->setCrs( QgsCoordinateReferenceSystem() );
+  mCanvas->setLayers( { layer.get() } );
+  std::swap( mLayer, layer );
+  // the previous memory copy is freed once the canvas no longer uses it
+  if ( mMemoryPath != source )
+  {
+    geostation::discardMemoryRaster( mMemoryPath.toStdString() );
+    mMemoryPath = source.startsWith( QLatin1String( "/vsimem/" ) ) ? source : QString();
+  }
+  mStack->setCurrentWidget( mCanvas );
+}
+
+void GeoStationImageView::setEnhancement( const QString &method )
+{
+  if ( method == mEnhancement )
+    return;
+  if ( !method.isEmpty() && !geostation::enhancementMethodFromName( method.toStdString() ) )
+    return;
+  mEnhancement = method;
+  const int i = mEnhancementCombo->findData( method );
+  if ( i >= 0 )
+    mEnhancementCombo->setCurrentIndex( i );
+  if ( mLayer )
+  {
+    const QgsRectangle extent = mCanvas->extent();
+    updateLayer();
+    mCanvas->setExtent( extent );
+    mCanvas->refresh();
+  }
+}
+
+QString GeoStationImageView::valueAt( const QPointF &pixelInImage ) const
+{
+  if ( !mLayer || pixelInImage.x() < 0 || pixelInImage.y() < 0 || pixelInImage.x() >= mWidth || pixelInImage.y() >= mHeight )
+    return QString();
+  QStringList values;
+  for ( int band = 1; band <= mLayer->bandCount(); ++band )
+  {
+    bool ok = false;
+    const double v = mLayer->dataProvider()->sample( GeoStationImagePointTool::mapFromPixel( pixelInImage.x(), pixelInImage.y() ), band, &ok );
+    values << ( ok ? QString::number( v ) : QStringLiteral( "–" ) );
+  }
+  return values.join( ',' );
+}
+
+void GeoStationImageView::zoomToPixel( const QPointF &pixelInImage, double halfWidthPx )
+{
+  const double aspect = mCanvas->height() > 0 ? static_cast<double>( mCanvas->height() ) / std::max( 1, mCanvas->width() ) : 0.75;
+  mCanvas->setExtent( QgsRectangle( pixelInImage.x() - halfWidthPx, -pixelInImage.y() - halfWidthPx * aspect, pixelInImage.x() + halfWidthPx,
+                                    -pixelInImage.y() + halfWidthPx * aspect ) );
+  mCanvas->refresh();
+}
+
+void GeoStationImageView::zoomToFullImage()
+{
+  mCanvas->setExtent( QgsRectangle( 0, -mHeight, mWidth, 0 ) );
+  mCanvas->refresh();
+}
+
+void GeoStationImageView::setEpipolarCurves( const QList<QVector<QPointF>> &pieces )
+{
+  mEpipolar->reset( QgsWkbTypes::LineGeometry );
+  int part = 0;
+  for ( const QVector<QPointF> &piece : pieces )
+  {
+    if ( piece.size() < 2 )
+      continue;
+    for ( const QPointF &p : piece )
+      mEpipolar->addPoint( GeoStationImagePointTool::mapFromPixel( p.x(), p.y() ), false, part );
+    ++part;
+  }
+  mEpipolar->updatePosition();
+  mEpipolar->update();
+}
+
+void GeoStationImageView::setProposal( bool matched, const QPointF &pixelInImage, double score, const QString &status )
+{
+  if ( matched )
+  {
+    mProposal->setCenter( GeoStationImagePointTool::mapFromPixel( pixelInImage.x(), pixelInImage.y() ) );
+    mProposal->setColor( score >= 0.8 ? QColor( 40, 255, 40 ) : QColor( 255, 160, 0 ) );
+    mProposal->show();
+  }
+  else
+    mProposal->hide();
+  setStatus( status.isEmpty() ? mImageId : QStringLiteral( "%1 · %2" ).arg( mImageId, status ) );
+}
+
+void GeoStationImageView::setObservation( bool present, const QPointF &pixelInImage, bool reference )
+{
+  if ( !present )
+  {
+    mObservation->hide();
+    return;
+  }
+  mObservation->setCenter( GeoStationImagePointTool::mapFromPixel( pixelInImage.x(), pixelInImage.y() ) );
+  mObservation->setColor( reference ? QColor( 255, 40, 40 ) : QColor( 255, 40, 255 ) );
+  mObservation->show();
+}
+
+void GeoStationImageView::clearMeasurementOverlays()
+{
+  mEpipolar->reset( QgsWkbTypes::LineGeometry );
+  mProposal->hide();
+  mObservation->hide();
+  setStatus( mImageId );
+}
+
+void GeoStationImageView::setFeatureOverlay( const QVector<QgsGeometry> &geometries )
+{
+  mOverlayLines->reset( QgsWkbTypes::LineGeometry );
+  mOverlayPoints->reset( QgsWkbTypes::PointGeometry );
+  mFeatureOverlayCount = 0;
+  for ( const QgsGeometry &g : geometries )
+  {
+    if ( g.isNull() )
+      continue;
+    if ( g.type() == QgsWkbTypes::PointGeometry )
+      mOverlayPoints->addGeometry( g, QgsCoordinateReferenceSystem(), false );
+    else
+      mOverlayLines->addGeometry( g, QgsCoordinateReferenceSystem(), false );
+    ++mFeatureOverlayCount;
+  }
+  mOverlayLines->updatePosition();
+  mOverlayPoints->updatePosition();
+  mOverlayLines->update();
+  mOverlayPoints->update();
+}

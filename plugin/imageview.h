@@ -1,0 +1,113 @@
+/***************************************************************************
+  imageview.h - one image panel of the Multiview
+  -------------------------------------------------------------------------
+  A QgsMapCanvas showing an image as a raster layer in pixel space
+  (x = col, y = -row, as the georeferencer does), so tiling, overviews,
+  zoom and pan are QGIS's. Over the image: the epipolar curves of a point
+  clicked in another view, the proposed conjugate point with its score,
+  the observation taken for the current vertex, and every measured feature
+  projected into this image. The header chooses the image and the
+  enhancement (computed in memory, the file is never rewritten). An image
+  that cannot be shown is replaced by a placeholder saying why.
+ ***************************************************************************/
+#ifndef GEOSTATIONIMAGEVIEW_H
+#define GEOSTATIONIMAGEVIEW_H
+
+#include <memory>
+
+#include <QPointF>
+#include <QWidget>
+
+#include <qgsgeometry.h>
+
+class QComboBox;
+class QLabel;
+class QStackedWidget;
+class QgsMapCanvas;
+class QgsRasterLayer;
+class QgsRubberBand;
+class QgsVertexMarker;
+class GeoStationImagePointTool;
+
+class GeoStationImageView : public QWidget
+{
+    Q_OBJECT
+
+  public:
+    GeoStationImageView( int index, QWidget *parent = nullptr );
+    ~GeoStationImageView() override;
+
+    int index() const { return mIndex; }
+    QString imageId() const { return mImageId; }
+    QgsMapCanvas *canvas() const { return mCanvas; }
+    //! Whether the image is on screen (not the placeholder).
+    bool hasImage() const;
+    QString placeholderText() const;
+
+    //! The images offered in the chooser (all images of the block).
+    void setImageChoices( const QStringList &imageIds );
+
+    /**
+     * Shows an image file (empty id: nothing). `expectedWidth/Height` are the
+     * camera's; a file that is missing, cannot be decoded or has another size
+     * gives the placeholder with the reason. Keeps the zoom when the new
+     * image has the size of the previous one.
+     */
+    void showImage( const QString &imageId, const QString &path, int expectedWidth, int expectedHeight );
+
+    //! "" for the original, or an enhancement method name of core (e.g. "equalise").
+    QString enhancement() const { return mEnhancement; }
+    void setEnhancement( const QString &method );
+    //! The enhancements offered: (name, label) pairs, the original first.
+    static QList<QPair<QString, QString>> enhancementChoices();
+
+    //! The grey value (or R,G,B) at a pixel, as text; "" outside the image.
+    QString valueAt( const QPointF &pixelInImage ) const;
+
+    //! Zooms so `halfWidthPx` image pixels either side of a pixel fill the view.
+    void zoomToPixel( const QPointF &pixelInImage, double halfWidthPx );
+    void zoomToFullImage();
+
+    // ---- overlays (pixel coordinates) ----
+    void setEpipolarCurves( const QList<QVector<QPointF>> &pieces );
+    //! The proposed conjugate point and its score; `matched` false draws nothing but the status text.
+    void setProposal( bool matched, const QPointF &pixelInImage, double score, const QString &status );
+    //! The observation taken for the vertex being measured (reference click or accepted/corrected point).
+    void setObservation( bool present, const QPointF &pixelInImage, bool reference );
+    void clearMeasurementOverlays();
+    //! Measured features projected into this image (geometries in x = col, y = -row).
+    void setFeatureOverlay( const QVector<QgsGeometry> &geometries );
+    int featureOverlayCount() const { return mFeatureOverlayCount; }
+
+  signals:
+    void imageChosen( int view, const QString &imageId );
+    void enhancementChosen( int view, const QString &method );
+    void pixelPicked( int view, QPointF pixelInImage );
+    void pixelHovered( int view, QPointF pixelInImage );
+    void undoRequested();
+
+  private:
+    void showPlaceholder( const QString &reason );
+    void updateLayer();
+    void setStatus( const QString &text );
+
+    int mIndex;
+    QString mImageId, mPath, mEnhancement, mMemoryPath;
+    int mWidth = 0, mHeight = 0;
+    QComboBox *mImageCombo = nullptr;
+    QComboBox *mEnhancementCombo = nullptr;
+    QLabel *mStatus = nullptr;
+    QStackedWidget *mStack = nullptr;
+    QLabel *mPlaceholder = nullptr;
+    QgsMapCanvas *mCanvas = nullptr;
+    GeoStationImagePointTool *mTool = nullptr;
+    std::unique_ptr<QgsRasterLayer> mLayer;
+    QgsRubberBand *mEpipolar = nullptr;
+    QgsVertexMarker *mProposal = nullptr;
+    QgsVertexMarker *mObservation = nullptr;
+    QgsRubberBand *mOverlayLines = nullptr;
+    QgsRubberBand *mOverlayPoints = nullptr;
+    int mFeatureOverlayCount = 0;
+};
+
+#endif // GEOSTATIONIMAGEVIEW_H

@@ -1,0 +1,299 @@
+/***************************************************************************
+  measurementcontroller.cpp
+ ***************************************************************************/
+#include "measurementcontroller.h"
+
+#include <QDateTime>
+#include <QElapsedTimer>
+#include <QUuid>
+#include <QtConcurrent/QtConcurrentRun>
+
+#include <qgsproject.h>
+#include <qgsrasterlayer.h>
+
+#include "dem/dem.h"
+#include "dem/monoplotter.h"
+#include "geometry/crs.h"
+#include "multiviewsession.h"
+
+GeoStationMeasurementController::GeoStationMeasurementController( GeoStationSession *session, GeoStationMeasurementStore *store, QObject *parent )
+  : QObject( parent )
+  , mSession( session )
+  , mStore( store )
+{
+  mOptions.area.minScore = 0.7;
+}
+
+GeoStationMeasurementController::~GeoStationMeasurementController() = default;
+
+QString GeoStationMeasurementController::imagePath( const QString &imageId ) const
+{
+  const geostation::Block *block = mSession->block();
+  const geostation::BlockImage *image = block ? block->findImage( imageId.toStdString() ) : nullptr;
+  return image ? QString::fromStdString( block->imageFilePath( *image ).string() ) : QString();
+}
+
+void GeoStationMeasurementController::prefetch( const QStringList &imageIds )
+{
+  for ( const QString &id : imageIds )
+  {
+    const std::string path = imagePath( id ).toStdString();
+    if ( path.empty() || mCache->contains( path ) )
+      continue;
+    // a pool thread prepares it; get() from the GUI waits for a load in progress
+    ( void )QtConcurrent::run( [cache = mCache, path] { cache->get( path ); } );
+  }
+}
+
+void GeoStationMeasurementController::resetViews()
+{
+  const QStringList ids = mSession->viewImages();
+  mViews = QVector<ViewState>( ids.size() );
+  for ( int i = 0; i < ids.size(); ++i )
+    mViews[i].imageId = ids[i];
+  mReference = -1;
+}
+
+void GeoStationMeasurementController::viewsChanged()
+{
+  resetViews();
+  emit viewStatesChanged();
+}
+
+void GeoStationMeasurementController::pick( int view, const QPointF &pixelInImage )
+{
+  if ( mViews.size() != mSession->viewCount() || ( view < mViews.size() && mViews[view].imageId != mSession->viewImages().value( view ) ) )
+    resetViews();
+  if ( view < 0 || view >= mViews.size() || mViews[view].imageId.isEmpty() )
+    return;
+
+  if ( mReference >= 0 && view != mReference )
+  {
+    // the operator's own point in this view
+    ViewState &s = mViews[view];
+    s.observed = true;
+    s.corrected = true;
+    s.pixel = pixelInImage;
+    s.sigmaPx = 0.5;
+    const double off = s.curve.isEmpty() ? 0.0 : [&]
+    {
+      geostation::EpipolarCurve c;
+      for ( const QVector<QPointF> &piece : s.curve )
+      {
+        std::vector<geostation::EpipolarVertex> p;
+        for ( const QPointF &q : piece )
+          p.push_back( { Eigen::Vector2d( q.x(), q.y() ), 0.0, true } );
+        c.pieces.push_back( p );
+      }
+      return c.distanceToCurvePx( Eigen::Vector2d( pixelInImage.x(), pixelInImage.y() ) );
+    }();
+    s.status = tr( "set by hand, %1 px from the epipolar curve" ).arg( off, 0, 'f', 1 );
+    emit viewStatesChanged();
+    return;
+  }
+
+  if ( !mSession->findClass( mSession->currentClass() ) )
+  {
+    emit message( tr( "Define a feature class to measure (GeoStation ▸ Feature Classes…)." ), true );
+    return;
+  }
+  QString problem;
+  if ( mFeature.vertices.isEmpty() && !mStore->checkWritable( &problem ) )
+  {
+    emit message( problem, true );
+    return;
+  }
+  const QString referenceId = mViews[view].imageId;
+  if ( !mSession->orientedImage( referenceId ) )
+  {
+    emit message( tr( "%1 is not oriented: it cannot be measured in (orient it by resection or bundle adjustment)." ).arg( referenceId ), true );
+    return;
+  }
+
+  QElapsedTimer timer;
+  timer.start();
+  resetViews();
+  mReference = view;
+  std::vector<std::shared_ptr<const geostation::MatchImage>> pixels( mViews.size() );
+  std::vector<geostation::MeasurementView> views( mViews.size() );
+  for ( int i = 0; i < mViews.size(); ++i )
+  {
+    views[i].imageId = mViews[i].imageId.toStdString();
+    views[i].image = mSession->orientedImage( mViews[i].imageId );
+    const QString path = imagePath( mViews[i].imageId );
+    if ( !path.isEmpty() )
+      pixels[i] = mCache->get( path.toStdString() ).image;
+    views[i].pixels = pixels[i].get();
+  }
+  const std::vector<geostation::ConjugateProposal> proposals = geostation::proposeConjugates( views, view, Eigen::Vector2d( pixelInImage.x(), pixelInImage.y() ), mOptions );
+  for ( int i = 0; i < mViews.size(); ++i )
+  {
+    ViewState &s = mViews[i];
+    if ( i == view )
+    {
+      s.observed = true;
+      s.reference = true;
+      s.pixel = pixelInImage;
+      s.sigmaPx = 0.5;
+      s.status = tr( "reference" );
+      continue;
+    }
+    const geostation::ConjugateProposal &p = proposals[i];
+    for ( const auto &piece : p.curve.pieces )
+    {
+      QVector<QPointF> line;
+      for ( const geostation::EpipolarVertex &v : piece )
+        line << QPointF( v.pixelInImage.x(), v.pixelInImage.y() );
+      s.curve << line;
+    }
+    if ( p.matched )
+    {
+      s.proposed = s.observed = true;
+      s.pixel = QPointF( p.pixelInImage.x(), p.pixelInImage.y() );
+      s.score = p.score;
+      s.sigmaPx = std::max( 0.3, p.sigmaPx );
+      s.status = tr( "match %1" ).arg( p.score, 0, 'f', 2 );
+    }
+    else if ( !mViews[i].imageId.isEmpty() )
+      s.status = tr( "no match: %1" ).arg( QString::fromStdString( p.reason ) );
+  }
+  mLastProposalMs = timer.nsecsElapsed() / 1e6;
+  emit viewStatesChanged();
+}
+
+geostation::MeasuredVertex GeoStationMeasurementController::singleRayVertex( const geostation::VertexObservation &observation, QString *why )
+{
+  QgsRasterLayer *demLayer = qobject_cast<QgsRasterLayer *>( QgsProject::instance()->mapLayer( mSession->demLayerId() ) );
+  if ( demLayer )
+  {
+    try
+    {
+      const QString path = demLayer->source();
+      if ( path != mDemPath || !mDem )
+      {
+        mDem.reset();
+        mBlockToDem.reset();
+        mDem = std::make_unique<geostation::Dem>( path.toStdString() );
+        mBlockToDem = std::make_unique<geostation::CrsTransform>( mSession->block()->crs, mDem->crsWkt() );
+        mDemPath = path;
+      }
+      const geostation::Monoplotter monoplotter( *observation.image, *mDem, *mBlockToDem );
+      return geostation::demVertex( observation, monoplotter );
+    }
+    catch ( const std::exception &e )
+    {
+      mDem.reset();
+      *why = tr( "The DEM %1 cannot be used: %2" ).arg( demLayer->name(), QString::fromStdString( e.what() ) );
+      return geostation::MeasuredVertex();
+    }
+  }
+  const double roadZ = observation.image->exterior().projectionCentre.z() - mSession->cameraHeightAboveRoadM();
+  return geostation::roadPlaneVertex( observation, roadZ, mSession->roadPlaneSigmaM() );
+}
+
+bool GeoStationMeasurementController::acceptPoint()
+{
+  if ( mReference < 0 )
+  {
+    emit message( tr( "Click the point in one view first." ), true );
+    return false;
+  }
+  std::vector<geostation::VertexObservation> observations;
+  for ( const ViewState &s : std::as_const( mViews ) )
+    if ( s.observed )
+      observations.push_back( { s.imageId.toStdString(), mSession->orientedImage( s.imageId ), Eigen::Vector2d( s.pixel.x(), s.pixel.y() ), s.sigmaPx } );
+  geostation::MeasuredVertex vertex;
+  QString why;
+  if ( observations.size() >= 2 )
+    vertex = geostation::intersectVertex( observations );
+  else
+    vertex = singleRayVertex( observations.front(), &why );
+  if ( !vertex.ok )
+  {
+    emit message( why.isEmpty() ? tr( "The vertex cannot be computed: %1" ).arg( QString::fromStdString( vertex.message ) ) : why, true );
+    return false;
+  }
+  if ( mFeature.vertices.isEmpty() )
+  {
+    const QString referenceId = mViews[mReference].imageId;
+    mFeature.station = mSession->imageStation( referenceId );
+    mFeature.acquired = mSession->imageTime( referenceId );
+  }
+  mFeature.vertices << vertex;
+
+  QStringList residuals;
+  for ( size_t i = 0; i < vertex.imageIds.size() && i < vertex.residualsPx.size(); ++i )
+    residuals << QStringLiteral( "%1 %2 px" ).arg( QString::fromStdString( vertex.imageIds[i] ) ).arg( vertex.residualsPx[i].norm(), 0, 'f', 2 );
+  QString text = tr( "Vertex %1 (%2, %3 ray(s)): X %4  Y %5  Z %6 m; σ %7 / %8 / %9 m" )
+                 .arg( mFeature.vertices.size() )
+                 .arg( QString::fromStdString( geostation::vertexMethodName( vertex.method ) ) )
+                 .arg( vertex.imageIds.size() )
+                 .arg( vertex.point.x(), 0, 'f', 3 ).arg( vertex.point.y(), 0, 'f', 3 ).arg( vertex.point.z(), 0, 'f', 3 )
+                 .arg( vertex.sigmaM.x(), 0, 'f', 3 ).arg( vertex.sigmaM.y(), 0, 'f', 3 ).arg( vertex.sigmaM.z(), 0, 'f', 3 );
+  if ( vertex.method == geostation::VertexMethod::Intersection )
+    text += tr( "; residuals %1; ray angle %2°" ).arg( residuals.join( QLatin1String( ", " ) ) ).arg( vertex.maxRayAngleDeg, 0, 'f', 1 );
+  emit message( text, false );
+  if ( !vertex.message.empty() )
+    emit message( QString::fromStdString( vertex.message ), true );
+
+  resetViews();
+  emit viewStatesChanged();
+  emit featureChanged();
+  const GeoStationFeatureClass *featureClass = mSession->findClass( mSession->currentClass() );
+  if ( featureClass && featureClass->geometry == GeoStationFeatureClass::Geometry::Point )
+    finishFeature();
+  return true;
+}
+
+void GeoStationMeasurementController::undoVertex()
+{
+  if ( mReference >= 0 )
+  {
+    // first the open point, then the vertices
+    resetViews();
+    emit viewStatesChanged();
+    return;
+  }
+  if ( mFeature.vertices.isEmpty() )
+    return;
+  mFeature.vertices.removeLast();
+  emit message( tr( "Vertex %1 taken back." ).arg( mFeature.vertices.size() + 1 ), false );
+  emit featureChanged();
+}
+
+bool GeoStationMeasurementController::finishFeature()
+{
+  const GeoStationFeatureClass *featureClass = mSession->findClass( mSession->currentClass() );
+  if ( !featureClass )
+  {
+    emit message( tr( "Define a feature class to measure (GeoStation ▸ Feature Classes…)." ), true );
+    return false;
+  }
+  if ( mFeature.vertices.size() < featureClass->minimumVertices() )
+  {
+    emit message( tr( "A %1 needs %2 vertices; this one has %3." )
+                  .arg( GeoStationFeatureClass::geometryName( featureClass->geometry ) ).arg( featureClass->minimumVertices() ).arg( mFeature.vertices.size() ), true );
+    return false;
+  }
+  mFeature.className = featureClass->name;
+  mFeature.measured = QDateTime::currentDateTimeUtc().toString( Qt::ISODateWithMs );
+  mFeature.measurementId = QUuid::createUuid().toString( QUuid::WithoutBraces );
+  const GeoStationMeasurementStore::Result result = mStore->addFeature( mFeature );
+  emit message( tr( "%1 (%2 vertices, %3): %4" ).arg( featureClass->name ).arg( mFeature.vertices.size() ).arg( mFeature.method(), result.message ), !result.committed );
+  if ( !result.ok )
+    return false; // kept here: the operator can fix the problem and finish again
+  mFeature = GeoStationMeasuredFeature();
+  emit featureChanged();
+  emit featureWritten( featureClass->layerName() );
+  return true;
+}
+
+void GeoStationMeasurementController::cancel()
+{
+  resetViews();
+  if ( !mFeature.vertices.isEmpty() )
+    emit message( tr( "Feature with %1 vertices dropped." ).arg( mFeature.vertices.size() ), false );
+  mFeature = GeoStationMeasuredFeature();
+  emit viewStatesChanged();
+  emit featureChanged();
+}

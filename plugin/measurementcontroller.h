@@ -1,0 +1,112 @@
+/***************************************************************************
+  measurementcontroller.h - the measuring loop of the Multiview
+  -------------------------------------------------------------------------
+  1. pick() in a view: the reference observation. The epipolar curves of
+     the pixel in the other views and the proposed conjugate points (core
+     proposeConjugates) are published for the views to draw.
+  2. pick() in another view while a point is open: the operator's
+     correction of that view's point (a click, or the end of a drag).
+  3. acceptPoint(): the rays are intersected (two or more) with σ and pixel
+     residuals; a point seen in one view only becomes a DEM vertex (when a
+     DEM layer is set) or a road-plane vertex, marked by its method. The
+     vertex joins the feature; a point class finishes it at once.
+  4. undoVertex(), finishFeature(), cancel(). A feature that could not be
+     written stays here (and in the edit buffer) — it is never dropped.
+  No widgets; the dock connects it to the views.
+ ***************************************************************************/
+#ifndef GEOSTATIONMEASUREMENTCONTROLLER_H
+#define GEOSTATIONMEASUREMENTCONTROLLER_H
+
+#include <memory>
+
+#include <QObject>
+#include <QPointF>
+#include <QVector>
+
+#include "measurementstore.h"
+#include "workstation/matchimagecache.h"
+#include "workstation/pointmeasurer.h"
+
+class GeoStationSession;
+
+namespace geostation
+{
+  class Dem;
+  class CrsTransform;
+}
+
+class GeoStationMeasurementController : public QObject
+{
+    Q_OBJECT
+
+  public:
+    //! What a view shows of the point being measured.
+    struct ViewState
+    {
+      QString imageId;
+      bool observed = false;     //!< has an observation (reference, accepted proposal or correction)
+      bool reference = false;
+      bool corrected = false;    //!< set by the operator
+      QPointF pixel;             //!< of the observation
+      double sigmaPx = 0.5;
+      bool proposed = false;     //!< a matched proposal exists
+      double score = 0.0;
+      QString status;            //!< short text for the view's header
+      QList<QVector<QPointF>> curve; //!< epipolar curve pieces (pixels)
+    };
+
+    GeoStationMeasurementController( GeoStationSession *session, GeoStationMeasurementStore *store, QObject *parent = nullptr );
+    ~GeoStationMeasurementController() override;
+
+    geostation::MatchImageCache &imageCache() { return *mCache; }
+    //! Prepares the images for matching in the background (e.g. those of the next station).
+    void prefetch( const QStringList &imageIds );
+
+    void pick( int view, const QPointF &pixelInImage );
+    bool hasOpenPoint() const { return mReference >= 0; }
+    const QVector<ViewState> &viewStates() const { return mViews; }
+    //! Milliseconds from the last reference pick to its curves and proposals.
+    double lastProposalMs() const { return mLastProposalMs; }
+
+    const GeoStationMeasuredFeature &currentFeature() const { return mFeature; }
+    int vertexCount() const { return mFeature.vertices.size(); }
+    const geostation::MeasuredVertex *lastVertex() const { return mFeature.vertices.isEmpty() ? nullptr : &mFeature.vertices.last(); }
+
+    //! The proposal/matching settings (window, threshold, LSM, depth range).
+    geostation::ProposalOptions &proposalOptions() { return mOptions; }
+
+  public slots:
+    bool acceptPoint();
+    void undoVertex();
+    bool finishFeature();
+    void cancel();
+    //! The views show other images (navigation): the open point is dropped, the feature kept.
+    void viewsChanged();
+
+  signals:
+    void viewStatesChanged();
+    void featureChanged();
+    //! One line for the message panel.
+    void message( const QString &text, bool warning );
+    void featureWritten( const QString &layerName );
+
+  private:
+    geostation::MeasuredVertex singleRayVertex( const geostation::VertexObservation &observation, QString *why );
+    QString imagePath( const QString &imageId ) const;
+    void resetViews();
+
+    GeoStationSession *mSession;
+    GeoStationMeasurementStore *mStore;
+    //! shared with the background loads, which may outlive the controller
+    std::shared_ptr<geostation::MatchImageCache> mCache = std::make_shared<geostation::MatchImageCache>();
+    geostation::ProposalOptions mOptions;
+    QVector<ViewState> mViews;
+    int mReference = -1;
+    double mLastProposalMs = 0.0;
+    GeoStationMeasuredFeature mFeature;
+    QString mDemPath;
+    std::unique_ptr<geostation::Dem> mDem;
+    std::unique_ptr<geostation::CrsTransform> mBlockToDem;
+};
+
+#endif // GEOSTATIONMEASUREMENTCONTROLLER_H

@@ -1,0 +1,37 @@
+/***************************************************************************
+  measurementoverlay.h - measured features drawn back into the images
+  -------------------------------------------------------------------------
+  The thesis' consistency check: every feature of the measurement layers
+  (edit buffer included) is projected into every image view, so the
+  operator sees at once whether what was measured sits on the object, and
+  an edit or a deletion in QGIS shows in the views. Lines are densified
+  so they follow the lens distortion, and cut where they leave the part
+  of space the camera can see.
+ ***************************************************************************/
+#ifndef GEOSTATIONMEASUREMENTOVERLAY_H
+#define GEOSTATIONMEASUREMENTOVERLAY_H
+
+#include <QList>
+#include <QVector>
+
+#include <qgscoordinatereferencesystem.h>
+#include <qgsgeometry.h>
+
+#include "geometry/projection.h"
+
+class QgsVectorLayer;
+
+struct GeoStationOverlayOptions
+{
+  double maxRangeM = 150.0;  //!< features farther from the camera are not drawn
+  double densifyPx = 4.0;
+};
+
+/**
+ * The features of `layers` as seen in `image`: geometries in pixel space
+ * (x = col, y = -row): points, and lines (polygon rings as lines).
+ */
+QVector<QgsGeometry> projectFeaturesIntoImage( const QList<QgsVectorLayer *> &layers, const geostation::OrientedImage &image,
+    const QgsCoordinateReferenceSystem &blockCrs, const GeoStationOverlayOptions &options = GeoStationOverlayOptions() );
+
+#endif // GEOSTATIONMEASUREMENTOVERLAY_H

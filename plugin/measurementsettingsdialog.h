@@ -1,0 +1,30 @@
+/***************************************************************************
+  measurementsettingsdialog.h - where measurements go, single-image settings
+ ***************************************************************************/
+#ifndef GEOSTATIONMEASUREMENTSETTINGSDIALOG_H
+#define GEOSTATIONMEASUREMENTSETTINGSDIALOG_H
+
+#include <QDialog>
+
+#include "ui_geostationmeasurementsettingsdialogbase.h"
+
+class GeoStationSession;
+class GeoStationMeasurementStore;
+
+class GeoStationMeasurementSettingsDialog : public QDialog, private Ui::GeoStationMeasurementSettingsDialogBase
+{
+    Q_OBJECT
+
+  public:
+    GeoStationMeasurementSettingsDialog( GeoStationSession *session, GeoStationMeasurementStore *store, QWidget *parent = nullptr );
+
+  public slots:
+    //! Applies the settings; a GeoPackage that cannot be written is reported and the dialog stays open.
+    void accept() override;
+
+  private:
+    GeoStationSession *mSession;
+    GeoStationMeasurementStore *mStore;
+};
+
+#endif // GEOSTATIONMEASUREMENTSETTINGSDIALOG_H

@@ -1,0 +1,434 @@
+/***************************************************************************
+  measurementstore.cpp
+ ***************************************************************************/
+#include "measurementstore.h"
+
+#include <QDateTime>
+#include <QDir>
+#include <QFileInfo>
+
+#include <qgslayertree.h>
+#include <qgslinestring.h>
+#include <qgspolygon.h>
+#include <qgsproject.h>
+#include <qgsproviderregistry.h>
+#include <qgsvectordataprovider.h>
+#include <qgsvectorfilewriter.h>
+#include <qgsvectorlayer.h>
+
+#include "multiviewsession.h"
+
+namespace
+{
+  const QString sGroupName = QStringLiteral( "GeoStation measurements" );
+  const QString sVerticesName = QStringLiteral( "vertices" );
+
+  int methodRank( geostation::VertexMethod method )
+  {
+    switch ( method )
+    {
+      case geostation::VertexMethod::Intersection:
+        return 0;
+      case geostation::VertexMethod::MonoplotDem:
+        return 1;
+      case geostation::VertexMethod::RoadPlane:
+        return 2;
+    }
+    return 0;
+  }
+
+  QgsCoordinateReferenceSystem crsOf( const GeoStationSession *session )
+  {
+    QgsCoordinateReferenceSystem crs;
+    if ( session->block() )
+      crs.createFromUserInput( QString::fromStdString( session->block()->crs ) );
+    return crs;
+  }
+
+  QString sourcePath( const QgsMapLayer *layer, QString *layerName = nullptr )
+  {
+    const QVariantMap parts = QgsProviderRegistry::instance()->decodeUri( QStringLiteral( "ogr" ), layer->source() );
+    if ( layerName )
+      *layerName = parts.value( QStringLiteral( "layerName" ) ).toString();
+    return QFileInfo( parts.value( QStringLiteral( "path" ) ).toString() ).absoluteFilePath();
+  }
+}
+
+QString GeoStationMeasuredFeature::method() const
+{
+  geostation::VertexMethod weakest = geostation::VertexMethod::Intersection;
+  for ( const geostation::MeasuredVertex &v : vertices )
+    if ( methodRank( v.method ) > methodRank( weakest ) )
+      weakest = v.method;
+  return QString::fromStdString( geostation::vertexMethodName( weakest ) );
+}
+
+int GeoStationMeasuredFeature::imageCount() const
+{
+  QSet<QString> ids;
+  for ( const geostation::MeasuredVertex &v : vertices )
+    for ( const std::string &id : v.imageIds )
+      ids.insert( QString::fromStdString( id ) );
+  return ids.size();
+}
+
+GeoStationMeasurementStore::GeoStationMeasurementStore( GeoStationSession *session, QgsProject *project, QObject *parent )
+  : QObject( parent )
+  , mSession( session )
+  , mProject( project )
+{
+}
+
+QgsFields GeoStationMeasurementStore::featureFields( const GeoStationFeatureClass &featureClass )
+{
+  QgsFields fields;
+  fields.append( QgsField( QStringLiteral( "class" ), QVariant::String ) );
+  fields.append( QgsField( QStringLiteral( "station" ), QVariant::String ) );
+  fields.append( QgsField( QStringLiteral( "acquired" ), QVariant::String ) );
+  fields.append( QgsField( QStringLiteral( "measured" ), QVariant::String ) );
+  fields.append( QgsField( QStringLiteral( "n_images" ), QVariant::Int ) );
+  fields.append( QgsField( QStringLiteral( "sigma_x" ), QVariant::Double ) );
+  fields.append( QgsField( QStringLiteral( "sigma_y" ), QVariant::Double ) );
+  fields.append( QgsField( QStringLiteral( "sigma_z" ), QVariant::Double ) );
+  fields.append( QgsField( QStringLiteral( "method" ), QVariant::String ) );
+  fields.append( QgsField( QStringLiteral( "measurement_id" ), QVariant::String ) );
+  for ( auto it = featureClass.attributes.constBegin(); it != featureClass.attributes.constEnd(); ++it )
+    fields.append( QgsField( it.key(), QVariant::String ) );
+  return fields;
+}
+
+QgsFields GeoStationMeasurementStore::vertexFields()
+{
+  QgsFields fields;
+  fields.append( QgsField( QStringLiteral( "feature_fid" ), QVariant::LongLong ) );
+  fields.append( QgsField( QStringLiteral( "vertex" ), QVariant::Int ) );
+  for ( const char *name : { "X", "Y", "Z", "sx", "sy", "sz" } )
+    fields.append( QgsField( QString::fromLatin1( name ), QVariant::Double ) );
+  fields.append( QgsField( QStringLiteral( "image_ids" ), QVariant::String ) );
+  fields.append( QgsField( QStringLiteral( "residuals_px" ), QVariant::String ) );
+  fields.append( QgsField( QStringLiteral( "layer" ), QVariant::String ) );
+  fields.append( QgsField( QStringLiteral( "method" ), QVariant::String ) );
+  fields.append( QgsField( QStringLiteral( "measurement_id" ), QVariant::String ) );
+  return fields;
+}
+
+bool GeoStationMeasurementStore::checkWritable( QString *error ) const
+{
+  const QString target = mSession->targetGeoPackage();
+  const auto fail = [error]( const QString &why )
+  {
+    if ( error )
+      *error = why;
+    return false;
+  };
+  if ( target.isEmpty() )
+    return fail( tr( "Choose the GeoPackage the measurements go to (GeoStation ▸ Measurement GeoPackage…)." ) );
+  if ( !target.endsWith( QLatin1String( ".gpkg" ), Qt::CaseInsensitive ) )
+    return fail( tr( "The measurement file %1 is not a GeoPackage (.gpkg)." ).arg( target ) );
+  const QFileInfo file( target );
+  // no write permission for anyone counts as read-only even where the operator could override it (root)
+  const auto writable = []( const QFileInfo &info )
+  {
+    return info.isWritable() && ( info.permissions() & ( QFileDevice::WriteOwner | QFileDevice::WriteGroup | QFileDevice::WriteOther ) );
+  };
+  if ( file.exists() && !writable( file ) )
+    return fail( tr( "The measurement GeoPackage %1 is read-only: measuring would lose the features. Choose another file or make it writable." ).arg( target ) );
+  const QFileInfo folder( file.absolutePath() );
+  if ( !folder.exists() || !writable( folder ) )
+    return fail( tr( "The folder %1 of the measurement GeoPackage cannot be written." ).arg( file.absolutePath() ) );
+  return true;
+}
+
+QgsVectorLayer *GeoStationMeasurementStore::openOrCreate( const QString &layerName, const QgsFields &fields, QgsWkbTypes::Type type, QString *error )
+{
+  if ( !checkWritable( error ) )
+    return nullptr;
+  const QString target = QFileInfo( mSession->targetGeoPackage() ).absoluteFilePath();
+  // the project's layer, if it is there already
+  for ( QgsMapLayer *layer : mProject->mapLayers() )
+  {
+    QgsVectorLayer *vl = qobject_cast<QgsVectorLayer *>( layer );
+    QString name;
+    if ( vl && vl->providerType() == QLatin1String( "ogr" ) && sourcePath( vl, &name ) == target && name == layerName )
+    {
+      QgsFields missing;
+      for ( const QgsField &f : fields )
+        if ( vl->fields().indexFromName( f.name() ) < 0 )
+          missing.append( f );
+      if ( !missing.isEmpty() && !vl->dataProvider()->addAttributes( missing.toList() ) )
+      {
+        if ( error )
+          *error = tr( "The fields of %1 cannot be extended in %2." ).arg( layerName, target );
+        return nullptr;
+      }
+      if ( !missing.isEmpty() )
+        vl->updateFields();
+      watch( vl );
+      return vl;
+    }
+  }
+  const QString uri = QStringLiteral( "%1|layername=%2" ).arg( target, layerName );
+  QgsVectorLayer::LayerOptions layerOptions( mProject->transformContext() );
+  layerOptions.skipCrsValidation = true;
+  auto layer = std::make_unique<QgsVectorLayer>( uri, layerName, QStringLiteral( "ogr" ), layerOptions );
+  if ( !layer->isValid() )
+  {
+    QgsVectorFileWriter::SaveVectorOptions options;
+    options.driverName = QStringLiteral( "GPKG" );
+    options.layerName = layerName;
+    options.actionOnExistingFile = QFileInfo::exists( target ) ? QgsVectorFileWriter::CreateOrOverwriteLayer : QgsVectorFileWriter::CreateOrOverwriteFile;
+    QString newFile, newLayer;
+    std::unique_ptr<QgsVectorFileWriter> writer( QgsVectorFileWriter::create( target, fields, type, crsOf( mSession ), mProject->transformContext(), options,
+        QgsFeatureSink::SinkFlags(), &newFile, &newLayer ) );
+    if ( !writer || writer->hasError() != QgsVectorFileWriter::NoError )
+    {
+      if ( error )
+        *error = tr( "The layer %1 cannot be created in %2: %3" ).arg( layerName, target, writer ? writer->errorMessage() : tr( "unknown error" ) );
+      return nullptr;
+    }
+    writer.reset();
+    layer = std::make_unique<QgsVectorLayer>( uri, layerName, QStringLiteral( "ogr" ), layerOptions );
+    if ( !layer->isValid() )
+    {
+      if ( error )
+        *error = tr( "The layer %1 was created in %2 but cannot be opened." ).arg( layerName, target );
+      return nullptr;
+    }
+  }
+  else
+  {
+    if ( layer->fields().indexFromName( fields.at( 0 ).name() ) < 0 )
+    {
+      if ( error )
+        *error = tr( "%1 in %2 is not a GeoStation layer (it has no field %3)." ).arg( layerName, target, fields.at( 0 ).name() );
+      return nullptr;
+    }
+    QgsFields missing;
+    for ( const QgsField &f : fields )
+      if ( layer->fields().indexFromName( f.name() ) < 0 )
+        missing.append( f );
+    if ( !missing.isEmpty() )
+    {
+      layer->dataProvider()->addAttributes( missing.toList() );
+      layer->updateFields();
+    }
+  }
+  QgsLayerTreeGroup *group = mProject->layerTreeRoot()->findGroup( sGroupName );
+  if ( !group )
+    group = mProject->layerTreeRoot()->insertGroup( 0, sGroupName );
+  QgsVectorLayer *added = layer.release();
+  mProject->addMapLayer( added, false );
+  group->addLayer( added );
+  watch( added );
+  emit measurementsChanged();
+  return added;
+}
+
+QgsVectorLayer *GeoStationMeasurementStore::layerFor( const GeoStationFeatureClass &featureClass, QString *error )
+{
+  const QgsWkbTypes::Type type = featureClass.geometry == GeoStationFeatureClass::Geometry::Point ? QgsWkbTypes::PointZ
+                                 : featureClass.geometry == GeoStationFeatureClass::Geometry::Line ? QgsWkbTypes::LineStringZ
+                                 : QgsWkbTypes::PolygonZ;
+  QgsVectorLayer *layer = openOrCreate( featureClass.layerName(), featureFields( featureClass ), type, error );
+  if ( layer && QgsWkbTypes::geometryType( layer->wkbType() ) != QgsWkbTypes::geometryType( type ) )
+  {
+    if ( error )
+      *error = tr( "The layer %1 holds %2 geometries, the class %3 measures %4s." )
+               .arg( featureClass.layerName(), QgsWkbTypes::geometryDisplayString( layer->geometryType() ), featureClass.name,
+                     GeoStationFeatureClass::geometryName( featureClass.geometry ) );
+    return nullptr;
+  }
+  return layer;
+}
+
+QgsVectorLayer *GeoStationMeasurementStore::verticesTable( QString *error )
+{
+  return openOrCreate( sVerticesName, vertexFields(), QgsWkbTypes::NoGeometry, error );
+}
+
+QList<QgsVectorLayer *> GeoStationMeasurementStore::measurementLayers() const
+{
+  QList<QgsVectorLayer *> layers;
+  const QString target = QFileInfo( mSession->targetGeoPackage() ).absoluteFilePath();
+  if ( mSession->targetGeoPackage().isEmpty() )
+    return layers;
+  for ( QgsMapLayer *layer : mProject->mapLayers() )
+  {
+    QgsVectorLayer *vl = qobject_cast<QgsVectorLayer *>( layer );
+    QString name;
+    if ( vl && vl->providerType() == QLatin1String( "ogr" ) && vl->isSpatial() && sourcePath( vl, &name ) == target && name != sVerticesName )
+      layers << vl;
+  }
+  return layers;
+}
+
+void GeoStationMeasurementStore::watch( QgsVectorLayer *layer )
+{
+  for ( const QPointer<QgsVectorLayer> &w : std::as_const( mWatched ) )
+    if ( w == layer )
+      return;
+  mWatched << layer;
+  if ( layer->name() == sVerticesName )
+    return;
+  connect( layer, &QgsVectorLayer::committedFeaturesAdded, this, [this, layer]( const QString &, const QgsFeatureList &added ) { writeVertices( layer, added ); } );
+  // the views redraw the features when they change, in the edit buffer or in the file
+  for ( auto signal : { &QgsVectorLayer::featureAdded, &QgsVectorLayer::featureDeleted } )
+    connect( layer, signal, this, &GeoStationMeasurementStore::measurementsChanged );
+  connect( layer, &QgsVectorLayer::geometryChanged, this, &GeoStationMeasurementStore::measurementsChanged );
+  connect( layer, &QgsVectorLayer::afterRollBack, this, &GeoStationMeasurementStore::measurementsChanged );
+  connect( layer, &QgsVectorLayer::dataSourceChanged, this, &GeoStationMeasurementStore::measurementsChanged );
+}
+
+void GeoStationMeasurementStore::writeVertices( QgsVectorLayer *layer, const QgsFeatureList &added )
+{
+  QList<QPair<QgsFeatureId, GeoStationMeasuredFeature>> toWrite;
+  for ( const QgsFeature &f : added )
+  {
+    const QString id = f.attribute( QStringLiteral( "measurement_id" ) ).toString();
+    auto it = mPendingVertices.find( id );
+    if ( it != mPendingVertices.end() )
+      toWrite << qMakePair( f.id(), it.value() );
+  }
+  if ( toWrite.isEmpty() )
+    return;
+  QString error;
+  QgsVectorLayer *table = verticesTable( &error );
+  if ( !table )
+    return;
+  const bool wasEditing = table->isEditable();
+  if ( !wasEditing && !table->startEditing() )
+    return;
+  const QgsFields fields = table->fields();
+  for ( const auto &[fid, feature] : toWrite )
+  {
+    for ( int i = 0; i < feature.vertices.size(); ++i )
+    {
+      const geostation::MeasuredVertex &v = feature.vertices[i];
+      QgsFeature row( fields );
+      QStringList images, residuals;
+      for ( size_t k = 0; k < v.imageIds.size(); ++k )
+      {
+        images << QString::fromStdString( v.imageIds[k] );
+        if ( k < v.residualsPx.size() )
+          residuals << QStringLiteral( "%1 %2" ).arg( v.residualsPx[k].x(), 0, 'f', 3 ).arg( v.residualsPx[k].y(), 0, 'f', 3 );
+      }
+      row.setAttribute( QStringLiteral( "feature_fid" ), fid );
+      row.setAttribute( QStringLiteral( "vertex" ), i );
+      row.setAttribute( QStringLiteral( "X" ), v.point.x() );
+      row.setAttribute( QStringLiteral( "Y" ), v.point.y() );
+      row.setAttribute( QStringLiteral( "Z" ), v.point.z() );
+      row.setAttribute( QStringLiteral( "sx" ), v.sigmaM.x() );
+      row.setAttribute( QStringLiteral( "sy" ), v.sigmaM.y() );
+      row.setAttribute( QStringLiteral( "sz" ), v.sigmaM.z() );
+      row.setAttribute( QStringLiteral( "image_ids" ), images.join( ';' ) );
+      row.setAttribute( QStringLiteral( "residuals_px" ), residuals.join( ';' ) );
+      row.setAttribute( QStringLiteral( "layer" ), layer->name() );
+      row.setAttribute( QStringLiteral( "method" ), QString::fromStdString( geostation::vertexMethodName( v.method ) ) );
+      row.setAttribute( QStringLiteral( "measurement_id" ), feature.measurementId );
+      table->addFeature( row );
+    }
+    mPendingVertices.remove( feature.measurementId );
+  }
+  if ( !wasEditing )
+    table->commitChanges();
+}
+
+GeoStationMeasurementStore::Result GeoStationMeasurementStore::addFeature( const GeoStationMeasuredFeature &feature )
+{
+  Result result;
+  const GeoStationFeatureClass *featureClass = mSession->findClass( feature.className );
+  if ( !featureClass )
+  {
+    result.message = tr( "There is no feature class %1." ).arg( feature.className );
+    return result;
+  }
+  if ( feature.vertices.size() < featureClass->minimumVertices() )
+  {
+    result.message = tr( "A %1 needs at least %2 vertices." ).arg( GeoStationFeatureClass::geometryName( featureClass->geometry ) ).arg( featureClass->minimumVertices() );
+    return result;
+  }
+  QString error;
+  QgsVectorLayer *layer = layerFor( *featureClass, &error );
+  if ( !layer )
+  {
+    result.message = error;
+    return result;
+  }
+  QgsGeometry geometry;
+  QVector<QgsPoint> points;
+  for ( const geostation::MeasuredVertex &v : feature.vertices )
+    points << QgsPoint( v.point.x(), v.point.y(), v.point.z() );
+  if ( featureClass->geometry == GeoStationFeatureClass::Geometry::Point )
+    geometry = QgsGeometry( new QgsPoint( points.first() ) );
+  else if ( featureClass->geometry == GeoStationFeatureClass::Geometry::Line )
+    geometry = QgsGeometry( new QgsLineString( points ) );
+  else
+  {
+    points << points.first();
+    QgsPolygon *polygon = new QgsPolygon();
+    polygon->setExteriorRing( new QgsLineString( points ) );
+    geometry = QgsGeometry( polygon );
+  }
+  double sx = 0, sy = 0, sz = 0;
+  for ( const geostation::MeasuredVertex &v : feature.vertices )
+  {
+    sx = std::max( sx, v.sigmaM.x() );
+    sy = std::max( sy, v.sigmaM.y() );
+    sz = std::max( sz, v.sigmaM.z() );
+  }
+  QgsFeature f( layer->fields() );
+  f.setGeometry( geometry );
+  const auto set = [&]( const QString &name, const QVariant &value )
+  {
+    const int i = layer->fields().indexFromName( name );
+    if ( i >= 0 )
+      f.setAttribute( i, value );
+  };
+  for ( auto it = featureClass->attributes.constBegin(); it != featureClass->attributes.constEnd(); ++it )
+    set( it.key(), it.value() );
+  set( QStringLiteral( "class" ), featureClass->name );
+  set( QStringLiteral( "station" ), feature.station );
+  set( QStringLiteral( "acquired" ), feature.acquired );
+  set( QStringLiteral( "measured" ), feature.measured );
+  set( QStringLiteral( "n_images" ), feature.imageCount() );
+  set( QStringLiteral( "sigma_x" ), sx );
+  set( QStringLiteral( "sigma_y" ), sy );
+  set( QStringLiteral( "sigma_z" ), sz );
+  set( QStringLiteral( "method" ), feature.method() );
+  set( QStringLiteral( "measurement_id" ), feature.measurementId );
+
+  const bool operatorEditing = layer->isEditable();
+  if ( !operatorEditing && !layer->startEditing() )
+  {
+    result.message = tr( "The layer %1 cannot be edited (is the GeoPackage read-only?)." ).arg( layer->name() );
+    return result;
+  }
+  mPendingVertices.insert( feature.measurementId, feature );
+  if ( !layer->addFeature( f ) )
+  {
+    mPendingVertices.remove( feature.measurementId );
+    if ( !operatorEditing )
+      layer->rollBack();
+    result.message = tr( "The layer %1 refused the feature." ).arg( layer->name() );
+    return result;
+  }
+  result.ok = true;
+  if ( operatorEditing )
+  {
+    result.message = tr( "Added to %1 in your edit session: save the layer's edits to write it." ).arg( layer->name() );
+    emit measurementsChanged();
+    return result;
+  }
+  if ( !layer->commitChanges() )
+  {
+    // keep it in the edit buffer: nothing is lost, the operator can save later
+    result.message = tr( "%1 could not be written (%2); the feature stays in the layer's edit buffer: save the layer once the problem is solved." )
+                     .arg( layer->name(), layer->commitErrors().join( QLatin1String( "; " ) ) );
+    emit measurementsChanged();
+    return result;
+  }
+  result.committed = true;
+  result.message = tr( "Written to %1." ).arg( layer->name() );
+  emit measurementsChanged();
+  return result;
+}

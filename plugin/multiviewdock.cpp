@@ -1,0 +1,511 @@
+/***************************************************************************
+  multiviewdock.cpp
+ ***************************************************************************/
+#include "multiviewdock.h"
+
+#include <QComboBox>
+#include <QGridLayout>
+#include <QHeaderView>
+#include <QLabel>
+#include <QLineEdit>
+#include <QMainWindow>
+#include <QPlainTextEdit>
+#include <QShortcut>
+#include <QSpinBox>
+#include <QSplitter>
+#include <QTabWidget>
+#include <QTableWidget>
+#include <QTimer>
+#include <QToolBar>
+#include <QToolButton>
+#include <QVBoxLayout>
+
+#include <qgscoordinatereferencesystem.h>
+#include <qgsmapcanvas.h>
+
+#include "imageview.h"
+#include "measurementcontroller.h"
+#include "measurementoverlay.h"
+#include "measurementstore.h"
+#include "multiviewsession.h"
+
+GeoStationMultiviewDock::GeoStationMultiviewDock( GeoStationSession *session, GeoStationMeasurementController *controller, GeoStationMeasurementStore *store,
+    QWidget *parent )
+  : QgsDockWidget( tr( "GeoStation Multiview" ), parent )
+  , mSession( session )
+  , mController( controller )
+  , mStore( store )
+{
+  setObjectName( QStringLiteral( "GeoStationMultiviewDock" ) );
+  QWidget *contents = new QWidget( this );
+  QVBoxLayout *layout = new QVBoxLayout( contents );
+  layout->setContentsMargins( 2, 2, 2, 2 );
+  layout->addWidget( buildToolbar() );
+  layout->addWidget( buildMeasureBar() );
+
+  QSplitter *splitter = new QSplitter( Qt::Vertical, contents );
+  mViewArea = new QWidget( splitter );
+  mGrid = new QGridLayout( mViewArea );
+  mGrid->setContentsMargins( 0, 0, 0, 0 );
+  mGrid->setSpacing( 3 );
+  QTabWidget *panels = new QTabWidget( splitter );
+  mMessages = new QPlainTextEdit( panels );
+  mMessages->setObjectName( QStringLiteral( "mMessages" ) );
+  mMessages->setReadOnly( true );
+  mMessages->setMaximumBlockCount( 2000 );
+  panels->addTab( mMessages, tr( "Messages" ) );
+  mCameraTable = new QTableWidget( panels );
+  mCameraTable->setObjectName( QStringLiteral( "mCameraTable" ) );
+  mCameraTable->setEditTriggers( QAbstractItemView::NoEditTriggers );
+  panels->addTab( mCameraTable, tr( "Cameras" ) );
+  splitter->addWidget( mViewArea );
+  splitter->addWidget( panels );
+  splitter->setStretchFactor( 0, 4 );
+  splitter->setStretchFactor( 1, 1 );
+  layout->addWidget( splitter, 1 );
+  mCursorLabel = new QLabel( contents );
+  mCursorLabel->setObjectName( QStringLiteral( "mCursorLabel" ) );
+  layout->addWidget( mCursorLabel );
+  setWidget( contents );
+
+  mOverlayTimer = new QTimer( this );
+  mOverlayTimer->setSingleShot( true );
+  mOverlayTimer->setInterval( 30 );
+  connect( mOverlayTimer, &QTimer::timeout, this, &GeoStationMultiviewDock::updateFeatureOverlays );
+
+  connect( mSession, &GeoStationSession::blockChanged, this, &GeoStationMultiviewDock::rebuildViews );
+  connect( mSession, &GeoStationSession::stationChanged, this, [this]
+  {
+    mNavigationTimer.start();
+    updateStationControls();
+  } );
+  connect( mSession, &GeoStationSession::viewImagesChanged, this, &GeoStationMultiviewDock::showViewImages );
+  connect( mSession, &GeoStationSession::featureClassesChanged, this, &GeoStationMultiviewDock::updateClassCombo );
+  connect( mController, &GeoStationMeasurementController::viewStatesChanged, this, &GeoStationMultiviewDock::updateMeasurementOverlays );
+  connect( mController, &GeoStationMeasurementController::featureChanged, this, &GeoStationMultiviewDock::updateFeatureStatus );
+  connect( mController, &GeoStationMeasurementController::message, this, &GeoStationMultiviewDock::appendMessage );
+  connect( mStore, &GeoStationMeasurementStore::measurementsChanged, this, &GeoStationMultiviewDock::scheduleFeatureOverlays );
+
+  addShortcut( QKeySequence( Qt::Key_PageDown ), [this] { nextStation(); } );
+  addShortcut( QKeySequence( Qt::Key_PageUp ), [this] { previousStation(); } );
+  addShortcut( QKeySequence( Qt::CTRL + Qt::Key_PageDown ), [this] { stepStations( 10 ); } );
+  addShortcut( QKeySequence( Qt::CTRL + Qt::Key_PageUp ), [this] { stepStations( -10 ); } );
+  addShortcut( QKeySequence( Qt::Key_Home ), [this] { firstStation(); } );
+  addShortcut( QKeySequence( Qt::Key_End ), [this] { lastStation(); } );
+  addShortcut( QKeySequence( Qt::Key_Return ), [this] { mController->acceptPoint(); } );
+  addShortcut( QKeySequence( Qt::Key_Enter ), [this] { mController->acceptPoint(); } );
+  addShortcut( QKeySequence( Qt::Key_Backspace ), [this] { mController->undoVertex(); } );
+  addShortcut( QKeySequence( Qt::Key_F ), [this] { mController->finishFeature(); } );
+  addShortcut( QKeySequence( Qt::Key_Escape ), [this] { mController->cancel(); } );
+
+  rebuildViews();
+  updateClassCombo();
+  updateFeatureStatus();
+}
+
+GeoStationMultiviewDock::~GeoStationMultiviewDock()
+{
+  for ( const QPointer<QgsDockWidget> &dock : std::as_const( mViewDocks ) )
+    delete dock;
+}
+
+void GeoStationMultiviewDock::addShortcut( const QKeySequence &keys, const std::function<void()> &action )
+{
+  QShortcut *shortcut = new QShortcut( keys, this );
+  shortcut->setContext( Qt::WidgetWithChildrenShortcut );
+  connect( shortcut, &QShortcut::activated, this, action );
+}
+
+QWidget *GeoStationMultiviewDock::buildToolbar()
+{
+  QToolBar *bar = new QToolBar( this );
+  bar->setObjectName( QStringLiteral( "mNavigationBar" ) );
+  bar->setIconSize( QSize( 16, 16 ) );
+  const auto add = [&]( const QString &name, const QString &text, const QString &tip, const std::function<void()> &slot )
+  {
+    QAction *a = bar->addAction( text );
+    a->setObjectName( name );
+    a->setToolTip( tip );
+    connect( a, &QAction::triggered, this, slot );
+  };
+  add( QStringLiteral( "mActionFirstStation" ), QStringLiteral( "|◀" ), tr( "First station (Home)" ), [this] { firstStation(); } );
+  add( QStringLiteral( "mActionBack10" ), QStringLiteral( "◀◀" ), tr( "10 stations back (Ctrl+PgUp)" ), [this] { stepStations( -10 ); } );
+  add( QStringLiteral( "mActionPreviousStation" ), QStringLiteral( "◀" ), tr( "Previous station (PgUp)" ), [this] { previousStation(); } );
+  mStationCombo = new QComboBox( bar );
+  mStationCombo->setObjectName( QStringLiteral( "mStationCombo" ) );
+  mStationCombo->setEditable( true );
+  mStationCombo->setInsertPolicy( QComboBox::NoInsert );
+  mStationCombo->setMinimumContentsLength( 18 );
+  mStationCombo->setToolTip( tr( "Station: choose one, or type a station id or a time (ISO 8601)" ) );
+  bar->addWidget( mStationCombo );
+  connect( mStationCombo, qOverload<int>( &QComboBox::activated ), this, [this]( int index )
+  {
+    if ( mStationCombo->itemText( index ) == mStationCombo->currentText() && index < mSession->run().size() )
+      mSession->setCurrentStation( index );
+  } );
+  connect( mStationCombo->lineEdit(), &QLineEdit::returnPressed, this, [this]
+  {
+    if ( !goToStation( mStationCombo->currentText().section( ' ', 0, 0 ) ) )
+      appendMessage( tr( "No station %1 (give a station id or an ISO 8601 time)." ).arg( mStationCombo->currentText() ), true );
+  } );
+  add( QStringLiteral( "mActionNextStation" ), QStringLiteral( "▶" ), tr( "Next station (PgDown)" ), [this] { nextStation(); } );
+  add( QStringLiteral( "mActionForward10" ), QStringLiteral( "▶▶" ), tr( "10 stations forward (Ctrl+PgDown)" ), [this] { stepStations( 10 ); } );
+  add( QStringLiteral( "mActionLastStation" ), QStringLiteral( "▶|" ), tr( "Last station (End)" ), [this] { lastStation(); } );
+  bar->addSeparator();
+  bar->addWidget( new QLabel( tr( "Views" ), bar ) );
+  mViewCountSpin = new QSpinBox( bar );
+  mViewCountSpin->setObjectName( QStringLiteral( "mViewCountSpin" ) );
+  mViewCountSpin->setRange( 1, GeoStationSession::sMaxViews );
+  bar->addWidget( mViewCountSpin );
+  connect( mViewCountSpin, qOverload<int>( &QSpinBox::valueChanged ), this, [this]( int n ) { mSession->setViewCount( n ); } );
+  QAction *separate = bar->addAction( tr( "Separate docks" ) );
+  separate->setObjectName( QStringLiteral( "mActionSeparateDocks" ) );
+  separate->setCheckable( true );
+  separate->setToolTip( tr( "Each view in a dock of its own, or all in the grid" ) );
+  connect( separate, &QAction::toggled, this, &GeoStationMultiviewDock::setSeparateDocks );
+  return bar;
+}
+
+QWidget *GeoStationMultiviewDock::buildMeasureBar()
+{
+  QToolBar *bar = new QToolBar( this );
+  bar->setObjectName( QStringLiteral( "mMeasureBar" ) );
+  bar->addWidget( new QLabel( tr( "Measure" ), bar ) );
+  mClassCombo = new QComboBox( bar );
+  mClassCombo->setObjectName( QStringLiteral( "mClassCombo" ) );
+  mClassCombo->setMinimumContentsLength( 12 );
+  bar->addWidget( mClassCombo );
+  connect( mClassCombo, qOverload<int>( &QComboBox::activated ), this, [this]( int ) { mSession->setCurrentClass( mClassCombo->currentData().toString() ); } );
+  const auto add = [&]( const QString &name, const QString &text, const QString &tip, const std::function<void()> &slot )
+  {
+    QAction *a = bar->addAction( text );
+    a->setObjectName( name );
+    a->setToolTip( tip );
+    connect( a, &QAction::triggered, this, slot );
+  };
+  add( QStringLiteral( "mActionAcceptPoint" ), tr( "Accept" ), tr( "Intersect the rays of the point and add the vertex (Return)" ), [this] { mController->acceptPoint(); } );
+  add( QStringLiteral( "mActionUndoVertex" ), tr( "Undo" ), tr( "Take back the open point, then the last vertex (Backspace, right click)" ), [this] { mController->undoVertex(); } );
+  add( QStringLiteral( "mActionFinishFeature" ), tr( "Finish" ), tr( "Write the line or polygon to its layer (F)" ), [this] { mController->finishFeature(); } );
+  add( QStringLiteral( "mActionCancelFeature" ), tr( "Cancel" ), tr( "Drop the feature being measured (Escape)" ), [this] { mController->cancel(); } );
+  mFeatureStatus = new QLabel( bar );
+  mFeatureStatus->setObjectName( QStringLiteral( "mFeatureStatus" ) );
+  bar->addWidget( mFeatureStatus );
+  return bar;
+}
+
+void GeoStationMultiviewDock::rebuildViews()
+{
+  const int wanted = std::max( 1, mSession->viewCount() );
+  while ( mViews.size() > wanted )
+    delete mViews.takeLast();
+  while ( mViews.size() < wanted )
+  {
+    GeoStationImageView *view = new GeoStationImageView( mViews.size(), mViewArea );
+    connect( view, &GeoStationImageView::pixelPicked, this, [this]( int index, QPointF p )
+    {
+      mProposalTimer.start();
+      mController->pick( index, p );
+    } );
+    connect( view, &GeoStationImageView::pixelHovered, this, [this]( int index, QPointF p )
+    {
+      const GeoStationImageView *v = mViews.value( index );
+      if ( v )
+        mCursorLabel->setText( tr( "%1   col %2   row %3   value %4" ).arg( v->imageId() ).arg( p.x(), 0, 'f', 1 ).arg( p.y(), 0, 'f', 1 ).arg( v->valueAt( p ) ) );
+    } );
+    connect( view, &GeoStationImageView::imageChosen, this, [this]( int index, const QString &id ) { mSession->setViewImage( index, id ); } );
+    connect( view, &GeoStationImageView::undoRequested, mController, &GeoStationMeasurementController::undoVertex );
+    connect( view->canvas(), &QgsMapCanvas::mapCanvasRefreshed, this, &GeoStationMultiviewDock::viewRefreshed );
+    mViews << view;
+  }
+  QStringList ids;
+  if ( mSession->block() )
+    for ( const geostation::BlockImage &image : mSession->block()->images )
+      ids << QString::fromStdString( image.id );
+  for ( GeoStationImageView *view : std::as_const( mViews ) )
+    view->setImageChoices( ids );
+  layoutViews();
+  mViewCountSpin->blockSignals( true );
+  mViewCountSpin->setValue( wanted );
+  mViewCountSpin->blockSignals( false );
+  updateStationControls();
+  showViewImages();
+}
+
+void GeoStationMultiviewDock::layoutViews()
+{
+  for ( const QPointer<QgsDockWidget> &dock : std::as_const( mViewDocks ) )
+    if ( dock )
+    {
+      dock->setWidget( nullptr );
+      delete dock;
+    }
+  mViewDocks.clear();
+  const int n = mViews.size();
+  const int columns = n <= 3 ? n : ( n + 1 ) / 2;
+  QMainWindow *window = qobject_cast<QMainWindow *>( parentWidget() );
+  for ( int i = 0; i < n; ++i )
+  {
+    GeoStationImageView *view = mViews[i];
+    if ( mSeparateDocks && window )
+    {
+      QgsDockWidget *dock = new QgsDockWidget( tr( "GeoStation view %1" ).arg( i + 1 ), window );
+      dock->setObjectName( QStringLiteral( "GeoStationViewDock%1" ).arg( i ) );
+      dock->setWidget( view );
+      window->addDockWidget( Qt::RightDockWidgetArea, dock );
+      mViewDocks << dock;
+    }
+    else
+    {
+      view->setParent( mViewArea );
+      mGrid->addWidget( view, i / columns, i % columns );
+      view->show();
+    }
+  }
+}
+
+void GeoStationMultiviewDock::setSeparateDocks( bool separate )
+{
+  if ( separate == mSeparateDocks )
+    return;
+  // take the views back out of their docks before those are deleted
+  for ( GeoStationImageView *view : std::as_const( mViews ) )
+  {
+    view->setParent( mViewArea );
+    mGrid->removeWidget( view );
+  }
+  mSeparateDocks = separate;
+  layoutViews();
+}
+
+void GeoStationMultiviewDock::showViewImages()
+{
+  if ( mViews.size() != mSession->viewCount() )
+  {
+    rebuildViews();
+    return;
+  }
+  const QStringList ids = mSession->viewImages();
+  const geostation::Block *block = mSession->block();
+  mPendingRefreshes = 0;
+  QStringList shown;
+  for ( int i = 0; i < mViews.size(); ++i )
+  {
+    const QString id = ids.value( i );
+    const geostation::BlockImage *image = block && !id.isEmpty() ? block->findImage( id.toStdString() ) : nullptr;
+    if ( !image )
+    {
+      mViews[i]->showImage( QString(), QString(), 0, 0 );
+      continue;
+    }
+    const geostation::Camera &camera = block->cameraOf( *image );
+    const QString before = mViews[i]->imageId();
+    mViews[i]->showImage( id, QString::fromStdString( block->imageFilePath( *image ).string() ), camera.width, camera.height );
+    if ( mViews[i]->hasImage() && before != id )
+      ++mPendingRefreshes;
+    shown << id;
+  }
+  if ( mPendingRefreshes == 0 )
+    mLastNavigationMs = mNavigationTimer.isValid() ? mNavigationTimer.nsecsElapsed() / 1e6 : 0.0;
+  mController->viewsChanged();
+  // the images of the neighbouring stations are prepared for matching meanwhile
+  mController->prefetch( shown );
+  if ( mSession->currentStation() >= 0 )
+  {
+    QStringList next;
+    const int n = mSession->run().stepped( mSession->currentStation(), 1 );
+    for ( const std::string &id : mSession->run().at( n ).imageIds )
+      next << QString::fromStdString( id );
+    mController->prefetch( next );
+  }
+  updateCameraPanel();
+  scheduleFeatureOverlays();
+}
+
+void GeoStationMultiviewDock::viewRefreshed()
+{
+  if ( mPendingRefreshes <= 0 )
+    return;
+  if ( --mPendingRefreshes == 0 && mNavigationTimer.isValid() )
+    mLastNavigationMs = mNavigationTimer.nsecsElapsed() / 1e6;
+}
+
+void GeoStationMultiviewDock::updateStationControls()
+{
+  const geostation::StationSequence &run = mSession->run();
+  mStationCombo->blockSignals( true );
+  if ( mStationCombo->count() != run.size() )
+  {
+    mStationCombo->clear();
+    for ( const geostation::SequenceStation &s : run.stations() )
+      mStationCombo->addItem( QStringLiteral( "%1 %2" ).arg( QString::fromStdString( s.id ), QString::fromStdString( s.time ) ).trimmed() );
+  }
+  mStationCombo->setCurrentIndex( mSession->currentStation() );
+  mStationCombo->blockSignals( false );
+  setWindowTitle( mSession->currentStation() >= 0 ? tr( "GeoStation Multiview — station %1 (%2 of %3)" ).arg( mSession->currentStationId() ).arg( mSession->currentStation() + 1 ).arg( run.size() )
+                  : tr( "GeoStation Multiview" ) );
+}
+
+void GeoStationMultiviewDock::updateMeasurementOverlays()
+{
+  const QVector<GeoStationMeasurementController::ViewState> &states = mController->viewStates();
+  for ( int i = 0; i < mViews.size(); ++i )
+  {
+    if ( i >= states.size() || states[i].imageId != mViews[i]->imageId() )
+    {
+      mViews[i]->clearMeasurementOverlays();
+      continue;
+    }
+    const GeoStationMeasurementController::ViewState &s = states[i];
+    mViews[i]->setEpipolarCurves( s.curve );
+    mViews[i]->setProposal( s.proposed && !s.corrected, s.pixel, s.score, s.status );
+    mViews[i]->setObservation( s.observed && ( s.reference || s.corrected ), s.pixel, s.reference );
+  }
+  if ( mProposalTimer.isValid() && mController->hasOpenPoint() )
+  {
+    mLastProposalMs = mProposalTimer.nsecsElapsed() / 1e6;
+    mProposalTimer.invalidate();
+  }
+}
+
+void GeoStationMultiviewDock::scheduleFeatureOverlays()
+{
+  mOverlayTimer->start();
+}
+
+void GeoStationMultiviewDock::updateFeatureOverlays()
+{
+  const geostation::Block *block = mSession->block();
+  if ( !block )
+    return;
+  QgsCoordinateReferenceSystem crs;
+  crs.createFromUserInput( QString::fromStdString( block->crs ) );
+  const QList<QgsVectorLayer *> layers = mStore->measurementLayers();
+  for ( GeoStationImageView *view : std::as_const( mViews ) )
+  {
+    const geostation::OrientedImage *image = mSession->orientedImage( view->imageId() );
+    view->setFeatureOverlay( image && view->hasImage() ? projectFeaturesIntoImage( layers, *image, crs ) : QVector<QgsGeometry>() );
+  }
+}
+
+void GeoStationMultiviewDock::updateCameraPanel()
+{
+  const QStringList headers { tr( "Image" ), tr( "Camera" ), tr( "f [px]" ), tr( "cx" ), tr( "cy" ), tr( "Lens" ), tr( "X [m]" ), tr( "Y [m]" ), tr( "Z [m]" ),
+                              tr( "ω [°]" ), tr( "φ [°]" ), tr( "κ [°]" ), tr( "σ X/Y/Z [m]" ), tr( "σ ω/φ/κ [°]" ) };
+  mCameraTable->clear();
+  mCameraTable->setColumnCount( headers.size() );
+  mCameraTable->setHorizontalHeaderLabels( headers );
+  const geostation::Block *block = mSession->block();
+  const QStringList ids = mSession->viewImages();
+  mCameraTable->setRowCount( 0 );
+  if ( !block )
+    return;
+  for ( const QString &id : ids )
+  {
+    const geostation::BlockImage *image = id.isEmpty() ? nullptr : block->findImage( id.toStdString() );
+    if ( !image )
+      continue;
+    const geostation::Camera &camera = block->cameraOf( *image );
+    QStringList cells { id, QString::fromStdString( camera.id ), QString::number( camera.f, 'f', 2 ), QString::number( camera.cx, 'f', 2 ), QString::number( camera.cy, 'f', 2 ),
+                        QString::fromStdString( geostation::distortionModelName( camera.distortion.model ) ) };
+    if ( image->exterior )
+    {
+      const geostation::ExteriorOrientation &eo = *image->exterior;
+      cells << QString::number( eo.projectionCentre.x(), 'f', 3 ) << QString::number( eo.projectionCentre.y(), 'f', 3 ) << QString::number( eo.projectionCentre.z(), 'f', 3 )
+            << QString::number( eo.omegaDeg, 'f', 4 ) << QString::number( eo.phiDeg, 'f', 4 ) << QString::number( eo.kappaDeg, 'f', 4 );
+      if ( eo.sigma )
+        cells << QStringLiteral( "%1 / %2 / %3" ).arg( eo.sigma->x, 0, 'f', 3 ).arg( eo.sigma->y, 0, 'f', 3 ).arg( eo.sigma->z, 0, 'f', 3 )
+              << QStringLiteral( "%1 / %2 / %3" ).arg( eo.sigma->omegaDeg, 0, 'f', 3 ).arg( eo.sigma->phiDeg, 0, 'f', 3 ).arg( eo.sigma->kappaDeg, 0, 'f', 3 );
+    }
+    else
+      cells << tr( "not oriented" );
+    const int row = mCameraTable->rowCount();
+    mCameraTable->insertRow( row );
+    for ( int c = 0; c < cells.size(); ++c )
+      mCameraTable->setItem( row, c, new QTableWidgetItem( cells[c] ) );
+  }
+  mCameraTable->resizeColumnsToContents();
+}
+
+void GeoStationMultiviewDock::updateClassCombo()
+{
+  mClassCombo->clear();
+  for ( const GeoStationFeatureClass &c : mSession->featureClasses() )
+    mClassCombo->addItem( QStringLiteral( "%1 (%2)" ).arg( c.name, GeoStationFeatureClass::geometryName( c.geometry ) ), c.name );
+  mClassCombo->setCurrentIndex( mClassCombo->findData( mSession->currentClass() ) );
+  updateFeatureStatus();
+}
+
+void GeoStationMultiviewDock::updateFeatureStatus()
+{
+  const int n = mController->vertexCount();
+  mFeatureStatus->setText( mSession->featureClasses().isEmpty() ? tr( "no feature classes yet" ) : n == 0 ? tr( "click a point in a view" ) : tr( "%n vertex(es)", nullptr, n ) );
+}
+
+void GeoStationMultiviewDock::appendMessage( const QString &text, bool warning )
+{
+  mMessages->appendHtml( warning ? QStringLiteral( "<span style=\"color:#c00\">%1</span>" ).arg( text.toHtmlEscaped() ) : text.toHtmlEscaped() );
+}
+
+QString GeoStationMultiviewDock::messagesText() const
+{
+  return mMessages->toPlainText();
+}
+
+QWidget *GeoStationMultiviewDock::viewWidget( int index ) const
+{
+  return mViews.value( index );
+}
+
+void GeoStationMultiviewDock::zoomViewToPixel( int view, double col, double row, double halfWidthPx )
+{
+  if ( GeoStationImageView *v = mViews.value( view ) )
+    v->zoomToPixel( QPointF( col, row ), halfWidthPx );
+}
+
+bool GeoStationMultiviewDock::setViewImage( int view, const QString &imageId )
+{
+  return mSession->setViewImage( view, imageId );
+}
+
+void GeoStationMultiviewDock::setViewEnhancement( int view, const QString &method )
+{
+  if ( GeoStationImageView *v = mViews.value( view ) )
+    v->setEnhancement( method );
+}
+
+void GeoStationMultiviewDock::firstStation()
+{
+  mSession->setCurrentStation( 0 );
+}
+
+void GeoStationMultiviewDock::lastStation()
+{
+  mSession->setCurrentStation( mSession->run().size() - 1 );
+}
+
+void GeoStationMultiviewDock::nextStation()
+{
+  mSession->stepStation( 1 );
+}
+
+void GeoStationMultiviewDock::previousStation()
+{
+  mSession->stepStation( -1 );
+}
+
+void GeoStationMultiviewDock::stepStations( int step )
+{
+  mSession->stepStation( step );
+}
+
+bool GeoStationMultiviewDock::goToStation( const QString &idOrTime )
+{
+  const geostation::StationSequence &run = mSession->run();
+  int index = run.indexOf( idOrTime.trimmed().toStdString() );
+  if ( index < 0 )
+    index = run.indexNearestTime( idOrTime.trimmed().toStdString() );
+  if ( index < 0 )
+    return false;
+  mSession->setCurrentStation( index );
+  return true;
+}

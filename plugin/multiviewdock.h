@@ -1,0 +1,115 @@
+/***************************************************************************
+  multiviewdock.h - the Multiview: 1-6 image views of one station
+  -------------------------------------------------------------------------
+  Navigation along the run (first, -10, previous, station list, next, +10,
+  last; PageUp/PageDown, Ctrl for 10, Home/End), 1-6 views in a grid (or
+  each in its own dock), a shared cursor readout (image, col/row, value),
+  the camera panel (IO and EO of the images shown, with sigmas) and the
+  message panel (vertices with XYZ, sigma, residuals, ray angle; warnings).
+  Measuring: click a point in a view, check the proposals in the others
+  (click to correct), Return accepts, Backspace takes back, F finishes a
+  line or polygon, Escape cancels. All the work is done by the session,
+  the measurement controller and core; this only wires and draws.
+ ***************************************************************************/
+#ifndef GEOSTATIONMULTIVIEWDOCK_H
+#define GEOSTATIONMULTIVIEWDOCK_H
+
+#include <QElapsedTimer>
+#include <QPointer>
+#include <QVector>
+
+#include <qgsdockwidget.h>
+
+class QComboBox;
+class QGridLayout;
+class QLabel;
+class QPlainTextEdit;
+class QSpinBox;
+class QTableWidget;
+class QTimer;
+class QToolButton;
+class GeoStationImageView;
+class GeoStationMeasurementController;
+class GeoStationMeasurementStore;
+class GeoStationSession;
+
+class GeoStationMultiviewDock : public QgsDockWidget
+{
+    Q_OBJECT
+    Q_PROPERTY( double lastNavigationMs READ lastNavigationMs )
+    Q_PROPERTY( double lastProposalMs READ lastProposalMs )
+
+  public:
+    GeoStationMultiviewDock( GeoStationSession *session, GeoStationMeasurementController *controller, GeoStationMeasurementStore *store,
+                             QWidget *parent = nullptr );
+    ~GeoStationMultiviewDock() override;
+
+    GeoStationImageView *view( int index ) const { return mViews.value( index ); }
+    int viewCount() const { return mViews.size(); }
+    //! Milliseconds from the last station change until every view had drawn its image.
+    double lastNavigationMs() const { return mLastNavigationMs; }
+    //! Milliseconds from the last reference click to the curves and proposals on screen.
+    double lastProposalMs() const { return mLastProposalMs; }
+
+  public slots:
+    void firstStation();
+    void lastStation();
+    void nextStation();
+    void previousStation();
+    void stepStations( int step );
+    //! By id, or the nearest time for an ISO 8601 time; false if nothing matches.
+    bool goToStation( const QString &idOrTime );
+    //! Views in their own docks (true) or in the grid (false).
+    void setSeparateDocks( bool separate );
+    QString messagesText() const;
+    QWidget *viewWidget( int index ) const;
+    //! Zooms a view around a pixel (scripts, tests).
+    void zoomViewToPixel( int view, double col, double row, double halfWidthPx );
+    //! Shows an image in a view.
+    bool setViewImage( int view, const QString &imageId );
+    void setViewEnhancement( int view, const QString &method );
+
+    void appendMessage( const QString &text, bool warning );
+
+  private slots:
+    void rebuildViews();
+    void showViewImages();
+    void updateStationControls();
+    void updateMeasurementOverlays();
+    void updateFeatureOverlays();
+    void scheduleFeatureOverlays();
+    void updateCameraPanel();
+    void updateClassCombo();
+    void updateFeatureStatus();
+    void viewRefreshed();
+
+  private:
+    QWidget *buildToolbar();
+    QWidget *buildMeasureBar();
+    void addShortcut( const QKeySequence &keys, const std::function<void()> &action );
+    void layoutViews();
+
+    GeoStationSession *mSession;
+    GeoStationMeasurementController *mController;
+    GeoStationMeasurementStore *mStore;
+    QVector<GeoStationImageView *> mViews;
+    QList<QPointer<QgsDockWidget>> mViewDocks;
+    bool mSeparateDocks = false;
+    QWidget *mViewArea = nullptr;
+    QGridLayout *mGrid = nullptr;
+    QComboBox *mStationCombo = nullptr;
+    QSpinBox *mViewCountSpin = nullptr;
+    QComboBox *mClassCombo = nullptr;
+    QLabel *mFeatureStatus = nullptr;
+    QLabel *mCursorLabel = nullptr;
+    QPlainTextEdit *mMessages = nullptr;
+    QTableWidget *mCameraTable = nullptr;
+    QTimer *mOverlayTimer = nullptr;
+    QElapsedTimer mNavigationTimer;
+    int mPendingRefreshes = 0;
+    double mLastNavigationMs = 0.0;
+    double mLastProposalMs = 0.0;
+    QElapsedTimer mProposalTimer;
+};
+
+#endif // GEOSTATIONMULTIVIEWDOCK_H

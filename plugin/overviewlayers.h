@@ -1,0 +1,76 @@
+/***************************************************************************
+  overviewlayers.h - the run on the QGIS map canvas
+  -------------------------------------------------------------------------
+  Opening a block adds, on top of the user's layers, a group "GeoStation
+  overview" with the trajectory (one line per P-line, in run order), the
+  stations (points with id, time, P-line and image count) and the view
+  cones of the current station's cameras. The current station is
+  highlighted and kept in view. The layers are memory layers rebuilt from
+  the block whenever it is opened (also when a project is restored).
+ ***************************************************************************/
+#ifndef GEOSTATIONOVERVIEWLAYERS_H
+#define GEOSTATIONOVERVIEWLAYERS_H
+
+#include <QObject>
+#include <QPointer>
+
+#include <qgsmaptool.h>
+#include <qgspointxy.h>
+#include <qgsvectorlayer.h>
+
+class QgsMapCanvas;
+class QgsProject;
+class QgsRubberBand;
+class QgsVectorLayer;
+class GeoStationSession;
+
+class GeoStationOverview : public QObject
+{
+    Q_OBJECT
+
+  public:
+    GeoStationOverview( GeoStationSession *session, QgsProject *project, QgsMapCanvas *canvas, QObject *parent = nullptr );
+    ~GeoStationOverview() override;
+
+    QgsVectorLayer *trajectoryLayer() const { return mTrajectory; }
+    QgsVectorLayer *stationsLayer() const { return mStations; }
+    QgsVectorLayer *conesLayer() const { return mCones; }
+
+    //! The station nearest to a point of the map canvas (canvas CRS); -1 if none.
+    int stationNearestToMapPoint( const QgsPointXY &pointInCanvasCrs ) const;
+
+    //! Removes the overview layers (block closed, plugin unloaded).
+    void removeLayers();
+
+  public slots:
+    void rebuild();
+    void updateCurrentStation();
+
+  private:
+    QgsVectorLayer *addLayer( const QString &uri, const QString &name );
+    double groundHeightUnder( double x, double y, double cameraZ ) const;
+
+    GeoStationSession *mSession;
+    QgsProject *mProject;
+    QPointer<QgsMapCanvas> mCanvas;
+    QPointer<QgsVectorLayer> mTrajectory, mStations, mCones;
+    QgsRubberBand *mHighlight = nullptr;
+};
+
+/**
+ * Map tool of the QGIS canvas: a click picks the nearest station of the
+ * run and loads it into the Multiview. Only emits the map point.
+ */
+class GeoStationStationPickTool : public QgsMapTool
+{
+    Q_OBJECT
+
+  public:
+    explicit GeoStationStationPickTool( QgsMapCanvas *canvas );
+    void canvasReleaseEvent( QgsMapMouseEvent *e ) override;
+
+  signals:
+    void picked( const QgsPointXY &pointInCanvasCrs );
+};
+
+#endif // GEOSTATIONOVERVIEWLAYERS_H

@@ -1,0 +1,535 @@
+// The Multiview without QGIS desktop (offscreen): session navigation and
+// project round trip, feature classes, measuring a pole foot into the
+// GeoPackage through the edit buffer (checked against the simulator's
+// truth), lines, undo, a read-only GeoPackage, the operator's own edit
+// session, the views (placeholder for a missing image, enhancement in
+// memory, features drawn back into the images) and the Overview layers.
+#include <QFile>
+#include <QTemporaryDir>
+#include <QtTest/QtTest>
+
+#include <gdal.h>
+#include <ogr_api.h>
+
+#include <qgsapplication.h>
+#include <qgsfeatureiterator.h>
+#include <qgsmapcanvas.h>
+#include <qgsproject.h>
+#include <qgsrasterlayer.h>
+#include <qgsvectorlayer.h>
+#include <qgsvectorlayereditbuffer.h>
+
+#include "imageview.h"
+#include "measurementcontroller.h"
+#include "measurementstore.h"
+#include "multiviewdock.h"
+#include "multiviewsession.h"
+#include "overviewlayers.h"
+#include "simulation/surveysimulator.h"
+#include "simulationtruth.h"
+
+class TestMultiview : public QObject
+{
+    Q_OBJECT
+
+  private slots:
+    void initTestCase();
+    void init();
+    void cleanupTestCase();
+    void navigationKeepsEachViewOnItsCamera();
+    void sessionRoundTripsThroughTheProject();
+    void featureClassesValidate();
+    void measuringAPoleFootWritesItWithinThreeSigma();
+    void linesUndoAndSingleRayVertices();
+    void readOnlyGeoPackageIsReportedBeforeMeasuring();
+    void operatorEditSessionKeepsUndo();
+    void failedWriteKeepsTheFeatureInTheEditBuffer();
+    void viewsShowPlaceholdersEnhancementsAndFeatures();
+    void overviewShowsRunStationsAndCones();
+
+  private:
+    //! A pole seen in the first two images of a station, with its truth pixels; false if none.
+    bool findPole( int station, QString &id, QPointF &left, QPointF &right, Eigen::Vector3d &truth ) const;
+    QString measurementsPath() const { return mDir.filePath( QStringLiteral( "measurements.gpkg" ) ); }
+
+    QTemporaryDir mDir;
+    QString mBlockPath;
+    geostation::TruthTable mTruth;
+    std::unique_ptr<GeoStationSession> mSession;
+    std::unique_ptr<GeoStationMeasurementStore> mStore;
+    std::unique_ptr<GeoStationMeasurementController> mController;
+};
+
+void TestMultiview::initTestCase()
+{
+  QVERIFY( mDir.isValid() );
+  geostation::SimulationOptions options;
+  options.preset = geostation::SurveyPreset::Highway;
+  options.seed = 7;
+  options.stations = 10;
+  options.degradation.noiseSigma = 1.0;
+  options.outputDir = mDir.filePath( QStringLiteral( "run" ) ).toStdString();
+  geostation::simulateSurvey( options );
+  mBlockPath = mDir.filePath( QStringLiteral( "run/truth.geostation.json" ) );
+  mTruth = geostation::readTruth( options.outputDir / "truth.gpkg" );
+}
+
+void TestMultiview::init()
+{
+  mController.reset();
+  mStore.reset();
+  QgsProject::instance()->clear();
+  QFile::remove( measurementsPath() );
+  mSession = std::make_unique<GeoStationSession>();
+  QString error;
+  QVERIFY2( mSession->openBlock( mBlockPath, &error ), qPrintable( error ) );
+  mSession->setTargetGeoPackage( measurementsPath() );
+  QList<GeoStationFeatureClass> classes;
+  QVERIFY( GeoStationFeatureClass::fromJson( QStringLiteral( R"([{"name":"Pole","geometry":"point","attributes":{"kind":"pole"}},
+                                                                {"name":"Kerb line","geometry":"line"}])" ), classes, &error ) );
+  mSession->setFeatureClasses( classes );
+  mStore = std::make_unique<GeoStationMeasurementStore>( mSession.get(), QgsProject::instance() );
+  mController = std::make_unique<GeoStationMeasurementController>( mSession.get(), mStore.get() );
+}
+
+void TestMultiview::cleanupTestCase()
+{
+  mController.reset();
+  mStore.reset();
+  mSession.reset();
+  QgsProject::instance()->clear();
+}
+
+bool TestMultiview::findPole( int station, QString &id, QPointF &left, QPointF &right, Eigen::Vector3d &truth ) const
+{
+  const QStringList images = mSession->viewImages();
+  for ( const auto &[pointId, point] : mTruth.objects )
+  {
+    if ( pointId.rfind( "pole_", 0 ) != 0 )
+      continue;
+    const auto l = mTruth.imageTruth.find( { pointId, images[0].toStdString() } );
+    const auto r = mTruth.imageTruth.find( { pointId, images[1].toStdString() } );
+    if ( l == mTruth.imageTruth.end() || r == mTruth.imageTruth.end() )
+      continue;
+    if ( ( point - mSession->orientedImage( images[0] )->exterior().projectionCentre ).norm() > 32.0 )
+      continue;
+    id = QString::fromStdString( pointId );
+    left = QPointF( l->second.x(), l->second.y() );
+    right = QPointF( r->second.x(), r->second.y() );
+    truth = point;
+    return true;
+  }
+  Q_UNUSED( station )
+  return false;
+}
+
+void TestMultiview::navigationKeepsEachViewOnItsCamera()
+{
+  QCOMPARE( mSession->run().size(), 10 );
+  QCOMPARE( mSession->viewCount(), 3 );
+  QCOMPARE( mSession->viewImages(), QStringList( { "S0001_FL", "S0001_FR", "S0001_SR" } ) );
+  QSignalSpy changed( mSession.get(), &GeoStationSession::stationChanged );
+  mSession->stepStation( 1 );
+  QCOMPARE( mSession->viewImages(), QStringList( { "S0002_FL", "S0002_FR", "S0002_SR" } ) );
+  mSession->stepStation( 10 );
+  QCOMPARE( mSession->currentStationId(), QStringLiteral( "S0010" ) );
+  mSession->stepStation( 1 ); // the end of the run: no change
+  QCOMPARE( changed.count(), 2 );
+  // a pair across stations: view 2 shows the next station's front-left image
+  mSession->setCurrentStation( 2 );
+  QVERIFY( mSession->setViewImage( 1, QStringLiteral( "S0004_FL" ) ) );
+  QCOMPARE( mSession->viewImages(), QStringList( { "S0003_FL", "S0004_FL", "S0003_SR" } ) );
+  mSession->stepStation( 1 );
+  QCOMPARE( mSession->viewImages(), QStringList( { "S0004_FL", "S0005_FL", "S0004_SR" } ) );
+  mSession->setCurrentStation( 9 );
+  QCOMPARE( mSession->viewImages().at( 1 ), QString() ); // past the end of the run
+  QVERIFY( !mSession->setViewImage( 0, QStringLiteral( "nope" ) ) );
+  mSession->setViewCount( 5 );
+  QCOMPARE( mSession->viewImages().size(), 5 );
+}
+
+void TestMultiview::sessionRoundTripsThroughTheProject()
+{
+  mSession->setCurrentStation( 4 );
+  mSession->setViewImage( 2, QStringLiteral( "S0006_FR" ) );
+  mSession->setCurrentClass( QStringLiteral( "Kerb line" ) );
+  mSession->setRoadPlane( 2.4, 0.03 );
+  QgsProject project;
+  project.setFileName( mDir.filePath( QStringLiteral( "session.qgz" ) ) );
+  mSession->writeToProject( &project );
+  QVERIFY( project.write() );
+
+  QgsProject reread;
+  QVERIFY( reread.read( mDir.filePath( QStringLiteral( "session.qgz" ) ) ) );
+  GeoStationSession restored;
+  QString error;
+  QVERIFY( restored.readFromProject( &reread, &error ) );
+  QVERIFY2( error.isEmpty(), qPrintable( error ) );
+  QCOMPARE( restored.blockPath(), QFileInfo( mBlockPath ).absoluteFilePath() );
+  QCOMPARE( restored.currentStationId(), QStringLiteral( "S0005" ) );
+  QCOMPARE( restored.viewImages(), mSession->viewImages() );
+  QCOMPARE( restored.featureClasses(), mSession->featureClasses() );
+  QCOMPARE( restored.currentClass(), QStringLiteral( "Kerb line" ) );
+  QCOMPARE( restored.targetGeoPackage(), QFileInfo( measurementsPath() ).absoluteFilePath() );
+  QCOMPARE( restored.cameraHeightAboveRoadM(), 2.4 );
+  QCOMPARE( restored.roadPlaneSigmaM(), 0.03 );
+
+  // a project without GeoStation state leaves the session alone
+  QgsProject empty;
+  QVERIFY( !restored.readFromProject( &empty, &error ) );
+  // a block that has gone: said once, the rest restored
+  QgsProject moved;
+  mSession->writeToProject( &moved );
+  moved.writeEntry( QStringLiteral( "GeoStation" ), QStringLiteral( "block" ), mDir.filePath( QStringLiteral( "gone.geostation.json" ) ) );
+  GeoStationSession orphan;
+  QVERIFY( orphan.readFromProject( &moved, &error ) );
+  QVERIFY2( error.contains( QStringLiteral( "gone.geostation.json" ) ), qPrintable( error ) );
+  QCOMPARE( orphan.featureClasses().size(), 2 );
+  QVERIFY( !orphan.hasBlock() );
+}
+
+void TestMultiview::featureClassesValidate()
+{
+  QList<GeoStationFeatureClass> classes;
+  QString error;
+  QVERIFY( !GeoStationFeatureClass::fromJson( QStringLiteral( R"([{"name":"a","geometry":"curve"}])" ), classes, &error ) );
+  QVERIFY( error.contains( QStringLiteral( "point, line or polygon" ) ) );
+  QVERIFY( !GeoStationFeatureClass::fromJson( QStringLiteral( R"([{"name":"A b","geometry":"point"},{"name":"a-b","geometry":"line"}])" ), classes, &error ) );
+  QVERIFY( error.contains( QStringLiteral( "a_b" ) ) );
+  QVERIFY( !GeoStationFeatureClass::fromJson( QStringLiteral( R"([{"name":"x","geometry":"point","attributes":{"sigma_x":"1"}}])" ), classes, &error ) );
+  QVERIFY( !GeoStationFeatureClass::fromJson( QStringLiteral( "{" ), classes, &error ) );
+  GeoStationFeatureClassModel model;
+  model.setClasses( mSession->featureClasses() );
+  QCOMPARE( model.rowCount(), 2 );
+  QCOMPARE( model.data( model.index( 0, GeoStationFeatureClassModel::Attributes ) ).toString(), QStringLiteral( "kind=pole" ) );
+  QVERIFY( model.setData( model.index( 1, GeoStationFeatureClassModel::Attributes ), QStringLiteral( "material=granite; height=0.15" ) ) );
+  QVERIFY( !model.setData( model.index( 1, GeoStationFeatureClassModel::Attributes ), QStringLiteral( "no equals sign" ) ) );
+  QCOMPARE( model.classes().at( 1 ).attributes.value( QStringLiteral( "height" ) ).toString(), QStringLiteral( "0.15" ) );
+  const int row = model.addClass( GeoStationFeatureClass::Geometry::Polygon );
+  QCOMPARE( model.classes().at( row ).name, QStringLiteral( "polygon_1" ) );
+  QVERIFY( model.validate( &error ) );
+}
+
+void TestMultiview::measuringAPoleFootWritesItWithinThreeSigma()
+{
+  int measured = 0;
+  for ( int station = 0; station < mSession->run().size() && measured < 3; ++station )
+  {
+    mSession->setCurrentStation( station );
+    QString id;
+    QPointF left, right;
+    Eigen::Vector3d truth;
+    if ( !findPole( station, id, left, right, truth ) )
+      continue;
+    mController->viewsChanged();
+    mController->pick( 0, left );
+    QVERIFY( mController->hasOpenPoint() );
+    const auto &states = mController->viewStates();
+    QVERIFY( !states[1].curve.isEmpty() );
+    QVERIFY2( states[1].proposed, qPrintable( states[1].status ) );
+    QVERIFY2( QLineF( states[1].pixel, right ).length() < 1.0, qPrintable( QStringLiteral( "%1: proposal %2 px off" ).arg( id ).arg( QLineF( states[1].pixel, right ).length() ) ) );
+    QSignalSpy written( mController.get(), &GeoStationMeasurementController::featureWritten );
+    QVERIFY( mController->acceptPoint() );
+    QCOMPARE( written.count(), 1 ); // a point class finishes at once
+    QCOMPARE( mController->vertexCount(), 0 );
+
+    QgsVectorLayer *layer = mStore->measurementLayers().value( 0 );
+    QVERIFY( layer );
+    QVERIFY( !layer->isEditable() );
+    QgsFeature last;
+    QgsFeatureIterator it = layer->getFeatures();
+    QgsFeature f;
+    int count = 0;
+    while ( it.nextFeature( f ) )
+    {
+      last = f;
+      ++count;
+    }
+    QCOMPARE( count, measured + 1 );
+    const QgsPoint *p = qgsgeometry_cast<const QgsPoint *>( last.geometry().constGet() );
+    QVERIFY( p && p->is3D() );
+    const Eigen::Vector3d error = Eigen::Vector3d( p->x(), p->y(), p->z() ) - truth;
+    const Eigen::Vector3d sigma( last.attribute( "sigma_x" ).toDouble(), last.attribute( "sigma_y" ).toDouble(), last.attribute( "sigma_z" ).toDouble() );
+    qInfo() << id << "error" << error.x() << error.y() << error.z() << "sigma" << sigma.x() << sigma.y() << sigma.z();
+    for ( int k = 0; k < 3; ++k )
+      QVERIFY2( std::abs( error[k] ) < 3 * sigma[k], qPrintable( QStringLiteral( "%1: error %2 m, sigma %3 m" ).arg( id ).arg( error[k] ).arg( sigma[k] ) ) );
+    QCOMPARE( last.attribute( "class" ).toString(), QStringLiteral( "Pole" ) );
+    QCOMPARE( last.attribute( "kind" ).toString(), QStringLiteral( "pole" ) );
+    QCOMPARE( last.attribute( "station" ).toString(), mSession->currentStationId() );
+    QCOMPARE( last.attribute( "method" ).toString(), QStringLiteral( "intersection" ) );
+    QVERIFY( last.attribute( "n_images" ).toInt() >= 2 );
+    QVERIFY( last.attribute( "acquired" ).toString().startsWith( QLatin1String( "20" ) ) );
+    QVERIFY( !last.attribute( "measured" ).toString().isEmpty() );
+
+    // the vertex record, linked by the committed fid
+    QString error2;
+    QgsVectorLayer *vertices = mStore->verticesTable( &error2 );
+    QVERIFY2( vertices, qPrintable( error2 ) );
+    QgsFeatureRequest request;
+    request.setFilterExpression( QStringLiteral( "feature_fid = %1 AND layer = 'pole'" ).arg( last.id() ) );
+    QgsFeatureIterator vit = vertices->getFeatures( request );
+    QgsFeature v;
+    QVERIFY( vit.nextFeature( v ) );
+    QCOMPARE( v.attribute( "vertex" ).toInt(), 0 );
+    QCOMPARE( v.attribute( "X" ).toDouble(), p->x() );
+    QVERIFY( v.attribute( "image_ids" ).toString().contains( mSession->viewImages().at( 0 ) ) );
+    QCOMPARE( v.attribute( "residuals_px" ).toString().split( ';' ).size(), v.attribute( "image_ids" ).toString().split( ';' ).size() );
+    QVERIFY( !vit.nextFeature( v ) );
+    ++measured;
+  }
+  QVERIFY( measured >= 2 );
+}
+
+void TestMultiview::linesUndoAndSingleRayVertices()
+{
+  mSession->setCurrentClass( QStringLiteral( "Kerb line" ) );
+  mSession->setCurrentStation( 1 );
+  mController->viewsChanged();
+  // the side camera alone: road-plane vertices below the van
+  const QStringList images = mSession->viewImages();
+  QSignalSpy messages( mController.get(), &GeoStationMeasurementController::message );
+  for ( const QPointF &pixel : { QPointF( 200, 400 ), QPointF( 300, 420 ), QPointF( 400, 440 ) } )
+  {
+    mController->pick( 2, pixel );
+    // nothing matched in the front cameras for a point beside the van: one ray
+    QVERIFY( mController->acceptPoint() );
+  }
+  QCOMPARE( mController->vertexCount(), 3 );
+  QCOMPARE( mController->currentFeature().vertices.last().method, geostation::VertexMethod::RoadPlane );
+  const double roadZ = mSession->orientedImage( images[2] )->exterior().projectionCentre.z() - mSession->cameraHeightAboveRoadM();
+  QVERIFY( std::abs( mController->currentFeature().vertices.last().point.z() - roadZ ) < 1e-6 );
+  mController->undoVertex();
+  QCOMPARE( mController->vertexCount(), 2 );
+  mController->pick( 2, QPointF( 500, 450 ) );
+  mController->undoVertex(); // takes back the open point first
+  QVERIFY( !mController->hasOpenPoint() );
+  QCOMPARE( mController->vertexCount(), 2 );
+  QVERIFY( mController->finishFeature() );
+  QgsVectorLayer *layer = nullptr;
+  for ( QgsVectorLayer *l : mStore->measurementLayers() )
+    if ( l->name() == QLatin1String( "kerb_line" ) )
+      layer = l;
+  QVERIFY( layer );
+  QCOMPARE( layer->featureCount(), 1L );
+  QgsFeature f;
+  layer->getFeatures().nextFeature( f );
+  QCOMPARE( f.geometry().constGet()->nCoordinates(), 2 );
+  QCOMPARE( f.attribute( "method" ).toString(), QStringLiteral( "road-plane" ) );
+  QCOMPARE( f.attribute( "n_images" ).toInt(), 1 );
+  // a line needs two vertices
+  mController->pick( 2, QPointF( 200, 400 ) );
+  QVERIFY( mController->acceptPoint() );
+  QVERIFY( !mController->finishFeature() );
+  QCOMPARE( mController->vertexCount(), 1 ); // kept
+}
+
+void TestMultiview::readOnlyGeoPackageIsReportedBeforeMeasuring()
+{
+  // create the file, then make it read-only
+  QString error;
+  QVERIFY2( mStore->layerFor( mSession->featureClasses().at( 0 ), &error ), qPrintable( error ) );
+  QgsProject::instance()->clear();
+  QFile file( measurementsPath() );
+  QVERIFY( file.setPermissions( QFileDevice::ReadOwner | QFileDevice::ReadGroup ) );
+  QVERIFY( !mStore->checkWritable( &error ) );
+  QVERIFY( error.contains( QStringLiteral( "read-only" ) ) );
+  QSignalSpy messages( mController.get(), &GeoStationMeasurementController::message );
+  mController->viewsChanged();
+  mController->pick( 0, QPointF( 300, 300 ) );
+  QVERIFY( !mController->hasOpenPoint() );
+  QCOMPARE( messages.count(), 1 );
+  QVERIFY( messages.at( 0 ).at( 0 ).toString().contains( QStringLiteral( "read-only" ) ) );
+  QVERIFY( file.setPermissions( QFileDevice::ReadOwner | QFileDevice::WriteOwner ) );
+}
+
+void TestMultiview::operatorEditSessionKeepsUndo()
+{
+  QString error;
+  QgsVectorLayer *layer = mStore->layerFor( mSession->featureClasses().at( 0 ), &error );
+  QVERIFY2( layer, qPrintable( error ) );
+  QVERIFY( layer->startEditing() );
+  for ( int station = 0; station < mSession->run().size(); ++station )
+  {
+    mSession->setCurrentStation( station );
+    QString id;
+    QPointF left, right;
+    Eigen::Vector3d truth;
+    if ( findPole( station, id, left, right, truth ) )
+      break;
+  }
+  QString id;
+  QPointF left, right;
+  Eigen::Vector3d truth;
+  QVERIFY( findPole( 0, id, left, right, truth ) );
+  mController->viewsChanged();
+  mController->pick( 0, left );
+  QVERIFY( mController->acceptPoint() );
+  // in the edit buffer, not in the file; QGIS undo takes it back
+  QCOMPARE( layer->editBuffer()->addedFeatures().size(), 1 );
+  QCOMPARE( layer->dataProvider()->featureCount(), 0L );
+  layer->undoStack()->undo();
+  QCOMPARE( layer->editBuffer()->addedFeatures().size(), 0 );
+  layer->undoStack()->redo();
+  QCOMPARE( layer->editBuffer()->addedFeatures().size(), 1 );
+  QVERIFY( layer->commitChanges() );
+  QCOMPARE( layer->dataProvider()->featureCount(), 1L );
+  QgsVectorLayer *vertices = mStore->verticesTable( &error );
+  QVERIFY( vertices );
+  QCOMPARE( vertices->featureCount(), 1L );
+}
+
+void TestMultiview::failedWriteKeepsTheFeatureInTheEditBuffer()
+{
+  // a pole layer made elsewhere with a mandatory field GeoStation does not fill: the write fails
+  GDALDriverH driver = GDALGetDriverByName( "GPKG" );
+  GDALDatasetH ds = GDALCreate( driver, measurementsPath().toUtf8().constData(), 0, 0, 0, GDT_Unknown, nullptr );
+  QVERIFY( ds );
+  OGRLayerH layer = GDALDatasetCreateLayer( ds, "pole", nullptr, wkbPoint25D, nullptr );
+  for ( const QgsField &field : GeoStationMeasurementStore::featureFields( mSession->featureClasses().at( 0 ) ) )
+  {
+    OGRFieldDefnH defn = OGR_Fld_Create( field.name().toUtf8().constData(), field.type() == QVariant::String ? OFTString : field.type() == QVariant::Int ? OFTInteger : OFTReal );
+    OGR_L_CreateField( layer, defn, TRUE );
+    OGR_Fld_Destroy( defn );
+  }
+  OGRFieldDefnH inspector = OGR_Fld_Create( "inspector", OFTString );
+  OGR_Fld_SetNullable( inspector, FALSE );
+  OGR_L_CreateField( layer, inspector, TRUE );
+  OGR_Fld_Destroy( inspector );
+  GDALClose( ds );
+
+  QString id;
+  QPointF left, right;
+  Eigen::Vector3d truth;
+  for ( int station = 0; station < mSession->run().size(); ++station )
+  {
+    mSession->setCurrentStation( station );
+    if ( findPole( station, id, left, right, truth ) )
+      break;
+  }
+  QVERIFY( !id.isEmpty() );
+  QSignalSpy messages( mController.get(), &GeoStationMeasurementController::message );
+  mController->viewsChanged();
+  mController->pick( 0, left );
+  QVERIFY( mController->acceptPoint() );
+  QVERIFY( messages.last().at( 1 ).toBool() ); // a warning
+  QVERIFY2( messages.last().at( 0 ).toString().contains( QStringLiteral( "edit buffer" ) ), qPrintable( messages.last().at( 0 ).toString() ) );
+  QgsVectorLayer *pole = mStore->measurementLayers().value( 0 );
+  QVERIFY( pole && pole->isEditable() );
+  QCOMPARE( pole->editBuffer()->addedFeatures().size(), 1 );
+  // the operator fills the field and saves: feature and vertex rows are written
+  const QgsFeatureId fid = pole->editBuffer()->addedFeatures().firstKey();
+  QVERIFY( pole->changeAttributeValue( fid, pole->fields().indexFromName( QStringLiteral( "inspector" ) ), QStringLiteral( "K. Kraus" ) ) );
+  QVERIFY2( pole->commitChanges(), qPrintable( pole->commitErrors().join( '\n' ) ) );
+  QCOMPARE( pole->dataProvider()->featureCount(), 1L );
+  QString error;
+  QCOMPARE( mStore->verticesTable( &error )->featureCount(), 1L );
+}
+
+void TestMultiview::viewsShowPlaceholdersEnhancementsAndFeatures()
+{
+  // a missing image: its view says so, the others work
+  const QString missing = mDir.filePath( QStringLiteral( "run/images/S0003_SR.tif" ) );
+  QVERIFY( QFile::rename( missing, missing + ".away" ) );
+  GeoStationMultiviewDock dock( mSession.get(), mController.get(), mStore.get() );
+  dock.resize( 1200, 800 );
+  dock.show();
+  QCOMPARE( dock.viewCount(), 3 );
+  mSession->setCurrentStation( 2 );
+  QVERIFY( dock.view( 0 )->hasImage() );
+  QVERIFY( dock.view( 1 )->hasImage() );
+  QVERIFY( !dock.view( 2 )->hasImage() );
+  QVERIFY2( dock.view( 2 )->placeholderText().contains( QStringLiteral( "does not exist" ) ), qPrintable( dock.view( 2 )->placeholderText() ) );
+  QVERIFY( QFile::rename( missing + ".away", missing ) );
+  // an image that fails to decode
+  const QString broken = mDir.filePath( QStringLiteral( "run/images/S0004_FR.tif" ) );
+  QVERIFY( QFile::copy( broken, broken + ".good" ) );
+  {
+    QFile f( broken );
+    QVERIFY( f.open( QIODevice::WriteOnly ) );
+    f.write( "not a tiff at all" );
+  }
+  mSession->setCurrentStation( 3 );
+  QVERIFY( !dock.view( 1 )->hasImage() );
+  QVERIFY2( dock.view( 1 )->placeholderText().contains( QStringLiteral( "cannot" ) ), qPrintable( dock.view( 1 )->placeholderText() ) );
+  QVERIFY( dock.view( 0 )->hasImage() );
+  QFile::remove( broken );
+  QVERIFY( QFile::rename( broken + ".good", broken ) );
+
+  // enhancement in memory, file untouched
+  const QString path = mDir.filePath( QStringLiteral( "run/images/S0004_FL.tif" ) );
+  const QDateTime modified = QFileInfo( path ).lastModified();
+  dock.setViewEnhancement( 0, QStringLiteral( "equalise" ) );
+  QCOMPARE( dock.view( 0 )->enhancement(), QStringLiteral( "equalise" ) );
+  QVERIFY( dock.view( 0 )->canvas()->layers().value( 0 )->source().startsWith( QLatin1String( "/vsimem/" ) ) );
+  QCOMPARE( QFileInfo( path ).lastModified(), modified );
+  dock.setViewEnhancement( 0, QString() );
+  QCOMPARE( dock.view( 0 )->canvas()->layers().value( 0 )->source(), path );
+  QCOMPARE( dock.view( 0 )->valueAt( QPointF( 10.5, 10.5 ) ).isEmpty(), false );
+  QCOMPARE( dock.view( 0 )->valueAt( QPointF( -1, 10 ) ), QString() );
+
+  // a measured feature is drawn into the views; deleting it removes it
+  QString id;
+  QPointF left, right;
+  Eigen::Vector3d truth;
+  for ( int station = 0; station < mSession->run().size(); ++station )
+  {
+    mSession->setCurrentStation( station );
+    if ( findPole( station, id, left, right, truth ) )
+      break;
+  }
+  QVERIFY( !id.isEmpty() );
+  QCOMPARE( dock.view( 0 )->featureOverlayCount(), 0 );
+  mController->pick( 0, left );
+  QVERIFY( mController->acceptPoint() );
+  QTRY_COMPARE( dock.view( 0 )->featureOverlayCount(), 1 );
+  QTRY_COMPARE( dock.view( 1 )->featureOverlayCount(), 1 );
+  QgsVectorLayer *layer = mStore->measurementLayers().value( 0 );
+  QVERIFY( layer->startEditing() );
+  QgsFeature f;
+  layer->getFeatures().nextFeature( f );
+  QVERIFY( layer->deleteFeature( f.id() ) );
+  QTRY_COMPARE( dock.view( 0 )->featureOverlayCount(), 0 );
+  layer->rollBack();
+  QTRY_COMPARE( dock.view( 0 )->featureOverlayCount(), 1 );
+  QVERIFY( dock.messagesText().contains( QStringLiteral( "intersection" ) ) );
+  QVERIFY( dock.lastNavigationMs() >= 0 );
+}
+
+void TestMultiview::overviewShowsRunStationsAndCones()
+{
+  QgsMapCanvas canvas;
+  canvas.resize( 600, 400 );
+  GeoStationOverview overview( mSession.get(), QgsProject::instance(), &canvas );
+  overview.rebuild();
+  QVERIFY( overview.stationsLayer() && overview.trajectoryLayer() && overview.conesLayer() );
+  QCOMPARE( overview.stationsLayer()->featureCount(), 10L );
+  QCOMPARE( overview.trajectoryLayer()->featureCount(), 1L );
+  QCOMPARE( overview.conesLayer()->featureCount(), 3L );
+  mSession->setCurrentStation( 6 );
+  QgsFeature cone;
+  overview.conesLayer()->getFeatures().nextFeature( cone );
+  QCOMPARE( cone.attribute( "station" ).toString(), QStringLiteral( "S0007" ) );
+  // the cone holds the station and opens away from it
+  QVERIFY( cone.geometry().area() > 50 );
+  // picking on the map: the nearest station
+  const Eigen::Vector3d s3 = *mSession->run().at( 3 ).position;
+  QCOMPARE( overview.stationNearestToMapPoint( QgsPointXY( s3.x() + 0.5, s3.y() - 0.5 ) ), 3 );
+  overview.removeLayers();
+  QVERIFY( !overview.stationsLayer() );
+}
+
+int main( int argc, char **argv )
+{
+  QgsApplication app( argc, argv, true );
+  QgsApplication::init();
+  QgsApplication::initQgis();
+  int result = 0;
+  {
+    TestMultiview test;
+    result = QTest::qExec( &test, argc, argv );
+  }
+  QgsApplication::exitQgis();
+  return result;
+}
+
+#include "testmultiview.moc"
