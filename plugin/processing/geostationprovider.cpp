@@ -11,6 +11,7 @@
 
 #include "bundleadjustalgorithm.h"
 #include "enhanceimagealgorithm.h"
+#include "exportmeasurementsalgorithm.h"
 #include "innerorientationalgorithm.h"
 #include "intersectalgorithm.h"
 #include "matchpointsalgorithm.h"
@@ -69,6 +70,7 @@ void GeoStationProvider::loadAlgorithms()
   addAlgorithm( new SimulateSurveyAlgorithm() );
   addAlgorithm( new EnhanceImageAlgorithm() );
   addAlgorithm( new MatchPointsAlgorithm() );
+  addAlgorithm( new ExportMeasurementsAlgorithm() );
 }
 
 bool registerGeoStationProvider()

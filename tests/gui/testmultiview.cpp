@@ -19,6 +19,10 @@
 #include <qgsvectorlayer.h>
 #include <qgsvectorlayereditbuffer.h>
 
+#include <qgsprocessingcontext.h>
+#include <qgsprocessingfeedback.h>
+
+#include "exportmeasurementsalgorithm.h"
 #include "imageview.h"
 #include "measurementcontroller.h"
 #include "measurementstore.h"
@@ -45,6 +49,7 @@ class TestMultiview : public QObject
     void operatorEditSessionKeepsUndo();
     void failedWriteKeepsTheFeatureInTheEditBuffer();
     void viewsShowPlaceholdersEnhancementsAndFeatures();
+    void exportWritesShapefileAndDxfWithAttributesAndZ();
     void overviewShowsRunStationsAndCones();
 
   private:
@@ -493,6 +498,98 @@ void TestMultiview::viewsShowPlaceholdersEnhancementsAndFeatures()
   QTRY_COMPARE( dock.view( 0 )->featureOverlayCount(), 1 );
   QVERIFY( dock.messagesText().contains( QStringLiteral( "intersection" ) ) );
   QVERIFY( dock.lastNavigationMs() >= 0 );
+}
+
+void TestMultiview::exportWritesShapefileAndDxfWithAttributesAndZ()
+{
+  // a pole and a kerb line
+  QString id;
+  QPointF left, right;
+  Eigen::Vector3d truth;
+  for ( int station = 0; station < mSession->run().size(); ++station )
+  {
+    mSession->setCurrentStation( station );
+    if ( findPole( station, id, left, right, truth ) )
+      break;
+  }
+  mController->viewsChanged();
+  mController->pick( 0, left );
+  QVERIFY( mController->acceptPoint() );
+  mSession->setCurrentClass( QStringLiteral( "Kerb line" ) );
+  for ( const QPointF &pixel : { QPointF( 200, 400 ), QPointF( 400, 440 ) } )
+  {
+    mController->pick( 2, pixel );
+    QVERIFY( mController->acceptPoint() );
+  }
+  QVERIFY( mController->finishFeature() );
+  QString error;
+  QgsVectorLayer *pole = mStore->layerFor( mSession->featureClasses().at( 0 ), &error );
+  QVERIFY( pole );
+  QgsFeature measured;
+  QVERIFY( pole->getFeatures().nextFeature( measured ) );
+  const QgsGeometry measuredGeometry = measured.geometry();
+  const QgsPoint *p = qgsgeometry_cast<const QgsPoint *>( measuredGeometry.constGet() );
+  QVERIFY( p );
+
+  std::unique_ptr<QgsProcessingAlgorithm> created( ExportMeasurementsAlgorithm().create() );
+  QgsProcessingAlgorithm &algorithm = *created;
+  QgsProcessingContext context;
+  QgsProcessingFeedback feedback;
+  const QString folder = mDir.filePath( QStringLiteral( "export" ) );
+  QVariantMap parameters { { QStringLiteral( "INPUT" ), measurementsPath() }, { QStringLiteral( "OUTPUT_FOLDER" ), folder } };
+  bool ok = false;
+  const QVariantMap results = algorithm.run( parameters, context, &feedback, &ok );
+  QVERIFY( ok );
+  QCOMPARE( results.value( QStringLiteral( "LAYERS" ) ).toInt(), 2 );
+  QCOMPARE( results.value( QStringLiteral( "FEATURES" ) ).toInt(), 2 );
+
+  // Shapefile: attributes and Z
+  QgsVectorLayer shp( QDir( folder ).filePath( QStringLiteral( "pole.shp" ) ), QStringLiteral( "pole" ), QStringLiteral( "ogr" ) );
+  QVERIFY( shp.isValid() );
+  QVERIFY( QgsWkbTypes::hasZ( shp.wkbType() ) );
+  QgsFeature f;
+  QVERIFY( shp.getFeatures().nextFeature( f ) );
+  const QgsGeometry shpGeometry = f.geometry();
+  const QgsPoint *q = qgsgeometry_cast<const QgsPoint *>( shpGeometry.constGet() );
+  QVERIFY( q );
+  QCOMPARE( q->z(), p->z() );
+  QCOMPARE( f.attribute( "class" ).toString(), QStringLiteral( "Pole" ) );
+  QCOMPARE( f.attribute( "kind" ).toString(), QStringLiteral( "pole" ) );
+  QCOMPARE( f.attribute( "sigma_x" ).toDouble(), measured.attribute( "sigma_x" ).toDouble() );
+  QCOMPARE( f.attribute( "measuremen" ).toString(), measured.attribute( "measurement_id" ).toString() );
+  QgsVectorLayer kerbShp( QDir( folder ).filePath( QStringLiteral( "kerb_line.shp" ) ), QStringLiteral( "kerb" ), QStringLiteral( "ogr" ) );
+  QVERIFY( kerbShp.isValid() && QgsWkbTypes::hasZ( kerbShp.wkbType() ) );
+  QCOMPARE( kerbShp.featureCount(), 1L );
+
+  // DXF: 3D geometry on the class's layer, attributes through the entity handle
+  QgsVectorLayer dxf( QDir( folder ).filePath( QStringLiteral( "pole.dxf" ) ), QStringLiteral( "pole" ), QStringLiteral( "ogr" ) );
+  QVERIFY( dxf.isValid() );
+  QVERIFY( dxf.getFeatures().nextFeature( f ) );
+  QCOMPARE( f.attribute( "Layer" ).toString(), QStringLiteral( "pole" ) );
+  const QgsGeometry dxfGeometry = f.geometry();
+  const QgsPoint *d = qgsgeometry_cast<const QgsPoint *>( dxfGeometry.constGet() );
+  QVERIFY( d && d->is3D() );
+  QVERIFY( std::abs( d->z() - p->z() ) < 1e-6 );
+  const QString handle = f.attribute( "EntityHandle" ).toString();
+  QFile csv( QDir( folder ).filePath( QStringLiteral( "pole_dxf_attributes.csv" ) ) );
+  QVERIFY( csv.open( QIODevice::ReadOnly ) );
+  const QStringList header = QString::fromUtf8( csv.readLine() ).trimmed().split( ',' );
+  const QStringList row = QString::fromUtf8( csv.readLine() ).trimmed().split( ',' );
+  QCOMPARE( row.at( header.indexOf( QStringLiteral( "EntityHandle" ) ) ), handle );
+  QCOMPARE( row.at( header.indexOf( QStringLiteral( "measurement_id" ) ) ), measured.attribute( "measurement_id" ).toString() );
+  QCOMPARE( row.at( header.indexOf( QStringLiteral( "class" ) ) ), QStringLiteral( "Pole" ) );
+  QVERIFY( QFileInfo::exists( QDir( folder ).filePath( QStringLiteral( "vertices.csv" ) ) ) );
+  QgsVectorLayer kerbDxf( QDir( folder ).filePath( QStringLiteral( "kerb_line.dxf" ) ), QStringLiteral( "kerb" ), QStringLiteral( "ogr" ) );
+  QVERIFY( kerbDxf.getFeatures().nextFeature( f ) );
+  QVERIFY( f.geometry().constGet()->is3D() );
+  QCOMPARE( f.geometry().constGet()->nCoordinates(), 2 );
+
+  // bad input: one sentence, nothing written
+  const QString other = mDir.filePath( QStringLiteral( "export-bad" ) );
+  parameters = { { QStringLiteral( "INPUT" ), mDir.filePath( QStringLiteral( "none.gpkg" ) ) }, { QStringLiteral( "OUTPUT_FOLDER" ), other } };
+  algorithm.run( parameters, context, &feedback, &ok );
+  QVERIFY( !ok );
+  QVERIFY( !QFileInfo::exists( other ) || QDir( other ).entryList( QDir::NoDotAndDotDot | QDir::AllEntries | QDir::Hidden ).isEmpty() );
 }
 
 void TestMultiview::overviewShowsRunStationsAndCones()

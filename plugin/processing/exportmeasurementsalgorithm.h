@@ -1,0 +1,27 @@
+/***************************************************************************
+  exportmeasurementsalgorithm.h - geostation:export_measurements
+ ***************************************************************************/
+#ifndef EXPORTMEASUREMENTSALGORITHM_H
+#define EXPORTMEASUREMENTSALGORITHM_H
+
+#include <qgsprocessingalgorithm.h>
+
+#include "geostation_processing_export.h"
+
+class GEOSTATION_PROCESSING_EXPORT ExportMeasurementsAlgorithm : public QgsProcessingAlgorithm
+{
+  public:
+    QString name() const override;
+    QString displayName() const override;
+    QStringList tags() const override;
+    QString group() const override;
+    QString groupId() const override;
+    QString shortHelpString() const override;
+    ExportMeasurementsAlgorithm *createInstance() const override;
+
+  protected:
+    void initAlgorithm( const QVariantMap &configuration = QVariantMap() ) override;
+    QVariantMap processAlgorithm( const QVariantMap &parameters, QgsProcessingContext &context, QgsProcessingFeedback *feedback ) override;
+};
+
+#endif // EXPORTMEASUREMENTSALGORITHM_H
