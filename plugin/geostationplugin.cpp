@@ -180,6 +180,7 @@ void GeoStationPlugin::updateActions()
 
 void GeoStationPlugin::unload()
 {
+  disconnect( QgsProject::instance(), nullptr, this, nullptr );
   if ( mIface->mapCanvas()->mapTool() == mPickTool )
     mIface->mapCanvas()->unsetMapTool( mPickTool );
   delete mPickTool;

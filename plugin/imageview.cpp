@@ -36,6 +36,7 @@ GeoStationImageView::GeoStationImageView( int index, QWidget *parent )
   mEnhancementCombo = new QComboBox( this );
   mEnhancementCombo->setObjectName( QStringLiteral( "mEnhancementCombo" ) );
   mEnhancementCombo->setToolTip( tr( "Enhancement, computed for viewing only" ) );
+  mEnhancementCombo->setSizeAdjustPolicy( QComboBox::AdjustToContents );
   for ( const auto &choice : enhancementChoices() )
     mEnhancementCombo->addItem( choice.second, choice.first );
   mStatus = new QLabel( this );
@@ -291,18 +292,20 @@ void GeoStationImageView::zoomToFullImage()
 
 void GeoStationImageView::setEpipolarCurves( const QList<QVector<QPointF>> &pieces )
 {
-  mEpipolar->reset( QgsWkbTypes::LineGeometry );
-  int part = 0;
+  QVector<QgsGeometry> lines;
   for ( const QVector<QPointF> &piece : pieces )
   {
     if ( piece.size() < 2 )
       continue;
+    QgsPolylineXY line;
     for ( const QPointF &p : piece )
-      mEpipolar->addPoint( GeoStationImagePointTool::mapFromPixel( p.x(), p.y() ), false, part );
-    ++part;
+      line << GeoStationImagePointTool::mapFromPixel( p.x(), p.y() );
+    lines << QgsGeometry::fromPolylineXY( line );
   }
-  mEpipolar->updatePosition();
-  mEpipolar->update();
+  if ( lines.isEmpty() )
+    mEpipolar->reset( QgsWkbTypes::LineGeometry );
+  else
+    mEpipolar->setToGeometry( QgsGeometry::collectGeometry( lines ) );
 }
 
 void GeoStationImageView::setProposal( bool matched, const QPointF &pixelInImage, double score, const QString &status )
@@ -340,21 +343,18 @@ void GeoStationImageView::clearMeasurementOverlays()
 
 void GeoStationImageView::setFeatureOverlay( const QVector<QgsGeometry> &geometries )
 {
-  mOverlayLines->reset( QgsWkbTypes::LineGeometry );
-  mOverlayPoints->reset( QgsWkbTypes::PointGeometry );
-  mFeatureOverlayCount = 0;
+  QVector<QgsGeometry> points, lines;
   for ( const QgsGeometry &g : geometries )
-  {
-    if ( g.isNull() )
-      continue;
-    if ( g.type() == QgsWkbTypes::PointGeometry )
-      mOverlayPoints->addGeometry( g, QgsCoordinateReferenceSystem(), false );
-    else
-      mOverlayLines->addGeometry( g, QgsCoordinateReferenceSystem(), false );
-    ++mFeatureOverlayCount;
-  }
-  mOverlayLines->updatePosition();
-  mOverlayPoints->updatePosition();
-  mOverlayLines->update();
-  mOverlayPoints->update();
+    if ( !g.isNull() )
+      ( g.type() == QgsWkbTypes::PointGeometry ? points : lines ) << g;
+  mFeatureOverlayCount = points.size() + lines.size();
+  // setToGeometry() also makes the band's geometry type right, and redraws it
+  if ( lines.isEmpty() )
+    mOverlayLines->reset( QgsWkbTypes::LineGeometry );
+  else
+    mOverlayLines->setToGeometry( QgsGeometry::collectGeometry( lines ) );
+  if ( points.isEmpty() )
+    mOverlayPoints->reset( QgsWkbTypes::PointGeometry );
+  else
+    mOverlayPoints->setToGeometry( QgsGeometry::collectGeometry( points ) );
 }

@@ -10,7 +10,7 @@
 #include <QLineEdit>
 #include <QMainWindow>
 #include <QPlainTextEdit>
-#include <QShortcut>
+#include <QKeyEvent>
 #include <QSpinBox>
 #include <QSplitter>
 #include <QTabWidget>
@@ -86,18 +86,6 @@ GeoStationMultiviewDock::GeoStationMultiviewDock( GeoStationSession *session, Ge
   connect( mController, &GeoStationMeasurementController::message, this, &GeoStationMultiviewDock::appendMessage );
   connect( mStore, &GeoStationMeasurementStore::measurementsChanged, this, &GeoStationMultiviewDock::scheduleFeatureOverlays );
 
-  addShortcut( QKeySequence( Qt::Key_PageDown ), [this] { nextStation(); } );
-  addShortcut( QKeySequence( Qt::Key_PageUp ), [this] { previousStation(); } );
-  addShortcut( QKeySequence( Qt::CTRL + Qt::Key_PageDown ), [this] { stepStations( 10 ); } );
-  addShortcut( QKeySequence( Qt::CTRL + Qt::Key_PageUp ), [this] { stepStations( -10 ); } );
-  addShortcut( QKeySequence( Qt::Key_Home ), [this] { firstStation(); } );
-  addShortcut( QKeySequence( Qt::Key_End ), [this] { lastStation(); } );
-  addShortcut( QKeySequence( Qt::Key_Return ), [this] { mController->acceptPoint(); } );
-  addShortcut( QKeySequence( Qt::Key_Enter ), [this] { mController->acceptPoint(); } );
-  addShortcut( QKeySequence( Qt::Key_Backspace ), [this] { mController->undoVertex(); } );
-  addShortcut( QKeySequence( Qt::Key_F ), [this] { mController->finishFeature(); } );
-  addShortcut( QKeySequence( Qt::Key_Escape ), [this] { mController->cancel(); } );
-
   rebuildViews();
   updateClassCombo();
   updateFeatureStatus();
@@ -109,11 +97,49 @@ GeoStationMultiviewDock::~GeoStationMultiviewDock()
     delete dock;
 }
 
-void GeoStationMultiviewDock::addShortcut( const QKeySequence &keys, const std::function<void()> &action )
+std::function<void()> GeoStationMultiviewDock::keyAction( int key, Qt::KeyboardModifiers modifiers )
 {
-  QShortcut *shortcut = new QShortcut( keys, this );
-  shortcut->setContext( Qt::WidgetWithChildrenShortcut );
-  connect( shortcut, &QShortcut::activated, this, action );
+  const bool ctrl = modifiers & Qt::ControlModifier;
+  if ( modifiers & ~( Qt::ControlModifier | Qt::KeypadModifier ) )
+    return nullptr;
+  switch ( key )
+  {
+    case Qt::Key_PageDown:
+      return [this, ctrl] { stepStations( ctrl ? 10 : 1 ); };
+    case Qt::Key_PageUp:
+      return [this, ctrl] { stepStations( ctrl ? -10 : -1 ); };
+    case Qt::Key_Home:
+      return [this] { firstStation(); };
+    case Qt::Key_End:
+      return [this] { lastStation(); };
+    case Qt::Key_Return:
+    case Qt::Key_Enter:
+      return [this] { mController->acceptPoint(); };
+    case Qt::Key_Backspace:
+      return [this] { mController->undoVertex(); };
+    case Qt::Key_F:
+      return ctrl ? nullptr : std::function<void()>( [this] { mController->finishFeature(); } );
+    case Qt::Key_Escape:
+      return [this] { mController->cancel(); };
+  }
+  return nullptr;
+}
+
+bool GeoStationMultiviewDock::eventFilter( QObject *watched, QEvent *event )
+{
+  if ( event->type() == QEvent::ShortcutOverride || event->type() == QEvent::KeyPress )
+  {
+    QKeyEvent *keyEvent = static_cast<QKeyEvent *>( event );
+    if ( const std::function<void()> action = keyAction( keyEvent->key(), keyEvent->modifiers() ) )
+    {
+      if ( event->type() == QEvent::ShortcutOverride )
+        event->accept(); // the key comes to us, not to a QGIS shortcut
+      else
+        action();
+      return true;
+    }
+  }
+  return QgsDockWidget::eventFilter( watched, event );
 }
 
 QWidget *GeoStationMultiviewDock::buildToolbar()
@@ -215,6 +241,7 @@ void GeoStationMultiviewDock::rebuildViews()
     connect( view, &GeoStationImageView::imageChosen, this, [this]( int index, const QString &id ) { mSession->setViewImage( index, id ); } );
     connect( view, &GeoStationImageView::undoRequested, mController, &GeoStationMeasurementController::undoVertex );
     connect( view->canvas(), &QgsMapCanvas::mapCanvasRefreshed, this, &GeoStationMultiviewDock::viewRefreshed );
+    view->canvas()->installEventFilter( this );
     mViews << view;
   }
   QStringList ids;

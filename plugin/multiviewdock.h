@@ -71,6 +71,10 @@ class GeoStationMultiviewDock : public QgsDockWidget
 
     void appendMessage( const QString &text, bool warning );
 
+  protected:
+    //! The keys of the Multiview, taken before the image canvases (which zoom with PgUp/PgDown) see them.
+    bool eventFilter( QObject *watched, QEvent *event ) override;
+
   private slots:
     void rebuildViews();
     void showViewImages();
@@ -86,7 +90,8 @@ class GeoStationMultiviewDock : public QgsDockWidget
   private:
     QWidget *buildToolbar();
     QWidget *buildMeasureBar();
-    void addShortcut( const QKeySequence &keys, const std::function<void()> &action );
+    //! The action of a key in the Multiview, or nothing.
+    std::function<void()> keyAction( int key, Qt::KeyboardModifiers modifiers );
     void layoutViews();
 
     GeoStationSession *mSession;

@@ -117,6 +117,7 @@ void GeoStationOverview::rebuild()
   mTrajectory->dataProvider()->addFeatures( trajectories );
   for ( QgsVectorLayer *layer : { mCones.data(), mStations.data(), mTrajectory.data() } )
     layer->updateExtents();
+  mCones->setOpacity( 0.4 ); // the map and the measurements stay visible under the cones
   if ( mCanvas && mStations->featureCount() > 0 )
   {
     // show the whole run when it is not on screen yet

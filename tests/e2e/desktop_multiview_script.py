@@ -1,0 +1,170 @@
+"""Runs inside QGIS desktop (qgis.bin --code this_file) with the GeoStation
+plugin: opens a simulated highway block, navigates the Multiview with the
+keyboard, clicks the true pixel of a pole foot in the first view with QTest,
+accepts the proposed matches, and records what went into the GeoPackage;
+then saves the project, reopens it and records the restored session.
+Screenshots of the Multiview and the Overview are saved. Driven by
+test_desktop_multiview.py, which checks the findings against the truth."""
+
+import json
+import os
+import time
+import traceback
+
+from qgis.core import QgsApplication, QgsPointXY, QgsProject, QgsVectorLayer
+from qgis.gui import QgsMapCanvas
+from qgis.PyQt.QtCore import Q_ARG, Q_RETURN_ARG, QMetaObject, QObject, Qt, QTimer
+from qgis.PyQt.QtTest import QTest
+from qgis.PyQt.QtWidgets import QAction, QDockWidget, QLabel
+from qgis.utils import iface
+
+RESULT = os.environ["GEOSTATION_E2E_RESULT"]
+ARTIFACTS = os.environ["GEOSTATION_E2E_ARTIFACTS"]
+BLOCK = os.environ["GEOSTATION_E2E_BLOCK"]
+TARGET = os.environ["GEOSTATION_E2E_TARGET"]
+PROJECT = os.environ["GEOSTATION_E2E_PROJECT"]
+CLICK = json.loads(os.environ["GEOSTATION_E2E_CLICK"])  # station, image, col, row
+
+
+def wait(seconds):
+    end = time.time() + seconds
+    while time.time() < end:
+        QgsApplication.processEvents()
+        time.sleep(0.01)
+
+
+def invoke(obj, name, *args, returns=None):
+    qargs = [Q_ARG(type(a), a) for a in args]
+    if returns is not None:
+        return QMetaObject.invokeMethod(obj, name, Qt.DirectConnection, Q_RETURN_ARG(returns), *qargs)
+    return QMetaObject.invokeMethod(obj, name, Qt.DirectConnection, *qargs)
+
+
+def dock_state(dock):
+    views = []
+    for i in range(6):
+        view = dock.findChild(QObject, "mGeoStationImageView%d" % i)
+        if view is None:
+            continue
+        status = view.findChild(QLabel, "mStatus")
+        canvas = view.findChild(QgsMapCanvas, "mGeoStationViewCanvas%d" % i)
+        views.append({"status": status.text() if status else None,
+                      "layers": [l.name() for l in canvas.layers()] if canvas else []})
+    return {"title": dock.windowTitle(), "views": views}
+
+
+def checkpoint(result, stage):
+    """Writes what is known so far, so a hang shows where it happened."""
+    result["stage"] = stage
+    with open(RESULT, "w") as f:
+        json.dump(result, f, indent=2)
+
+
+def run():
+    result = {}
+    try:
+        window = iface.mainWindow()
+        plugin = window.findChild(QObject, "GeoStationPlugin")
+        result["plugin"] = plugin is not None
+        result["block_opened"] = invoke(plugin, "openBlockFile", BLOCK, returns=bool)
+        result["classes_set"] = invoke(plugin, "setFeatureClassesJson", json.dumps([
+            {"name": "Pole", "geometry": "point", "attributes": {"kind": "pole"}},
+            {"name": "Road edge", "geometry": "line"}]), returns=bool)
+        result["target_set"] = invoke(plugin, "setTargetGeoPackage", TARGET, returns=bool)
+        checkpoint(result, "opening the Multiview")
+        window.findChild(QAction, "mActionGeoStationMultiview").trigger()
+        window.showMaximized()
+        wait(1.0)
+        dock = window.findChild(QDockWidget, "GeoStationMultiviewDock")
+        result["dock"] = dock is not None
+        result["overview_layers"] = sorted(l.name() for l in QgsProject.instance().mapLayers().values())
+
+        checkpoint(result, "navigating")
+        # navigate with the keyboard: from the first station to the one with the pole
+        canvas0 = dock.findChild(QgsMapCanvas, "mGeoStationViewCanvas0")
+        canvas0.setFocus()
+        QTest.keyClick(canvas0, Qt.Key_End)
+        wait(0.3)
+        result["after_end"] = dock_state(dock)["title"]
+        QTest.keyClick(canvas0, Qt.Key_Home)
+        wait(0.3)
+        steps = []
+        for _ in range(CLICK["station_index"]):
+            QTest.keyClick(canvas0, Qt.Key_PageDown)
+            wait(0.4)
+            steps.append(dock.property("lastNavigationMs"))
+        result["navigation_ms"] = steps
+        result["at_station"] = dock_state(dock)
+
+        checkpoint(result, "clicking")
+        # click the pole foot, zoomed in so one screen pixel is a fraction of an image pixel
+        invoke(dock, "zoomViewToPixel", 0, float(CLICK["col"]), float(CLICK["row"]), 40.0)
+        wait(0.5)
+        screen = canvas0.getCoordinateTransform().transform(QgsPointXY(CLICK["col"], -CLICK["row"]))
+        pos = screen.toQPointF().toPoint()
+        clicked = canvas0.getCoordinateTransform().toMapCoordinates(pos.x(), pos.y())
+        result["clicked_pixel"] = [clicked.x(), -clicked.y()]
+        QTest.mouseClick(canvas0.viewport(), Qt.LeftButton, Qt.NoModifier, pos)
+        wait(0.5)
+        result["proposal_ms"] = dock.property("lastProposalMs")
+        result["after_click"] = dock_state(dock)
+        dock.grab().save(os.path.join(ARTIFACTS, "multiview-proposals.png"))
+
+        checkpoint(result, "accepting")
+        # accept the proposed matches (Return)
+        QTest.keyClick(canvas0, Qt.Key_Return)
+        wait(1.0)
+        result["messages"] = invoke(dock, "messagesText", returns=str)
+        layer = QgsVectorLayer(TARGET + "|layername=pole", "pole", "ogr")
+        result["features"] = [{"x": f.geometry().constGet().x(), "y": f.geometry().constGet().y(), "z": f.geometry().constGet().z(),
+                               "sigma": [f["sigma_x"], f["sigma_y"], f["sigma_z"]], "method": f["method"],
+                               "n_images": f["n_images"], "station": f["station"], "class": f["class"]}
+                              for f in layer.getFeatures()] if layer.isValid() else []
+        wait(0.5)
+        dock.grab().save(os.path.join(ARTIFACTS, "multiview-measured.png"))
+        iface.mapCanvas().refreshAllLayers()
+        wait(1.0)
+        window.grab().save(os.path.join(ARTIFACTS, "overview.png"))
+
+        checkpoint(result, "saving the session")
+        # the session is kept with the project
+        QTest.keyClick(canvas0, Qt.Key_PageDown)
+        wait(0.5)
+        saved_title = dock_state(dock)["title"]
+        result["saved"] = QgsProject.instance().write(PROJECT)
+        QgsProject.instance().clear()
+        wait(0.5)
+        result["after_clear"] = dock_state(dock)["title"]
+        checkpoint(result, "reopening")
+        result["reopened"] = QgsProject.instance().read(PROJECT)
+        wait(1.5)
+        dock = window.findChild(QDockWidget, "GeoStationMultiviewDock")
+        result["restored_title"] = dock_state(dock)["title"] if dock else None
+        result["saved_title"] = saved_title
+        result["restored_layers"] = sorted(l.name() for l in QgsProject.instance().mapLayers().values())
+    except Exception:  # reported to the driver, which fails the test
+        result["exception"] = traceback.format_exc()
+    with open(RESULT, "w") as f:
+        json.dump(result, f, indent=2)
+    QgsProject.instance().setDirty(False)
+
+    def modal_at_exit():
+        """Nothing should ask anything at exit: record what did, and answer it."""
+        from qgis.PyQt.QtWidgets import QApplication, QMessageBox
+        dialog = QApplication.activeModalWidget()
+        if dialog is None:
+            return
+        text = dialog.text() if isinstance(dialog, QMessageBox) else dialog.windowTitle()
+        with open(RESULT) as f:
+            saved = json.load(f)
+        saved.setdefault("exit_dialogs", []).append(text)
+        with open(RESULT, "w") as f:
+            json.dump(saved, f, indent=2)
+        dialog.reject()
+        QTimer.singleShot(2000, modal_at_exit)
+
+    QTimer.singleShot(3000, modal_at_exit)
+    iface.actionExit().trigger()
+
+
+QTimer.singleShot(3000, run)

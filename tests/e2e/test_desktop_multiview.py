@@ -1,0 +1,161 @@
+#!/usr/bin/python3
+"""End-to-end test of the Multiview in QGIS desktop under xvfb-run: a
+simulated highway run (exact orientations, image noise), keyboard
+navigation, a click on the true pixel of a pole foot, the proposed matches
+accepted, and the feature in the GeoPackage within 3 sigma of the truth;
+then the project saved and reopened with the session restored.
+Screenshots of the Multiview and the Overview are kept as artifacts.
+
+    test_desktop_multiview.py SOURCE_DIR BUILD_DIR ARTIFACT_DIR
+"""
+
+import json
+import os
+import shutil
+import subprocess
+import sys
+import tempfile
+import unittest
+
+from osgeo import ogr
+
+SOURCE_DIR, BUILD_DIR, ARTIFACT_DIR = sys.argv[1:4]
+HERE = os.path.dirname(os.path.abspath(__file__))
+
+
+def truth_tables(gpkg):
+    ds = ogr.Open(gpkg)
+    objects = {f["id"]: f.GetGeometryRef().GetPoint() for f in ds.GetLayerByName("objects")}
+    pixels = {(f["point_id"], f["image_id"]): (f["col"], f["row"]) for f in ds.GetLayerByName("image_truth")}
+    return objects, pixels
+
+
+class DesktopMultiviewTest(unittest.TestCase):
+    @classmethod
+    def setUpClass(cls):
+        cls.tmp = tempfile.mkdtemp(prefix="geostation-multiview-")
+        home = os.path.join(cls.tmp, "home")
+        profiles = os.path.join(cls.tmp, "profiles")
+        os.makedirs(home)
+        env = dict(os.environ, HOME=home, XDG_RUNTIME_DIR=home)
+        subprocess.run([os.path.join(SOURCE_DIR, "scripts", "install-plugin.sh"), "--build-dir", BUILD_DIR,
+                        "--profile-dir", os.path.join(profiles, "profiles", "default")],
+                       env=env, check=True, capture_output=True)
+        run_dir = os.path.join(cls.tmp, "run")
+        subprocess.run([os.path.join(BUILD_DIR, "core", "geostation-simulate"), "--preset", "highway", "--stations", "8",
+                        "--seed", "7", "--noise", "1", "--pose-noise-scale", "0", "--output-dir", run_dir, "--quiet"],
+                       check=True, capture_output=True)
+        objects, pixels = truth_tables(os.path.join(run_dir, "truth.gpkg"))
+        with open(os.path.join(run_dir, "block.geostation.json")) as f:
+            block = json.load(f)
+        stations = sorted({s["id"]: s["time"] for s in block["stations"]}.items(), key=lambda s: s[1])
+        # a pole foot seen in both front images, 12-30 m ahead, not at the first station
+        cls.click = None
+        for index, (station, _) in enumerate(stations[1:], start=1):
+            left, right = station + "_FL", station + "_FR"
+            for pid, point in sorted(objects.items()):
+                if not pid.startswith("pole_") or (pid, left) not in pixels or (pid, right) not in pixels:
+                    continue
+                centre = next(i for i in block["images"] if i["id"] == left)
+                distance = ((point[0] - centre["X"]) ** 2 + (point[1] - centre["Y"]) ** 2) ** 0.5
+                if 12 < distance < 30:
+                    cls.click = {"station_index": index, "station": station, "image": left, "pole": pid,
+                                 "col": pixels[(pid, left)][0], "row": pixels[(pid, left)][1], "truth": point}
+                    break
+            if cls.click:
+                break
+        assert cls.click, "the simulated run has no pole to measure"
+
+        os.makedirs(ARTIFACT_DIR, exist_ok=True)
+        cls.target = os.path.join(cls.tmp, "measurements.gpkg")
+        cls.project = os.path.join(cls.tmp, "session.qgz")
+        result_path = os.path.join(cls.tmp, "result.json")
+        # QGIS counts layers under its temporary folder as temporary and asks about them at exit:
+        # the test data stands for the operator's own files, so QGIS gets another temporary folder
+        qgis_tmp = os.path.join(home, "tmp")
+        os.makedirs(qgis_tmp)
+        env.update(TMPDIR=qgis_tmp, GEOSTATION_E2E_RESULT=result_path, GEOSTATION_E2E_ARTIFACTS=ARTIFACT_DIR,
+                   GEOSTATION_E2E_BLOCK=os.path.join(run_dir, "block.geostation.json"),
+                   GEOSTATION_E2E_TARGET=cls.target, GEOSTATION_E2E_PROJECT=cls.project,
+                   GEOSTATION_E2E_CLICK=json.dumps(cls.click))
+        try:
+            run = subprocess.run(["xvfb-run", "-a", "-s", "-screen 0 1600x1000x24", "qgis.bin",
+                                  "--profiles-path", profiles, "--nologo", "--code",
+                                  os.path.join(HERE, "desktop_multiview_script.py")],
+                                 env=env, capture_output=True, text=True, timeout=300)
+            cls.exit_code = run.returncode
+            cls.log = run.stdout[-4000:] + run.stderr[-4000:]
+        except subprocess.TimeoutExpired as e:
+            subprocess.run(["pkill", "-f", "desktop_multiview_script.py"])
+            cls.exit_code = -1
+            cls.log = "QGIS did not finish in 300 s\n" + str(e.stdout or "")[-2000:] + str(e.stderr or "")[-2000:]
+        cls.result = {}
+        if os.path.exists(result_path):
+            with open(result_path) as f:
+                cls.result = json.load(f)
+        print(json.dumps({k: cls.result.get(k) for k in ("navigation_ms", "proposal_ms", "features", "clicked_pixel")}, indent=1))
+
+    @classmethod
+    def tearDownClass(cls):
+        shutil.rmtree(cls.tmp, ignore_errors=True)
+
+    def test_qgis_ran_the_script(self):
+        self.assertTrue(self.result, "the script inside QGIS wrote nothing:\n" + self.log)
+        self.assertNotIn("exception", self.result, self.result.get("exception"))
+        self.assertEqual(self.exit_code, 0, self.log)
+
+    def test_quitting_asks_nothing(self):
+        self.assertEqual(self.result.get("exit_dialogs", []), [])
+
+    def test_block_opens_with_overview_layers(self):
+        self.assertTrue(self.result.get("block_opened"))
+        self.assertTrue(self.result.get("classes_set"))
+        self.assertTrue(self.result.get("target_set"))
+        self.assertTrue(self.result.get("dock"))
+        for name in ("Trajectory", "Stations", "View cones"):
+            self.assertIn(name, self.result.get("overview_layers", []))
+
+    def test_keyboard_navigation(self):
+        self.assertIn("8 of 8", self.result.get("after_end", ""))
+        state = self.result.get("at_station", {})
+        self.assertIn("station " + self.click["station"], state.get("title", ""))
+        layers = [v["layers"] for v in state.get("views", [])]
+        self.assertEqual(layers, [[self.click["station"] + s] for s in ("_FL", "_FR", "_SR")])
+        self.assertEqual(len(self.result.get("navigation_ms", [])), self.click["station_index"])
+
+    def test_click_proposes_the_conjugate_point(self):
+        clicked = self.result.get("clicked_pixel")
+        self.assertLess(abs(clicked[0] - self.click["col"]) + abs(clicked[1] - self.click["row"]), 0.3)
+        views = self.result.get("after_click", {}).get("views", [])
+        self.assertIn("reference", views[0]["status"])
+        self.assertIn("match", views[1]["status"])
+
+    def test_measured_pole_foot_is_within_three_sigma_of_the_truth(self):
+        features = self.result.get("features", [])
+        self.assertEqual(len(features), 1, self.result.get("messages"))
+        f = features[0]
+        self.assertEqual(f["class"], "Pole")
+        self.assertEqual(f["method"], "intersection")
+        self.assertEqual(f["station"], self.click["station"])
+        self.assertGreaterEqual(f["n_images"], 2)
+        truth = self.click["truth"]
+        for axis, measured, sigma, true in zip("xyz", (f["x"], f["y"], f["z"]), f["sigma"], truth):
+            self.assertLess(abs(measured - true), 3 * sigma, "%s: %.3f m off, sigma %.3f m" % (axis, measured - true, sigma))
+        self.assertIn("Vertex 1 (intersection", self.result.get("messages", ""))
+
+    def test_session_is_restored_from_the_project(self):
+        self.assertTrue(self.result.get("saved"))
+        self.assertTrue(self.result.get("reopened"))
+        self.assertEqual(self.result.get("restored_title"), self.result.get("saved_title"))
+        for name in ("Trajectory", "Stations", "View cones", "pole"):
+            self.assertIn(name, self.result.get("restored_layers", []))
+
+    def test_screenshots_saved(self):
+        for name in ("multiview-proposals.png", "multiview-measured.png", "overview.png"):
+            path = os.path.join(ARTIFACT_DIR, name)
+            self.assertTrue(os.path.exists(path), name)
+            self.assertGreater(os.path.getsize(path), 10000)
+
+
+if __name__ == "__main__":
+    unittest.main(argv=sys.argv[:1], verbosity=2)
