@@ -332,7 +332,10 @@ void GeoStationMultiviewDock::showViewImages()
     shown << id;
   }
   if ( mPendingRefreshes == 0 )
+  {
     mLastNavigationMs = mNavigationTimer.isValid() ? mNavigationTimer.nsecsElapsed() / 1e6 : 0.0;
+    emit stationShown( mLastNavigationMs );
+  }
   mController->viewsChanged();
   // the images of the neighbouring stations are prepared for matching meanwhile
   mController->prefetch( shown );
@@ -353,7 +356,10 @@ void GeoStationMultiviewDock::viewRefreshed()
   if ( mPendingRefreshes <= 0 )
     return;
   if ( --mPendingRefreshes == 0 && mNavigationTimer.isValid() )
+  {
     mLastNavigationMs = mNavigationTimer.nsecsElapsed() / 1e6;
+    emit stationShown( mLastNavigationMs );
+  }
 }
 
 void GeoStationMultiviewDock::updateStationControls()

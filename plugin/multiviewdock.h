@@ -75,6 +75,10 @@ class GeoStationMultiviewDock : public QgsDockWidget
     //! The keys of the Multiview, taken before the image canvases (which zoom with PgUp/PgDown) see them.
     bool eventFilter( QObject *watched, QEvent *event ) override;
 
+  signals:
+    //! Every view has drawn its image after a station change (milliseconds since the change).
+    void stationShown( double milliseconds );
+
   private slots:
     void rebuildViews();
     void showViewImages();
