@@ -58,4 +58,4 @@ if [ "$gui" = 1 ]; then
   exec qgis.bin --nologo "$out/demo.qgz"
 fi
 echo
-echo "Open it in QGIS: scripts/demo.sh --gui   (or: qgis $out/demo.qgz)"
+echo "Measure in QGIS: scripts/demo.sh --gui   (or: qgis $out/demo.qgz — the run in the Multiview and the Overview)"

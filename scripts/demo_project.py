@@ -50,8 +50,8 @@ def write_multiview_project(out_dir):
     project.writeEntry(scope, "featureClasses", json.dumps(FEATURE_CLASSES))
     project.writeEntry(scope, "currentClass", "Pole")
     project.writeEntry(scope, "target", "./measurements.gpkg")
-    project.writeEntry(scope, "cameraHeightAboveRoad", 2.6)
-    project.writeEntry(scope, "roadPlaneSigma", 0.05)
+    project.writeEntryDouble(scope, "cameraHeightAboveRoad", 2.6)
+    project.writeEntryDouble(scope, "roadPlaneSigma", 0.05)
     if not project.write(path):
         sys.exit("demo_project.py: cannot write " + path)
     print("\nwrote " + path + " (the highway run, ready to measure in the Multiview)")
