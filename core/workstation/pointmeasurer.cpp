@@ -154,43 +154,50 @@ namespace geostation
     return v;
   }
 
-  MeasuredVertex roadPlaneVertex( const VertexObservation &observation, double roadHeightM, double planeSigmaM )
+  namespace
   {
-    MeasuredVertex v;
-    v.method = VertexMethod::RoadPlane;
-    v.imageIds = { observation.imageId };
-    v.residualsPx = { Eigen::Vector2d::Zero() };
-    const PlaneIntersectionSummary s = intersectRayWithPlane( RayObservation { observation.image, observation.pixelInImage, observation.sigmaPx },
-                                       Plane::horizontal( roadHeightM ), planeSigmaM );
-    if ( !s.ok() )
+    //! A vertex from one ray: the result of a ray intersection (plane, DEM) or its failure.
+    template<typename Summary>
+    MeasuredVertex singleRayVertex( VertexMethod method, const VertexObservation &observation, const Summary &s, const std::string &failure )
     {
-      v.message = s.message;
+      MeasuredVertex v;
+      v.method = method;
+      v.imageIds = { observation.imageId };
+      v.residualsPx = { Eigen::Vector2d::Zero() };
+      v.ok = s.ok();
+      if ( !v.ok )
+      {
+        v.message = failure;
+        return v;
+      }
+      v.point = s.point;
+      v.sigmaM = s.sigmaM;
+      v.rangeM = s.rangeM;
       return v;
     }
-    v.ok = true;
-    v.point = s.point;
-    v.sigmaM = s.sigmaM;
-    v.rangeM = s.rangeM;
-    return v;
+
+    //! A monoplot point with the member names of the other ray summaries.
+    struct DemHit
+    {
+      bool hit;
+      Eigen::Vector3d point, sigmaM;
+      double rangeM;
+      bool ok() const { return hit; }
+    };
+  }
+
+  MeasuredVertex roadPlaneVertex( const VertexObservation &observation, double roadHeightM, double planeSigmaM )
+  {
+    const PlaneIntersectionSummary s = intersectRayWithPlane( RayObservation { observation.image, observation.pixelInImage, observation.sigmaPx },
+                                       Plane::horizontal( roadHeightM ), planeSigmaM );
+    return singleRayVertex( VertexMethod::RoadPlane, observation, s, s.message );
   }
 
   MeasuredVertex demVertex( const VertexObservation &observation, const Monoplotter &monoplotter )
   {
-    MeasuredVertex v;
-    v.method = VertexMethod::MonoplotDem;
-    v.imageIds = { observation.imageId };
-    v.residualsPx = { Eigen::Vector2d::Zero() };
     const MonoplotPoint p = monoplotter.imageToGround( observation.pixelInImage, true );
-    if ( !p.ok() )
-    {
-      v.message = p.message.empty() ? "The ray does not meet the DEM." : p.message;
-      return v;
-    }
-    v.ok = true;
-    v.point = p.world;
-    v.sigmaM = p.sigmaM;
-    v.rangeM = p.rangeM;
-    return v;
+    return singleRayVertex( VertexMethod::MonoplotDem, observation, DemHit { p.ok(), p.world, p.sigmaM, p.rangeM },
+                            p.message.empty() ? "The ray does not meet the DEM." : p.message );
   }
 
 } // namespace geostation

@@ -19,6 +19,8 @@ import unittest
 
 from osgeo import ogr
 
+import desktop_harness
+
 SOURCE_DIR, BUILD_DIR, ARTIFACT_DIR = sys.argv[1:4]
 HERE = os.path.dirname(os.path.abspath(__file__))
 
@@ -34,13 +36,7 @@ class DesktopMultiviewTest(unittest.TestCase):
     @classmethod
     def setUpClass(cls):
         cls.tmp = tempfile.mkdtemp(prefix="geostation-multiview-")
-        home = os.path.join(cls.tmp, "home")
-        profiles = os.path.join(cls.tmp, "profiles")
-        os.makedirs(home)
-        env = dict(os.environ, HOME=home, XDG_RUNTIME_DIR=home)
-        subprocess.run([os.path.join(SOURCE_DIR, "scripts", "install-plugin.sh"), "--build-dir", BUILD_DIR,
-                        "--profile-dir", os.path.join(profiles, "profiles", "default")],
-                       env=env, check=True, capture_output=True)
+        env, profiles = desktop_harness.install_plugin(SOURCE_DIR, BUILD_DIR, cls.tmp)
         run_dir = os.path.join(cls.tmp, "run")
         subprocess.run([os.path.join(BUILD_DIR, "core", "geostation-simulate"), "--preset", "highway", "--stations", "8",
                         "--seed", "7", "--noise", "1", "--pose-noise-scale", "0", "--output-dir", run_dir, "--quiet"],
@@ -70,25 +66,12 @@ class DesktopMultiviewTest(unittest.TestCase):
         cls.target = os.path.join(cls.tmp, "measurements.gpkg")
         cls.project = os.path.join(cls.tmp, "session.qgz")
         result_path = os.path.join(cls.tmp, "result.json")
-        # QGIS counts layers under its temporary folder as temporary and asks about them at exit:
-        # the test data stands for the operator's own files, so QGIS gets another temporary folder
-        qgis_tmp = os.path.join(home, "tmp")
-        os.makedirs(qgis_tmp)
-        env.update(TMPDIR=qgis_tmp, GEOSTATION_E2E_RESULT=result_path, GEOSTATION_E2E_ARTIFACTS=ARTIFACT_DIR,
+        env.update(GEOSTATION_E2E_RESULT=result_path, GEOSTATION_E2E_ARTIFACTS=ARTIFACT_DIR,
                    GEOSTATION_E2E_BLOCK=os.path.join(run_dir, "block.geostation.json"),
                    GEOSTATION_E2E_TARGET=cls.target, GEOSTATION_E2E_PROJECT=cls.project,
                    GEOSTATION_E2E_CLICK=json.dumps(cls.click))
-        try:
-            run = subprocess.run(["xvfb-run", "-a", "-s", "-screen 0 1600x1000x24", "qgis.bin",
-                                  "--profiles-path", profiles, "--nologo", "--code",
-                                  os.path.join(HERE, "desktop_multiview_script.py")],
-                                 env=env, capture_output=True, text=True, timeout=300)
-            cls.exit_code = run.returncode
-            cls.log = run.stdout[-4000:] + run.stderr[-4000:]
-        except subprocess.TimeoutExpired as e:
-            subprocess.run(["pkill", "-f", "desktop_multiview_script.py"])
-            cls.exit_code = -1
-            cls.log = "QGIS did not finish in 300 s\n" + str(e.stdout or "")[-2000:] + str(e.stderr or "")[-2000:]
+        cls.exit_code, cls.log = desktop_harness.run_qgis(os.path.join(HERE, "desktop_multiview_script.py"), env, profiles,
+                                                          screen="1600x1000")
         cls.result = {}
         if os.path.exists(result_path):
             with open(result_path) as f:

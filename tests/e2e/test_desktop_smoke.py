@@ -10,7 +10,6 @@ The screenshot is kept as a test artifact.
 import json
 import os
 import shutil
-import subprocess
 import sys
 import tempfile
 import unittest
@@ -18,6 +17,7 @@ import unittest
 SOURCE_DIR, BUILD_DIR, ARTIFACT_DIR = sys.argv[1:4]
 sys.path.insert(0, os.path.join(SOURCE_DIR, "scripts"))
 import geostation_demo_data  # noqa: E402
+import desktop_harness  # noqa: E402
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 
@@ -26,13 +26,7 @@ class DesktopSmokeTest(unittest.TestCase):
     @classmethod
     def setUpClass(cls):
         cls.tmp = tempfile.mkdtemp(prefix="geostation-desktop-")
-        home = os.path.join(cls.tmp, "home")
-        profiles = os.path.join(cls.tmp, "profiles")
-        os.makedirs(home)
-        env = dict(os.environ, HOME=home, XDG_RUNTIME_DIR=home)
-        subprocess.run([os.path.join(SOURCE_DIR, "scripts", "install-plugin.sh"), "--build-dir", BUILD_DIR,
-                        "--profile-dir", os.path.join(profiles, "profiles", "default")],
-                       env=env, check=True, capture_output=True)
+        env, profiles = desktop_harness.install_plugin(SOURCE_DIR, BUILD_DIR, cls.tmp)
         data = os.path.join(cls.tmp, "data")
         block, _ = geostation_demo_data.make_demo_block(data, stations=3, seed=5)
         with open(block) as f:
@@ -48,12 +42,7 @@ class DesktopSmokeTest(unittest.TestCase):
         env.update(GEOSTATION_SMOKE_RESULT=result_path, GEOSTATION_SMOKE_SCREENSHOT=cls.screenshot,
                    GEOSTATION_SMOKE_BLOCK=block, GEOSTATION_SMOKE_BAD_BLOCK=bad_path,
                    GEOSTATION_SMOKE_OBJECTS=os.path.join(data, "objects.gpkg"))
-        run = subprocess.run(["xvfb-run", "-a", "-s", "-screen 0 1400x900x24", "qgis.bin",
-                              "--profiles-path", profiles, "--nologo", "--code",
-                              os.path.join(HERE, "desktop_smoke_script.py")],
-                             env=env, capture_output=True, text=True, timeout=600)
-        cls.exit_code = run.returncode
-        cls.log = run.stdout[-4000:] + run.stderr[-4000:]
+        cls.exit_code, cls.log = desktop_harness.run_qgis(os.path.join(HERE, "desktop_smoke_script.py"), env, profiles)
         cls.result = {}
         if os.path.exists(result_path):
             with open(result_path) as f:

@@ -54,7 +54,10 @@ class TestMultiview : public QObject
 
   private:
     //! A pole seen in the first two images of a station, with its truth pixels; false if none.
-    bool findPole( int station, QString &id, QPointF &left, QPointF &right, Eigen::Vector3d &truth ) const;
+    //! A pole seen in the first two images of the current station, with its truth pixels; false if none.
+    bool findPole( QString &id, QPointF &left, QPointF &right, Eigen::Vector3d &truth ) const;
+    //! Steps to the first station (from `from`) with such a pole; false if there is none.
+    bool goToStationWithPole( QString &id, QPointF &left, QPointF &right, Eigen::Vector3d &truth, int from = 0 );
     QString measurementsPath() const { return mDir.filePath( QStringLiteral( "measurements.gpkg" ) ); }
 
     QTemporaryDir mDir;
@@ -105,7 +108,7 @@ void TestMultiview::cleanupTestCase()
   QgsProject::instance()->clear();
 }
 
-bool TestMultiview::findPole( int station, QString &id, QPointF &left, QPointF &right, Eigen::Vector3d &truth ) const
+bool TestMultiview::findPole( QString &id, QPointF &left, QPointF &right, Eigen::Vector3d &truth ) const
 {
   const QStringList images = mSession->viewImages();
   for ( const auto &[pointId, point] : mTruth.objects )
@@ -124,7 +127,20 @@ bool TestMultiview::findPole( int station, QString &id, QPointF &left, QPointF &
     truth = point;
     return true;
   }
-  Q_UNUSED( station )
+  return false;
+}
+
+bool TestMultiview::goToStationWithPole( QString &id, QPointF &left, QPointF &right, Eigen::Vector3d &truth, int from )
+{
+  for ( int station = from; station < mSession->run().size(); ++station )
+  {
+    mSession->setCurrentStation( station );
+    if ( findPole( id, left, right, truth ) )
+    {
+      mController->viewsChanged();
+      return true;
+    }
+  }
   return false;
 }
 
@@ -218,15 +234,11 @@ void TestMultiview::featureClassesValidate()
 void TestMultiview::measuringAPoleFootWritesItWithinThreeSigma()
 {
   int measured = 0;
-  for ( int station = 0; station < mSession->run().size() && measured < 3; ++station )
+  QString id;
+  QPointF left, right;
+  Eigen::Vector3d truth;
+  for ( int from = 0; measured < 3 && goToStationWithPole( id, left, right, truth, from ); from = mSession->currentStation() + 1 )
   {
-    mSession->setCurrentStation( station );
-    QString id;
-    QPointF left, right;
-    Eigen::Vector3d truth;
-    if ( !findPole( station, id, left, right, truth ) )
-      continue;
-    mController->viewsChanged();
     mController->pick( 0, left );
     QVERIFY( mController->hasOpenPoint() );
     const auto &states = mController->viewStates();
@@ -353,20 +365,10 @@ void TestMultiview::operatorEditSessionKeepsUndo()
   QgsVectorLayer *layer = mStore->layerFor( mSession->featureClasses().at( 0 ), &error );
   QVERIFY2( layer, qPrintable( error ) );
   QVERIFY( layer->startEditing() );
-  for ( int station = 0; station < mSession->run().size(); ++station )
-  {
-    mSession->setCurrentStation( station );
-    QString id;
-    QPointF left, right;
-    Eigen::Vector3d truth;
-    if ( findPole( station, id, left, right, truth ) )
-      break;
-  }
   QString id;
   QPointF left, right;
   Eigen::Vector3d truth;
-  QVERIFY( findPole( 0, id, left, right, truth ) );
-  mController->viewsChanged();
+  QVERIFY( goToStationWithPole( id, left, right, truth ) );
   mController->pick( 0, left );
   QVERIFY( mController->acceptPoint() );
   // in the edit buffer, not in the file; QGIS undo takes it back
@@ -405,15 +407,8 @@ void TestMultiview::failedWriteKeepsTheFeatureInTheEditBuffer()
   QString id;
   QPointF left, right;
   Eigen::Vector3d truth;
-  for ( int station = 0; station < mSession->run().size(); ++station )
-  {
-    mSession->setCurrentStation( station );
-    if ( findPole( station, id, left, right, truth ) )
-      break;
-  }
-  QVERIFY( !id.isEmpty() );
+  QVERIFY( goToStationWithPole( id, left, right, truth ) );
   QSignalSpy messages( mController.get(), &GeoStationMeasurementController::message );
-  mController->viewsChanged();
   mController->pick( 0, left );
   QVERIFY( mController->acceptPoint() );
   QVERIFY( messages.last().at( 1 ).toBool() ); // a warning
@@ -476,13 +471,7 @@ void TestMultiview::viewsShowPlaceholdersEnhancementsAndFeatures()
   QString id;
   QPointF left, right;
   Eigen::Vector3d truth;
-  for ( int station = 0; station < mSession->run().size(); ++station )
-  {
-    mSession->setCurrentStation( station );
-    if ( findPole( station, id, left, right, truth ) )
-      break;
-  }
-  QVERIFY( !id.isEmpty() );
+  QVERIFY( goToStationWithPole( id, left, right, truth ) );
   QCOMPARE( dock.view( 0 )->featureOverlayCount(), 0 );
   mController->pick( 0, left );
   QVERIFY( mController->acceptPoint() );
@@ -506,13 +495,7 @@ void TestMultiview::exportWritesShapefileAndDxfWithAttributesAndZ()
   QString id;
   QPointF left, right;
   Eigen::Vector3d truth;
-  for ( int station = 0; station < mSession->run().size(); ++station )
-  {
-    mSession->setCurrentStation( station );
-    if ( findPole( station, id, left, right, truth ) )
-      break;
-  }
-  mController->viewsChanged();
+  QVERIFY( goToStationWithPole( id, left, right, truth ) );
   mController->pick( 0, left );
   QVERIFY( mController->acceptPoint() );
   mSession->setCurrentClass( QStringLiteral( "Kerb line" ) );
