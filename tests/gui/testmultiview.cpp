@@ -45,6 +45,7 @@ class TestMultiview : public QObject
     void featureClassesValidate();
     void measuringAPoleFootWritesItWithinThreeSigma();
     void linesUndoAndSingleRayVertices();
+    void singleImageVertexOnTheDem();
     void readOnlyGeoPackageIsReportedBeforeMeasuring();
     void operatorEditSessionKeepsUndo();
     void failedWriteKeepsTheFeatureInTheEditBuffer();
@@ -338,6 +339,46 @@ void TestMultiview::linesUndoAndSingleRayVertices()
   QVERIFY( mController->acceptPoint() );
   QVERIFY( !mController->finishFeature() );
   QCOMPARE( mController->vertexCount(), 1 ); // kept
+}
+
+void TestMultiview::singleImageVertexOnTheDem()
+{
+  // the run's terrain as the DEM layer: a point on the ground measured in one image is monoplotted
+  QgsRasterLayer *dem = new QgsRasterLayer( mDir.filePath( QStringLiteral( "run/terrain.tif" ) ), QStringLiteral( "terrain" ) );
+  QVERIFY( dem->isValid() );
+  QgsProject::instance()->addMapLayer( dem );
+  mSession->setDemLayerId( dem->id() );
+  mSession->setCurrentClass( QStringLiteral( "Kerb line" ) ); // vertices stay in the feature
+  // one view: the front-left camera alone
+  mSession->setViewCount( 1 );
+  int measured = 0;
+  for ( int station = 0; station < mSession->run().size() && measured < 3; ++station )
+  {
+    mSession->setCurrentStation( station );
+    const QString side = QString::fromStdString( mSession->run().at( station ).imageIds.front() );
+    QVERIFY( mSession->setViewImage( 0, side ) );
+    mController->viewsChanged();
+    // truth points on the ground: pole and hydrant feet, manhole lids (a sign's is its panel)
+    for ( const auto &[pointId, point] : mTruth.objects )
+    {
+      const auto pixel = mTruth.imageTruth.find( { pointId, side.toStdString() } );
+      if ( pixel == mTruth.imageTruth.end() || pointId.rfind( "sign_", 0 ) == 0 )
+        continue;
+      mController->pick( 0, QPointF( pixel->second.x(), pixel->second.y() ) );
+      QVERIFY( mController->acceptPoint() );
+      const geostation::MeasuredVertex *v = mController->lastVertex();
+      QVERIFY( v );
+      QCOMPARE( v->method, geostation::VertexMethod::MonoplotDem );
+      const Eigen::Vector3d error = v->point - point;
+      qInfo() << QString::fromStdString( pointId ) << "DEM vertex error" << error.x() << error.y() << error.z() << "sigma" << v->sigmaM.x() << v->sigmaM.y() << v->sigmaM.z();
+      for ( int k = 0; k < 3; ++k )
+        QVERIFY( std::abs( error[k] ) < 3 * v->sigmaM[k] + 0.005 );
+      QVERIFY( v->sigmaM.norm() > 0 );
+      ++measured;
+      break;
+    }
+  }
+  QVERIFY( measured >= 1 );
 }
 
 void TestMultiview::readOnlyGeoPackageIsReportedBeforeMeasuring()
