@@ -110,4 +110,51 @@ namespace geostation
     return out;
   }
 
+  std::vector<Eigen::Vector3d> clipRingToImageField( const OrientedImage &image, const std::vector<Eigen::Vector3d> &ring, double nearM )
+  {
+    if ( !( nearM > 0 ) )
+      throw std::invalid_argument( "clipRingToImageField: the near distance must be positive" );
+    // half-spaces n . p + d <= 0 in the camera frame (the camera looks along -z)
+    std::vector<std::pair<Eigen::Vector3d, double>> planes { { Eigen::Vector3d( 0, 0, 1 ), nearM } };
+    const double field = image.camera().lensFieldRadius();
+    if ( std::isfinite( field ) )
+    {
+      constexpr int kSides = 16;
+      // the apothem of the inscribed polygon, a little inside so that points on it project
+      const double apothem = 0.999 * field * std::cos( M_PI / kSides );
+      for ( int k = 0; k < kSides; ++k )
+      {
+        const double theta = 2.0 * M_PI * k / kSides;
+        // cos(t) xn + sin(t) yn <= apothem with xn = p.x / depth, yn = p.y / depth, depth = -p.z
+        planes.push_back( { Eigen::Vector3d( std::cos( theta ), std::sin( theta ), apothem ), 0.0 } );
+      }
+    }
+    std::vector<Eigen::Vector3d> polygon;
+    for ( const Eigen::Vector3d &p : ring )
+      polygon.push_back( image.cameraFromWorld( p ) );
+    for ( const auto &[normal, offset] : planes )
+    {
+      if ( polygon.size() < 3 )
+        return {};
+      std::vector<Eigen::Vector3d> clipped;
+      for ( size_t i = 0; i < polygon.size(); ++i )
+      {
+        const Eigen::Vector3d &a = polygon[i], &b = polygon[( i + 1 ) % polygon.size()];
+        const double da = normal.dot( a ) + offset, db = normal.dot( b ) + offset;
+        if ( da <= 0 )
+          clipped.push_back( a );
+        if ( ( da < 0 && db > 0 ) || ( da > 0 && db < 0 ) )
+          clipped.push_back( a + ( da / ( da - db ) ) * ( b - a ) );
+      }
+      polygon = std::move( clipped );
+    }
+    if ( polygon.size() < 3 )
+      return {};
+    const Eigen::Matrix3d worldFromCamera = image.cameraFromWorldRotation().transpose();
+    std::vector<Eigen::Vector3d> out;
+    for ( const Eigen::Vector3d &p : polygon )
+      out.push_back( image.exterior().projectionCentre + worldFromCamera * p );
+    return out;
+  }
+
 } // namespace geostation

@@ -106,6 +106,17 @@ namespace geostation
   std::vector<Eigen::Vector3d> densifyForImage( const OrientedImage &image, const std::vector<Eigen::Vector3d> &vertices, double densifyPx,
       const std::function<std::optional<double>( const Eigen::Vector3d & )> &heightAt = nullptr );
 
+  /**
+   * A closed map ring (block CRS, first vertex not repeated) clipped to the
+   * part of space the image can project: at least `nearM` in front of the
+   * camera and inside the lens field (a 16-sided pyramid inscribed in the
+   * field cone, so every point of the result projects). Sutherland-Hodgman,
+   * plane by plane, in the camera frame; new vertices lie on the straight 3D
+   * edges. Empty when nothing of the ring remains (fewer than 3 vertices).
+   * Throws std::invalid_argument if nearM <= 0.
+   */
+  std::vector<Eigen::Vector3d> clipRingToImageField( const OrientedImage &image, const std::vector<Eigen::Vector3d> &ring, double nearM = 0.01 );
+
 } // namespace geostation
 
 #endif // GEOSTATION_GEOMETRY_PROJECTION_H

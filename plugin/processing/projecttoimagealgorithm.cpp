@@ -86,10 +86,11 @@ QString ProjectToImageAlgorithm::shortHelpString() const
                       "top-left corner of the image), so it overlays the raw image in QGIS. Input attributes are kept; "
                       "the fields col, row (pixels, for single points), depth_m (smallest distance in front of the camera "
                       "along its axis), in_frame and visible (for every vertex) are added.\n\n"
-                      "A point or polygon with a vertex behind the camera, or far outside its field of view (more than twice the "
-                      "frame-corner angle, where the lens distortion model is extrapolated), is never projected: its feature has "
-                      "no geometry and in_frame = visible = false. A line is cut where it leaves that field (CLIPPED_COUNT); "
-                      "a line cut into several parts keeps its longest part.\n\n"
+                      "A point behind the camera, or far outside its field of view (more than twice the frame-corner angle, "
+                      "where the lens distortion model is extrapolated), is never projected: its feature has no geometry and "
+                      "in_frame = visible = false. A line is cut where it leaves that field, and a polygon is clipped to it "
+                      "in 3D (at 1 cm in front of the camera and inside the lens field) before it is projected; both are "
+                      "counted in CLIPPED_COUNT. A line cut into several parts keeps its longest part.\n\n"
                       "With a DEM, points without Z take the DEM's height, and visible tells whether the terrain hides "
                       "the point from the camera. Without a DEM no occlusion test is possible, so visible = in_frame." );
 }
@@ -111,7 +112,7 @@ void ProjectToImageAlgorithm::initAlgorithm( const QVariantMap & )
   addOutput( new QgsProcessingOutputNumber( QStringLiteral( "PROJECTED_COUNT" ), QObject::tr( "Features projected" ) ) );
   addOutput( new QgsProcessingOutputNumber( QStringLiteral( "IN_FRAME_COUNT" ), QObject::tr( "Features in the frame" ) ) );
   addOutput( new QgsProcessingOutputNumber( QStringLiteral( "BEHIND_CAMERA_COUNT" ), QObject::tr( "Features behind the camera" ) ) );
-  addOutput( new QgsProcessingOutputNumber( QStringLiteral( "CLIPPED_COUNT" ), QObject::tr( "Lines cut at the camera plane" ) ) );
+  addOutput( new QgsProcessingOutputNumber( QStringLiteral( "CLIPPED_COUNT" ), QObject::tr( "Lines and polygons cut at the camera plane" ) ) );
 }
 
 QVariantMap ProjectToImageAlgorithm::processAlgorithm( const QVariantMap &parameters, QgsProcessingContext &context, QgsProcessingFeedback *feedback )
@@ -211,9 +212,14 @@ QVariantMap ProjectToImageAlgorithm::processAlgorithm( const QVariantMap &parame
     std::vector<Eigen::Vector3d> ground;
     for ( int i = 0; i < line.numPoints(); ++i )
       ground.push_back( groundOf( line.pointN( i ), id ) );
+    const double minDepthBefore = c.minDepth;
     const auto demHeight = [&]( const Eigen::Vector3d & p ) { return monoplotter->demHeightAt( p ); };
-    const std::vector<Eigen::Vector3d> dense = geostation::densifyForImage( orientedImage, ground, densifyPx,
-        drapeLines ? std::function<std::optional<double>( const Eigen::Vector3d & )>( demHeight ) : nullptr );
+    const auto densify = [&]( const std::vector<Eigen::Vector3d> &vertices )
+    {
+      return geostation::densifyForImage( orientedImage, vertices, densifyPx,
+                                          drapeLines ? std::function<std::optional<double>( const Eigen::Vector3d & )>( demHeight ) : nullptr );
+    };
+    std::vector<Eigen::Vector3d> dense = densify( ground );
     std::vector<std::optional<QgsPoint>> projected;
     for ( const Eigen::Vector3d &g : dense )
       projected.push_back( projectVertex( g, c ) );
@@ -226,10 +232,29 @@ QVariantMap ProjectToImageAlgorithm::processAlgorithm( const QVariantMap &parame
       for ( const std::optional<QgsPoint> &p : projected )
         pixels << *p;
     }
+    else if ( closed )
+    {
+      // a ring is clipped in 3D to the part of space the photo can show, then densified and projected
+      std::vector<Eigen::Vector3d> ring( ground.begin(), ground.end() - ( ground.size() > 1 && ground.front() == ground.back() ? 1 : 0 ) );
+      ring = geostation::clipRingToImageField( orientedImage, ring );
+      if ( ring.empty() )
+        return nullptr;
+      ring.push_back( ring.front() );
+      Conversion clippedRing;
+      for ( const Eigen::Vector3d &g : densify( ring ) )
+      {
+        const std::optional<QgsPoint> p = projectVertex( g, clippedRing );
+        if ( !p )
+          return nullptr;
+        pixels << *p;
+      }
+      c.allInFrame = c.allInFrame && clippedRing.allInFrame;
+      c.allVisible = c.allVisible && clippedRing.allVisible;
+      c.minDepth = std::min( minDepthBefore, clippedRing.minDepth ); // of what is drawn
+      c.clipped = true;
+    }
     else
     {
-      if ( closed )
-        return nullptr; // a ring behind the camera cannot be drawn in the photo
       // A line leaving the projectable field (behind the camera, or far outside the lens field) is cut
       // where it leaves it: the boundary is found by bisection along the ground segment.
       Conversion probe;
@@ -369,7 +394,7 @@ QVariantMap ProjectToImageAlgorithm::processAlgorithm( const QVariantMap &parame
   feedback->pushInfo( QObject::tr( "%1 of %2 features projected into image %3 (%4 in the frame)." )
                       .arg( projectedCount ).arg( results.size() ).arg( imageId ).arg( inFrameCount ) );
   if ( clippedCount > 0 )
-    feedback->pushWarning( QObject::tr( "%1 lines were cut where they pass behind the camera (or out of the lens field); a line cut into several parts keeps its longest part." ).arg( clippedCount ) );
+    feedback->pushWarning( QObject::tr( "%1 lines or polygons were cut where they pass behind the camera (or out of the lens field); a line cut into several parts keeps its longest part." ).arg( clippedCount ) );
   if ( behindCount > 0 )
     feedback->pushWarning( QObject::tr( "%1 features lie behind the camera and were not projected." ).arg( behindCount ) );
   if ( outsideFieldCount > 0 )

@@ -124,3 +124,49 @@ TEST( Projection, OrientedImageAgreesWithTheFreeFunctions )
   const Ray r = *image.worldRayFromPixel( { 100.5, 50.25 } );
   EXPECT_LT( ( r.direction - worldRayFromPixel( c, eo, { 100.5, 50.25 } )->direction ).norm(), 1e-15 );
 }
+
+TEST( Projection, RingsAreClippedToWhatTheImageCanProject )
+{
+  const OrientedImage image( vanCamera(), lookingNorth() );
+  const Eigen::Vector3d c = image.exterior().projectionCentre;
+  const double groundZ = c.z() - 2.5;
+  // a paved area under and around the van: half of it behind the camera, much of it outside the lens field
+  const std::vector<Eigen::Vector3d> around { { c.x() - 20, c.y() - 15, groundZ }, { c.x() + 20, c.y() - 15, groundZ },
+    { c.x() + 20, c.y() + 40, groundZ }, { c.x() - 20, c.y() + 40, groundZ } };
+  for ( const Eigen::Vector3d &v : around )
+    EXPECT_FALSE( image.projectGroundToPixel( v ).ok() && v.y() < c.y() ); // the rear corners cannot be projected
+  const std::vector<Eigen::Vector3d> clipped = clipRingToImageField( image, around );
+  ASSERT_GE( clipped.size(), 3u );
+  // every point of the clipped ring, vertices and edges, projects
+  for ( size_t i = 0; i < clipped.size(); ++i )
+  {
+    EXPECT_NEAR( clipped[i].z(), groundZ, 1e-9 ); // on the original plane
+    for ( double t = 0; t <= 1.0; t += 0.05 )
+    {
+      const Eigen::Vector3d p = clipped[i] + t * ( clipped[( i + 1 ) % clipped.size()] - clipped[i] );
+      EXPECT_TRUE( image.projectGroundToPixel( p ).ok() ) << i << " " << t;
+    }
+    EXPECT_GT( clipped[i].y(), c.y() ); // in front (the camera looks north)
+  }
+  // what the frame shows of the area is kept: a ground point in the frame centre's lower half is inside
+  const Eigen::Vector3d seen = image.worldRayFromPixel( { 320.5, 400.5 } )->origin
+                               + ( ( groundZ - c.z() ) / image.worldRayFromPixel( { 320.5, 400.5 } )->direction.z() ) * image.worldRayFromPixel( { 320.5, 400.5 } )->direction;
+  bool inside = false;
+  for ( size_t i = 0, j = clipped.size() - 1; i < clipped.size(); j = i++ )
+    if ( ( clipped[i].y() > seen.y() ) != ( clipped[j].y() > seen.y() )
+         && seen.x() < ( clipped[j].x() - clipped[i].x() ) * ( seen.y() - clipped[i].y() ) / ( clipped[j].y() - clipped[i].y() ) + clipped[i].x() )
+      inside = !inside;
+  EXPECT_TRUE( inside );
+
+  // a ring wholly in view is unchanged; one wholly behind is gone
+  const std::vector<Eigen::Vector3d> ahead { { c.x() - 1, c.y() + 20, groundZ }, { c.x() + 1, c.y() + 20, groundZ }, { c.x(), c.y() + 22, groundZ } };
+  const std::vector<Eigen::Vector3d> same = clipRingToImageField( image, ahead );
+  ASSERT_EQ( same.size(), 3u );
+  for ( size_t i = 0; i < 3; ++i )
+    EXPECT_LT( ( same[i] - ahead[i] ).norm(), 1e-9 );
+  std::vector<Eigen::Vector3d> behind = ahead;
+  for ( Eigen::Vector3d &v : behind )
+    v.y() = 2 * c.y() - v.y();
+  EXPECT_TRUE( clipRingToImageField( image, behind ).empty() );
+  EXPECT_THROW( clipRingToImageField( image, ahead, 0.0 ), std::invalid_argument );
+}

@@ -44,6 +44,7 @@ class TestMonoplotAlgorithm : public QObject
     void projectToImageDrapesAndTestsOcclusion();
     void projectToImageDensifiesLinesAndPolygons();
     void projectToImageCutsLinesAtTheCameraPlane();
+    void projectToImageClipsPolygonsAroundTheCamera();
     void badInput_data();
     void badInput();
 
@@ -346,6 +347,43 @@ void TestMonoplotAlgorithm::projectToImageCutsLinesAtTheCameraPlane()
   const QgsPoint end = line->endPoint();
   QVERIFY( end.x() < 0 || end.x() > 1280 || -end.y() < 0 || -end.y() > 960 );
   QCOMPARE( g.attribute( "in_frame" ).toBool(), false );
+}
+
+void TestMonoplotAlgorithm::projectToImageClipsPolygonsAroundTheCamera()
+{
+  // A flat area 20 m below the mast camera, around it on every side: clipped in 3D to what the photo can show.
+  const Eigen::Vector3d centre = mImage->exterior().projectionCentre;
+  const double z = centre.z() - 20.0;
+  auto *areas = new QgsVectorLayer( QStringLiteral( "PolygonZ?crs=EPSG:32633&field=name:string" ), QStringLiteral( "around" ), QStringLiteral( "memory" ) );
+  QgsFeature f( areas->fields() );
+  QgsPolygon *polygon = new QgsPolygon();
+  polygon->setExteriorRing( new QgsLineString( QVector<QgsPoint> { QgsPoint( centre.x() - 300, centre.y() - 100, z ), QgsPoint( centre.x() + 300, centre.y() - 100, z ),
+                            QgsPoint( centre.x() + 300, centre.y() + 400, z ), QgsPoint( centre.x() - 300, centre.y() + 400, z ), QgsPoint( centre.x() - 300, centre.y() - 100, z ) } ) );
+  f.setGeometry( QgsGeometry( polygon ) );
+  f.setAttribute( 0, QStringLiteral( "around the mast" ) );
+  areas->dataProvider()->addFeature( f );
+  QgsProject::instance()->addMapLayer( areas );
+  bool ok = false;
+  RecordingFeedback feedback;
+  std::unique_ptr<QgsProcessingAlgorithm> alg( QgsApplication::processingRegistry()->algorithmById( "geostation:project_to_image" )->create() );
+  const QVariantMap result = alg->run( { { "BLOCK", mBlock }, { "IMAGE", "P1" }, { "INPUT", areas->id() }, { "DENSIFY_PX", 4.0 },
+    { "OUTPUT", QgsProcessing::TEMPORARY_OUTPUT } }, mContext, &feedback, &ok );
+  QVERIFY2( ok, qPrintable( feedback.errors.join( '\n' ) ) );
+  QCOMPARE( result.value( "PROJECTED_COUNT" ).toInt(), 1 );
+  QCOMPARE( result.value( "CLIPPED_COUNT" ).toInt(), 1 );
+  QCOMPARE( result.value( "BEHIND_CAMERA_COUNT" ).toInt(), 0 );
+  QgsVectorLayer *out = qobject_cast<QgsVectorLayer *>( QgsProcessingUtils::mapLayerFromString( result.value( "OUTPUT" ).toString(), mContext ) );
+  QgsFeature g;
+  QVERIFY( out->getFeatures().nextFeature( g ) );
+  QCOMPARE( g.attribute( "name" ).toString(), QStringLiteral( "around the mast" ) );
+  QVERIFY( g.attribute( "depth_m" ).toDouble() > 0 );
+  const QgsGeometry image = g.geometry();
+  QVERIFY( image.type() == QgsWkbTypes::PolygonGeometry );
+  QVERIFY( image.isGeosValid() );
+  // the area fills the lower two thirds of the frame (its rays meet the plane within the area) ...
+  QVERIFY( image.contains( QgsGeometry::fromRect( QgsRectangle( 0.5, -959.5, 1279.5, -300.5 ) ) ) );
+  // ... but not the sky: the top row looks above the horizon
+  QVERIFY( !image.contains( QgsGeometry::fromPointXY( QgsPointXY( 640.5, -0.5 ) ) ) );
 }
 
 int main( int argc, char **argv )
