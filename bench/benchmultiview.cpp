@@ -80,10 +80,14 @@ namespace
     }
   };
 
+  //! Destroyed before QGIS exits (its canvases and layers need QGIS).
+  std::unique_ptr<Run> gRun;
+
   Run &run()
   {
-    static Run r;
-    return r;
+    if ( !gRun )
+      gRun = std::make_unique<Run>();
+    return *gRun;
   }
 
   void BM_NextStation3x1920x1080( benchmark::State &state )
@@ -142,6 +146,7 @@ int main( int argc, char **argv )
       printf( "; x%.2f of decoding the three images whole with GDAL (%.1f ms)", next / decode, 1e3 / decode );
     printf( "\n" );
   } );
+  gRun.reset();
   QgsApplication::exitQgis();
   return result;
 }
