@@ -6,9 +6,15 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <limits>
+
+#include <opencv2/imgproc.hpp>
 
 #ifdef __SSE2__
 #include <emmintrin.h>
+#endif
+#if defined( __x86_64__ ) && defined( __GNUC__ )
+#include <immintrin.h>
 #endif
 
 namespace geostation
@@ -112,7 +118,6 @@ namespace geostation
     const int c0 = centreCol - mWidth / 2, r0 = centreRow - mHeight / 2;
     if ( !valid() || c0 < 0 || r0 < 0 || c0 + mWidth > search.width() || r0 + mHeight > search.height() )
       return std::nullopt;
-    const double n = static_cast<double>( mWidth ) * mHeight;
     if ( mMeasure == SimilarityMeasure::CC || mMeasure == SimilarityMeasure::NCC )
     {
       // integer sums: exact; rows padded to 16 so the compiler vectorises them
@@ -189,17 +194,7 @@ namespace geostation
           }
         }
       }
-      if ( mMeasure == SimilarityMeasure::CC )
-      {
-        const double denominator = std::sqrt( mSumSq * static_cast<double>( ss ) );
-        return denominator > 0.0 ? std::optional<double>( st / denominator ) : std::nullopt;
-      }
-      const double covariance = st - mSum * s / n;
-      const double searchVariance = ss - static_cast<double>( s ) * s / n;
-      const double templateVariance = mSumSq - mSum * mSum / n;
-      if ( searchVariance < 0.25 * n )
-        return std::nullopt; // flat search window
-      return covariance / std::sqrt( templateVariance * searchVariance );
+      return integerScore( st, s, ss );
     }
     // weighted measures
     double st = 0, s = 0, ss = 0;
@@ -227,6 +222,191 @@ namespace geostation
     if ( searchVariance < 0.25 * mWeightSum )
       return std::nullopt;
     return covariance / std::sqrt( templateVariance * searchVariance );
+  }
+
+  std::optional<double> CorrelationTemplate::integerScore( int64_t st, int64_t s, int64_t ss ) const
+  {
+    const double n = static_cast<double>( mWidth ) * mHeight;
+    if ( mMeasure == SimilarityMeasure::CC )
+    {
+      const double denominator = std::sqrt( mSumSq * static_cast<double>( ss ) );
+      return denominator > 0.0 ? std::optional<double>( st / denominator ) : std::nullopt;
+    }
+    const double covariance = st - mSum * s / n;
+    const double searchVariance = ss - static_cast<double>( s ) * s / n;
+    const double templateVariance = mSumSq - mSum * mSum / n;
+    if ( searchVariance < 0.25 * n )
+      return std::nullopt; // flat search window
+    return covariance / std::sqrt( templateVariance * searchVariance );
+  }
+
+  namespace
+  {
+#if defined( __x86_64__ ) && defined( __GNUC__ )
+    __attribute__( ( target( "avx2" ) ) ) int64_t reduce( __m256i acc )
+    {
+      const __m128i half = _mm_add_epi32( _mm256_castsi256_si128( acc ), _mm256_extracti128_si256( acc, 1 ) );
+      const __m128i pairs = _mm_add_epi32( half, _mm_shuffle_epi32( half, _MM_SHUFFLE( 1, 0, 3, 2 ) ) );
+      return _mm_cvtsi128_si32( _mm_add_epi32( pairs, _mm_shuffle_epi32( pairs, _MM_SHUFFLE( 2, 3, 0, 1 ) ) ) );
+    }
+
+    //! AVX2: one multiply-add instruction per 16 template pixels (chosen at run time, where the CPU has it).
+    __attribute__( ( target( "avx2" ) ) )
+    void crossTermsAvx2( const int16_t *area, size_t step, const int16_t *padded, int paddedWidth, int height, int count, int64_t *out )
+    {
+      int c = 0;
+      // four neighbouring positions at a time: they share the template rows and keep four sums in flight
+      for ( ; c + 3 < count; c += 4 )
+      {
+        __m256i acc0 = _mm256_setzero_si256(), acc1 = _mm256_setzero_si256(), acc2 = _mm256_setzero_si256(), acc3 = _mm256_setzero_si256();
+        const int16_t *t = padded, *row = area + c;
+        for ( int wr = 0; wr < height; ++wr, t += paddedWidth, row += step )
+          for ( int k = 0; k < paddedWidth; k += 16 )
+          {
+            const __m256i tk = _mm256_loadu_si256( reinterpret_cast<const __m256i *>( t + k ) );
+            acc0 = _mm256_add_epi32( acc0, _mm256_madd_epi16( _mm256_loadu_si256( reinterpret_cast<const __m256i *>( row + k ) ), tk ) );
+            acc1 = _mm256_add_epi32( acc1, _mm256_madd_epi16( _mm256_loadu_si256( reinterpret_cast<const __m256i *>( row + k + 1 ) ), tk ) );
+            acc2 = _mm256_add_epi32( acc2, _mm256_madd_epi16( _mm256_loadu_si256( reinterpret_cast<const __m256i *>( row + k + 2 ) ), tk ) );
+            acc3 = _mm256_add_epi32( acc3, _mm256_madd_epi16( _mm256_loadu_si256( reinterpret_cast<const __m256i *>( row + k + 3 ) ), tk ) );
+          }
+        out[c] = reduce( acc0 );
+        out[c + 1] = reduce( acc1 );
+        out[c + 2] = reduce( acc2 );
+        out[c + 3] = reduce( acc3 );
+      }
+      for ( ; c + 1 < count; c += 2 )
+      {
+        __m256i acc0 = _mm256_setzero_si256(), acc1 = _mm256_setzero_si256();
+        const int16_t *t = padded, *row = area + c;
+        for ( int wr = 0; wr < height; ++wr, t += paddedWidth, row += step )
+          for ( int k = 0; k < paddedWidth; k += 16 )
+          {
+            const __m256i tk = _mm256_loadu_si256( reinterpret_cast<const __m256i *>( t + k ) );
+            acc0 = _mm256_add_epi32( acc0, _mm256_madd_epi16( _mm256_loadu_si256( reinterpret_cast<const __m256i *>( row + k ) ), tk ) );
+            acc1 = _mm256_add_epi32( acc1, _mm256_madd_epi16( _mm256_loadu_si256( reinterpret_cast<const __m256i *>( row + k + 1 ) ), tk ) );
+          }
+        out[c] = reduce( acc0 );
+        out[c + 1] = reduce( acc1 );
+      }
+      for ( ; c < count; ++c )
+      {
+        __m256i acc = _mm256_setzero_si256();
+        const int16_t *t = padded, *row = area + c;
+        for ( int wr = 0; wr < height; ++wr, t += paddedWidth, row += step )
+          for ( int k = 0; k < paddedWidth; k += 16 )
+            acc = _mm256_add_epi32( acc, _mm256_madd_epi16( _mm256_loadu_si256( reinterpret_cast<const __m256i *>( row + k ) ),
+                                    _mm256_loadu_si256( reinterpret_cast<const __m256i *>( t + k ) ) ) );
+        out[c] = reduce( acc );
+      }
+    }
+
+    bool cpuHasAvx2()
+    {
+      static const bool has = __builtin_cpu_supports( "avx2" );
+      return has;
+    }
+#endif
+
+    /**
+     * The cross terms sum(t * s) of the windows starting at columns 0..count-1
+     * of a row of `area` (16-bit copy of the search pixels, `step` values per
+     * row, padded on the right so that whole padded template rows can be
+     * read; the template's padding is 0).
+     */
+    void crossTermsOfRow( const int16_t *area, size_t step, const int16_t *padded, int paddedWidth, int height, int count, int64_t *out )
+    {
+#if defined( __x86_64__ ) && defined( __GNUC__ )
+      if ( cpuHasAvx2() )
+      {
+        crossTermsAvx2( area, step, padded, paddedWidth, height, count, out );
+        return;
+      }
+#endif
+#ifdef __SSE2__
+      for ( int c = 0; c < count; ++c )
+      {
+        __m128i acc = _mm_setzero_si128();
+        const int16_t *t = padded, *row = area + c;
+        for ( int wr = 0; wr < height; ++wr, t += paddedWidth, row += step )
+          for ( int k = 0; k < paddedWidth; k += 8 )
+            acc = _mm_add_epi32( acc, _mm_madd_epi16( _mm_loadu_si128( reinterpret_cast<const __m128i *>( row + k ) ),
+                                 _mm_loadu_si128( reinterpret_cast<const __m128i *>( t + k ) ) ) );
+        alignas( 16 ) int32_t lanes[4];
+        _mm_store_si128( reinterpret_cast<__m128i *>( lanes ), acc );
+        out[c] = static_cast<int64_t>( lanes[0] ) + lanes[1] + lanes[2] + lanes[3];
+      }
+#else
+      for ( int c = 0; c < count; ++c )
+      {
+        int64_t st = 0;
+        const int16_t *t = padded, *row = area + c;
+        for ( int wr = 0; wr < height; ++wr, t += paddedWidth, row += step )
+          for ( int k = 0; k < paddedWidth; ++k )
+            st += static_cast<int32_t>( t[k] ) * row[k];
+        out[c] = st;
+      }
+#endif
+    }
+  }
+
+  cv::Mat CorrelationTemplate::scoreArea( const MatchImage &search, const cv::Rect &centres ) const
+  {
+    cv::Mat scores( centres.height, centres.width, CV_64F );
+    if ( !valid() || centres.empty() )
+      return scores.setTo( std::numeric_limits<double>::quiet_NaN() );
+    const cv::Mat &grey = search.grey();
+    const int halfW = mWidth / 2, halfH = mHeight / 2;
+    if ( mMeasure == SimilarityMeasure::WCC || mMeasure == SimilarityMeasure::WNCC )
+    {
+      for ( int r = 0; r < centres.height; ++r )
+        for ( int c = 0; c < centres.width; ++c )
+          scores.at<double>( r, c ) = score( search, centres.x + c, centres.y + r ).value_or( std::numeric_limits<double>::quiet_NaN() );
+      return scores;
+    }
+    // the centres whose windows lie in the image
+    const cv::Rect valid = centres & cv::Rect( halfW, halfH, grey.cols - mWidth + 1, grey.rows - mHeight + 1 );
+    if ( valid != centres )
+      scores.setTo( std::numeric_limits<double>::quiet_NaN() ); // the centres without a whole window
+    if ( valid.empty() )
+      return scores;
+    // window sums from integral images of the pixels the windows cover
+    const cv::Rect covered( valid.x - halfW, valid.y - halfH, valid.width + mWidth - 1, valid.height + mHeight - 1 );
+    cv::Mat sum, sqsum;
+    cv::integral( grey( covered ), sum, sqsum, CV_32S, CV_64F );
+    // a 16-bit copy of the covered pixels, padded on the right for whole template rows
+    cv::Mat area( covered.height, covered.width + mPaddedWidth - mWidth, CV_16S );
+    area.colRange( covered.width, area.cols ).setTo( 0 );
+    grey( covered ).convertTo( area.colRange( 0, covered.width ), CV_16S );
+    const size_t areaStep = area.step[0] / sizeof( int16_t );
+    std::vector<int64_t> crossTerms( valid.width );
+    const double n = static_cast<double>( mWidth ) * mHeight;
+    const double meanT = mSum / n, templateVariance = mSumSq - mSum * mSum / n;
+    const double nan = std::numeric_limits<double>::quiet_NaN();
+    for ( int r = 0; r < valid.height; ++r )
+    {
+      crossTermsOfRow( area.ptr<int16_t>( r ), areaStep, mPadded.data(), mPaddedWidth, mHeight, valid.width, crossTerms.data() );
+      double *out = scores.ptr<double>( valid.y - centres.y + r ) + ( valid.x - centres.x );
+      const int *sTop = sum.ptr<int>( r ), *sBottom = sum.ptr<int>( r + mHeight );
+      const double *qTop = sqsum.ptr<double>( r ), *qBottom = sqsum.ptr<double>( r + mHeight );
+      // the same formulas as integerScore(), branch-free so the loop vectorises
+      if ( mMeasure == SimilarityMeasure::CC )
+        for ( int c = 0; c < valid.width; ++c )
+        {
+          const double ss = qBottom[c + mWidth] - qBottom[c] - qTop[c + mWidth] + qTop[c];
+          const double denominator = std::sqrt( mSumSq * ss );
+          out[c] = denominator > 0.0 ? static_cast<double>( crossTerms[c] ) / denominator : nan;
+        }
+      else
+        for ( int c = 0; c < valid.width; ++c )
+        {
+          const double s = static_cast<double>( sBottom[c + mWidth] - sBottom[c] - sTop[c + mWidth] + sTop[c] );
+          const double ss = qBottom[c + mWidth] - qBottom[c] - qTop[c + mWidth] + qTop[c];
+          const double covariance = static_cast<double>( crossTerms[c] ) - meanT * s;
+          const double searchVariance = ss - s * s / n;
+          out[c] = searchVariance < 0.25 * n ? nan : covariance / std::sqrt( templateVariance * searchVariance );
+        }
+    }
+    return scores;
   }
 
   double parabolaPeakOffset( double before, double at, double after )

@@ -65,7 +65,21 @@ namespace geostation
        */
       std::optional<double> score( const MatchImage &search, int centreCol, int centreRow ) const;
 
+      /**
+       * Dense matching: the scores of the windows centred on every pixel of
+       * `centres` (a rectangle of centre pixels of `search`), as a CV_64F
+       * matrix of centres.height rows and centres.width columns, NaN where
+       * score() gives nothing. Equal to score() at every position; cc and ncc
+       * take the window sums from an integral image and correlate only the
+       * cross term per position, so they cost about a third of calling
+       * score() everywhere.
+       */
+      cv::Mat scoreArea( const MatchImage &search, const cv::Rect &centres ) const;
+
     private:
+      //! cc / ncc from the integer sums of a window: cross term, sum and sum of squares.
+      std::optional<double> integerScore( int64_t st, int64_t s, int64_t ss ) const;
+
       int mWidth, mHeight;
       SimilarityMeasure mMeasure;
       std::string mReason;

@@ -198,6 +198,43 @@ TEST( Similarity, MeasuresOnIdenticalShiftedAndScaledWindows )
   EXPECT_NEAR( centreWeight( 1, 1, 5, 5 ), 2.75, 1e-12 );
 }
 
+TEST( Similarity, DenseScoresEqualScoresAtEveryPosition )
+{
+  cv::Mat a = texture( 120, 90, 3 );
+  a( cv::Rect( 70, 50, 30, 25 ) ).setTo( 128 ); // a flat patch: no scores there
+  const MatchImage image( a );
+  for ( SimilarityMeasure m : { SimilarityMeasure::CC, SimilarityMeasure::NCC, SimilarityMeasure::WNCC } )
+    for ( const cv::Size window : { cv::Size( 15, 15 ), cv::Size( 3, 15 ), cv::Size( 21, 9 ) } )
+    {
+      const CorrelationTemplate t( image, 40, 35, window.width, window.height, m );
+      ASSERT_TRUE( t.valid() );
+      // centres reaching over every border of the image
+      const cv::Rect centres( -5, -4, 132, 100 );
+      const cv::Mat dense = t.scoreArea( image, centres );
+      ASSERT_EQ( dense.rows, centres.height );
+      ASSERT_EQ( dense.cols, centres.width );
+      int scored = 0, none = 0;
+      for ( int r = 0; r < dense.rows; ++r )
+        for ( int c = 0; c < dense.cols; ++c )
+        {
+          const std::optional<double> one = t.score( image, centres.x + c, centres.y + r );
+          const double d = dense.at<double>( r, c );
+          if ( one )
+          {
+            ASSERT_NEAR( d, *one, 1e-12 ) << similarityMeasureName( m ) << " " << c << "," << r;
+            ++scored;
+          }
+          else
+          {
+            ASSERT_TRUE( std::isnan( d ) ) << c << "," << r;
+            ++none;
+          }
+        }
+      EXPECT_GT( scored, 5000 );
+      EXPECT_GT( none, 1000 );
+    }
+}
+
 TEST( Similarity, BadWindowsGiveReasonsNotScores )
 {
   const MatchImage image( texture( 60, 40, 2 ) );
