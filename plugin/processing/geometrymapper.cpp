@@ -7,6 +7,7 @@
 #include <qgsexception.h>
 #include <qgsgeometrycollection.h>
 #include <qgsgeometryfactory.h>
+#include <qgsmulticurve.h>
 #include <qgspolygon.h>
 
 namespace GeoStationProcessing
@@ -51,11 +52,21 @@ namespace GeoStationProcessing
             QgsGeometryFactory::geomFromWkbType( mapper.collectionType( collection->wkbType() ) ).release() ) );
       for ( int i = 0; i < collection->numGeometries(); ++i )
       {
+        const QgsCurve *curve = qgsgeometry_cast<const QgsCurve *>( collection->geometryN( i ) );
+        if ( curve && mapper.lineParts && qgsgeometry_cast<const QgsMultiCurve *>( collection ) )
+        {
+          const std::unique_ptr<QgsLineString> line( curve->curveToLine() );
+          for ( std::unique_ptr<QgsLineString> &piece : mapper.lineParts( *line ) )
+            out->addGeometry( piece.release() );
+          continue;
+        }
         std::unique_ptr<QgsAbstractGeometry> part = mapGeometry( collection->geometryN( i ), mapper );
         if ( !part )
           return nullptr;
         out->addGeometry( part.release() );
       }
+      if ( out->isEmpty() )
+        return nullptr;
       return out;
     }
     throw QgsProcessingException( QObject::tr( "Geometry type %1 is not supported." ).arg( QgsWkbTypes::displayString( g->wkbType() ) ) );

@@ -25,6 +25,11 @@ namespace GeoStationProcessing
     std::function<std::optional<QgsPoint>( const QgsPoint & )> point;
     //! A line (a polygon ring when `closed`) mapped, or nullptr when it cannot be.
     std::function<std::unique_ptr<QgsLineString>( const QgsLineString &, bool closed )> line;
+    /**
+     * Optional, for the lines of a collection (multi-line): all the pieces a
+     * line maps to (it may fall apart); empty when none can be mapped.
+     */
+    std::function<std::vector<std::unique_ptr<QgsLineString>>( const QgsLineString & )> lineParts;
     //! The type of an output collection given the input's.
     std::function<QgsWkbTypes::Type( QgsWkbTypes::Type )> collectionType;
   };

@@ -90,7 +90,8 @@ QString ProjectToImageAlgorithm::shortHelpString() const
                       "where the lens distortion model is extrapolated), is never projected: its feature has no geometry and "
                       "in_frame = visible = false. A line is cut where it leaves that field, and a polygon is clipped to it "
                       "in 3D (at 1 cm in front of the camera and inside the lens field) before it is projected; both are "
-                      "counted in CLIPPED_COUNT. A line cut into several parts keeps its longest part.\n\n"
+                      "counted in CLIPPED_COUNT. A line cut into several parts keeps its longest part, a part of a "
+                      "multi-line keeps all of them.\n\n"
                       "With a DEM, points without Z take the DEM's height, and visible tells whether the terrain hides "
                       "the point from the camera. Without a DEM no occlusion test is possible, so visible = in_frame." );
 }
@@ -207,7 +208,9 @@ QVariantMap ProjectToImageAlgorithm::processAlgorithm( const QVariantMap &parame
     return QgsPoint( p.pixelInImage.x(), -p.pixelInImage.y() );
   };
   // Lines are densified so straight map segments follow their curves in the photo.
-  const auto projectLine = [&]( const QgsLineString & line, QgsFeatureId id, Conversion & c, bool closed ) -> std::unique_ptr<QgsLineString>
+  // `otherParts`: where the other parts of a line cut into several go (a multi-line keeps them all)
+  const auto projectLine = [&]( const QgsLineString & line, QgsFeatureId id, Conversion & c, bool closed,
+                                std::vector<std::unique_ptr<QgsLineString>> *otherParts = nullptr ) -> std::unique_ptr<QgsLineString>
   {
     std::vector<Eigen::Vector3d> ground;
     for ( int i = 0; i < line.numPoints(); ++i )
@@ -287,23 +290,28 @@ QVariantMap ProjectToImageAlgorithm::processAlgorithm( const QVariantMap &parame
       }
       // the longest part in front of the camera (reported when a line falls into several)
       double bestLength = 0.0;
-      int parts = 0;
-      for ( const QVector<QgsPoint> &run : runs )
+      int parts = 0, best = -1;
+      for ( int k = 0; k < static_cast<int>( runs.size() ); ++k )
       {
-        if ( run.size() < 2 )
+        if ( runs[k].size() < 2 )
           continue;
         ++parts;
-        const double length = QgsLineString( run ).length();
+        const double length = QgsLineString( runs[k] ).length();
         if ( length > bestLength )
         {
           bestLength = length;
-          pixels = run;
+          best = k;
         }
       }
-      if ( pixels.size() < 2 )
+      if ( best < 0 )
         return nullptr;
+      pixels = runs[best];
+      if ( otherParts )
+        for ( int k = 0; k < static_cast<int>( runs.size() ); ++k )
+          if ( k != best && runs[k].size() >= 2 )
+            otherParts->push_back( std::make_unique<QgsLineString>( runs[k] ) );
       c.clipped = true;
-      c.behind = c.behind || parts > 1;
+      c.behind = c.behind || ( parts > 1 && !otherParts );
     }
     if ( closed && !pixels.isEmpty() )
       pixels.last() = pixels.first();
@@ -314,6 +322,15 @@ QVariantMap ProjectToImageAlgorithm::processAlgorithm( const QVariantMap &parame
     GeoStationProcessing::GeometryMapper mapper;
     mapper.point = [&]( const QgsPoint & p ) { return projectVertex( groundOf( p, id ), c ); };
     mapper.line = [&]( const QgsLineString & line, bool closed ) { return projectLine( line, id, c, closed ); };
+    mapper.lineParts = [&]( const QgsLineString & line )
+    {
+      std::vector<std::unique_ptr<QgsLineString>> parts;
+      if ( std::unique_ptr<QgsLineString> main = projectLine( line, id, c, false, &parts ) )
+        parts.insert( parts.begin(), std::move( main ) );
+      else
+        c.clipped = true; // this part is out of the photo altogether
+      return parts;
+    };
     mapper.collectionType = []( QgsWkbTypes::Type type ) { return QgsWkbTypes::flatType( type ); }; // image space is 2D
     return GeoStationProcessing::mapGeometry( g, mapper );
   };
@@ -394,7 +411,7 @@ QVariantMap ProjectToImageAlgorithm::processAlgorithm( const QVariantMap &parame
   feedback->pushInfo( QObject::tr( "%1 of %2 features projected into image %3 (%4 in the frame)." )
                       .arg( projectedCount ).arg( results.size() ).arg( imageId ).arg( inFrameCount ) );
   if ( clippedCount > 0 )
-    feedback->pushWarning( QObject::tr( "%1 lines or polygons were cut where they pass behind the camera (or out of the lens field); a line cut into several parts keeps its longest part." ).arg( clippedCount ) );
+    feedback->pushWarning( QObject::tr( "%1 lines or polygons were cut where they pass behind the camera (or out of the lens field); a line cut into several parts keeps its longest part (a multi-line all of them)." ).arg( clippedCount ) );
   if ( behindCount > 0 )
     feedback->pushWarning( QObject::tr( "%1 features lie behind the camera and were not projected." ).arg( behindCount ) );
   if ( outsideFieldCount > 0 )

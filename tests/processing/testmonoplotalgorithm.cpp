@@ -15,6 +15,7 @@
 #include <qgsproject.h>
 #include <qgstest.h>
 #include <qgslinestring.h>
+#include <qgsmultilinestring.h>
 #include <qgspolygon.h>
 #include <qgsvectorlayer.h>
 
@@ -45,6 +46,7 @@ class TestMonoplotAlgorithm : public QObject
     void projectToImageDensifiesLinesAndPolygons();
     void projectToImageCutsLinesAtTheCameraPlane();
     void projectToImageClipsPolygonsAroundTheCamera();
+    void projectToImageKeepsEveryPartOfAMultiLine();
     void badInput_data();
     void badInput();
 
@@ -384,6 +386,50 @@ void TestMonoplotAlgorithm::projectToImageClipsPolygonsAroundTheCamera()
   QVERIFY( image.contains( QgsGeometry::fromRect( QgsRectangle( 0.5, -959.5, 1279.5, -300.5 ) ) ) );
   // ... but not the sky: the top row looks above the horizon
   QVERIFY( !image.contains( QgsGeometry::fromPointXY( QgsPointXY( 640.5, -0.5 ) ) ) );
+}
+
+void TestMonoplotAlgorithm::projectToImageKeepsEveryPartOfAMultiLine()
+{
+  // a kerb line from the left of the view round behind the camera to its right: two parts in the photo
+  const Eigen::Vector3d centre = mImage->exterior().projectionCentre, view = mImage->exterior().viewingDirection();
+  const auto ground = [&]( const Eigen::Vector2d &pixel ) { return *mImage->worldRayFromPixel( pixel ); };
+  const Eigen::Vector3d left = ground( { 100.5, 800.5 } ).origin + 150.0 * ground( { 100.5, 800.5 } ).direction;
+  const Eigen::Vector3d right = ground( { 1180.5, 800.5 } ).origin + 150.0 * ground( { 1180.5, 800.5 } ).direction;
+  const Eigen::Vector3d behind = centre - 60.0 * view;
+  const QVector<QgsPoint> vertices { QgsPoint( left.x(), left.y(), left.z() ), QgsPoint( behind.x(), behind.y(), behind.z() ), QgsPoint( right.x(), right.y(), right.z() ) };
+  for ( const bool multi : { false, true } )
+  {
+    auto *lines = new QgsVectorLayer( multi ? QStringLiteral( "MultiLineStringZ?crs=EPSG:32633" ) : QStringLiteral( "LineStringZ?crs=EPSG:32633" ),
+                                      QStringLiteral( "round" ), QStringLiteral( "memory" ) );
+    QgsFeature f( lines->fields() );
+    if ( multi )
+    {
+      QgsMultiLineString *m = new QgsMultiLineString();
+      m->addGeometry( new QgsLineString( vertices ) );
+      f.setGeometry( QgsGeometry( m ) );
+    }
+    else
+      f.setGeometry( QgsGeometry( new QgsLineString( vertices ) ) );
+    lines->dataProvider()->addFeature( f );
+    QgsProject::instance()->addMapLayer( lines );
+    bool ok = false;
+    RecordingFeedback feedback;
+    std::unique_ptr<QgsProcessingAlgorithm> alg( QgsApplication::processingRegistry()->algorithmById( "geostation:project_to_image" )->create() );
+    const QVariantMap result = alg->run( { { "BLOCK", mBlock }, { "IMAGE", "P1" }, { "INPUT", lines->id() }, { "DENSIFY_PX", 4.0 },
+      { "OUTPUT", QgsProcessing::TEMPORARY_OUTPUT } }, mContext, &feedback, &ok );
+    QVERIFY2( ok, qPrintable( feedback.errors.join( '\n' ) ) );
+    QCOMPARE( result.value( "CLIPPED_COUNT" ).toInt(), 1 );
+    QgsVectorLayer *out = qobject_cast<QgsVectorLayer *>( QgsProcessingUtils::mapLayerFromString( result.value( "OUTPUT" ).toString(), mContext ) );
+    QgsFeature g;
+    QVERIFY( out->getFeatures().nextFeature( g ) );
+    const QgsGeometry inImage = g.geometry();
+    // the single line keeps one part, the multi-line both; each starts at its ground point in view
+    QCOMPARE( inImage.constGet()->partCount(), multi ? 2 : 1 );
+    const QgsGeometry start = QgsGeometry::fromPointXY( QgsPointXY( 100.5, -800.5 ) ), end = QgsGeometry::fromPointXY( QgsPointXY( 1180.5, -800.5 ) );
+    QVERIFY( inImage.distance( start ) < 1e-6 || inImage.distance( end ) < 1e-6 );
+    if ( multi )
+      QVERIFY( inImage.distance( start ) < 1e-6 && inImage.distance( end ) < 1e-6 );
+  }
 }
 
 int main( int argc, char **argv )
