@@ -43,6 +43,7 @@ namespace geostation
         dy[k] = centreRow + r + 0.5 - pixelInReference.y();
       }
 
+    const bool bilinear = options.resampling == LsmOptions::Resampling::Bilinear;
     // parameters: a0 a1 a2 b0 b1 b2 h0 h1
     Eigen::Matrix<double, 8, 1> p;
     p << approximateInSearch.x(), 1, 0, approximateInSearch.y(), 0, 1, 0, 1;
@@ -55,7 +56,10 @@ namespace geostation
       float dCol = 0, dRow = 0;
       if ( search.canSampleCubic( col, row ) )
       {
-        search.sampleCubic( col, row, &dCol, &dRow );
+        if ( bilinear )
+          search.sampleBilinear( col, row, &dCol, &dRow );
+        else
+          search.sampleCubic( col, row, &dCol, &dRow );
         gradientEnergy += static_cast<double>( dCol ) * dCol + static_cast<double>( dRow ) * dRow;
       }
     }
@@ -82,7 +86,7 @@ namespace geostation
           return result;
         }
         float dCol = 0, dRow = 0;
-        const double g = search.sampleCubic( col, row, &dCol, &dRow );
+        const double g = bilinear ? search.sampleBilinear( col, row, &dCol, &dRow ) : search.sampleCubic( col, row, &dCol, &dRow );
         const double gx = p[7] * dCol, gy = p[7] * dRow;
         const double residual = target[k] - ( p[6] + p[7] * g );
         Eigen::Matrix<double, 8, 1> a;
@@ -131,7 +135,9 @@ namespace geostation
           shapeFree = true;
         continue;
       }
-      if ( std::hypot( dp[0], dp[3] ) < options.convergencePx )
+      // the bilinear surface has kinks at the pixel centres, where Gauss-Newton steps can cycle by a few
+      // thousandths of a pixel: it converges at 0.01 px
+      if ( std::hypot( dp[0], dp[3] ) < ( bilinear ? std::max( options.convergencePx, 0.01 ) : options.convergencePx ) )
       {
         result.converged = true;
         break;

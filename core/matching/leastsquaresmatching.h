@@ -33,6 +33,18 @@ namespace geostation
     double convergencePx = 1e-3;  //!< stop when the shift changes by less than this
     double maxShiftPx = -1.0;     //!< reject a match this far from the start (default: half the window)
     bool shape = true;            //!< estimate the affine shape (false: shifts and radiometry only)
+    /**
+     * Resampling of the search window: the cubic B-spline (exact at the
+     * pixels, smooth derivatives; the default, for the best sub-pixel
+     * accuracy) or the thesis' bilinear interpolation (eq. 5.15) with central
+     * differences as gradients.
+     */
+    enum class Resampling
+    {
+      CubicBSpline,
+      Bilinear,
+    };
+    Resampling resampling = Resampling::CubicBSpline;
   };
 
   struct LsmResult

@@ -89,6 +89,23 @@ namespace geostation
     }
   }
 
+  float MatchImage::sampleBilinear( double col, double row, float *dCol, float *dRow ) const
+  {
+    const auto at = [this]( double c, double r )
+    {
+      const double x = c - 0.5, y = r - 0.5;
+      const int i = static_cast<int>( std::floor( x ) ), j = static_cast<int>( std::floor( y ) );
+      const float fx = static_cast<float>( x - i ), fy = static_cast<float>( y - j );
+      const float *top = mValue.ptr<float>( j ) + i, *bottom = mValue.ptr<float>( j + 1 ) + i;
+      return ( 1 - fy ) * ( ( 1 - fx ) * top[0] + fx * top[1] ) + fy * ( ( 1 - fx ) * bottom[0] + fx * bottom[1] );
+    };
+    if ( dCol )
+      *dCol = at( col + 0.5, row ) - at( col - 0.5, row );
+    if ( dRow )
+      *dRow = at( col, row + 0.5 ) - at( col, row - 0.5 );
+    return at( col, row );
+  }
+
   float MatchImage::sampleCubic( double col, double row, float *dCol, float *dRow ) const
   {
     const double x = col - 0.5, y = row - 0.5;

@@ -54,6 +54,13 @@ namespace geostation
        */
       float sampleCubic( double col, double row, float *dCol = nullptr, float *dRow = nullptr ) const;
 
+      /**
+       * Bilinear interpolation between pixel centres (thesis eq. 5.15), and
+       * its slope along col and row as the difference across one pixel
+       * (half a pixel either side; the caller checks canSampleCubic()).
+       */
+      float sampleBilinear( double col, double row, float *dCol = nullptr, float *dRow = nullptr ) const;
+
     private:
       cv::Mat mGrey, mValue;
       cv::Mat mCoefficients; //!< cubic B-spline coefficients of mValue

@@ -269,8 +269,8 @@ TEST( LeastSquaresMatching, SubPixelAndConvergenceOnSimulatedAerialStereo )
   const std::vector<TruthPoint> points = groundPoints( pair, 1500, 5 );
   std::mt19937 random( 9 );
   std::uniform_real_distribution<double> angle( 0, 2 * M_PI ), radius( 0, 2.0 );
-  int converged = 0, textured = 0;
-  double lsmSq = 0.0, parabolaSq = 0.0;
+  int converged = 0, textured = 0, bilinearConverged = 0;
+  double lsmSq = 0.0, parabolaSq = 0.0, bilinearSq = 0.0;
   int parabolaCount = 0;
   AreaMatchOptions correlation;
   correlation.lsm = false;
@@ -293,6 +293,14 @@ TEST( LeastSquaresMatching, SubPixelAndConvergenceOnSimulatedAerialStereo )
       ++converged;
       lsmSq += ( lsm.pixelInImage - p.right ).squaredNorm();
     }
+    // the thesis' bilinear resampling, for comparison
+    lsmOptions.resampling = LsmOptions::Resampling::Bilinear;
+    const LsmResult bilinear = leastSquaresMatch( *pair.leftMatch, p.left, *pair.rightMatch, start, lsmOptions );
+    if ( bilinear.converged )
+    {
+      ++bilinearConverged;
+      bilinearSq += ( bilinear.pixelInImage - p.right ).squaredNorm();
+    }
     const AreaMatch ncc = matchAroundPosition( *pair.leftMatch, p.left, *pair.rightMatch, p.right, 3.0, correlation );
     if ( ncc.score > 0.5 )
     {
@@ -303,7 +311,10 @@ TEST( LeastSquaresMatching, SubPixelAndConvergenceOnSimulatedAerialStereo )
   ASSERT_GT( textured, 200 );
   const double convergence = static_cast<double>( converged ) / textured;
   const double lsmRms = std::sqrt( lsmSq / converged ), parabolaRms = std::sqrt( parabolaSq / parabolaCount );
-  std::cout << "LSM: " << converged << "/" << textured << " converged, RMS " << lsmRms << " px; NCC + parabola RMS " << parabolaRms << " px (" << parabolaCount << ")\n";
+  std::cout << "LSM: " << converged << "/" << textured << " converged, RMS " << lsmRms << " px; NCC + parabola RMS " << parabolaRms << " px (" << parabolaCount << ")"
+            << "; bilinear LSM " << bilinearConverged << " converged, RMS " << std::sqrt( bilinearSq / std::max( 1, bilinearConverged ) ) << " px\n";
+  EXPECT_GE( static_cast<double>( bilinearConverged ) / textured, 0.99 );
+  EXPECT_LE( std::sqrt( bilinearSq / std::max( 1, bilinearConverged ) ), 0.025 );
   EXPECT_GE( convergence, 0.99 );
   EXPECT_LE( lsmRms, 0.025 );
   EXPECT_GE( parabolaRms / lsmRms, 3.0 );
@@ -390,6 +401,15 @@ TEST( LeastSquaresMatching, RecoversAKnownAffineShift )
   // bicubic resampling of sinusoids up to 0.3 cycles per pixel: 0.013 px
   EXPECT_LT( ( r.pixelInImage - ( centre + shift ) ).norm(), 0.02 ) << r.pixelInImage.transpose() << " iterations " << r.iterations;
   EXPECT_LT( ( r.affine - A ).norm(), 0.01 );
+
+  // the thesis' bilinear resampling converges too, less precisely on this texture
+  options.resampling = LsmOptions::Resampling::Bilinear;
+  const LsmResult b = leastSquaresMatch( ref, centre, sea, centre + shift + Eigen::Vector2d( 1.2, -0.9 ), options );
+  ASSERT_TRUE( b.converged ) << b.reason << " after " << b.iterations << " iterations at " << b.pixelInImage.transpose() << " (truth " << ( centre + shift ).transpose() << ")";
+  const double bilinearError = ( b.pixelInImage - ( centre + shift ) ).norm();
+  std::cout << "LSM on exact sinusoids: B-spline " << ( r.pixelInImage - ( centre + shift ) ).norm() << " px, bilinear " << bilinearError << " px\n";
+  EXPECT_LT( bilinearError, 0.15 );
+  EXPECT_GT( bilinearError, ( r.pixelInImage - ( centre + shift ) ).norm() );
 }
 
 namespace
