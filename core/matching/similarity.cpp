@@ -274,20 +274,6 @@ namespace geostation
         out[c + 2] = reduce( acc2 );
         out[c + 3] = reduce( acc3 );
       }
-      for ( ; c + 1 < count; c += 2 )
-      {
-        __m256i acc0 = _mm256_setzero_si256(), acc1 = _mm256_setzero_si256();
-        const int16_t *t = padded, *row = area + c;
-        for ( int wr = 0; wr < height; ++wr, t += paddedWidth, row += step )
-          for ( int k = 0; k < paddedWidth; k += 16 )
-          {
-            const __m256i tk = _mm256_loadu_si256( reinterpret_cast<const __m256i *>( t + k ) );
-            acc0 = _mm256_add_epi32( acc0, _mm256_madd_epi16( _mm256_loadu_si256( reinterpret_cast<const __m256i *>( row + k ) ), tk ) );
-            acc1 = _mm256_add_epi32( acc1, _mm256_madd_epi16( _mm256_loadu_si256( reinterpret_cast<const __m256i *>( row + k + 1 ) ), tk ) );
-          }
-        out[c] = reduce( acc0 );
-        out[c + 1] = reduce( acc1 );
-      }
       for ( ; c < count; ++c )
       {
         __m256i acc = _mm256_setzero_si256();

@@ -53,6 +53,8 @@ class TestMonoplotAlgorithm : public QObject
   private:
     QString pixelLayer( const QString &name, const QList<QPair<QString, std::vector<Eigen::Vector2d>>> &features, bool line, const char *crs = nullptr );
     QVariantMap run( const QVariantMap &parameters, bool *ok, RecordingFeedback *feedback );
+    //! project_to_image of a project layer into P1 (DENSIFY_PX 4, no DEM).
+    QVariantMap projectToImage( const QString &layerId, bool *ok, RecordingFeedback *feedback );
     QTemporaryDir mDir;
     QString mBlock;
     std::unique_ptr<geostation::OrientedImage> mImage;
@@ -331,9 +333,7 @@ void TestMonoplotAlgorithm::projectToImageCutsLinesAtTheCameraPlane()
   QgsProject::instance()->addMapLayer( lines );
   bool ok = false;
   RecordingFeedback feedback;
-  std::unique_ptr<QgsProcessingAlgorithm> alg( QgsApplication::processingRegistry()->algorithmById( "geostation:project_to_image" )->create() );
-  const QVariantMap result = alg->run( { { "BLOCK", mBlock }, { "IMAGE", "P1" }, { "INPUT", lines->id() }, { "DENSIFY_PX", 4.0 },
-    { "OUTPUT", QgsProcessing::TEMPORARY_OUTPUT } }, mContext, &feedback, &ok );
+  const QVariantMap result = projectToImage( lines->id(), &ok, &feedback );
   QVERIFY2( ok, qPrintable( feedback.errors.join( '\n' ) ) );
   QCOMPARE( result.value( "CLIPPED_COUNT" ).toInt(), 1 );
   QCOMPARE( result.value( "PROJECTED_COUNT" ).toInt(), 1 );
@@ -367,9 +367,7 @@ void TestMonoplotAlgorithm::projectToImageClipsPolygonsAroundTheCamera()
   QgsProject::instance()->addMapLayer( areas );
   bool ok = false;
   RecordingFeedback feedback;
-  std::unique_ptr<QgsProcessingAlgorithm> alg( QgsApplication::processingRegistry()->algorithmById( "geostation:project_to_image" )->create() );
-  const QVariantMap result = alg->run( { { "BLOCK", mBlock }, { "IMAGE", "P1" }, { "INPUT", areas->id() }, { "DENSIFY_PX", 4.0 },
-    { "OUTPUT", QgsProcessing::TEMPORARY_OUTPUT } }, mContext, &feedback, &ok );
+  const QVariantMap result = projectToImage( areas->id(), &ok, &feedback );
   QVERIFY2( ok, qPrintable( feedback.errors.join( '\n' ) ) );
   QCOMPARE( result.value( "PROJECTED_COUNT" ).toInt(), 1 );
   QCOMPARE( result.value( "CLIPPED_COUNT" ).toInt(), 1 );
@@ -414,9 +412,7 @@ void TestMonoplotAlgorithm::projectToImageKeepsEveryPartOfAMultiLine()
     QgsProject::instance()->addMapLayer( lines );
     bool ok = false;
     RecordingFeedback feedback;
-    std::unique_ptr<QgsProcessingAlgorithm> alg( QgsApplication::processingRegistry()->algorithmById( "geostation:project_to_image" )->create() );
-    const QVariantMap result = alg->run( { { "BLOCK", mBlock }, { "IMAGE", "P1" }, { "INPUT", lines->id() }, { "DENSIFY_PX", 4.0 },
-      { "OUTPUT", QgsProcessing::TEMPORARY_OUTPUT } }, mContext, &feedback, &ok );
+    const QVariantMap result = projectToImage( lines->id(), &ok, &feedback );
     QVERIFY2( ok, qPrintable( feedback.errors.join( '\n' ) ) );
     QCOMPARE( result.value( "CLIPPED_COUNT" ).toInt(), 1 );
     QgsVectorLayer *out = qobject_cast<QgsVectorLayer *>( QgsProcessingUtils::mapLayerFromString( result.value( "OUTPUT" ).toString(), mContext ) );
@@ -430,6 +426,13 @@ void TestMonoplotAlgorithm::projectToImageKeepsEveryPartOfAMultiLine()
     if ( multi )
       QVERIFY( inImage.distance( start ) < 1e-6 && inImage.distance( end ) < 1e-6 );
   }
+}
+
+QVariantMap TestMonoplotAlgorithm::projectToImage( const QString &layerId, bool *ok, RecordingFeedback *feedback )
+{
+  std::unique_ptr<QgsProcessingAlgorithm> alg( QgsApplication::processingRegistry()->algorithmById( "geostation:project_to_image" )->create() );
+  return alg->run( { { "BLOCK", mBlock }, { "IMAGE", "P1" }, { "INPUT", layerId }, { "DENSIFY_PX", 4.0 }, { "OUTPUT", QgsProcessing::TEMPORARY_OUTPUT } },
+                   mContext, feedback, ok );
 }
 
 int main( int argc, char **argv )
