@@ -5,6 +5,8 @@
 // session, the views (placeholder for a missing image, enhancement in
 // memory, features drawn back into the images) and the Overview layers.
 #include <QFile>
+#include <QMainWindow>
+#include <QRegularExpression>
 #include <QTemporaryDir>
 #include <QtTest/QtTest>
 
@@ -51,6 +53,7 @@ class TestMultiview : public QObject
     void failedWriteKeepsTheFeatureInTheEditBuffer();
     void viewsShowPlaceholdersEnhancementsAndFeatures();
     void exportWritesShapefileAndDxfWithAttributesAndZ();
+    void viewsMoveBetweenTheGridAndDocksOfTheirOwn();
     void overviewShowsRunStationsAndCones();
 
   private:
@@ -614,6 +617,28 @@ void TestMultiview::exportWritesShapefileAndDxfWithAttributesAndZ()
   algorithm.run( parameters, context, &feedback, &ok );
   QVERIFY( !ok );
   QVERIFY( !QFileInfo::exists( other ) || QDir( other ).entryList( QDir::NoDotAndDotDot | QDir::AllEntries | QDir::Hidden ).isEmpty() );
+}
+
+void TestMultiview::viewsMoveBetweenTheGridAndDocksOfTheirOwn()
+{
+  QMainWindow window;
+  GeoStationMultiviewDock *dock = new GeoStationMultiviewDock( mSession.get(), mController.get(), mStore.get(), &window );
+  window.addDockWidget( Qt::RightDockWidgetArea, dock );
+  window.resize( 1400, 900 );
+  window.show();
+  QCOMPARE( window.findChildren<QgsDockWidget *>( QRegularExpression( QStringLiteral( "^GeoStationViewDock" ) ) ).size(), 0 );
+  dock->setSeparateDocks( true );
+  const QList<QgsDockWidget *> docks = window.findChildren<QgsDockWidget *>( QRegularExpression( QStringLiteral( "^GeoStationViewDock" ) ) );
+  QCOMPARE( docks.size(), 3 );
+  QVERIFY( qobject_cast<GeoStationImageView *>( docks.first()->widget() ) );
+  // still working in their docks: the next station shows in every view
+  mSession->stepStation( 1 );
+  QCOMPARE( dock->view( 1 )->imageId(), mSession->viewImages().at( 1 ) );
+  QVERIFY( dock->view( 1 )->hasImage() );
+  dock->setSeparateDocks( false );
+  QTRY_COMPARE( window.findChildren<QgsDockWidget *>( QRegularExpression( QStringLiteral( "^GeoStationViewDock" ) ) ).size(), 0 );
+  QVERIFY( dock->isAncestorOf( dock->view( 2 ) ) );
+  QVERIFY( dock->view( 2 )->hasImage() );
 }
 
 void TestMultiview::overviewShowsRunStationsAndCones()
