@@ -317,10 +317,7 @@ void GeoStationPlugin::goToCoordinate()
     if ( okX && okY && goToCoordinateXY( x, y ) )
       return;
   }
-  const geostation::StationSequence &run = mSession->run();
-  int index = run.indexOf( text.trimmed().toStdString() );
-  if ( index < 0 )
-    index = run.indexNearestTime( text.trimmed().toStdString() );
+  const int index = mSession->run().indexOfIdOrTime( text.trimmed().toStdString() );
   if ( index < 0 )
   {
     mIface->messageBar()->pushMessage( tr( "GeoStation" ), tr( "“%1” is neither X Y, a station id nor a time." ).arg( text ), Qgis::MessageLevel::Warning );
@@ -361,12 +358,9 @@ void GeoStationPlugin::setCurrentClass( const QString &name )
 
 bool GeoStationPlugin::setTargetGeoPackage( const QString &path )
 {
-  const QString previous = mSession->targetGeoPackage();
-  mSession->setTargetGeoPackage( path );
   QString error;
-  if ( !mStore->checkWritable( &error ) )
+  if ( !mStore->setTarget( path, &error ) )
   {
-    mSession->setTargetGeoPackage( previous );
     mIface->messageBar()->pushMessage( tr( "GeoStation" ), error, Qgis::MessageLevel::Critical );
     return false;
   }

@@ -290,16 +290,16 @@ void GeoStationImageView::zoomToFullImage()
   mCanvas->refresh();
 }
 
-void GeoStationImageView::setEpipolarCurves( const QList<QVector<QPointF>> &pieces )
+void GeoStationImageView::setEpipolarCurves( const geostation::EpipolarCurve &curve )
 {
   QVector<QgsGeometry> lines;
-  for ( const QVector<QPointF> &piece : pieces )
+  for ( const auto &piece : curve.pieces )
   {
     if ( piece.size() < 2 )
       continue;
     QgsPolylineXY line;
-    for ( const QPointF &p : piece )
-      line << GeoStationImagePointTool::mapFromPixel( p.x(), p.y() );
+    for ( const geostation::EpipolarVertex &v : piece )
+      line << GeoStationImagePointTool::mapFromPixel( v.pixelInImage.x(), v.pixelInImage.y() );
     lines << QgsGeometry::fromPolylineXY( line );
   }
   if ( lines.isEmpty() )

@@ -20,6 +20,8 @@
 
 #include <qgsgeometry.h>
 
+#include "geometry/epipolar.h"
+
 class QComboBox;
 class QLabel;
 class QStackedWidget;
@@ -69,7 +71,7 @@ class GeoStationImageView : public QWidget
     void zoomToFullImage();
 
     // ---- overlays (pixel coordinates) ----
-    void setEpipolarCurves( const QList<QVector<QPointF>> &pieces );
+    void setEpipolarCurves( const geostation::EpipolarCurve &curve );
     //! The proposed conjugate point and its score; `matched` false draws nothing but the status text.
     void setProposal( bool matched, const QPointF &pixelInImage, double score, const QString &status );
     //! The observation taken for the vertex being measured (reference click or accepted/corrected point).

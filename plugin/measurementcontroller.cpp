@@ -26,18 +26,11 @@ GeoStationMeasurementController::GeoStationMeasurementController( GeoStationSess
 
 GeoStationMeasurementController::~GeoStationMeasurementController() = default;
 
-QString GeoStationMeasurementController::imagePath( const QString &imageId ) const
-{
-  const geostation::Block *block = mSession->block();
-  const geostation::BlockImage *image = block ? block->findImage( imageId.toStdString() ) : nullptr;
-  return image ? QString::fromStdString( block->imageFilePath( *image ).string() ) : QString();
-}
-
 void GeoStationMeasurementController::prefetch( const QStringList &imageIds )
 {
   for ( const QString &id : imageIds )
   {
-    const std::string path = imagePath( id ).toStdString();
+    const std::string path = mSession->imagePath( id ).toStdString();
     if ( path.empty() || mCache->contains( path ) )
       continue;
     // a pool thread prepares it; get() from the GUI waits for a load in progress
@@ -75,19 +68,8 @@ void GeoStationMeasurementController::pick( int view, const QPointF &pixelInImag
     s.corrected = true;
     s.pixel = pixelInImage;
     s.sigmaPx = 0.5;
-    const double off = s.curve.isEmpty() ? 0.0 : [&]
-    {
-      geostation::EpipolarCurve c;
-      for ( const QVector<QPointF> &piece : s.curve )
-      {
-        std::vector<geostation::EpipolarVertex> p;
-        for ( const QPointF &q : piece )
-          p.push_back( { Eigen::Vector2d( q.x(), q.y() ), 0.0, true } );
-        c.pieces.push_back( p );
-      }
-      return c.distanceToCurvePx( Eigen::Vector2d( pixelInImage.x(), pixelInImage.y() ) );
-    }();
-    s.status = tr( "set by hand, %1 px from the epipolar curve" ).arg( off, 0, 'f', 1 );
+    s.status = s.curve.pieces.empty() ? tr( "set by hand" )
+               : tr( "set by hand, %1 px from the epipolar curve" ).arg( s.curve.distanceToCurvePx( Eigen::Vector2d( pixelInImage.x(), pixelInImage.y() ) ), 0, 'f', 1 );
     emit viewStatesChanged();
     return;
   }
@@ -120,7 +102,7 @@ void GeoStationMeasurementController::pick( int view, const QPointF &pixelInImag
   {
     views[i].imageId = mViews[i].imageId.toStdString();
     views[i].image = mSession->orientedImage( mViews[i].imageId );
-    const QString path = imagePath( mViews[i].imageId );
+    const QString path = mSession->imagePath( mViews[i].imageId );
     if ( !path.isEmpty() )
       pixels[i] = mCache->get( path.toStdString() ).image;
     views[i].pixels = pixels[i].get();
@@ -139,13 +121,7 @@ void GeoStationMeasurementController::pick( int view, const QPointF &pixelInImag
       continue;
     }
     const geostation::ConjugateProposal &p = proposals[i];
-    for ( const auto &piece : p.curve.pieces )
-    {
-      QVector<QPointF> line;
-      for ( const geostation::EpipolarVertex &v : piece )
-        line << QPointF( v.pixelInImage.x(), v.pixelInImage.y() );
-      s.curve << line;
-    }
+    s.curve = p.curve;
     if ( p.matched )
     {
       s.proposed = s.observed = true;

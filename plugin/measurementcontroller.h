@@ -52,7 +52,7 @@ class GeoStationMeasurementController : public QObject
       bool proposed = false;     //!< a matched proposal exists
       double score = 0.0;
       QString status;            //!< short text for the view's header
-      QList<QVector<QPointF>> curve; //!< epipolar curve pieces (pixels)
+      geostation::EpipolarCurve curve; //!< of the reference pixel in this view
     };
 
     GeoStationMeasurementController( GeoStationSession *session, GeoStationMeasurementStore *store, QObject *parent = nullptr );
@@ -92,7 +92,6 @@ class GeoStationMeasurementController : public QObject
 
   private:
     geostation::MeasuredVertex singleRayVertex( const geostation::VertexObservation &observation, QString *why );
-    QString imagePath( const QString &imageId ) const;
     void resetViews();
 
     GeoStationSession *mSession;

@@ -32,12 +32,9 @@ GeoStationMeasurementSettingsDialog::GeoStationMeasurementSettingsDialog( GeoSta
 
 void GeoStationMeasurementSettingsDialog::accept()
 {
-  const QString previous = mSession->targetGeoPackage();
-  mSession->setTargetGeoPackage( mTargetWidget->filePath() );
   QString error;
-  if ( !mStore->checkWritable( &error ) )
+  if ( !mStore->setTarget( mTargetWidget->filePath(), &error ) )
   {
-    mSession->setTargetGeoPackage( previous );
     mErrorLabel->setText( error );
     return;
   }

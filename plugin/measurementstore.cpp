@@ -37,20 +37,30 @@ namespace
     return 0;
   }
 
-  QgsCoordinateReferenceSystem crsOf( const GeoStationSession *session )
+  //! The vector layer if it is a layer of the GeoPackage `target` (absolute path), with its layer name.
+  QgsVectorLayer *layerOfFile( QgsMapLayer *layer, const QString &target, QString *layerName )
   {
-    QgsCoordinateReferenceSystem crs;
-    if ( session->block() )
-      crs.createFromUserInput( QString::fromStdString( session->block()->crs ) );
-    return crs;
+    QgsVectorLayer *vl = qobject_cast<QgsVectorLayer *>( layer );
+    if ( !vl || vl->providerType() != QLatin1String( "ogr" ) )
+      return nullptr;
+    const QVariantMap parts = QgsProviderRegistry::instance()->decodeUri( QStringLiteral( "ogr" ), vl->source() );
+    *layerName = parts.value( QStringLiteral( "layerName" ) ).toString();
+    return QFileInfo( parts.value( QStringLiteral( "path" ) ).toString() ).absoluteFilePath() == target ? vl : nullptr;
   }
 
-  QString sourcePath( const QgsMapLayer *layer, QString *layerName = nullptr )
+  //! Adds the fields a layer lacks (a class got new attributes); false if its provider refuses.
+  bool addMissingFields( QgsVectorLayer *layer, const QgsFields &fields )
   {
-    const QVariantMap parts = QgsProviderRegistry::instance()->decodeUri( QStringLiteral( "ogr" ), layer->source() );
-    if ( layerName )
-      *layerName = parts.value( QStringLiteral( "layerName" ) ).toString();
-    return QFileInfo( parts.value( QStringLiteral( "path" ) ).toString() ).absoluteFilePath();
+    QgsFields missing;
+    for ( const QgsField &f : fields )
+      if ( layer->fields().indexFromName( f.name() ) < 0 )
+        missing.append( f );
+    if ( missing.isEmpty() )
+      return true;
+    if ( !layer->dataProvider()->addAttributes( missing.toList() ) )
+      return false;
+    layer->updateFields();
+    return true;
   }
 }
 
@@ -139,30 +149,38 @@ bool GeoStationMeasurementStore::checkWritable( QString *error ) const
   return true;
 }
 
+bool GeoStationMeasurementStore::setTarget( const QString &path, QString *error )
+{
+  const QString previous = mSession->targetGeoPackage();
+  mSession->setTargetGeoPackage( path );
+  if ( checkWritable( error ) )
+    return true;
+  mSession->setTargetGeoPackage( previous );
+  return false;
+}
+
 QgsVectorLayer *GeoStationMeasurementStore::openOrCreate( const QString &layerName, const QgsFields &fields, QgsWkbTypes::Type type, QString *error )
 {
   if ( !checkWritable( error ) )
     return nullptr;
   const QString target = QFileInfo( mSession->targetGeoPackage() ).absoluteFilePath();
   // the project's layer, if it is there already
+  const auto extend = [&]( QgsVectorLayer * vl )
+  {
+    if ( addMissingFields( vl, fields ) )
+      return true;
+    if ( error )
+      *error = tr( "The fields of %1 cannot be extended in %2." ).arg( layerName, target );
+    return false;
+  };
   for ( QgsMapLayer *layer : mProject->mapLayers() )
   {
-    QgsVectorLayer *vl = qobject_cast<QgsVectorLayer *>( layer );
     QString name;
-    if ( vl && vl->providerType() == QLatin1String( "ogr" ) && sourcePath( vl, &name ) == target && name == layerName )
+    QgsVectorLayer *vl = layerOfFile( layer, target, &name );
+    if ( vl && name == layerName )
     {
-      QgsFields missing;
-      for ( const QgsField &f : fields )
-        if ( vl->fields().indexFromName( f.name() ) < 0 )
-          missing.append( f );
-      if ( !missing.isEmpty() && !vl->dataProvider()->addAttributes( missing.toList() ) )
-      {
-        if ( error )
-          *error = tr( "The fields of %1 cannot be extended in %2." ).arg( layerName, target );
+      if ( !extend( vl ) )
         return nullptr;
-      }
-      if ( !missing.isEmpty() )
-        vl->updateFields();
       watch( vl );
       return vl;
     }
@@ -178,7 +196,7 @@ QgsVectorLayer *GeoStationMeasurementStore::openOrCreate( const QString &layerNa
     options.layerName = layerName;
     options.actionOnExistingFile = QFileInfo::exists( target ) ? QgsVectorFileWriter::CreateOrOverwriteLayer : QgsVectorFileWriter::CreateOrOverwriteFile;
     QString newFile, newLayer;
-    std::unique_ptr<QgsVectorFileWriter> writer( QgsVectorFileWriter::create( target, fields, type, crsOf( mSession ), mProject->transformContext(), options,
+    std::unique_ptr<QgsVectorFileWriter> writer( QgsVectorFileWriter::create( target, fields, type, mSession->crs(), mProject->transformContext(), options,
         QgsFeatureSink::SinkFlags(), &newFile, &newLayer ) );
     if ( !writer || writer->hasError() != QgsVectorFileWriter::NoError )
     {
@@ -203,15 +221,8 @@ QgsVectorLayer *GeoStationMeasurementStore::openOrCreate( const QString &layerNa
         *error = tr( "%1 in %2 is not a GeoStation layer (it has no field %3)." ).arg( layerName, target, fields.at( 0 ).name() );
       return nullptr;
     }
-    QgsFields missing;
-    for ( const QgsField &f : fields )
-      if ( layer->fields().indexFromName( f.name() ) < 0 )
-        missing.append( f );
-    if ( !missing.isEmpty() )
-    {
-      layer->dataProvider()->addAttributes( missing.toList() );
-      layer->updateFields();
-    }
+    if ( !extend( layer.get() ) )
+      return nullptr;
   }
   QgsLayerTreeGroup *group = mProject->layerTreeRoot()->findGroup( sGroupName );
   if ( !group )
@@ -254,9 +265,9 @@ QList<QgsVectorLayer *> GeoStationMeasurementStore::measurementLayers() const
     return layers;
   for ( QgsMapLayer *layer : mProject->mapLayers() )
   {
-    QgsVectorLayer *vl = qobject_cast<QgsVectorLayer *>( layer );
     QString name;
-    if ( vl && vl->providerType() == QLatin1String( "ogr" ) && vl->isSpatial() && sourcePath( vl, &name ) == target && name != sVerticesName )
+    QgsVectorLayer *vl = layerOfFile( layer, target, &name );
+    if ( vl && vl->isSpatial() && name != sVerticesName )
       layers << vl;
   }
   return layers;

@@ -60,6 +60,9 @@ class GeoStationMeasurementStore : public QObject
      */
     bool checkWritable( QString *error ) const;
 
+    //! Makes `path` the target GeoPackage if it can be written; otherwise keeps the old one and says why.
+    bool setTarget( const QString &path, QString *error );
+
     /**
      * The layer of a class in the target GeoPackage, created (and added to
      * the project, group "GeoStation measurements") if needed; missing

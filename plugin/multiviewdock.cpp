@@ -326,7 +326,7 @@ void GeoStationMultiviewDock::showViewImages()
     }
     const geostation::Camera &camera = block->cameraOf( *image );
     const QString before = mViews[i]->imageId();
-    mViews[i]->showImage( id, QString::fromStdString( block->imageFilePath( *image ).string() ), camera.width, camera.height );
+    mViews[i]->showImage( id, mSession->imagePath( id ), camera.width, camera.height );
     if ( mViews[i]->hasImage() && before != id )
       ++mPendingRefreshes;
     shown << id;
@@ -410,8 +410,7 @@ void GeoStationMultiviewDock::updateFeatureOverlays()
   const geostation::Block *block = mSession->block();
   if ( !block )
     return;
-  QgsCoordinateReferenceSystem crs;
-  crs.createFromUserInput( QString::fromStdString( block->crs ) );
+  const QgsCoordinateReferenceSystem &crs = mSession->crs();
   const QList<QgsVectorLayer *> layers = mStore->measurementLayers();
   for ( GeoStationImageView *view : std::as_const( mViews ) )
   {
@@ -533,10 +532,7 @@ void GeoStationMultiviewDock::stepStations( int step )
 
 bool GeoStationMultiviewDock::goToStation( const QString &idOrTime )
 {
-  const geostation::StationSequence &run = mSession->run();
-  int index = run.indexOf( idOrTime.trimmed().toStdString() );
-  if ( index < 0 )
-    index = run.indexNearestTime( idOrTime.trimmed().toStdString() );
+  const int index = mSession->run().indexOfIdOrTime( idOrTime.trimmed().toStdString() );
   if ( index < 0 )
     return false;
   mSession->setCurrentStation( index );

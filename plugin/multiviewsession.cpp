@@ -50,6 +50,8 @@ bool GeoStationSession::openBlock( const QString &path, QString *error )
   mBlock = std::move( block );
   mOriented = std::move( oriented );
   mBlockPath = QFileInfo( path ).absoluteFilePath();
+  mCrs = QgsCoordinateReferenceSystem();
+  mCrs.createFromUserInput( QString::fromStdString( mBlock->crs ) );
   mRun = geostation::StationSequence( *mBlock );
   mCurrent = mRun.empty() ? -1 : 0;
   resetViews();
@@ -67,6 +69,7 @@ void GeoStationSession::closeBlock()
   mBlock.reset();
   mOriented.clear();
   mBlockPath.clear();
+  mCrs = QgsCoordinateReferenceSystem();
   mRun = geostation::StationSequence();
   mCurrent = -1;
   emit blockChanged();
@@ -76,7 +79,7 @@ void GeoStationSession::closeBlock()
 
 void GeoStationSession::resetViews()
 {
-  // one view per image of the first station (at least two, at most six)
+  // one view per image of the first station (at most six); without stations, the views there were (at least two)
   int n = std::max<int>( mViews.size(), 2 );
   if ( !mRun.empty() )
     n = std::clamp<int>( static_cast<int>( mRun.at( 0 ).imageIds.size() ), 1, sMaxViews );
@@ -165,6 +168,12 @@ const geostation::OrientedImage *GeoStationSession::orientedImage( const QString
 {
   auto it = mOriented.find( imageId.toStdString() );
   return it == mOriented.end() ? nullptr : &it->second;
+}
+
+QString GeoStationSession::imagePath( const QString &imageId ) const
+{
+  const geostation::BlockImage *image = mBlock ? mBlock->findImage( imageId.toStdString() ) : nullptr;
+  return image ? QString::fromStdString( mBlock->imageFilePath( *image ).string() ) : QString();
 }
 
 QString GeoStationSession::imageStation( const QString &imageId ) const

@@ -20,6 +20,8 @@
 #include <QObject>
 #include <QStringList>
 
+#include <qgscoordinatereferencesystem.h>
+
 #include "featureclass.h"
 #include "geometry/projection.h"
 #include "io/block.h"
@@ -49,6 +51,8 @@ class GeoStationSession : public QObject
     const geostation::Block *block() const { return mBlock.get(); }
     QString blockPath() const { return mBlockPath; }
     const geostation::StationSequence &run() const { return mRun; }
+    //! The block CRS as QGIS reads it (invalid without a block).
+    const QgsCoordinateReferenceSystem &crs() const { return mCrs; }
 
     int currentStation() const { return mCurrent; }
     QString currentStationId() const;
@@ -68,6 +72,8 @@ class GeoStationSession : public QObject
     const geostation::OrientedImage *orientedImage( const QString &imageId ) const;
     //! The station's time of an image ("" if none).
     QString imageTime( const QString &imageId ) const;
+    //! The image's file, resolved against the block file ("" for an unknown image).
+    QString imagePath( const QString &imageId ) const;
     QString imageStation( const QString &imageId ) const;
 
     const QList<GeoStationFeatureClass> &featureClasses() const { return mClasses; }
@@ -110,6 +116,7 @@ class GeoStationSession : public QObject
 
     std::unique_ptr<geostation::Block> mBlock;
     QString mBlockPath;
+    QgsCoordinateReferenceSystem mCrs;
     geostation::StationSequence mRun;
     std::map<std::string, geostation::OrientedImage> mOriented;
     int mCurrent = -1;

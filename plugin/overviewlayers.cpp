@@ -77,8 +77,7 @@ void GeoStationOverview::rebuild()
   const geostation::Block *block = mSession->block();
   if ( !block )
     return;
-  QgsCoordinateReferenceSystem crs;
-  crs.createFromUserInput( QString::fromStdString( block->crs ) );
+  const QgsCoordinateReferenceSystem &crs = mSession->crs();
   const QString crsPart = crs.isValid() ? QStringLiteral( "?crs=%1" ).arg( crs.authid().isEmpty() ? QStringLiteral( "wkt:" ) + crs.toWkt() : crs.authid() ) : QStringLiteral( "?" );
   const QString amp = crs.isValid() ? QStringLiteral( "&" ) : QString();
 
@@ -142,9 +141,7 @@ double GeoStationOverview::groundHeightUnder( double x, double y, double cameraZ
   {
     try
     {
-      QgsCoordinateReferenceSystem crs;
-      crs.createFromUserInput( QString::fromStdString( mSession->block()->crs ) );
-      const QgsCoordinateTransform toDem( crs, dem->crs(), mProject->transformContext() );
+      const QgsCoordinateTransform toDem( mSession->crs(), dem->crs(), mProject->transformContext() );
       bool ok = false;
       const double z = dem->dataProvider()->sample( toDem.transform( QgsPointXY( x, y ) ), 1, &ok );
       if ( ok )

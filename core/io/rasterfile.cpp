@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <memory>
 #include <stdexcept>
+#include <vector>
 
 #include <cpl_conv.h>
 #include <cpl_error.h>
@@ -67,16 +68,16 @@ namespace geostation
     const std::string temporary = memory ? path : path + ".tmp-write.tif";
     const GDALDataType type = pixels.depth() == CV_8U ? GDT_Byte : GDT_UInt16;
     const int bands = pixels.channels();
-    const char *rgb[] = { "PHOTOMETRIC=RGB", "INTERLEAVE=PIXEL", "TILED=YES", "COMPRESS=DEFLATE", "BIGTIFF=IF_SAFER", nullptr };
-    const char *grey[] = { "TILED=YES", "COMPRESS=DEFLATE", "BIGTIFF=IF_SAFER", nullptr };
-    if ( memory )
-    {
-      rgb[3] = nullptr;
-      grey[1] = nullptr;
-    }
+    std::vector<const char *> creation;
+    if ( bands == 3 )
+      creation = { "PHOTOMETRIC=RGB", "INTERLEAVE=PIXEL" };
+    creation.push_back( "TILED=YES" );
+    if ( !memory )
+      creation.insert( creation.end(), { "COMPRESS=DEFLATE", "BIGTIFF=IF_SAFER" } );
+    creation.push_back( nullptr );
     {
       std::unique_ptr<void, DatasetCloser> ds( GDALCreate( GDALGetDriverByName( "GTiff" ), temporary.c_str(), pixels.cols, pixels.rows, bands, type,
-                                              const_cast<char **>( bands == 3 ? rgb : grey ) ) );
+                                              const_cast<char **>( creation.data() ) ) );
       if ( !ds )
         throw std::runtime_error( "cannot create " + path + " (is the folder writable?)" );
       if ( like.geoTransform )

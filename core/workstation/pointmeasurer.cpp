@@ -156,47 +156,38 @@ namespace geostation
 
   namespace
   {
-    //! A vertex from one ray: the result of a ray intersection (plane, DEM) or its failure.
-    template<typename Summary>
-    MeasuredVertex singleRayVertex( VertexMethod method, const VertexObservation &observation, const Summary &s, const std::string &failure )
+    //! A vertex from one ray (plane or DEM): its point, or why there is none.
+    MeasuredVertex singleRayVertex( VertexMethod method, const VertexObservation &observation, bool ok, const Eigen::Vector3d &point,
+                                    const Eigen::Vector3d &sigmaM, double rangeM, const std::string &failure )
     {
       MeasuredVertex v;
       v.method = method;
       v.imageIds = { observation.imageId };
       v.residualsPx = { Eigen::Vector2d::Zero() };
-      v.ok = s.ok();
-      if ( !v.ok )
-      {
+      v.ok = ok;
+      if ( !ok )
         v.message = failure;
-        return v;
+      else
+      {
+        v.point = point;
+        v.sigmaM = sigmaM;
+        v.rangeM = rangeM;
       }
-      v.point = s.point;
-      v.sigmaM = s.sigmaM;
-      v.rangeM = s.rangeM;
       return v;
     }
-
-    //! A monoplot point with the member names of the other ray summaries.
-    struct DemHit
-    {
-      bool hit;
-      Eigen::Vector3d point, sigmaM;
-      double rangeM;
-      bool ok() const { return hit; }
-    };
   }
 
   MeasuredVertex roadPlaneVertex( const VertexObservation &observation, double roadHeightM, double planeSigmaM )
   {
     const PlaneIntersectionSummary s = intersectRayWithPlane( RayObservation { observation.image, observation.pixelInImage, observation.sigmaPx },
                                        Plane::horizontal( roadHeightM ), planeSigmaM );
-    return singleRayVertex( VertexMethod::RoadPlane, observation, s, s.message );
+    return singleRayVertex( VertexMethod::RoadPlane, observation, s.ok(), s.point, s.sigmaM, s.rangeM, s.message );
   }
 
   MeasuredVertex demVertex( const VertexObservation &observation, const Monoplotter &monoplotter )
   {
     const MonoplotPoint p = monoplotter.imageToGround( observation.pixelInImage, true );
-    return singleRayVertex( VertexMethod::MonoplotDem, observation, DemHit { p.ok(), p.world, p.sigmaM, p.rangeM },
+    return singleRayVertex( VertexMethod::MonoplotDem, observation, p.ok(), p.world, p.sigmaM, p.rangeM,
                             p.message.empty() ? "The ray does not meet the DEM." : p.message );
   }
 

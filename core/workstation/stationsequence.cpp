@@ -103,6 +103,12 @@ namespace geostation
     return best;
   }
 
+  int StationSequence::indexOfIdOrTime( const std::string &idOrTime ) const
+  {
+    const int index = indexOf( idOrTime );
+    return index >= 0 ? index : indexNearestTime( idOrTime );
+  }
+
   int StationSequence::indexNearest( const Eigen::Vector2d &pointInWorld ) const
   {
     int best = -1;

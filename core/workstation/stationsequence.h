@@ -51,6 +51,9 @@ namespace geostation
       //! The station whose time is nearest to an ISO 8601 time (compared as UTC seconds); -1 if no station has a time.
       int indexNearestTime( const std::string &isoTime ) const;
 
+      //! A station id, or else the station nearest to an ISO 8601 time; -1 if neither matches.
+      int indexOfIdOrTime( const std::string &idOrTime ) const;
+
       //! The station nearest to a map position (XY, block CRS); -1 if none has a position.
       int indexNearest( const Eigen::Vector2d &pointInWorld ) const;
 

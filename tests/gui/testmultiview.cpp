@@ -246,7 +246,7 @@ void TestMultiview::measuringAPoleFootWritesItWithinThreeSigma()
     mController->pick( 0, left );
     QVERIFY( mController->hasOpenPoint() );
     const auto &states = mController->viewStates();
-    QVERIFY( !states[1].curve.isEmpty() );
+    QVERIFY( !states[1].curve.pieces.empty() );
     QVERIFY2( states[1].proposed, qPrintable( states[1].status ) );
     QVERIFY2( QLineF( states[1].pixel, right ).length() < 1.0, qPrintable( QStringLiteral( "%1: proposal %2 px off" ).arg( id ).arg( QLineF( states[1].pixel, right ).length() ) ) );
     QSignalSpy written( mController.get(), &GeoStationMeasurementController::featureWritten );
