@@ -23,8 +23,8 @@ namespace geostation
   Dem::Dem( const std::string &path, const DemOptions &options )
     : mOptions( options )
   {
-    if ( options.tileSize < 8 || options.holeFillHalo < 0 || options.cacheTiles < 9 )
-      throw std::invalid_argument( "DEM options: tiles of at least 8 cells, a non-negative halo and at least 9 cached tiles" );
+    if ( options.tileSize < kBlockSize || options.tileSize % kBlockSize != 0 || options.holeFillHalo < 0 || options.cacheTiles < 9 )
+      throw std::invalid_argument( "DEM options: tiles of a multiple of 8 cells, a non-negative halo and at least 9 cached tiles" );
     GDALAllRegister();
     CPLPushErrorHandler( CPLQuietErrorHandler );
     mDataset = GDALOpenEx( path.c_str(), GDAL_OF_RASTER | GDAL_OF_READONLY, nullptr, nullptr, nullptr );
@@ -90,8 +90,12 @@ namespace geostation
     if ( x0 < 0 || y0 < 0 || x0 >= mWidth || y0 >= mHeight )
       return nullptr;
     // Read the tile with a halo, so holes near its edge see their neighbours.
+    // Filling runs H passes and a pass's error at the region's border moves
+    // in one cell per pass, so cells at least H in from the border come out
+    // as if the whole raster were filled: the tile and its extra last column
+    // and row (the neighbours' first ones) agree with the neighbouring tiles.
     const int rx0 = std::max( 0, x0 - H ), ry0 = std::max( 0, y0 - H );
-    const int rx1 = std::min( mWidth, x0 + T + H ), ry1 = std::min( mHeight, y0 + T + H );
+    const int rx1 = std::min( mWidth, x0 + T + 1 + H ), ry1 = std::min( mHeight, y0 + T + 1 + H );
     const int rw = rx1 - rx0, rh = ry1 - ry0;
     std::vector<double> region( static_cast<size_t>( rw ) * rh );
     if ( GDALRasterIO( GDALGetRasterBand( static_cast<GDALDatasetH>( mDataset ), 1 ), GF_Read, rx0, ry0, rw, rh, region.data(), rw, rh, GDT_Float64, 0, 0 ) != CE_None )
@@ -144,9 +148,8 @@ namespace geostation
     mFilledCells += filledInTile;
 
     auto t = std::make_unique<Tile>();
-    t->values.assign( static_cast<size_t>( T ) * T, std::numeric_limits<float>::quiet_NaN() );
-    t->minHeight = std::numeric_limits<double>::infinity();
-    t->maxHeight = -std::numeric_limits<double>::infinity();
+    const int stride = T + 1;
+    t->vertices.assign( static_cast<size_t>( stride ) * stride, std::numeric_limits<float>::quiet_NaN() );
     // Slope bound from neighbouring cell differences (the bilinear surface's
     // gradient never exceeds them), over the tile and one cell around it.
     const Eigen::Vector2d perUnit = metresPerUnit( mGeoTransform[0], mGeoTransform[3] + mGeoTransform[5] * ( y0 + ( mGeoTransform[5] < 0 ? T : 0 ) ) );
@@ -166,15 +169,46 @@ namespace geostation
           maxGx = std::max( maxGx, std::abs( region[static_cast<size_t>( r ) * rw + c + 1] - v ) / dxM );
         if ( r + 1 < rh && !std::isnan( region[static_cast<size_t>( r + 1 ) * rw + c] ) )
           maxGy = std::max( maxGy, std::abs( region[static_cast<size_t>( r + 1 ) * rw + c] - v ) / dyM );
-        if ( col >= x0 && col < x0 + T && row >= y0 && row < y0 + T )
-        {
-          t->values[static_cast<size_t>( row - y0 ) * T + ( col - x0 )] = static_cast<float>( v );
-          t->minHeight = std::min( t->minHeight, v );
-          t->maxHeight = std::max( t->maxHeight, v );
-        }
+        if ( col >= x0 && row >= y0 )
+          t->vertices[static_cast<size_t>( row - y0 ) * stride + ( col - x0 )] = static_cast<float>( v );
       }
     // 5 % margin for the latitude change across a geographic tile.
     t->slopeBound = std::hypot( maxGx, maxGy ) * ( mGeographic ? 1.05 : 1.0 );
+
+    // Block maxima over the corners of each block's cells; blocks with holes
+    // take the tile's highest valid height (+inf if it has none).
+    const int B = kBlockSize, blocks = T / B;
+    t->blockMax.assign( static_cast<size_t>( blocks ) * blocks, 0.0f );
+    std::vector<char> blockHasHole( t->blockMax.size(), 0 );
+    float tileMax = -std::numeric_limits<float>::infinity();
+    bool tileHasHole = false;
+    for ( int by = 0; by < blocks; ++by )
+      for ( int bx = 0; bx < blocks; ++bx )
+      {
+        float m = -std::numeric_limits<float>::infinity();
+        bool hole = false, anyCell = false;
+        for ( int r = by * B; r <= by * B + B && y0 + r < mHeight; ++r )
+          for ( int c = bx * B; c <= bx * B + B && x0 + c < mWidth; ++c )
+          {
+            anyCell = true;
+            const float v = t->vertices[static_cast<size_t>( r ) * stride + c];
+            if ( std::isnan( v ) )
+              hole = true;
+            else
+              m = std::max( m, v );
+          }
+        const size_t k = static_cast<size_t>( by ) * blocks + bx;
+        t->blockMax[k] = m;
+        blockHasHole[k] = hole && anyCell;
+        tileHasHole = tileHasHole || blockHasHole[k];
+        tileMax = std::max( tileMax, m );
+      }
+    if ( tileHasHole && !std::isfinite( tileMax ) )
+      tileMax = std::numeric_limits<float>::infinity();
+    for ( size_t k = 0; k < t->blockMax.size(); ++k )
+      if ( blockHasHole[k] )
+        t->blockMax[k] = tileMax;
+    t->maxHeight = tileMax;
 
     if ( mTiles.size() >= mOptions.cacheTiles )
     {
@@ -189,18 +223,6 @@ namespace geostation
     mLastKey = key;
     mLastTile = result;
     return result;
-  }
-
-  std::optional<double> Dem::cell( int col, int row ) const
-  {
-    if ( col < 0 || row < 0 || col >= mWidth || row >= mHeight )
-      return std::nullopt;
-    const int T = mOptions.tileSize;
-    const Tile *t = tile( col / T, row / T );
-    const float v = t->values[static_cast<size_t>( row % T ) * T + ( col % T )];
-    if ( std::isnan( v ) )
-      return std::nullopt;
-    return v;
   }
 
   std::optional<double> Dem::heightAt( double x, double y ) const
@@ -227,10 +249,15 @@ namespace geostation
       return std::nullopt;
     const int i = std::min( static_cast<int>( u ), mWidth - 2 ), j = std::min( static_cast<int>( v ), mHeight - 2 );
     const double fu = u - i, fv = v - j;
-    const std::optional<double> h00 = cell( i, j ), h10 = cell( i + 1, j ), h01 = cell( i, j + 1 ), h11 = cell( i + 1, j + 1 );
-    if ( !h00 || !h10 || !h01 || !h11 )
+    // The tile holding cell (i, j) also holds its right and lower corners.
+    const int T = mOptions.tileSize;
+    const Tile *t = tile( i / T, j / T );
+    const float *corner = t->vertices.data() + static_cast<size_t>( j % T ) * ( T + 1 ) + ( i % T );
+    const double h00 = corner[0], h10 = corner[1], h01 = corner[T + 1], h11 = corner[T + 2];
+    const double h = ( h00 * ( 1 - fu ) + h10 * fu ) * ( 1 - fv ) + ( h01 * ( 1 - fu ) + h11 * fu ) * fv;
+    if ( std::isnan( h ) )
       return std::nullopt;
-    return ( *h00 * ( 1 - fu ) + *h10 * fu ) * ( 1 - fv ) + ( *h01 * ( 1 - fu ) + *h11 * fu ) * fv;
+    return h;
   }
 
   bool Dem::covers( double x, double y ) const

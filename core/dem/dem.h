@@ -27,7 +27,7 @@ namespace geostation
 
   struct DemOptions
   {
-    int tileSize = 256;       //!< cells per tile side
+    int tileSize = 256;       //!< cells per tile side, a multiple of Dem::kBlockSize
     int holeFillHalo = 16;    //!< holes up to about twice this many cells across are filled
     size_t cacheTiles = 64;   //!< tiles kept in memory
   };
@@ -73,6 +73,45 @@ namespace geostation
 
       int tileSize() const { return mOptions.tileSize; }
 
+      //! Cells per side of the blocks whose maximum heights a tile keeps.
+      static constexpr int kBlockSize = 8;
+
+      /**
+       * Raw heights of one tile, for grid traversal (ray / DEM intersection).
+       * `vertices` holds the (T + 1) x (T + 1) cell-centre heights from
+       * column tileX * T and row tileY * T (the last column and row are the
+       * neighbouring tiles' first ones, NaN beyond the DEM), so every cell of
+       * the tile has its four corners here. `blockMax` holds, per block of
+       * kBlockSize x kBlockSize cells, the highest of its corners; a block or
+       * tile with unfilled holes takes the highest valid height of the tile
+       * (a hole is taken to reach that high), or +infinity if it has none.
+       * Valid until tiles are read again (the cache may drop it).
+       */
+      struct TileView
+      {
+        const float *vertices = nullptr;
+        int stride = 0;               //!< T + 1
+        const float *blockMax = nullptr;
+        int blocksPerSide = 0;        //!< T / kBlockSize
+        float maxHeight = 0.0f;       //!< over the tile, holes as for blocks
+      };
+      //! False outside the DEM.
+      bool tileView( int tileX, int tileY, TileView &view ) const
+      {
+        const Tile *t = std::make_pair( tileX, tileY ) == mLastKey ? mLastTile : tile( tileX, tileY );
+        if ( !t )
+          return false;
+        view.vertices = t->vertices.data();
+        view.stride = mOptions.tileSize + 1;
+        view.blockMax = t->blockMax.data();
+        view.blocksPerSide = mOptions.tileSize / kBlockSize;
+        view.maxHeight = t->maxHeight;
+        return true;
+      }
+
+      //! Pixel (column, row) from (x, y) in the DEM's CRS: the inverse geotransform.
+      const std::array<double, 6> &inverseGeoTransform() const { return mInverse; }
+
       /**
        * An upper bound of the surface slope (height units per horizontal
        * metre) over the tile containing (x, y) and its neighbours; nothing
@@ -89,14 +128,14 @@ namespace geostation
     private:
       struct Tile
       {
-        std::vector<float> values; //!< tileSize^2, NaN where still empty
+        std::vector<float> vertices; //!< (tileSize + 1)^2, NaN where still empty
+        std::vector<float> blockMax; //!< as TileView
+        float maxHeight = 0.0f;      //!< as TileView
         double slopeBound = 0.0;
-        double minHeight = 0.0, maxHeight = 0.0;
       };
       const Tile *tile( int tileX, int tileY ) const;
       std::optional<double> heightAtPixel( double px, double py ) const;
       double slopeBoundAtPixel( double px, double py ) const;
-      std::optional<double> cell( int col, int row ) const;
 
       DemOptions mOptions;
       void *mDataset = nullptr;

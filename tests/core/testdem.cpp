@@ -141,6 +141,84 @@ TEST( DemIntersection, MissesAreReportedNeverAWrongPoint )
   std::filesystem::remove( path );
 }
 
+TEST( DemIntersection, GridTraversalAgreesWithBruteForceForAllKindsOfRays )
+{
+  // Rays from inside and outside the DEM, steep and shallow, rising, level,
+  // along the grid axes and through cell corners, on small tiles so that
+  // many tile and block borders are crossed.
+  const std::string path = projectedDem( nullptr, "kinds" );
+  DemOptions small;
+  small.tileSize = 16;
+  small.cacheTiles = 9;
+  const Dem dem( path, small );
+  const CrsTransform same( "EPSG:32633", "EPSG:32633" );
+  std::mt19937 rng( 7 );
+  std::uniform_real_distribution<double> pos( -100.0, 1100.0 ), azimuth( 0.0, 2 * M_PI ), dip( -10.0, 60.0 ), above( 0.5, 80.0 );
+  const std::vector<Eigen::Vector2d> axes { { 1, 0 }, { -1, 0 }, { 0, 1 }, { 0, -1 }, { M_SQRT1_2, M_SQRT1_2 } };
+  int hits = 0, misses = 0;
+  for ( int i = 0; i < 400; ++i )
+  {
+    const double x = kX0 + pos( rng ), y = kY0 - pos( rng );
+    // every fifth ray starts on a cell corner and runs along an axis or the diagonal
+    const bool onGrid = i % 5 == 0;
+    const double ox = onGrid ? kX0 + 1.0 + 2.0 * std::round( ( x - kX0 - 1.0 ) / 2.0 ) : x;
+    const double oy = onGrid ? kY0 - 1.0 - 2.0 * std::round( ( kY0 - 1.0 - y ) / 2.0 ) : y;
+    const std::optional<double> ground = dem.heightAt( ox, oy );
+    const double oz = ( ground ? *ground : terrain( ox, oy ) ) + above( rng );
+    const double a = azimuth( rng ), down = ( i % 7 == 3 ? 90.0 : ( i % 11 == 5 ? 0.0 : dip( rng ) ) ) * M_PI / 180.0;
+    const Eigen::Vector2d h = onGrid ? axes[( i / 5 ) % axes.size()] : Eigen::Vector2d( std::sin( a ), std::cos( a ) );
+    const Ray ray { { ox, oy, oz }, Eigen::Vector3d( h.x() * std::cos( down ), h.y() * std::cos( down ), -std::sin( down ) ) };
+    const DemIntersection hit = intersectRayWithDem( ray, dem, same );
+    // Brute force from where the ray is over the DEM (a start outside it is walked in).
+    double t0 = 0.0;
+    while ( t0 < 3000.0 && !dem.heightAt( ray.origin.x() + t0 * ray.direction.x(), ray.origin.y() + t0 * ray.direction.y() ) )
+      t0 += 0.01;
+    std::optional<double> expected;
+    if ( t0 < 3000.0 )
+    {
+      const Ray entered { ray.origin + t0 * ray.direction, ray.direction };
+      if ( const std::optional<double> range = bruteForceRange( entered, dem, 3000.0, 0.01 ) )
+        if ( *range > 1e-3 ) // not already below where it comes over the DEM
+          expected = t0 + *range;
+    }
+    ASSERT_EQ( hit.hit(), expected.has_value() ) << "ray " << i << ": " << hit.message << " range " << hit.rangeM << " expected " << ( expected ? *expected : -1.0 );
+    if ( !expected )
+    {
+      ++misses;
+      continue;
+    }
+    ++hits;
+    EXPECT_NEAR( hit.rangeM, *expected, 0.01 ) << "ray " << i;
+    EXPECT_NEAR( hit.point.z(), *dem.heightAt( hit.point.x(), hit.point.y() ), 1e-3 ) << "ray " << i;
+  }
+  EXPECT_GT( hits, 150 );
+  EXPECT_GT( misses, 30 );
+  std::filesystem::remove( path );
+}
+
+TEST( DemIntersection, TheGridTraversalAndTheGeneralMarchAgree )
+{
+  // EPSG:25833 and EPSG:32633 coincide numerically but are not the same CRS:
+  // the general march (for DEMs in another CRS) runs on the same rays as the
+  // grid traversal.
+  const std::string path = projectedDem( nullptr, "paths" );
+  const Dem dem( path );
+  const CrsTransform same( "EPSG:32633", "EPSG:32633" ), other( "EPSG:32633", "EPSG:25833" );
+  ASSERT_FALSE( other.isIdentity() );
+  std::mt19937 rng( 8 );
+  std::uniform_real_distribution<double> pos( 100.0, 900.0 ), azimuth( 0.0, 2 * M_PI ), dip( 1.0, 89.0 ), above( 1.0, 300.0 );
+  for ( int i = 0; i < 100; ++i )
+  {
+    const double x = kX0 + pos( rng ), y = kY0 - pos( rng ), a = azimuth( rng ), down = dip( rng ) * M_PI / 180.0;
+    const Ray ray { { x, y, *dem.heightAt( x, y ) + above( rng ) }, Eigen::Vector3d( std::sin( a ) * std::cos( down ), std::cos( a ) * std::cos( down ), -std::sin( down ) ) };
+    const DemIntersection grid = intersectRayWithDem( ray, dem, same ), march = intersectRayWithDem( ray, dem, other );
+    ASSERT_EQ( grid.hit(), march.hit() ) << "ray " << i << ": " << grid.message << " / " << march.message;
+    if ( grid.hit() )
+      EXPECT_NEAR( grid.rangeM, march.rangeM, 1e-3 ) << "ray " << i;
+  }
+  std::filesystem::remove( path );
+}
+
 TEST( Dem, SmallHolesAreFilledLargeOnesReported )
 {
   const auto holes = []( int c, int r ) { return ( c >= 100 && c < 103 && r >= 100 && r < 103 ) || ( c >= 300 && c < 360 && r >= 300 && r < 360 ); };
@@ -155,6 +233,25 @@ TEST( Dem, SmallHolesAreFilledLargeOnesReported )
   EXPECT_FALSE( dem.heightAt( kX0 + 660.0, kY0 - 660.0 ).has_value() );
   const DemIntersection hole = intersectRayWithDem( { { kX0 + 660.0, kY0 - 660.0, 900.0 }, { 0, 0, -1 } }, dem, same );
   EXPECT_EQ( hole.status, DemIntersection::Status::Hole ) << hole.message;
+  // Filling does not depend on the tiling: small tiles give the same heights
+  // everywhere around the large hole, tile borders included.
+  DemOptions small;
+  small.tileSize = 16;
+  const Dem tiled( path, small );
+  int compared = 0;
+  for ( int r = 280; r < 380; ++r )
+    for ( int c = 280; c < 380; ++c )
+    {
+      const double x = kX0 + 2.0 * c + 1.0, y = kY0 - 2.0 * r - 1.0;
+      const std::optional<double> a = dem.heightAt( x, y ), b = tiled.heightAt( x, y );
+      ASSERT_EQ( a.has_value(), b.has_value() ) << c << " " << r;
+      if ( a )
+      {
+        EXPECT_EQ( *a, *b ) << c << " " << r;
+        ++compared;
+      }
+    }
+  EXPECT_GT( compared, 5000 );
   std::filesystem::remove( path );
 }
 
