@@ -33,6 +33,8 @@ namespace
     std::string path;
     std::unique_ptr<Dem> dem;
     CrsTransform same { "EPSG:32633", "EPSG:32633" };
+    //! Numerically the same coordinates, but another CRS: the ray is followed chord by chord.
+    CrsTransform other { "EPSG:32633", "EPSG:25833" };
     std::vector<Ray> nadir, oblique;
     std::vector<Eigen::Vector2d> nadirPixels, obliquePixels;
     GDALRPCInfoV2 nadirRpc {}, obliqueRpc {};
@@ -115,7 +117,7 @@ namespace
     return std::nullopt;
   }
 
-  void run( benchmark::State &state, const std::vector<Ray> &rays, bool baseline )
+  void run( benchmark::State &state, const std::vector<Ray> &rays, bool baseline, bool otherCrs = false )
   {
     Scene &s = scene();
     long hits = 0, steps = 0;
@@ -126,7 +128,7 @@ namespace
           hits += fixedStep( ray, *s.dem ).has_value();
         else
         {
-          const DemIntersection hit = intersectRayWithDem( ray, *s.dem, s.same );
+          const DemIntersection hit = intersectRayWithDem( ray, *s.dem, otherCrs ? s.other : s.same );
           hits += hit.hit();
           steps += hit.steps;
         }
@@ -187,6 +189,7 @@ namespace
   void BM_ObliqueGdalRpcDem( benchmark::State &state ) { runGdal( state, "BM_ObliqueGdalRpcDem", scene().obliquePixels, scene().obliqueRpc ); }
   void BM_NadirFixedStep( benchmark::State &state ) { run( state, scene().nadir, true ); }
   void BM_NadirRayDem( benchmark::State &state ) { run( state, scene().nadir, false ); }
+  void BM_NadirOtherCrs( benchmark::State &state ) { run( state, scene().nadir, false, true ); }
   void BM_ObliqueFixedStep( benchmark::State &state ) { run( state, scene().oblique, true ); }
   void BM_ObliqueRayDem( benchmark::State &state ) { run( state, scene().oblique, false ); }
 
@@ -196,6 +199,7 @@ BENCHMARK( BM_NadirGdalRpcDem )->Unit( benchmark::kMillisecond );
 BENCHMARK( BM_ObliqueGdalRpcDem )->Unit( benchmark::kMillisecond );
 BENCHMARK( BM_NadirFixedStep )->Unit( benchmark::kMillisecond );
 BENCHMARK( BM_NadirRayDem )->Unit( benchmark::kMillisecond );
+BENCHMARK( BM_NadirOtherCrs )->Unit( benchmark::kMillisecond );
 BENCHMARK( BM_ObliqueFixedStep )->Unit( benchmark::kMillisecond );
 BENCHMARK( BM_ObliqueRayDem )->Unit( benchmark::kMillisecond );
 
@@ -205,6 +209,7 @@ int main( int argc, char **argv )
   {
     printf( "\nRays per second, against the fixed half-cell-step baseline of this run:\n" );
     for ( const auto &[ours, baseline, target] : { std::tuple<const char *, const char *, double> { "BM_NadirRayDem", "BM_NadirFixedStep", 1e6 },
+                                                   { "BM_NadirOtherCrs", "BM_NadirFixedStep", 1e6 },
                                                    { "BM_ObliqueRayDem", "BM_ObliqueFixedStep", 3e5 } } )
     {
       const double a = benchutils::rate( rates, ours ), b = benchutils::rate( rates, baseline );

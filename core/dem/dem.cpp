@@ -150,30 +150,13 @@ namespace geostation
     auto t = std::make_unique<Tile>();
     const int stride = T + 1;
     t->vertices.assign( static_cast<size_t>( stride ) * stride, std::numeric_limits<float>::quiet_NaN() );
-    // Slope bound from neighbouring cell differences (the bilinear surface's
-    // gradient never exceeds them), over the tile and one cell around it.
-    const Eigen::Vector2d perUnit = metresPerUnit( mGeoTransform[0], mGeoTransform[3] + mGeoTransform[5] * ( y0 + ( mGeoTransform[5] < 0 ? T : 0 ) ) );
-    const double dxM = std::hypot( mGeoTransform[1], mGeoTransform[4] ) * perUnit.x();
-    const double dyM = std::hypot( mGeoTransform[2], mGeoTransform[5] ) * perUnit.y();
-    double maxGx = 0.0, maxGy = 0.0;
     for ( int r = 0; r < rh; ++r )
       for ( int c = 0; c < rw; ++c )
       {
         const int col = rx0 + c, row = ry0 + r;
-        if ( col < x0 - 1 || col > x0 + T || row < y0 - 1 || row > y0 + T )
-          continue;
-        const double v = region[static_cast<size_t>( r ) * rw + c];
-        if ( std::isnan( v ) )
-          continue;
-        if ( c + 1 < rw && !std::isnan( region[static_cast<size_t>( r ) * rw + c + 1] ) )
-          maxGx = std::max( maxGx, std::abs( region[static_cast<size_t>( r ) * rw + c + 1] - v ) / dxM );
-        if ( r + 1 < rh && !std::isnan( region[static_cast<size_t>( r + 1 ) * rw + c] ) )
-          maxGy = std::max( maxGy, std::abs( region[static_cast<size_t>( r + 1 ) * rw + c] - v ) / dyM );
-        if ( col >= x0 && row >= y0 )
-          t->vertices[static_cast<size_t>( row - y0 ) * stride + ( col - x0 )] = static_cast<float>( v );
+        if ( col >= x0 && col <= x0 + T && row >= y0 && row <= y0 + T )
+          t->vertices[static_cast<size_t>( row - y0 ) * stride + ( col - x0 )] = static_cast<float>( region[static_cast<size_t>( r ) * rw + c] );
       }
-    // 5 % margin for the latitude change across a geographic tile.
-    t->slopeBound = std::hypot( maxGx, maxGy ) * ( mGeographic ? 1.05 : 1.0 );
 
     // Block maxima over the corners of each block's cells; blocks with holes
     // take the tile's highest valid height (+inf if it has none).
@@ -230,17 +213,6 @@ namespace geostation
     return heightAtPixel( mInverse[0] + mInverse[1] * x + mInverse[2] * y, mInverse[3] + mInverse[4] * x + mInverse[5] * y );
   }
 
-  Dem::Sample Dem::sample( double x, double y ) const
-  {
-    const double px = mInverse[0] + mInverse[1] * x + mInverse[2] * y;
-    const double py = mInverse[3] + mInverse[4] * x + mInverse[5] * y;
-    Sample s;
-    s.height = heightAtPixel( px, py );
-    s.covers = px - 0.5 >= 0.0 && py - 0.5 >= 0.0 && px - 0.5 <= mWidth - 1 && py - 0.5 <= mHeight - 1;
-    s.slopeBound = slopeBoundAtPixel( px, py );
-    return s;
-  }
-
   std::optional<double> Dem::heightAtPixel( double px, double py ) const
   {
     // Pixel coordinates (corner convention) to cell-centre coordinates.
@@ -265,33 +237,6 @@ namespace geostation
     const double u = mInverse[0] + mInverse[1] * x + mInverse[2] * y - 0.5;
     const double v = mInverse[3] + mInverse[4] * x + mInverse[5] * y - 0.5;
     return u >= 0.0 && v >= 0.0 && u <= mWidth - 1 && v <= mHeight - 1;
-  }
-
-  std::optional<double> Dem::slopeBoundAt( double x, double y ) const
-  {
-    const double px = mInverse[0] + mInverse[1] * x + mInverse[2] * y;
-    const double py = mInverse[3] + mInverse[4] * x + mInverse[5] * y;
-    if ( !( px >= 0.0 && py >= 0.0 && px <= mWidth && py <= mHeight ) )
-      return std::nullopt;
-    return slopeBoundAtPixel( px, py );
-  }
-
-  double Dem::slopeBoundAtPixel( double px, double py ) const
-  {
-    if ( !( px >= 0.0 && py >= 0.0 && px <= mWidth && py <= mHeight ) )
-      return 0.0;
-    const int T = mOptions.tileSize;
-    const int tx = std::min( static_cast<int>( px ), mWidth - 1 ) / T, ty = std::min( static_cast<int>( py ), mHeight - 1 ) / T;
-    if ( std::make_pair( tx, ty ) == mLastSlopeKey )
-      return mLastSlope;
-    double bound = 0.0;
-    for ( int dy = -1; dy <= 1; ++dy )
-      for ( int dx = -1; dx <= 1; ++dx )
-        if ( const Tile *t = tile( tx + dx, ty + dy ) )
-          bound = std::max( bound, t->slopeBound );
-    mLastSlopeKey = { tx, ty };
-    mLastSlope = bound;
-    return bound;
   }
 
 } // namespace geostation

@@ -7,7 +7,9 @@
   kept in a small least-recently-used cache, so a 20 000 x 20 000 DEM never
   has to be in memory. Nodata holes are filled as the monoplotter paper does:
   each empty cell takes the mean of its present neighbours in X and Y,
-  repeated inward, within a halo around each tile; filled cells are counted.
+  repeated inward, within a halo around each tile (as if the whole raster
+  were filled); filled cells are counted. Tiles also keep block maxima for
+  the ray / DEM traversal. Not for concurrent use.
  ***************************************************************************/
 #ifndef GEOSTATION_DEM_DEM_H
 #define GEOSTATION_DEM_DEM_H
@@ -57,17 +59,6 @@ namespace geostation
        */
       std::optional<double> heightAt( double x, double y ) const;
 
-      //! Height, coverage and slope bound at one point, for ray marching.
-      struct Sample
-      {
-        std::optional<double> height; //!< as heightAt()
-        bool covers = false;          //!< as covers()
-        double slopeBound = 0.0;      //!< as slopeBoundAt(), 0 outside
-      };
-
-      //! heightAt(), covers() and slopeBoundAt() in one pass.
-      Sample sample( double x, double y ) const;
-
       //! Whether (x, y) lies in the area between the outermost cell centres.
       bool covers( double x, double y ) const;
 
@@ -112,13 +103,6 @@ namespace geostation
       //! Pixel (column, row) from (x, y) in the DEM's CRS: the inverse geotransform.
       const std::array<double, 6> &inverseGeoTransform() const { return mInverse; }
 
-      /**
-       * An upper bound of the surface slope (height units per horizontal
-       * metre) over the tile containing (x, y) and its neighbours; nothing
-       * outside the DEM.
-       */
-      std::optional<double> slopeBoundAt( double x, double y ) const;
-
       //! Horizontal metres per CRS unit near (x, y) along x and y (1 for projected CRSs).
       Eigen::Vector2d metresPerUnit( double x, double y ) const;
 
@@ -131,11 +115,9 @@ namespace geostation
         std::vector<float> vertices; //!< (tileSize + 1)^2, NaN where still empty
         std::vector<float> blockMax; //!< as TileView
         float maxHeight = 0.0f;      //!< as TileView
-        double slopeBound = 0.0;
       };
       const Tile *tile( int tileX, int tileY ) const;
       std::optional<double> heightAtPixel( double px, double py ) const;
-      double slopeBoundAtPixel( double px, double py ) const;
 
       DemOptions mOptions;
       void *mDataset = nullptr;
@@ -149,8 +131,6 @@ namespace geostation
       mutable std::list<std::pair<int, int>> mRecent; //!< most recent first
       mutable std::pair<int, int> mLastKey { -1, -1 };  //!< the tile used last, without a map lookup
       mutable const Tile *mLastTile = nullptr;
-      mutable std::pair<int, int> mLastSlopeKey { -1, -1 };
-      mutable double mLastSlope = 0.0;
       mutable long mFilledCells = 0;
   };
 

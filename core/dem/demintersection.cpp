@@ -133,35 +133,36 @@ namespace geostation
       return ta + std::clamp( root, 0.0, hi );
     }
 
-    /**
-     * Exact traversal for a DEM in the block's own CRS: the ray is straight
-     * in the grid, tiles and blocks whose highest corner lies below the ray
-     * are passed over, and each cell the ray may meet is solved exactly.
-     */
-    DemIntersection intersectInGrid( const Ray &ray, const Eigen::Vector3d &d, const Dem &dem, const DemIntersectionOptions &options )
+    //! The straight grid ray through two grid points (u, v) at ranges ta < tb of the block ray, z from the block ray.
+    GridRay chord( const Eigen::Vector2d &a, const Eigen::Vector2d &b, double ta, double tb, double z0, double dz )
     {
-      DemIntersection result;
-      const std::array<double, 6> &inv = dem.inverseGeoTransform();
       GridRay g;
-      g.u0 = inv[0] + inv[1] * ray.origin.x() + inv[2] * ray.origin.y() - 0.5;
-      g.v0 = inv[3] + inv[4] * ray.origin.x() + inv[5] * ray.origin.y() - 0.5;
-      g.z0 = ray.origin.z();
-      g.du = inv[1] * d.x() + inv[2] * d.y();
-      g.dv = inv[4] * d.x() + inv[5] * d.y();
-      g.dz = d.z();
+      g.du = ( b.x() - a.x() ) / ( tb - ta );
+      g.dv = ( b.y() - a.y() ) / ( tb - ta );
+      g.u0 = a.x() - ta * g.du;
+      g.v0 = a.y() - ta * g.dv;
+      g.z0 = z0;
+      g.dz = dz;
       g.invDu = 1.0 / g.du;
       g.invDv = 1.0 / g.dv;
       g.invDz = 1.0 / g.dz;
+      return g;
+    }
 
-      // The part of the ray over the cell-centre area [0, W - 1] x [0, H - 1].
-      double t0 = 0.0, t1 = options.maxRangeM;
-      bool rangeLimited = true;
+    /**
+     * Shortens [t0, t1] to where the grid ray is over the cell-centre area
+     * [0, W - 1] x [0, H - 1]; false if it is nowhere over it. `exits` tells
+     * whether t1 was shortened.
+     */
+    bool clipToDem( const GridRay &g, const Dem &dem, double &t0, double &t1, bool &exits )
+    {
+      exits = false;
       for ( const auto &[p, dp, invDp, extent] : { std::tuple<double, double, double, double> { g.u0, g.du, g.invDu, dem.width() - 1.0 }, { g.v0, g.dv, g.invDv, dem.height() - 1.0 } } )
       {
         if ( dp == 0.0 )
         {
-          if ( p < 0.0 || p > extent )
-            t1 = -1.0;
+          if ( !( p >= 0.0 && p <= extent ) )
+            return false;
           continue;
         }
         const double ta = ( ( dp > 0.0 ? 0.0 : extent ) - p ) * invDp, tb = ( ( dp > 0.0 ? extent : 0.0 ) - p ) * invDp;
@@ -169,15 +170,27 @@ namespace geostation
         if ( tb < t1 )
         {
           t1 = tb;
-          rangeLimited = false;
+          exits = true;
         }
       }
-      if ( t1 < t0 )
-      {
-        result.message = "the ray does not pass over the DEM";
-        return result;
-      }
+      return t0 <= t1;
+    }
 
+    struct GridWalk
+    {
+      std::optional<double> hit; //!< range of the first crossing
+      bool hole = false;
+      int steps = 0;
+    };
+
+    /**
+     * Walks tiles, blocks and cells along the straight grid ray over [t0, t1]
+     * (over the DEM): tiles and blocks whose highest corner the ray stays
+     * above are passed over, the remaining cells solved exactly.
+     */
+    GridWalk walkGrid( const GridRay &g, const Dem &dem, double t0, double t1 )
+    {
+      GridWalk walk;
       const int T = dem.tileSize(), B = Dem::kBlockSize;
       const int lastCellX = dem.width() - 2, lastCellY = dem.height() - 2;
       // Shortens [ta, tb] to where the ray is not above height `top`; false if nowhere.
@@ -191,11 +204,9 @@ namespace geostation
           return false;
         return ta <= tb;
       };
-      std::optional<double> hitT;
-      bool hole = false;
       walkCells( g, T, 0, lastCellX / T, 0, lastCellY / T, t0, t1, [&]( int tx, int ty, double ta, double tb )
       {
-        ++result.steps;
+        ++walk.steps;
         Dem::TileView view;
         if ( !dem.tileView( tx, ty, view ) || !clipBelow( view.maxHeight, ta, tb ) )
           return false;
@@ -204,197 +215,247 @@ namespace geostation
         return walkCells( g, B, bx0, std::min( bx0 + tile->blocksPerSide - 1, lastCellX / B ), by0, std::min( by0 + tile->blocksPerSide - 1, lastCellY / B ), ta, tb,
                           [&]( int bx, int by, double ba, double bb )
         {
-          ++result.steps;
+          ++walk.steps;
           if ( !clipBelow( tile->blockMax[( by - by0 ) * tile->blocksPerSide + ( bx - bx0 )], ba, bb ) )
             return false;
           return walkCells( g, 1, bx * B, std::min( bx * B + B - 1, lastCellX ), by * B, std::min( by * B + B - 1, lastCellY ), ba, bb,
                             [&]( int i, int j, double ca, double cb )
           {
-            ++result.steps;
+            ++walk.steps;
             const float *corner = tile->vertices + static_cast<size_t>( j - ty * T ) * tile->stride + ( i - tx * T );
             const double h00 = corner[0], h10 = corner[1], h01 = corner[tile->stride], h11 = corner[tile->stride + 1];
             if ( std::isnan( h00 + h10 + h01 + h11 ) )
             {
-              hole = true; // under the block's bound: the hole may reach the ray
+              walk.hole = true; // under the block's bound: the hole may reach the ray
               return true;
             }
             if ( !clipBelow( std::max( { h00, h10, h01, h11 } ), ca, cb ) )
               return false;
-            hitT = crossingInCell( g, i, j, h00, h10, h01, h11, ca, cb );
-            return hitT.has_value();
+            walk.hit = crossingInCell( g, i, j, h00, h10, h01, h11, ca, cb );
+            return walk.hit.has_value();
           } );
         } );
       } );
-      if ( hitT && *hitT <= t0 )
+      return walk;
+    }
+
+    void setBelowAtEntry( DemIntersection &result, bool atStart )
+    {
+      result.status = atStart ? DemIntersection::Status::BelowSurface : DemIntersection::Status::Miss;
+      result.message = atStart ? "the ray starts below the terrain (is the camera height in the DEM's vertical datum?)"
+                       : "the ray enters the DEM's area below its surface";
+    }
+
+    void setHole( DemIntersection &result )
+    {
+      result.status = DemIntersection::Status::Hole;
+      result.message = "the ray meets a hole in the DEM too large to fill";
+    }
+
+    Eigen::Vector2d gridPoint( const Dem &dem, const Eigen::Vector3d &inDem )
+    {
+      const std::array<double, 6> &inv = dem.inverseGeoTransform();
+      return { inv[0] + inv[1] * inDem.x() + inv[2] * inDem.y() - 0.5, inv[3] + inv[4] * inDem.x() + inv[5] * inDem.y() - 0.5 };
+    }
+
+    //! A DEM in the block's own CRS: the ray is straight in its grid.
+    DemIntersection intersectInGrid( const Ray &ray, const Eigen::Vector3d &d, const Dem &dem, const DemIntersectionOptions &options )
+    {
+      DemIntersection result;
+      const GridRay g = chord( gridPoint( dem, ray.origin ), gridPoint( dem, ray.origin + d ), 0.0, 1.0, ray.origin.z(), d.z() );
+      double t0 = 0.0, t1 = options.maxRangeM;
+      bool exits = false;
+      if ( !clipToDem( g, dem, t0, t1, exits ) )
       {
-        // Below (or on) the surface where the ray comes over the DEM.
-        if ( t0 == 0.0 )
-        {
-          result.status = DemIntersection::Status::BelowSurface;
-          result.message = "the ray starts below the terrain (is the camera height in the DEM's vertical datum?)";
-        }
-        else
-          result.message = "the ray enters the DEM's area below its surface";
+        result.message = "the ray does not pass over the DEM";
         return result;
       }
-      if ( hitT )
+      const GridWalk walk = walkGrid( g, dem, t0, t1 );
+      result.steps = walk.steps;
+      if ( walk.hit && *walk.hit <= t0 )
+        setBelowAtEntry( result, t0 == 0.0 );
+      else if ( walk.hit )
       {
         result.status = DemIntersection::Status::Hit;
-        result.rangeM = *hitT;
-        result.point = ray.origin + *hitT * d;
-        return result;
+        result.rangeM = *walk.hit;
+        result.point = ray.origin + *walk.hit * d;
       }
-      if ( hole )
+      else if ( walk.hole )
+        setHole( result );
+      else
+        result.message = exits ? "the ray leaves the DEM without meeting it"
+                         : "the ray does not meet the DEM within " + std::to_string( static_cast<long>( options.maxRangeM ) ) + " m";
+      return result;
+    }
+
+    /**
+     * A DEM in another CRS: the ray is curved in its grid. It is followed
+     * chord by chord (each straight in the grid, ends transformed exactly,
+     * chords short enough to stay within 0.05 mm of the curve), and the
+     * crossing found on a chord is refined on the exact curve.
+     */
+    DemIntersection intersectAlongChords( const Ray &ray, const Eigen::Vector3d &d, const Dem &dem, const CrsTransform &blockToDem, const DemIntersectionOptions &options )
+    {
+      DemIntersection result;
+      const auto gridAt = [&]( double t ) { return gridPoint( dem, blockToDem.transform( ray.origin + t * d ) ); };
+      // The exact height above the DEM at range t; NaN where it is undefined.
+      const auto heightAbove = [&]( double t )
       {
-        result.status = DemIntersection::Status::Hole;
-        result.message = "the ray meets a hole in the DEM too large to fill";
+        const Eigen::Vector3d p = ray.origin + t * d;
+        const Eigen::Vector3d q = blockToDem.transform( p );
+        const std::optional<double> h = dem.heightAt( q.x(), q.y() );
+        return h ? p.z() - *h : std::numeric_limits<double>::quiet_NaN();
+      };
+
+      // Chord length: the deviation of the curve from a chord grows with its
+      // square; start at 256 cells and halve until the midpoint is within
+      // the tolerance (in grid units) of the curve.
+      const std::array<double, 6> &gt = dem.geoTransform();
+      const Eigen::Vector3d startInDem = blockToDem.transform( ray.origin );
+      if ( !startInDem.allFinite() )
+      {
+        result.message = "the ray's start cannot be transformed into the DEM's CRS";
         return result;
       }
-      result.message = rangeLimited ? "the ray does not meet the DEM within " + std::to_string( static_cast<long>( options.maxRangeM ) ) + " m"
-                       : "the ray leaves the DEM without meeting it";
+      const Eigen::Vector2d perUnit = dem.metresPerUnit( startInDem.x(), startInDem.y() );
+      const double cellM = std::min( std::hypot( gt[1], gt[4] ) * perUnit.x(), std::hypot( gt[2], gt[5] ) * perUnit.y() );
+      const double toleranceCells = 5e-5 / cellM;
+      double chordM = 256.0 * cellM;
+      Eigen::Vector2d a = gridAt( 0.0 ), firstEnd = gridAt( chordM );
+      for ( int k = 0; k < 20; ++k )
+      {
+        const Eigen::Vector2d m = gridAt( 0.5 * chordM );
+        if ( !m.allFinite() || !firstEnd.allFinite() || ( m - 0.5 * ( a + firstEnd ) ).norm() <= toleranceCells )
+          break;
+        chordM *= 0.5;
+        firstEnd = m;
+      }
+
+      bool entered = false, left = false;
+      double entry = 0.0;
+      for ( double ta = 0.0; ta < options.maxRangeM; )
+      {
+        const double tb = std::min( ta + chordM, options.maxRangeM );
+        const Eigen::Vector2d b = ta == 0.0 && tb == chordM ? firstEnd : gridAt( tb );
+        if ( !a.allFinite() || !b.allFinite() )
+        {
+          if ( entered )
+          {
+            left = true;
+            break;
+          }
+          a = b;
+          ta = tb;
+          continue;
+        }
+        const GridRay g = chord( a, b, ta, tb, ray.origin.z(), d.z() );
+        double c0 = ta, c1 = tb;
+        bool exits = false;
+        if ( clipToDem( g, dem, c0, c1, exits ) )
+        {
+          if ( !entered )
+          {
+            entered = true;
+            entry = c0;
+          }
+          const GridWalk walk = walkGrid( g, dem, c0, c1 );
+          result.steps += walk.steps;
+          if ( walk.hit && *walk.hit <= entry )
+          {
+            setBelowAtEntry( result, entry == 0.0 );
+            return result;
+          }
+          if ( walk.hit && std::abs( heightAbove( *walk.hit ) ) <= options.toleranceM )
+          {
+            // The chord's crossing is on the exact curve's surface already.
+            result.status = DemIntersection::Status::Hit;
+            result.rangeM = *walk.hit;
+            result.point = ray.origin + *walk.hit * d;
+            return result;
+          }
+          if ( walk.hit )
+          {
+            // Refine on the exact curve: bracket the chord's crossing, then false position.
+            double lo = std::max( entry, *walk.hit - 1e-3 ), hi = std::min( *walk.hit + 1e-3, tb );
+            double hLo = heightAbove( lo ), hHi = heightAbove( hi );
+            for ( int widen = 0; widen < 20 && !( hLo > 0.0 && hHi <= 0.0 ); ++widen )
+            {
+              if ( !( hLo > 0.0 ) && lo > entry )
+                hLo = heightAbove( lo = std::max( entry, lo - 4.0 * ( hi - lo ) ) );
+              if ( !( hHi <= 0.0 ) )
+                hHi = heightAbove( hi = hi + 4.0 * ( hi - lo ) );
+            }
+            double root = *walk.hit;
+            if ( hLo > 0.0 && hHi <= 0.0 )
+            {
+              int side = 0;
+              for ( int iteration = 0; iteration < 100 && hi - lo > options.toleranceM; ++iteration )
+              {
+                root = lo + ( hi - lo ) * hLo / ( hLo - hHi );
+                if ( !( root > lo && root < hi ) )
+                  root = 0.5 * ( lo + hi );
+                const double h = heightAbove( root );
+                if ( std::isnan( h ) )
+                  break;
+                if ( h > 0.0 )
+                {
+                  lo = root;
+                  hLo = h;
+                  if ( side == +1 )
+                    hHi *= 0.5;
+                  side = +1;
+                }
+                else
+                {
+                  hi = root;
+                  hHi = h;
+                  if ( side == -1 )
+                    hLo *= 0.5;
+                  side = -1;
+                }
+              }
+              root = 0.5 * ( lo + hi );
+            }
+            result.status = DemIntersection::Status::Hit;
+            result.rangeM = root;
+            result.point = ray.origin + root * d;
+            return result;
+          }
+          if ( walk.hole )
+          {
+            setHole( result );
+            return result;
+          }
+          if ( exits )
+          {
+            left = true;
+            break;
+          }
+        }
+        else if ( entered )
+        {
+          left = true;
+          break;
+        }
+        a = b;
+        ta = tb;
+      }
+      if ( left )
+        result.message = "the ray leaves the DEM without meeting it";
+      else if ( entered )
+        result.message = "the ray does not meet the DEM within " + std::to_string( static_cast<long>( options.maxRangeM ) ) + " m";
+      else
+        result.message = "the ray does not pass over the DEM";
       return result;
     }
   } // namespace
 
   DemIntersection intersectRayWithDem( const Ray &ray, const Dem &dem, const CrsTransform &blockToDem, const DemIntersectionOptions &options )
   {
-    if ( blockToDem.isIdentity() )
-      return intersectInGrid( ray, ray.direction.normalized(), dem, options );
-
-    DemIntersection result;
     const Eigen::Vector3d d = ray.direction.normalized();
-    const double dxy = d.head<2>().norm(), dz = std::abs( d.z() );
-
-    // Cell size in metres: the unit of the smallest step.
-    const std::array<double, 6> &gt = dem.geoTransform();
-    const Eigen::Vector3d startInDem = blockToDem.transform( ray.origin );
-    const Eigen::Vector2d perUnit = dem.metresPerUnit( startInDem.x(), startInDem.y() );
-    const double cellM = std::min( std::hypot( gt[1], gt[4] ) * perUnit.x(), std::hypot( gt[2], gt[5] ) * perUnit.y() );
-    // Near the surface the slope-bounded steps shrink geometrically; below a
-    // quarter cell, fixed quarter-cell steps with a sign test take over (two
-    // crossings closer together than that are taken as one).
-    const double minStep = std::max( 0.25 * cellM, options.toleranceM );
-    // The slope bound holds over the tiles around a point: steps stay shorter than a tile.
-    const double maxStep = std::min( 64, dem.tileSize() ) * cellM;
-
-    struct Sample
-    {
-      bool defined;
-      double h; //!< ray height above the surface
-      bool inside; //!< within the DEM's cell-centre area
-      double slope;
-    };
-    const auto sampleAt = [&]( double t ) -> Sample
-    {
-      const Eigen::Vector3d p = ray.origin + t * d;
-      const Eigen::Vector3d q = blockToDem.transform( p );
-      const Dem::Sample at = dem.sample( q.x(), q.y() );
-      // Heights are compared in the block CRS's vertical (CONVENTIONS §4).
-      return { at.height.has_value(), at.height ? p.z() - *at.height : 0.0, at.covers, at.slopeBound };
-    };
-
-    double t = 0.0;
-    Sample s = sampleAt( t );
-    bool entered = s.defined;
-    if ( entered && s.h <= 0.0 )
-    {
-      result.status = DemIntersection::Status::BelowSurface;
-      result.message = "the ray starts below the terrain (is the camera height in the DEM's vertical datum?)";
-      return result;
-    }
-    for ( ; t <= options.maxRangeM; ++result.steps )
-    {
-      double step;
-      if ( !s.defined )
-      {
-        if ( s.inside )
-        {
-          result.status = DemIntersection::Status::Hole;
-          result.message = "the ray meets a hole in the DEM too large to fill";
-          return result;
-        }
-        if ( entered )
-        {
-          result.status = DemIntersection::Status::Miss;
-          result.message = "the ray leaves the DEM without meeting it";
-          return result;
-        }
-        step = cellM; // not yet over the DEM: walk in until it starts
-      }
-      else
-      {
-        const double rate = dz + s.slope * dxy;
-        step = std::min( rate > 0.0 ? std::max( s.h / rate, minStep ) : maxStep, maxStep );
-      }
-      double tNext = t + step;
-      Sample next = sampleAt( tNext );
-      // Stepping off the DEM (or into a hole) from over it: shorten the step
-      // down to the tolerance, so a crossing just before the edge is not lost.
-      while ( s.defined && !next.defined && step > options.toleranceM )
-      {
-        step = std::max( 0.5 * step, options.toleranceM );
-        tNext = t + step;
-        next = sampleAt( tNext );
-      }
-      if ( next.defined && next.h <= 0.0 && s.defined )
-      {
-        // Bracketed: Illinois false position on the bilinear surface (exact in
-        // one step where h is linear along the ray), bisection as a fallback.
-        double lo = t, hi = tNext, hLo = s.h, hHi = next.h;
-        int side = 0;
-        double root = 0.5 * ( lo + hi );
-        for ( int iteration = 0; iteration < 100 && hi - lo > options.toleranceM; ++iteration )
-        {
-          root = hLo - hHi > 0.0 ? lo + ( hi - lo ) * hLo / ( hLo - hHi ) : 0.5 * ( lo + hi );
-          if ( !( root > lo && root < hi ) )
-            root = 0.5 * ( lo + hi );
-          const Sample m = sampleAt( root );
-          if ( !m.defined )
-            break;
-          if ( std::abs( m.h ) < 0.1 * options.toleranceM )
-          {
-            lo = hi = root;
-            break;
-          }
-          if ( m.h > 0.0 )
-          {
-            lo = root;
-            hLo = m.h;
-            if ( side == +1 )
-              hHi *= 0.5;
-            side = +1;
-          }
-          else
-          {
-            hi = root;
-            hHi = m.h;
-            if ( side == -1 )
-              hLo *= 0.5;
-            side = -1;
-          }
-        }
-        result.status = DemIntersection::Status::Hit;
-        result.rangeM = 0.5 * ( lo + hi );
-        result.point = ray.origin + result.rangeM * d;
-        return result;
-      }
-      if ( next.defined && !entered )
-      {
-        entered = true;
-        if ( next.h <= 0.0 )
-        {
-          // Entered the DEM's area already below its surface: the crossing is at its edge.
-          result.status = DemIntersection::Status::Miss;
-          result.message = "the ray enters the DEM's area below its surface";
-          return result;
-        }
-      }
-      t = tNext;
-      s = next;
-    }
-    result.status = DemIntersection::Status::Miss;
-    result.message = "the ray does not meet the DEM within " + std::to_string( static_cast<long>( options.maxRangeM ) ) + " m";
-    return result;
+    if ( blockToDem.isIdentity() )
+      return intersectInGrid( ray, d, dem, options );
+    return intersectAlongChords( ray, d, dem, blockToDem, options );
   }
 
 } // namespace geostation

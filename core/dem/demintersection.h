@@ -8,14 +8,11 @@
   height above the patch is a quadratic). Unfilled holes are taken to reach
   up to the highest terrain of their tile: a ray that comes that low over a
   hole reports it.
-  A DEM in another CRS (the ray is curved in its grid) is marched with steps
-  that cannot jump over the surface: the height above the terrain h shrinks
-  at most by (|dz| + S |dxy|) per metre of ray, S the local slope bound of
-  the DEM, so a step of h / (|dz| + S |dxy|) stays above it; near the
-  surface steps of a quarter cell take over (two crossings closer together
-  than that count as one). When a step ends below the surface, the crossing
-  is found by false position (Illinois) on the bilinear surface, to 0.1 mm
-  along the ray.
+  A DEM in another CRS (e.g. geographic) curves the ray in its grid: it is
+  followed chord by chord, each chord's ends transformed exactly by PROJ and
+  chords short enough to stay within 0.05 mm of the curve, and the crossing
+  found on a chord is refined on the exact curve by false position to
+  0.1 mm along the ray.
   Both work for nadir rays and for grazing rays from a camera near the
   ground, where the iterative height update of the monoplotter paper
   diverges.
@@ -37,7 +34,7 @@ namespace geostation
   struct DemIntersectionOptions
   {
     double maxRangeM = 100000.0; //!< give up beyond this distance along the ray
-    double toleranceM = 1e-4;    //!< the march's false position stops when the bracket is this short (along the ray)
+    double toleranceM = 1e-4;    //!< refinement on a curved ray stops within this (metres along the ray, or height above the DEM)
   };
 
   struct DemIntersection
@@ -53,7 +50,7 @@ namespace geostation
     std::string message;
     Eigen::Vector3d point = Eigen::Vector3d::Zero(); //!< block CRS
     double rangeM = 0.0;
-    int steps = 0;                 //!< tiles, blocks and cells visited, or march steps
+    int steps = 0;                 //!< tiles, blocks and cells visited
 
     bool hit() const { return status == Status::Hit; }
   };

@@ -196,11 +196,11 @@ TEST( DemIntersection, GridTraversalAgreesWithBruteForceForAllKindsOfRays )
   std::filesystem::remove( path );
 }
 
-TEST( DemIntersection, TheGridTraversalAndTheGeneralMarchAgree )
+TEST( DemIntersection, ARayInAnotherCrsIsFollowedByChordsToTheSameCrossing )
 {
   // EPSG:25833 and EPSG:32633 coincide numerically but are not the same CRS:
-  // the general march (for DEMs in another CRS) runs on the same rays as the
-  // grid traversal.
+  // the chord-by-chord traversal (for DEMs in another CRS) runs on the same
+  // rays as the straight one.
   const std::string path = projectedDem( nullptr, "paths" );
   const Dem dem( path );
   const CrsTransform same( "EPSG:32633", "EPSG:32633" ), other( "EPSG:32633", "EPSG:25833" );
@@ -211,10 +211,10 @@ TEST( DemIntersection, TheGridTraversalAndTheGeneralMarchAgree )
   {
     const double x = kX0 + pos( rng ), y = kY0 - pos( rng ), a = azimuth( rng ), down = dip( rng ) * M_PI / 180.0;
     const Ray ray { { x, y, *dem.heightAt( x, y ) + above( rng ) }, Eigen::Vector3d( std::sin( a ) * std::cos( down ), std::cos( a ) * std::cos( down ), -std::sin( down ) ) };
-    const DemIntersection grid = intersectRayWithDem( ray, dem, same ), march = intersectRayWithDem( ray, dem, other );
-    ASSERT_EQ( grid.hit(), march.hit() ) << "ray " << i << ": " << grid.message << " / " << march.message;
-    if ( grid.hit() )
-      EXPECT_NEAR( grid.rangeM, march.rangeM, 1e-3 ) << "ray " << i;
+    const DemIntersection straight = intersectRayWithDem( ray, dem, same ), chords = intersectRayWithDem( ray, dem, other );
+    ASSERT_EQ( straight.hit(), chords.hit() ) << "ray " << i << ": " << straight.message << " / " << chords.message;
+    if ( straight.hit() )
+      EXPECT_NEAR( straight.rangeM, chords.rangeM, 1e-3 ) << "ray " << i;
   }
   std::filesystem::remove( path );
 }
@@ -318,6 +318,59 @@ TEST( Dem, AGeographicDemServesAProjectedBlock )
     EXPECT_NEAR( hit.point.z(), *dem.heightAt( lonLat.x(), lonLat.y() ), 1e-3 );
     EXPECT_NEAR( hit.point.z(), terrain( hit.point.x(), hit.point.y() ), 0.1 ); // the sampled terrain
   }
+  std::filesystem::remove( path );
+}
+
+TEST( DemIntersection, GrazingRaysOverAGeographicDemFindTheFirstCrossing )
+{
+  // Long, nearly level rays over a lon/lat grid: curved in the DEM's grid,
+  // followed chord by chord; checked against brute force through PROJ.
+  const CrsTransform toUtm( "EPSG:4326", "EPSG:32633" ), toGeographic( "EPSG:32633", "EPSG:4326" );
+  const Eigen::Vector3d corner = toGeographic.transform( { kX0 - 50.0, kY0 + 50.0, 0.0 } );
+  const double cellDeg = 2.0 / 111000.0;
+  const std::string path = writeDem( "geographic-grazing", "EPSG:4326", { corner.x(), cellDeg * 1.4, 0.0, corner.y(), 0.0, -cellDeg }, 800, 600,
+  [&]( double lon, double lat ) { const Eigen::Vector3d p = toUtm.transform( { lon, lat, 0.0 } ); return terrain( p.x(), p.y() ); } );
+  const Dem dem( path );
+  const auto heightAbove = [&]( const Ray & ray, double t )
+  {
+    const Eigen::Vector3d p = ray.origin + t * ray.direction, q = toGeographic.transform( p );
+    const std::optional<double> h = dem.heightAt( q.x(), q.y() );
+    return h ? std::optional<double>( p.z() - *h ) : std::nullopt;
+  };
+  std::mt19937 rng( 9 );
+  std::uniform_real_distribution<double> pos( 300.0, 700.0 ), azimuth( 0.0, 2 * M_PI ), dip( 0.5, 4.0 );
+  int hits = 0;
+  for ( int i = 0; i < 15; ++i )
+  {
+    const double x = kX0 + pos( rng ), y = kY0 - pos( rng ), a = azimuth( rng ), down = dip( rng ) * M_PI / 180.0;
+    const Eigen::Vector3d lonLat = toGeographic.transform( { x, y, 0.0 } );
+    const Ray ray { { x, y, *dem.heightAt( lonLat.x(), lonLat.y() ) + 1.7 }, Eigen::Vector3d( std::sin( a ) * std::cos( down ), std::cos( a ) * std::cos( down ), -std::sin( down ) ) };
+    std::optional<double> expected;
+    double previous = 0.0;
+    for ( double t = 0.0; t < 1500.0; t += 0.05 )
+    {
+      const std::optional<double> h = heightAbove( ray, t );
+      if ( !h )
+        break;
+      if ( *h <= 0.0 )
+      {
+        double lo = previous, hi = t;
+        for ( int k = 0; k < 40; ++k )
+          ( *heightAbove( ray, 0.5 * ( lo + hi ) ) > 0.0 ? lo : hi ) = 0.5 * ( lo + hi );
+        expected = 0.5 * ( lo + hi );
+        break;
+      }
+      previous = t;
+    }
+    const DemIntersection hit = intersectRayWithDem( ray, dem, toGeographic );
+    ASSERT_EQ( hit.hit(), expected.has_value() ) << "ray " << i << ": " << hit.message;
+    if ( !expected )
+      continue;
+    ++hits;
+    EXPECT_NEAR( hit.rangeM, *expected, 0.005 ) << "ray " << i;
+    EXPECT_NEAR( *heightAbove( ray, hit.rangeM ), 0.0, 1e-3 ) << "ray " << i;
+  }
+  EXPECT_GT( hits, 8 );
   std::filesystem::remove( path );
 }
 
