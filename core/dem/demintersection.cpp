@@ -246,6 +246,61 @@ namespace geostation
                        : "the ray enters the DEM's area below its surface";
     }
 
+    void setHit( DemIntersection &result, const Ray &ray, const Eigen::Vector3d &d, double t )
+    {
+      result.status = DemIntersection::Status::Hit;
+      result.rangeM = t;
+      result.point = ray.origin + t * d;
+    }
+
+    /**
+     * The crossing of heightAbove(t) (NaN where undefined) near `guess`, not
+     * before `entry`: bracketed by widening steps, then false position
+     * (Illinois) to `tolerance`; the guess if no bracket is found.
+     */
+    template <class HeightAbove>
+    double refineOnCurve( const HeightAbove &heightAbove, double guess, double entry, double tolerance )
+    {
+      double lo = std::max( entry, guess - 1e-3 ), hi = guess + 1e-3;
+      double hLo = heightAbove( lo ), hHi = heightAbove( hi );
+      for ( int widen = 0; widen < 20 && !( hLo > 0.0 && hHi <= 0.0 ); ++widen )
+      {
+        if ( !( hLo > 0.0 ) && lo > entry )
+          hLo = heightAbove( lo = std::max( entry, lo - 4.0 * ( hi - lo ) ) );
+        if ( !( hHi <= 0.0 ) )
+          hHi = heightAbove( hi = hi + 4.0 * ( hi - lo ) );
+      }
+      if ( !( hLo > 0.0 && hHi <= 0.0 ) )
+        return guess;
+      int side = 0;
+      for ( int iteration = 0; iteration < 100 && hi - lo > tolerance; ++iteration )
+      {
+        double root = lo + ( hi - lo ) * hLo / ( hLo - hHi );
+        if ( !( root > lo && root < hi ) )
+          root = 0.5 * ( lo + hi );
+        const double h = heightAbove( root );
+        if ( std::isnan( h ) )
+          break;
+        if ( h > 0.0 )
+        {
+          lo = root;
+          hLo = h;
+          if ( side == +1 )
+            hHi *= 0.5;
+          side = +1;
+        }
+        else
+        {
+          hi = root;
+          hHi = h;
+          if ( side == -1 )
+            hLo *= 0.5;
+          side = -1;
+        }
+      }
+      return 0.5 * ( lo + hi );
+    }
+
     void setHole( DemIntersection &result )
     {
       result.status = DemIntersection::Status::Hole;
@@ -275,11 +330,7 @@ namespace geostation
       if ( walk.hit && *walk.hit <= t0 )
         setBelowAtEntry( result, t0 == 0.0 );
       else if ( walk.hit )
-      {
-        result.status = DemIntersection::Status::Hit;
-        result.rangeM = *walk.hit;
-        result.point = ray.origin + *walk.hit * d;
-      }
+        setHit( result, ray, d, *walk.hit );
       else if ( walk.hole )
         setHole( result );
       else
@@ -365,60 +416,11 @@ namespace geostation
             setBelowAtEntry( result, entry == 0.0 );
             return result;
           }
-          if ( walk.hit && std::abs( heightAbove( *walk.hit ) ) <= options.toleranceM )
-          {
-            // The chord's crossing is on the exact curve's surface already.
-            result.status = DemIntersection::Status::Hit;
-            result.rangeM = *walk.hit;
-            result.point = ray.origin + *walk.hit * d;
-            return result;
-          }
           if ( walk.hit )
           {
-            // Refine on the exact curve: bracket the chord's crossing, then false position.
-            double lo = std::max( entry, *walk.hit - 1e-3 ), hi = std::min( *walk.hit + 1e-3, tb );
-            double hLo = heightAbove( lo ), hHi = heightAbove( hi );
-            for ( int widen = 0; widen < 20 && !( hLo > 0.0 && hHi <= 0.0 ); ++widen )
-            {
-              if ( !( hLo > 0.0 ) && lo > entry )
-                hLo = heightAbove( lo = std::max( entry, lo - 4.0 * ( hi - lo ) ) );
-              if ( !( hHi <= 0.0 ) )
-                hHi = heightAbove( hi = hi + 4.0 * ( hi - lo ) );
-            }
-            double root = *walk.hit;
-            if ( hLo > 0.0 && hHi <= 0.0 )
-            {
-              int side = 0;
-              for ( int iteration = 0; iteration < 100 && hi - lo > options.toleranceM; ++iteration )
-              {
-                root = lo + ( hi - lo ) * hLo / ( hLo - hHi );
-                if ( !( root > lo && root < hi ) )
-                  root = 0.5 * ( lo + hi );
-                const double h = heightAbove( root );
-                if ( std::isnan( h ) )
-                  break;
-                if ( h > 0.0 )
-                {
-                  lo = root;
-                  hLo = h;
-                  if ( side == +1 )
-                    hHi *= 0.5;
-                  side = +1;
-                }
-                else
-                {
-                  hi = root;
-                  hHi = h;
-                  if ( side == -1 )
-                    hLo *= 0.5;
-                  side = -1;
-                }
-              }
-              root = 0.5 * ( lo + hi );
-            }
-            result.status = DemIntersection::Status::Hit;
-            result.rangeM = root;
-            result.point = ray.origin + root * d;
+            // On the exact curve already, or refined there.
+            const double t = std::abs( heightAbove( *walk.hit ) ) <= options.toleranceM ? *walk.hit : refineOnCurve( heightAbove, *walk.hit, entry, options.toleranceM );
+            setHit( result, ray, d, t );
             return result;
           }
           if ( walk.hole )
