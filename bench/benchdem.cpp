@@ -209,13 +209,15 @@ int main( int argc, char **argv )
   {
     printf( "\nRays per second, against the fixed half-cell-step baseline of this run:\n" );
     for ( const auto &[ours, baseline, target] : { std::tuple<const char *, const char *, double> { "BM_NadirRayDem", "BM_NadirFixedStep", 1e6 },
-                                                   { "BM_NadirOtherCrs", "BM_NadirFixedStep", 1e6 },
                                                    { "BM_ObliqueRayDem", "BM_ObliqueFixedStep", 3e5 } } )
     {
       const double a = benchutils::rate( rates, ours ), b = benchutils::rate( rates, baseline );
       if ( a > 0.0 && b > 0.0 )
         printf( "  %-18s %10.3g /s  x%.1f of the baseline; target %.0e: %s\n", ours, a, a / b, target, a >= target ? "met" : "NOT met" );
     }
+    const double other = benchutils::rate( rates, "BM_NadirOtherCrs" ), fixed = benchutils::rate( rates, "BM_NadirFixedStep" );
+    if ( other > 0.0 && fixed > 0.0 )
+      printf( "  %-18s %10.3g /s  x%.1f of the baseline (a DEM in another CRS: chords through PROJ)\n", "BM_NadirOtherCrs", other, other / fixed );
     printf( "\nAgainst GDAL's DEM-backed RPC transformer (RPC_DEM, bilinear) on the same pixels (target x20), one core each:\n" );
     for ( const auto &[ours, gdal] : { std::pair<const char *, const char *> { "BM_NadirRayDem", "BM_NadirGdalRpcDem" }, { "BM_ObliqueRayDem", "BM_ObliqueGdalRpcDem" } } )
     {

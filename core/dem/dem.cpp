@@ -3,6 +3,7 @@
  ***************************************************************************/
 #include "dem/dem.h"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
@@ -55,6 +56,9 @@ namespace geostation
     const double noData = GDALGetRasterNoDataValue( GDALGetRasterBand( mDataset, 1 ), &hasNoData );
     if ( hasNoData )
       mNoData = noData;
+    mTilesX = ( mWidth + options.tileSize - 1 ) / options.tileSize;
+    mTilesY = ( mHeight + options.tileSize - 1 ) / options.tileSize;
+    mIndex.assign( static_cast<size_t>( mTilesX ) * mTilesY, nullptr );
   }
 
   Dem::~Dem()
@@ -72,19 +76,8 @@ namespace geostation
     return { 111320.0 * std::cos( latitude ), 110574.0 };
   }
 
-  const Dem::Tile *Dem::tile( int tileX, int tileY ) const
+  const Dem::Tile *Dem::readTile( int tileX, int tileY ) const
   {
-    const std::pair<int, int> key( tileX, tileY );
-    if ( key == mLastKey )
-      return mLastTile;
-    const auto found = mTiles.find( key );
-    if ( found != mTiles.end() )
-    {
-      mRecent.splice( mRecent.begin(), mRecent, found->second.second );
-      mLastKey = key;
-      mLastTile = found->second.first.get();
-      return mLastTile;
-    }
     const int T = mOptions.tileSize, H = mOptions.holeFillHalo;
     const int x0 = tileX * T, y0 = tileY * T;
     if ( x0 < 0 || y0 < 0 || x0 >= mWidth || y0 >= mHeight )
@@ -193,18 +186,19 @@ namespace geostation
         t->blockMax[k] = tileMax;
     t->maxHeight = tileMax;
 
-    if ( mTiles.size() >= mOptions.cacheTiles )
+    t->index = static_cast<size_t>( tileY ) * mTilesX + tileX;
+    t->lastUse = ++mClock;
+    Tile *result = t.get();
+    if ( mCache.size() >= mOptions.cacheTiles )
     {
-      if ( mRecent.back() == mLastKey )
-        mLastKey = { -1, -1 };
-      mTiles.erase( mRecent.back() );
-      mRecent.pop_back();
+      // Replace the least recently used tile.
+      auto oldest = std::min_element( mCache.begin(), mCache.end(), []( const auto & a, const auto & b ) { return a->lastUse < b->lastUse; } );
+      mIndex[( *oldest )->index] = nullptr;
+      *oldest = std::move( t );
     }
-    mRecent.push_front( key );
-    const Tile *result = t.get();
-    mTiles[key] = { std::move( t ), mRecent.begin() };
-    mLastKey = key;
-    mLastTile = result;
+    else
+      mCache.push_back( std::move( t ) );
+    mIndex[result->index] = result;
     return result;
   }
 

@@ -15,8 +15,6 @@
 #define GEOSTATION_DEM_DEM_H
 
 #include <array>
-#include <list>
-#include <map>
 #include <memory>
 #include <optional>
 #include <string>
@@ -89,7 +87,7 @@ namespace geostation
       //! False outside the DEM.
       bool tileView( int tileX, int tileY, TileView &view ) const
       {
-        const Tile *t = std::make_pair( tileX, tileY ) == mLastKey ? mLastTile : tile( tileX, tileY );
+        const Tile *t = tile( tileX, tileY );
         if ( !t )
           return false;
         view.vertices = t->vertices.data();
@@ -115,8 +113,21 @@ namespace geostation
         std::vector<float> vertices; //!< (tileSize + 1)^2, NaN where still empty
         std::vector<float> blockMax; //!< as TileView
         float maxHeight = 0.0f;      //!< as TileView
+        size_t index = 0;            //!< in mIndex
+        mutable unsigned long lastUse = 0;
       };
-      const Tile *tile( int tileX, int tileY ) const;
+      //! The tile, read if need be; nothing outside the DEM.
+      const Tile *tile( int tileX, int tileY ) const
+      {
+        if ( tileX < 0 || tileY < 0 || tileX >= mTilesX || tileY >= mTilesY )
+          return nullptr;
+        Tile *t = mIndex[static_cast<size_t>( tileY ) * mTilesX + tileX];
+        if ( !t )
+          return readTile( tileX, tileY );
+        t->lastUse = ++mClock;
+        return t;
+      }
+      const Tile *readTile( int tileX, int tileY ) const;
       std::optional<double> heightAtPixel( double px, double py ) const;
 
       DemOptions mOptions;
@@ -127,10 +138,10 @@ namespace geostation
       std::array<double, 6> mGeoTransform {};
       std::array<double, 6> mInverse {};
       std::optional<double> mNoData;
-      mutable std::map<std::pair<int, int>, std::pair<std::unique_ptr<Tile>, std::list<std::pair<int, int>>::iterator>> mTiles;
-      mutable std::list<std::pair<int, int>> mRecent; //!< most recent first
-      mutable std::pair<int, int> mLastKey { -1, -1 };  //!< the tile used last, without a map lookup
-      mutable const Tile *mLastTile = nullptr;
+      int mTilesX = 0, mTilesY = 0;
+      mutable std::vector<Tile *> mIndex;                //!< per tile, row by row: the cached tile or null
+      mutable std::vector<std::unique_ptr<Tile>> mCache; //!< at most cacheTiles; the least recently used goes first
+      mutable unsigned long mClock = 0;
       mutable long mFilledCells = 0;
   };
 
