@@ -32,6 +32,16 @@ namespace
     return writeDem( name, "EPSG:32633", { kX0, 2.0, 0.0, kY0, 0.0, -2.0 }, 500, 500, terrain, hole );
   }
 
+  //! The test terrain sampled on a lon/lat grid over the UTM area (about 2 m cells).
+  std::string geographicDem( const std::string &name )
+  {
+    const CrsTransform toUtm( "EPSG:4326", "EPSG:32633" ), toGeographic( "EPSG:32633", "EPSG:4326" );
+    const Eigen::Vector3d corner = toGeographic.transform( { kX0 - 50.0, kY0 + 50.0, 0.0 } );
+    const double cellDeg = 2.0 / 111000.0;
+    return writeDem( name, "EPSG:4326", { corner.x(), cellDeg * 1.4, 0.0, corner.y(), 0.0, -cellDeg }, 800, 600,
+    [&]( double lon, double lat ) { const Eigen::Vector3d p = toUtm.transform( { lon, lat, 0.0 } ); return terrain( p.x(), p.y() ); } );
+  }
+
   //! Brute force: first sign change of the height above the DEM every `step` metres, then bisection.
   std::optional<double> bruteForceRange( const Ray &ray, const Dem &dem, double maxRange, double step )
   {
@@ -298,12 +308,8 @@ TEST( Dem, TinyTilesAndCacheGiveTheSameAnswers )
 
 TEST( Dem, AGeographicDemServesAProjectedBlock )
 {
-  // The same terrain sampled on a lon/lat grid over the UTM area.
-  const CrsTransform toUtm( "EPSG:4326", "EPSG:32633" ), toGeographic( "EPSG:32633", "EPSG:4326" );
-  const Eigen::Vector3d corner = toGeographic.transform( { kX0 - 50.0, kY0 + 50.0, 0.0 } );
-  const double cellDeg = 2.0 / 111000.0;
-  const std::string path = writeDem( "geographic", "EPSG:4326", { corner.x(), cellDeg * 1.4, 0.0, corner.y(), 0.0, -cellDeg }, 800, 600,
-  [&]( double lon, double lat ) { const Eigen::Vector3d p = toUtm.transform( { lon, lat, 0.0 } ); return terrain( p.x(), p.y() ); } );
+  const CrsTransform toGeographic( "EPSG:32633", "EPSG:4326" );
+  const std::string path = geographicDem( "geographic" );
   const Dem dem( path );
   EXPECT_TRUE( dem.isGeographic() );
   std::mt19937 rng( 4 );
@@ -325,11 +331,8 @@ TEST( DemIntersection, GrazingRaysOverAGeographicDemFindTheFirstCrossing )
 {
   // Long, nearly level rays over a lon/lat grid: curved in the DEM's grid,
   // followed chord by chord; checked against brute force through PROJ.
-  const CrsTransform toUtm( "EPSG:4326", "EPSG:32633" ), toGeographic( "EPSG:32633", "EPSG:4326" );
-  const Eigen::Vector3d corner = toGeographic.transform( { kX0 - 50.0, kY0 + 50.0, 0.0 } );
-  const double cellDeg = 2.0 / 111000.0;
-  const std::string path = writeDem( "geographic-grazing", "EPSG:4326", { corner.x(), cellDeg * 1.4, 0.0, corner.y(), 0.0, -cellDeg }, 800, 600,
-  [&]( double lon, double lat ) { const Eigen::Vector3d p = toUtm.transform( { lon, lat, 0.0 } ); return terrain( p.x(), p.y() ); } );
+  const CrsTransform toGeographic( "EPSG:32633", "EPSG:4326" );
+  const std::string path = geographicDem( "geographic-grazing" );
   const Dem dem( path );
   const auto heightAbove = [&]( const Ray & ray, double t )
   {
