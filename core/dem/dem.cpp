@@ -80,8 +80,6 @@ namespace geostation
   {
     const int T = mOptions.tileSize, H = mOptions.holeFillHalo;
     const int x0 = tileX * T, y0 = tileY * T;
-    if ( x0 < 0 || y0 < 0 || x0 >= mWidth || y0 >= mHeight )
-      return nullptr;
     // Read the tile with a halo, so holes near its edge see their neighbours.
     // Filling runs H passes and a pass's error at the region's border moves
     // in one cell per pass, so cells at least H in from the border come out
@@ -143,13 +141,9 @@ namespace geostation
     auto t = std::make_unique<Tile>();
     const int stride = T + 1;
     t->vertices.assign( static_cast<size_t>( stride ) * stride, std::numeric_limits<float>::quiet_NaN() );
-    for ( int r = 0; r < rh; ++r )
-      for ( int c = 0; c < rw; ++c )
-      {
-        const int col = rx0 + c, row = ry0 + r;
-        if ( col >= x0 && col <= x0 + T && row >= y0 && row <= y0 + T )
-          t->vertices[static_cast<size_t>( row - y0 ) * stride + ( col - x0 )] = static_cast<float>( region[static_cast<size_t>( r ) * rw + c] );
-      }
+    for ( int row = y0; row <= std::min( y0 + T, mHeight - 1 ); ++row )
+      for ( int col = x0; col <= std::min( x0 + T, mWidth - 1 ); ++col )
+        t->vertices[static_cast<size_t>( row - y0 ) * stride + ( col - x0 )] = static_cast<float>( region[static_cast<size_t>( row - ry0 ) * rw + ( col - rx0 )] );
 
     // Block maxima over the corners of each block's cells; blocks with holes
     // take the tile's highest valid height (+inf if it has none).
@@ -224,13 +218,6 @@ namespace geostation
     if ( std::isnan( h ) )
       return std::nullopt;
     return h;
-  }
-
-  bool Dem::covers( double x, double y ) const
-  {
-    const double u = mInverse[0] + mInverse[1] * x + mInverse[2] * y - 0.5;
-    const double v = mInverse[3] + mInverse[4] * x + mInverse[5] * y - 0.5;
-    return u >= 0.0 && v >= 0.0 && u <= mWidth - 1 && v <= mHeight - 1;
   }
 
 } // namespace geostation

@@ -57,9 +57,6 @@ namespace geostation
        */
       std::optional<double> heightAt( double x, double y ) const;
 
-      //! Whether (x, y) lies in the area between the outermost cell centres.
-      bool covers( double x, double y ) const;
-
       int tileSize() const { return mOptions.tileSize; }
 
       //! Cells per side of the blocks whose maximum heights a tile keeps.
@@ -114,7 +111,7 @@ namespace geostation
         std::vector<float> blockMax; //!< as TileView
         float maxHeight = 0.0f;      //!< as TileView
         size_t index = 0;            //!< in mIndex
-        mutable unsigned long lastUse = 0;
+        unsigned long lastUse = 0;   //!< mClock at the last use
       };
       //! The tile, read if need be; nothing outside the DEM.
       const Tile *tile( int tileX, int tileY ) const
@@ -127,6 +124,7 @@ namespace geostation
         t->lastUse = ++mClock;
         return t;
       }
+      //! Reads, fills and caches a tile of the DEM (in range).
       const Tile *readTile( int tileX, int tileY ) const;
       std::optional<double> heightAtPixel( double px, double py ) const;
 
@@ -140,7 +138,7 @@ namespace geostation
       std::optional<double> mNoData;
       int mTilesX = 0, mTilesY = 0;
       mutable std::vector<Tile *> mIndex;                //!< per tile, row by row: the cached tile or null
-      mutable std::vector<std::unique_ptr<Tile>> mCache; //!< at most cacheTiles; the least recently used goes first
+      mutable std::vector<std::unique_ptr<Tile>> mCache; //!< at most cacheTiles; a new tile replaces the least recently used
       mutable unsigned long mClock = 0;
       mutable long mFilledCells = 0;
   };

@@ -3,8 +3,11 @@
  ***************************************************************************/
 #include "dem/demintersection.h"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
+#include <optional>
+#include <tuple>
 
 namespace geostation
 {
@@ -27,7 +30,7 @@ namespace geostation
      * Visits the cells of side `size` (grid units) that the ray crosses over
      * [t0, t1], indices kept within [ixLo, ixHi] x [iyLo, iyHi]; consecutive
      * visits share their end and start, so no part of the ray is skipped.
-     * visit(ix, iy, ta, tb) returns true to stop; walk() then returns true.
+     * visit(ix, iy, ta, tb) returns true to stop; walkCells() then returns true.
      */
     template <class Visit>
     bool walkCells( const GridRay &ray, int size, int ixLo, int ixHi, int iyLo, int iyHi, double t0, double t1, Visit &&visit )
@@ -301,6 +304,11 @@ namespace geostation
       return 0.5 * ( lo + hi );
     }
 
+    std::string outOfRange( const DemIntersectionOptions &options )
+    {
+      return "the ray does not meet the DEM within " + std::to_string( static_cast<long>( options.maxRangeM ) ) + " m";
+    }
+
     void setHole( DemIntersection &result )
     {
       result.status = DemIntersection::Status::Hole;
@@ -334,8 +342,7 @@ namespace geostation
       else if ( walk.hole )
         setHole( result );
       else
-        result.message = exits ? "the ray leaves the DEM without meeting it"
-                         : "the ray does not meet the DEM within " + std::to_string( static_cast<long>( options.maxRangeM ) ) + " m";
+        result.message = exits ? "the ray leaves the DEM without meeting it" : outOfRange( options );
       return result;
     }
 
@@ -445,7 +452,7 @@ namespace geostation
       if ( left )
         result.message = "the ray leaves the DEM without meeting it";
       else if ( entered )
-        result.message = "the ray does not meet the DEM within " + std::to_string( static_cast<long>( options.maxRangeM ) ) + " m";
+        result.message = outOfRange( options );
       else
         result.message = "the ray does not pass over the DEM";
       return result;

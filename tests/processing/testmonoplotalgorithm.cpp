@@ -55,6 +55,8 @@ class TestMonoplotAlgorithm : public QObject
     QVariantMap run( const QVariantMap &parameters, bool *ok, RecordingFeedback *feedback );
     //! project_to_image of a project layer into P1 (DENSIFY_PX 4, no DEM).
     QVariantMap projectToImage( const QString &layerId, bool *ok, RecordingFeedback *feedback );
+    //! The OUTPUT layer of an algorithm's result.
+    QgsVectorLayer *outputLayer( const QVariantMap &result );
     QTemporaryDir mDir;
     QString mBlock;
     std::unique_ptr<geostation::OrientedImage> mImage;
@@ -153,7 +155,7 @@ void TestMonoplotAlgorithm::monoplotsPointsAndDrapesLines()
   QVariantMap result = run( { { "BLOCK", mBlock }, { "IMAGE", "P1" }, { "DEM", mDir.filePath( "dem.tif" ) }, { "INPUT", pixelLayer( "points", points, false ) },
     { "OUTPUT", QgsProcessing::TEMPORARY_OUTPUT } }, &ok, &feedback );
   QVERIFY2( ok, qPrintable( feedback.errors.join( '\n' ) ) );
-  QgsVectorLayer *out = qobject_cast<QgsVectorLayer *>( QgsProcessingUtils::mapLayerFromString( result.value( "OUTPUT" ).toString(), mContext ) );
+  QgsVectorLayer *out = outputLayer( result );
   QVERIFY( out );
   QCOMPARE( out->crs().authid(), QStringLiteral( "EPSG:32633" ) );
   QVERIFY( QgsWkbTypes::hasZ( out->wkbType() ) );
@@ -180,7 +182,7 @@ void TestMonoplotAlgorithm::monoplotsPointsAndDrapesLines()
     { "INPUT", pixelLayer( "line", { qMakePair( QStringLiteral( "ridge" ), std::vector<Eigen::Vector2d> { { 200.0, 700.0 }, { 1100.0, 650.0 } } ) }, true ) },
     { "DENSIFY_PX", 5.0 }, { "OUTPUT", QgsProcessing::TEMPORARY_OUTPUT } }, &ok, &feedback );
   QVERIFY2( ok, qPrintable( feedback.errors.join( '\n' ) ) );
-  out = qobject_cast<QgsVectorLayer *>( QgsProcessingUtils::mapLayerFromString( result.value( "OUTPUT" ).toString(), mContext ) );
+  out = outputLayer( result );
   QVERIFY( out->getFeatures().nextFeature( f ) );
   QVERIFY( f.attribute( "n_vertices" ).toInt() >= 180 );
   QVERIFY( f.geometry().constGet()->nCoordinates() >= 180 );
@@ -211,7 +213,7 @@ void TestMonoplotAlgorithm::projectToImageDrapesAndTestsOcclusion()
   const QVariantMap result = alg->run( { { "BLOCK", mBlock }, { "IMAGE", "P1" }, { "INPUT", layer->id() }, { "DEM", mDir.filePath( "dem.tif" ) },
     { "OUTPUT", QgsProcessing::TEMPORARY_OUTPUT } }, mContext, &feedback, &ok );
   QVERIFY2( ok, qPrintable( feedback.errors.join( '\n' ) ) );
-  QgsVectorLayer *out = qobject_cast<QgsVectorLayer *>( QgsProcessingUtils::mapLayerFromString( result.value( "OUTPUT" ).toString(), mContext ) );
+  QgsVectorLayer *out = outputLayer( result );
   QVERIFY( out );
   int visible = 0, hidden = 0;
   QgsFeature f;
@@ -249,7 +251,7 @@ void TestMonoplotAlgorithm::projectToImageDensifiesLinesAndPolygons()
   QVariantMap result = alg->run( { { "BLOCK", mBlock }, { "IMAGE", "P1" }, { "INPUT", roads->id() }, { "DEM", mDir.filePath( "dem.tif" ) },
     { "DENSIFY_PX", 4.0 }, { "OUTPUT", QgsProcessing::TEMPORARY_OUTPUT } }, mContext, &feedback, &ok );
   QVERIFY2( ok, qPrintable( feedback.errors.join( '\n' ) ) );
-  QgsVectorLayer *out = qobject_cast<QgsVectorLayer *>( QgsProcessingUtils::mapLayerFromString( result.value( "OUTPUT" ).toString(), mContext ) );
+  QgsVectorLayer *out = outputLayer( result );
   QCOMPARE( out->wkbType(), QgsWkbTypes::LineString );
   QgsFeature f;
   QVERIFY( out->getFeatures().nextFeature( f ) );
@@ -278,7 +280,7 @@ void TestMonoplotAlgorithm::projectToImageDensifiesLinesAndPolygons()
   result = alg->run( { { "BLOCK", mBlock }, { "IMAGE", "P1" }, { "INPUT", parcels->id() }, { "DENSIFY_PX", 3.0 },
     { "OUTPUT", QgsProcessing::TEMPORARY_OUTPUT } }, mContext, &feedback, &ok );
   QVERIFY2( ok, qPrintable( feedback.errors.join( '\n' ) ) );
-  out = qobject_cast<QgsVectorLayer *>( QgsProcessingUtils::mapLayerFromString( result.value( "OUTPUT" ).toString(), mContext ) );
+  out = outputLayer( result );
   QCOMPARE( out->wkbType(), QgsWkbTypes::Polygon );
   QVERIFY( out->getFeatures().nextFeature( f ) );
   const QgsPolygon *polygon = qgsgeometry_cast<const QgsPolygon *>( f.geometry().constGet() );
@@ -338,7 +340,7 @@ void TestMonoplotAlgorithm::projectToImageCutsLinesAtTheCameraPlane()
   QCOMPARE( result.value( "CLIPPED_COUNT" ).toInt(), 1 );
   QCOMPARE( result.value( "PROJECTED_COUNT" ).toInt(), 1 );
   QVERIFY( feedback.warnings.join( ' ' ).contains( "cut" ) );
-  QgsVectorLayer *out = qobject_cast<QgsVectorLayer *>( QgsProcessingUtils::mapLayerFromString( result.value( "OUTPUT" ).toString(), mContext ) );
+  QgsVectorLayer *out = outputLayer( result );
   QgsFeature g;
   QVERIFY( out->getFeatures().nextFeature( g ) );
   const QgsLineString *line = qgsgeometry_cast<const QgsLineString *>( g.geometry().constGet() );
@@ -372,7 +374,7 @@ void TestMonoplotAlgorithm::projectToImageClipsPolygonsAroundTheCamera()
   QCOMPARE( result.value( "PROJECTED_COUNT" ).toInt(), 1 );
   QCOMPARE( result.value( "CLIPPED_COUNT" ).toInt(), 1 );
   QCOMPARE( result.value( "BEHIND_CAMERA_COUNT" ).toInt(), 0 );
-  QgsVectorLayer *out = qobject_cast<QgsVectorLayer *>( QgsProcessingUtils::mapLayerFromString( result.value( "OUTPUT" ).toString(), mContext ) );
+  QgsVectorLayer *out = outputLayer( result );
   QgsFeature g;
   QVERIFY( out->getFeatures().nextFeature( g ) );
   QCOMPARE( g.attribute( "name" ).toString(), QStringLiteral( "around the mast" ) );
@@ -415,7 +417,7 @@ void TestMonoplotAlgorithm::projectToImageKeepsEveryPartOfAMultiLine()
     const QVariantMap result = projectToImage( lines->id(), &ok, &feedback );
     QVERIFY2( ok, qPrintable( feedback.errors.join( '\n' ) ) );
     QCOMPARE( result.value( "CLIPPED_COUNT" ).toInt(), 1 );
-    QgsVectorLayer *out = qobject_cast<QgsVectorLayer *>( QgsProcessingUtils::mapLayerFromString( result.value( "OUTPUT" ).toString(), mContext ) );
+    QgsVectorLayer *out = outputLayer( result );
     QgsFeature g;
     QVERIFY( out->getFeatures().nextFeature( g ) );
     const QgsGeometry inImage = g.geometry();
@@ -433,6 +435,11 @@ QVariantMap TestMonoplotAlgorithm::projectToImage( const QString &layerId, bool 
   std::unique_ptr<QgsProcessingAlgorithm> alg( QgsApplication::processingRegistry()->algorithmById( "geostation:project_to_image" )->create() );
   return alg->run( { { "BLOCK", mBlock }, { "IMAGE", "P1" }, { "INPUT", layerId }, { "DENSIFY_PX", 4.0 }, { "OUTPUT", QgsProcessing::TEMPORARY_OUTPUT } },
                    mContext, feedback, ok );
+}
+
+QgsVectorLayer *TestMonoplotAlgorithm::outputLayer( const QVariantMap &result )
+{
+  return qobject_cast<QgsVectorLayer *>( QgsProcessingUtils::mapLayerFromString( result.value( "OUTPUT" ).toString(), mContext ) );
 }
 
 int main( int argc, char **argv )
