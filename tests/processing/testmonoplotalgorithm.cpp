@@ -53,8 +53,8 @@ class TestMonoplotAlgorithm : public QObject
   private:
     QString pixelLayer( const QString &name, const QList<QPair<QString, std::vector<Eigen::Vector2d>>> &features, bool line, const char *crs = nullptr );
     QVariantMap run( const QVariantMap &parameters, bool *ok, RecordingFeedback *feedback );
-    //! project_to_image of a project layer into P1 (DENSIFY_PX 4, no DEM).
-    QVariantMap projectToImage( const QString &layerId, bool *ok, RecordingFeedback *feedback );
+    //! project_to_image of a layer (added to the project) into P1 (DENSIFY_PX 4, no DEM).
+    QVariantMap projectToImage( QgsVectorLayer *layer, bool *ok, RecordingFeedback *feedback );
     //! The OUTPUT layer of an algorithm's result.
     QgsVectorLayer *outputLayer( const QVariantMap &result );
     QTemporaryDir mDir;
@@ -332,10 +332,9 @@ void TestMonoplotAlgorithm::projectToImageCutsLinesAtTheCameraPlane()
   f.setGeometry( QgsGeometry( new QgsLineString( QVector<QgsPoint> { QgsPoint( front.x(), front.y(), front.z() ), QgsPoint( behind.x(), behind.y(), behind.z() ) } ) ) );
   f.setAttribute( 0, QStringLiteral( "through the camera" ) );
   lines->dataProvider()->addFeature( f );
-  QgsProject::instance()->addMapLayer( lines );
   bool ok = false;
   RecordingFeedback feedback;
-  const QVariantMap result = projectToImage( lines->id(), &ok, &feedback );
+  const QVariantMap result = projectToImage( lines, &ok, &feedback );
   QVERIFY2( ok, qPrintable( feedback.errors.join( '\n' ) ) );
   QCOMPARE( result.value( "CLIPPED_COUNT" ).toInt(), 1 );
   QCOMPARE( result.value( "PROJECTED_COUNT" ).toInt(), 1 );
@@ -366,10 +365,9 @@ void TestMonoplotAlgorithm::projectToImageClipsPolygonsAroundTheCamera()
   f.setGeometry( QgsGeometry( polygon ) );
   f.setAttribute( 0, QStringLiteral( "around the mast" ) );
   areas->dataProvider()->addFeature( f );
-  QgsProject::instance()->addMapLayer( areas );
   bool ok = false;
   RecordingFeedback feedback;
-  const QVariantMap result = projectToImage( areas->id(), &ok, &feedback );
+  const QVariantMap result = projectToImage( areas, &ok, &feedback );
   QVERIFY2( ok, qPrintable( feedback.errors.join( '\n' ) ) );
   QCOMPARE( result.value( "PROJECTED_COUNT" ).toInt(), 1 );
   QCOMPARE( result.value( "CLIPPED_COUNT" ).toInt(), 1 );
@@ -411,10 +409,9 @@ void TestMonoplotAlgorithm::projectToImageKeepsEveryPartOfAMultiLine()
     else
       f.setGeometry( QgsGeometry( new QgsLineString( vertices ) ) );
     lines->dataProvider()->addFeature( f );
-    QgsProject::instance()->addMapLayer( lines );
     bool ok = false;
     RecordingFeedback feedback;
-    const QVariantMap result = projectToImage( lines->id(), &ok, &feedback );
+    const QVariantMap result = projectToImage( lines, &ok, &feedback );
     QVERIFY2( ok, qPrintable( feedback.errors.join( '\n' ) ) );
     QCOMPARE( result.value( "CLIPPED_COUNT" ).toInt(), 1 );
     QgsVectorLayer *out = outputLayer( result );
@@ -430,10 +427,11 @@ void TestMonoplotAlgorithm::projectToImageKeepsEveryPartOfAMultiLine()
   }
 }
 
-QVariantMap TestMonoplotAlgorithm::projectToImage( const QString &layerId, bool *ok, RecordingFeedback *feedback )
+QVariantMap TestMonoplotAlgorithm::projectToImage( QgsVectorLayer *layer, bool *ok, RecordingFeedback *feedback )
 {
+  QgsProject::instance()->addMapLayer( layer );
   std::unique_ptr<QgsProcessingAlgorithm> alg( QgsApplication::processingRegistry()->algorithmById( "geostation:project_to_image" )->create() );
-  return alg->run( { { "BLOCK", mBlock }, { "IMAGE", "P1" }, { "INPUT", layerId }, { "DENSIFY_PX", 4.0 }, { "OUTPUT", QgsProcessing::TEMPORARY_OUTPUT } },
+  return alg->run( { { "BLOCK", mBlock }, { "IMAGE", "P1" }, { "INPUT", layer->id() }, { "DENSIFY_PX", 4.0 }, { "OUTPUT", QgsProcessing::TEMPORARY_OUTPUT } },
                    mContext, feedback, ok );
 }
 
