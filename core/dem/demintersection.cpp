@@ -21,60 +21,69 @@ namespace geostation
     {
       double u0, v0, z0, du, dv, dz;
       double invDu, invDv, invDz; //!< 1 / du etc., infinite for 0
+      // For stepping from cell to cell (set by prepare()): the range where
+      // the ray reaches u = k is k * stepU + offsetU (+infinity if it never
+      // does), and likewise for v.
+      double stepU, offsetU, stepV, offsetV;
+      int sx, sy; //!< the directions of travel in u and v (+1 or -1)
+
       double u( double t ) const { return u0 + t * du; }
       double v( double t ) const { return v0 + t * dv; }
       double z( double t ) const { return z0 + t * dz; }
+
+      //! Sets the reciprocals and stepping terms from u0 ... dz.
+      void prepare()
+      {
+        invDu = 1.0 / du;
+        invDv = 1.0 / dv;
+        invDz = 1.0 / dz;
+        stepU = du != 0.0 ? invDu : 0.0;
+        offsetU = du != 0.0 ? -u0 * invDu : kInf;
+        stepV = dv != 0.0 ? invDv : 0.0;
+        offsetV = dv != 0.0 ? -v0 * invDv : kInf;
+        sx = du > 0.0 ? 1 : -1;
+        sy = dv > 0.0 ? 1 : -1;
+      }
     };
 
     /**
-     * Visits the cells of side `size` (grid units) that the ray crosses over
-     * [t0, t1], indices kept within [ixLo, ixHi] x [iyLo, iyHi]; consecutive
-     * visits share their end and start, so no part of the ray is skipped.
-     * visit(ix, iy, ta, tb) returns true to stop; walkCells() then returns true.
+     * Visits the cells of side `size` (grid units, `invSize` its inverse)
+     * that the ray crosses over [t0, t1] (over the DEM), indices kept within
+     * [ixLo, ixHi] x [iyLo, iyHi] (>= 0); consecutive visits share their end
+     * and start, so no part of the ray is skipped. visit(ix, iy, ta, tb)
+     * returns true to stop; walkCells() then returns true.
      */
     template <class Visit>
-    bool walkCells( const GridRay &ray, int size, int ixLo, int ixHi, int iyLo, int iyHi, double t0, double t1, Visit &&visit )
+    bool walkCells( const GridRay &ray, int size, double invSize, int ixLo, int ixHi, int iyLo, int iyHi, double t0, double t1, Visit &&visit )
     {
-      const double invSize = 1.0 / size;
-      const auto start = [invSize]( double p, double d, int lo, int hi )
-      {
-        // floor() without a library call (t0 lies over the DEM: no overflow)
-        const double cellsIn = std::clamp( p * invSize, lo - 1.0, hi + 1.0 );
-        int i = static_cast<int>( cellsIn );
-        if ( i > cellsIn )
-          --i;
-        if ( d < 0.0 && cellsIn == i )
-          --i; // on a boundary, moving back: the cell behind it
-        return std::clamp( i, lo, hi );
-      };
-      int ix = start( ray.u( t0 ), ray.du, ixLo, ixHi ), iy = start( ray.v( t0 ), ray.dv, iyLo, iyHi );
-      const int sx = ray.du > 0.0 ? 1 : -1, sy = ray.dv > 0.0 ? 1 : -1;
-      const double deltaU = ray.du != 0.0 ? size * std::abs( ray.invDu ) : kInf;
-      const double deltaV = ray.dv != 0.0 ? size * std::abs( ray.invDv ) : kInf;
-      double nextU = ray.du != 0.0 ? ( ( ix + ( sx > 0 ? 1 : 0 ) ) * static_cast<double>( size ) - ray.u0 ) * ray.invDu : kInf;
-      double nextV = ray.dv != 0.0 ? ( ( iy + ( sy > 0 ? 1 : 0 ) ) * static_cast<double>( size ) - ray.v0 ) * ray.invDv : kInf;
+      // Positions are over the DEM (>= 0 but for rounding): truncation is floor(), or 0 for a rounding below.
+      int ix = std::clamp( static_cast<int>( ray.u( t0 ) * invSize ), ixLo, ixHi ), iy = std::clamp( static_cast<int>( ray.v( t0 ) * invSize ), iyLo, iyHi );
+      // Starting on a boundary while moving back: the first visit is empty, then the cell behind.
+      const double deltaU = size * std::abs( ray.stepU ), deltaV = size * std::abs( ray.stepV );
+      double nextU = ( ix + ( ray.sx > 0 ) ) * static_cast<double>( size ) * ray.stepU + ray.offsetU;
+      double nextV = ( iy + ( ray.sy > 0 ) ) * static_cast<double>( size ) * ray.stepV + ray.offsetV;
       for ( double ta = t0;; )
       {
         const double tb = std::min( { nextU, nextV, t1 } );
-        if ( tb >= ta && visit( ix, iy, ta, std::max( ta, tb ) ) )
+        if ( tb >= ta && visit( ix, iy, ta, tb ) )
           return true;
         if ( tb >= t1 )
           return false;
+        ta = std::max( ta, tb );
         if ( nextU < nextV )
         {
-          ix += sx;
+          ix += ray.sx;
           nextU += deltaU;
           if ( ix < ixLo || ix > ixHi )
             return false;
         }
         else
         {
-          iy += sy;
+          iy += ray.sy;
           nextV += deltaV;
           if ( iy < iyLo || iy > iyHi )
             return false;
         }
-        ta = std::max( ta, tb );
       }
     }
 
@@ -146,9 +155,7 @@ namespace geostation
       g.v0 = a.y() - ta * g.dv;
       g.z0 = z0;
       g.dz = dz;
-      g.invDu = 1.0 / g.du;
-      g.invDv = 1.0 / g.dv;
-      g.invDz = 1.0 / g.dz;
+      g.prepare();
       return g;
     }
 
@@ -160,23 +167,21 @@ namespace geostation
     bool clipToDem( const GridRay &g, const Dem &dem, double &t0, double &t1, bool &exits )
     {
       exits = false;
-      for ( const auto &[p, dp, invDp, extent] : { std::tuple<double, double, double, double> { g.u0, g.du, g.invDu, dem.width() - 1.0 }, { g.v0, g.dv, g.invDv, dem.height() - 1.0 } } )
+      // One axis: position p0 + t dp within [0, extent].
+      const auto clipAxis = [&]( double p0, double dp, double invDp, double extent )
       {
         if ( dp == 0.0 )
-        {
-          if ( !( p >= 0.0 && p <= extent ) )
-            return false;
-          continue;
-        }
-        const double ta = ( ( dp > 0.0 ? 0.0 : extent ) - p ) * invDp, tb = ( ( dp > 0.0 ? extent : 0.0 ) - p ) * invDp;
+          return p0 >= 0.0 && p0 <= extent;
+        const double ta = ( ( dp > 0.0 ? 0.0 : extent ) - p0 ) * invDp, tb = ( ( dp > 0.0 ? extent : 0.0 ) - p0 ) * invDp;
         t0 = std::max( t0, ta );
         if ( tb < t1 )
         {
           t1 = tb;
           exits = true;
         }
-      }
-      return t0 <= t1;
+        return true;
+      };
+      return clipAxis( g.u0, g.du, g.invDu, dem.width() - 1.0 ) && clipAxis( g.v0, g.dv, g.invDv, dem.height() - 1.0 ) && t0 <= t1;
     }
 
     struct GridWalk
@@ -195,6 +200,7 @@ namespace geostation
     {
       GridWalk walk;
       const int T = dem.tileSize(), B = Dem::kBlockSize;
+      const double invT = 1.0 / T;
       const int lastCellX = dem.width() - 2, lastCellY = dem.height() - 2;
       // Shortens [ta, tb] to where the ray is not above height `top`; false if nowhere.
       const auto clipBelow = [&g]( double top, double &ta, double &tb )
@@ -207,7 +213,7 @@ namespace geostation
           return false;
         return ta <= tb;
       };
-      walkCells( g, T, 0, lastCellX / T, 0, lastCellY / T, t0, t1, [&]( int tx, int ty, double ta, double tb )
+      walkCells( g, T, invT, 0, lastCellX / T, 0, lastCellY / T, t0, t1, [&]( int tx, int ty, double ta, double tb )
       {
         ++walk.steps;
         Dem::TileView view;
@@ -215,13 +221,13 @@ namespace geostation
           return false;
         const Dem::TileView *tile = &view;
         const int bx0 = tx * T / B, by0 = ty * T / B;
-        return walkCells( g, B, bx0, std::min( bx0 + tile->blocksPerSide - 1, lastCellX / B ), by0, std::min( by0 + tile->blocksPerSide - 1, lastCellY / B ), ta, tb,
+        return walkCells( g, B, 1.0 / B, bx0, std::min( bx0 + tile->blocksPerSide - 1, lastCellX / B ), by0, std::min( by0 + tile->blocksPerSide - 1, lastCellY / B ), ta, tb,
                           [&]( int bx, int by, double ba, double bb )
         {
           ++walk.steps;
           if ( !clipBelow( tile->blockMax[( by - by0 ) * tile->blocksPerSide + ( bx - bx0 )], ba, bb ) )
             return false;
-          return walkCells( g, 1, bx * B, std::min( bx * B + B - 1, lastCellX ), by * B, std::min( by * B + B - 1, lastCellY ), ba, bb,
+          return walkCells( g, 1, 1.0, bx * B, std::min( bx * B + B - 1, lastCellX ), by * B, std::min( by * B + B - 1, lastCellY ), ba, bb,
                             [&]( int i, int j, double ca, double cb )
           {
             ++walk.steps;
@@ -325,7 +331,16 @@ namespace geostation
     DemIntersection intersectInGrid( const Ray &ray, const Eigen::Vector3d &d, const Dem &dem, const DemIntersectionOptions &options )
     {
       DemIntersection result;
-      const GridRay g = chord( gridPoint( dem, ray.origin ), gridPoint( dem, ray.origin + d ), 0.0, 1.0, ray.origin.z(), d.z() );
+      const std::array<double, 6> &inv = dem.inverseGeoTransform();
+      const Eigen::Vector2d start = gridPoint( dem, ray.origin );
+      GridRay g;
+      g.u0 = start.x();
+      g.v0 = start.y();
+      g.z0 = ray.origin.z();
+      g.du = inv[1] * d.x() + inv[2] * d.y();
+      g.dv = inv[4] * d.x() + inv[5] * d.y();
+      g.dz = d.z();
+      g.prepare();
       double t0 = 0.0, t1 = options.maxRangeM;
       bool exits = false;
       if ( !clipToDem( g, dem, t0, t1, exits ) )
@@ -461,7 +476,7 @@ namespace geostation
 
   DemIntersection intersectRayWithDem( const Ray &ray, const Dem &dem, const CrsTransform &blockToDem, const DemIntersectionOptions &options )
   {
-    const Eigen::Vector3d d = ray.direction.normalized();
+    const Eigen::Vector3d d = ray.direction * ( 1.0 / ray.direction.norm() );
     if ( blockToDem.isIdentity() )
       return intersectInGrid( ray, d, dem, options );
     return intersectAlongChords( ray, d, dem, blockToDem, options );
