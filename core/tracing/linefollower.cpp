@@ -1,0 +1,136 @@
+/***************************************************************************
+  linefollower.cpp - one road line through one image, gaps bridged
+ ***************************************************************************/
+#include "tracing/linefollower.h"
+
+#include <cmath>
+#include <stdexcept>
+
+#include "imageproc/edgeprimitives.h"
+#include "tracing/lineprofile.h"
+
+namespace geostation
+{
+  namespace
+  {
+    FollowResult runMethod( const cv::Mat &grey, const FollowRequest &request, TraceMethod method, const LineFollowOptions &options )
+    {
+      switch ( method )
+      {
+        case TraceMethod::Directional:
+          return followDirectional( grey, request, options.directional );
+        case TraceMethod::LeastSquares:
+          return followLeastSquares( grey, request, options.leastSquares );
+        case TraceMethod::Polynomial:
+          return followPolynomial( grey, request, options.polynomial );
+        case TraceMethod::Auto:
+          break;
+      }
+      throw std::invalid_argument( "followLine needs a method, not auto" );
+    }
+
+    //! The direction of the last `reachPx` of a polyline.
+    Eigen::Vector2d endDirection( const std::vector<Eigen::Vector2d> &points, const Eigen::Vector2d &fallback, double reachPx )
+    {
+      if ( points.size() < 2 )
+        return fallback;
+      const Eigen::Vector2d end = points.back();
+      for ( size_t i = points.size() - 1; i-- > 0; )
+        if ( ( end - points[i] ).norm() >= reachPx || i == 0 )
+        {
+          const Eigen::Vector2d d = end - points[i];
+          return d.norm() > 3.0 ? d.normalized() : fallback;
+        }
+      return fallback;
+    }
+  }
+
+  LineFollowResult followLine( const cv::Mat &grey, const FollowRequest &request, TraceMethod method, const LineFollowOptions &options )
+  {
+    LineFollowResult out;
+    FollowRequest current = request;
+    std::vector<Eigen::Vector2d> points;
+    std::vector<double> sigmas;
+    FollowResult last;
+    for ( int leg = 0; leg < 64; ++leg )
+    {
+      last = runMethod( grey, current, method, options );
+      for ( size_t i = 0; i < last.points.size(); ++i )
+        if ( points.empty() || ( last.points[i] - points.back() ).norm() > 0.25 )
+        {
+          points.push_back( last.points[i] );
+          sigmas.push_back( last.sigmaPx[i] );
+        }
+      out.line.pixelsFollowed += last.pixelsFollowed;
+      if ( last.stop != TraceStop::EndOfLine && last.stop != TraceStop::NoEdge )
+        break;
+      // bridge: straight ahead from the end (or from the start, when that lies in a gap), cross-sections every 3 px
+      const Eigen::Vector2d from = points.empty() ? current.start : points.back();
+      // the direction of the last 25 px; a short leg (a dash, a worn patch) keeps the direction it was given
+      Eigen::Vector2d d = endDirection( points, current.direction, 25.0 );
+      const double legLength = last.points.empty() ? 0.0 : ( last.points.back() - last.points.front() ).norm();
+      if ( legLength < 20.0 )
+        d = ( ( 20.0 - legLength ) * current.direction + legLength * d ).normalized();
+      LocateOptions locate = locateOptionsFor( last.profile, options.directional.follow, 2.0 );
+      locate.minWidthRatio = 6.0; // a stripe narrows with distance across a long gap
+      bool resumed = false;
+      int partial = 0;
+      last.stop = TraceStop::EndOfLine;
+      for ( double s = 3.0;; s += 3.0 )
+      {
+        const Eigen::Vector2d q = from + s * d;
+        if ( !sampleGrey( grey, q - 4.0 * rightNormal( d ) ) || !sampleGrey( grey, q + 4.0 * rightNormal( d ) ) )
+        {
+          last.stop = TraceStop::LeftImage;
+          break;
+        }
+        if ( current.withinLimit && !current.withinLimit( q ) )
+        {
+          last.stop = TraceStop::DistanceLimit;
+          break;
+        }
+        const std::optional<double> ground = options.groundDistanceM ? options.groundDistanceM( from, q ) : std::nullopt;
+        if ( ground ? *ground > options.maxGapM : s > options.maxGapPx )
+        {
+          last.stop = partial > 0 ? TraceStop::GapTooLarge : TraceStop::EndOfLine;
+          break;
+        }
+        locate.searchHalfPx = 3.0 + 0.1 * s;
+        const std::optional<LineHit> hit = locateLine( grey, q, d, last.profile, locate );
+        if ( !hit )
+          continue;
+        ++partial;
+        // confirmed a little further on (a far dash is only a few pixels long)
+        LocateOptions confirm = locate;
+        confirm.searchHalfPx = 2.0;
+        const std::optional<LineHit> further = locateLine( grey, hit->pixelInImage + 2.5 * d, d, last.profile, confirm );
+        if ( !further )
+          continue;
+        current.start = hit->pixelInImage;
+        current.direction = d;
+        current.profile = last.profile;
+        ++out.bridgedGaps;
+        out.bridgedPx += ( hit->pixelInImage - from ).norm();
+        resumed = true;
+        break;
+      }
+      if ( !resumed )
+        break;
+    }
+    out.line.stop = last.stop;
+    out.line.profile = last.profile;
+    out.line.direction = endDirection( points, last.direction, 25.0 );
+    // vertices: Douglas-Peucker on the followed points, keeping each kept point's sigma
+    const std::vector<Eigen::Vector2d> kept = douglasPeucker( points, options.vertexTolerancePx );
+    size_t j = 0;
+    for ( const Eigen::Vector2d &k : kept )
+    {
+      while ( j < points.size() && ( points[j] - k ).norm() > 1e-9 )
+        ++j;
+      out.line.points.push_back( k );
+      out.line.sigmaPx.push_back( j < sigmas.size() ? sigmas[j] : 0.5 );
+    }
+    return out;
+  }
+
+} // namespace geostation

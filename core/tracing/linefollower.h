@@ -1,0 +1,53 @@
+/***************************************************************************
+  linefollower.h - one road line through one image, gaps bridged
+  -------------------------------------------------------------------------
+  Runs one of the followers from a start on the line. Where the follower
+  loses the line (the end of a dash, worn paint, a parked car in front of
+  the kerb) the line is extrapolated straight ahead - a straight road line
+  stays straight in a photo - and looked for on cross-sections a few
+  pixels apart, with a tolerance that grows with the distance; found and
+  confirmed a little further on, following resumes there. The gap may be
+  as long as maxGapM on the ground (or maxGapPx without a ground model).
+  The followed pixels are then reduced to vertices by Douglas-Peucker
+  (§6.4).
+ ***************************************************************************/
+#ifndef GEOSTATION_TRACING_LINEFOLLOWER_H
+#define GEOSTATION_TRACING_LINEFOLLOWER_H
+
+#include <functional>
+
+#include "tracing/directionalfollower.h"
+#include "tracing/leastsquaresfollower.h"
+#include "tracing/polynomialfollower.h"
+
+namespace geostation
+{
+
+  struct LineFollowOptions
+  {
+    DirectionalOptions directional;
+    LeastSquaresFollowOptions leastSquares;
+    PolynomialFollowOptions polynomial;
+    double maxGapM = 12.0;            //!< longest gap bridged on the ground (a 9 m dash gap and some)
+    double maxGapPx = 300.0;          //!< without a ground model
+    double vertexTolerancePx = 0.4;   //!< Douglas-Peucker tolerance of the vertices
+    /**
+     * Ground distance (metres) between two pixels of the image, e.g. through
+     * the road plane; nothing where a pixel does not reach the ground.
+     */
+    std::function<std::optional<double>( const Eigen::Vector2d &, const Eigen::Vector2d & )> groundDistanceM;
+  };
+
+  struct LineFollowResult
+  {
+    FollowResult line;          //!< vertices (after Douglas-Peucker), sigmas, stop, pixels followed
+    int bridgedGaps = 0;
+    double bridgedPx = 0.0;
+  };
+
+  //! One method (not Auto) from request.start; see the file comment.
+  LineFollowResult followLine( const cv::Mat &grey, const FollowRequest &request, TraceMethod method, const LineFollowOptions &options = LineFollowOptions() );
+
+} // namespace geostation
+
+#endif // GEOSTATION_TRACING_LINEFOLLOWER_H

@@ -1,0 +1,304 @@
+/***************************************************************************
+  lineprofile.cpp - the road line across its direction
+ ***************************************************************************/
+#include "tracing/lineprofile.h"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+#include <Eigen/Eigenvalues>
+#include <opencv2/imgproc.hpp>
+
+namespace geostation
+{
+  namespace
+  {
+    constexpr double kPi = 3.14159265358979323846;
+
+    //! Grey values at integer offsets -half..half across the line, averaged along it; NaN outside the image.
+    std::vector<double> crossProfile( const cv::Mat &grey, const Eigen::Vector2d &centre, const Eigen::Vector2d &direction, int half, int alongSamples )
+    {
+      const Eigen::Vector2d normal = rightNormal( direction );
+      std::vector<double> values( 2 * half + 1, std::nan( "" ) );
+      for ( int u = -half; u <= half; ++u )
+      {
+        double sum = 0.0;
+        int n = 0;
+        for ( int k = 0; k < alongSamples; ++k )
+        {
+          const double t = k - 0.5 * ( alongSamples - 1 );
+          if ( const std::optional<double> g = sampleGrey( grey, centre + u * normal + t * direction ) )
+          {
+            sum += *g;
+            ++n;
+          }
+        }
+        if ( n == alongSamples )
+          values[u + half] = sum / n;
+      }
+      return values;
+    }
+
+    std::optional<LineHit> locateEdge( const std::vector<double> &p, int half, int polarity, const LocateOptions &options )
+    {
+      const int search = static_cast<int>( std::ceil( options.searchHalfPx ) );
+      const auto at = [&]( int u ) { return p[u + half]; };
+      std::optional<LineHit> best;
+      for ( int u = -search; u <= search; ++u )
+      {
+        if ( u - 4 < -half || u + 4 > half )
+          continue;
+        const auto d = [&]( int v ) { return polarity * 0.5 * ( at( v + 1 ) - at( v - 1 ) ); };
+        const double d0 = d( u ), dm = d( u - 1 ), dp = d( u + 1 );
+        if ( std::isnan( d0 ) || std::isnan( dm ) || std::isnan( dp ) || d0 <= 0.0 || d0 < dm || d0 < dp )
+          continue;
+        const double step = polarity * ( at( u + 3 ) - at( u - 3 ) );
+        if ( std::isnan( step ) || step < options.minContrast )
+          continue;
+        const double curvature = dm - 2 * d0 + dp;
+        const double shift = curvature < 0 ? std::clamp( 0.5 * ( dm - dp ) / curvature, -0.5, 0.5 ) : 0.0;
+        const double offset = u + shift;
+        if ( std::abs( offset ) > options.searchHalfPx || ( best && std::abs( offset ) >= std::abs( best->offsetPx ) ) )
+          continue;
+        LineHit hit;
+        hit.offsetPx = offset;
+        hit.contrast = step;
+        hit.sigmaPx = std::clamp( options.noiseGrey / ( std::sqrt( static_cast<double>( options.alongSamples ) ) * d0 ) * 2.0, 0.1, 1.0 );
+        best = hit;
+      }
+      return best;
+    }
+
+    std::optional<LineHit> locateStripe( std::vector<double> p, int half, bool bright, double expectedWidth, const LocateOptions &options )
+    {
+      if ( !bright )
+        for ( double &v : p )
+          v = -v;
+      const int h = std::max( 2, static_cast<int>( std::lround( 0.5 * expectedWidth + 1.5 ) ) );
+      const int search = static_cast<int>( std::ceil( options.searchHalfPx ) );
+      const auto at = [&]( int u ) { return ( u < -half || u > half ) ? std::nan( "" ) : p[u + half]; };
+      const auto response = [&]( int u ) { return at( u ) - 0.5 * ( at( u - h ) + at( u + h ) ); };
+      std::optional<LineHit> best;
+      for ( int u = -search - 1; u <= search + 1; ++u )
+      {
+        const double r = response( u ), rm = response( u - 1 ), rp = response( u + 1 );
+        if ( std::isnan( r ) || std::isnan( rm ) || std::isnan( rp ) || r < options.minContrast || r < rm || r < rp )
+          continue;
+        // background either side, peak, then the half-contrast crossings
+        const double background = 0.5 * ( at( u - h ) + at( u + h ) );
+        double peak = at( u );
+        for ( int v = u - 1; v <= u + 1; ++v )
+          peak = std::max( peak, at( v ) );
+        const double level = background + 0.5 * ( peak - background );
+        double left = std::nan( "" ), right = std::nan( "" );
+        for ( int v = u; v - 1 >= -half; --v )
+          if ( at( v - 1 ) <= level )
+          {
+            left = v - ( at( v ) - level ) / ( at( v ) - at( v - 1 ) );
+            break;
+          }
+        for ( int v = u; v + 1 <= half; ++v )
+          if ( at( v + 1 ) <= level )
+          {
+            right = v + ( at( v ) - level ) / ( at( v ) - at( v + 1 ) );
+            break;
+          }
+        if ( std::isnan( left ) || std::isnan( right ) )
+          continue;
+        const double width = right - left, offset = 0.5 * ( left + right );
+        if ( expectedWidth > 0 && ( width > options.maxWidthRatio * expectedWidth + 1.0 || width < expectedWidth / options.minWidthRatio - 1.0 ) )
+          continue;
+        if ( std::abs( offset ) > options.searchHalfPx + 0.5 || ( best && std::abs( offset ) >= std::abs( best->offsetPx ) ) )
+          continue;
+        LineHit hit;
+        hit.offsetPx = offset;
+        hit.contrast = peak - background;
+        hit.widthPx = width;
+        hit.sigmaPx = std::clamp( options.noiseGrey * std::sqrt( std::max( width, 1.0 ) ) / ( std::sqrt( static_cast<double>( options.alongSamples ) ) * hit.contrast ) * 2.0, 0.1, 1.0 );
+        best = hit;
+      }
+      return best;
+    }
+
+    //! The line direction from the structure tensor of a window (perpendicular to the dominant gradient).
+    std::optional<Eigen::Vector2d> tensorDirection( const cv::Mat &grey, const Eigen::Vector2d &centre, int window )
+    {
+      const int half = window / 2 + 1;
+      const cv::Rect box( static_cast<int>( centre.x() ) - half, static_cast<int>( centre.y() ) - half, 2 * half + 1, 2 * half + 1 );
+      const cv::Rect clipped = box & cv::Rect( 0, 0, grey.cols, grey.rows );
+      if ( clipped.width < 7 || clipped.height < 7 )
+        return std::nullopt;
+      cv::Mat gx, gy;
+      cv::Sobel( grey( clipped ), gx, CV_32F, 1, 0 );
+      cv::Sobel( grey( clipped ), gy, CV_32F, 0, 1 );
+      double jxx = 0, jyy = 0, jxy = 0;
+      for ( int r = 1; r < clipped.height - 1; ++r )
+        for ( int c = 1; c < clipped.width - 1; ++c )
+        {
+          const double x = gx.at<float>( r, c ), y = gy.at<float>( r, c );
+          jxx += x * x;
+          jyy += y * y;
+          jxy += x * y;
+        }
+      if ( jxx + jyy <= 0 )
+        return std::nullopt;
+      const double gradientAngle = 0.5 * std::atan2( 2 * jxy, jxx - jyy );
+      return Eigen::Vector2d( -std::sin( gradientAngle ), std::cos( gradientAngle ) );
+    }
+
+    Eigen::Vector2d upOrRight( Eigen::Vector2d d )
+    {
+      d.normalize();
+      if ( d.y() > 0.2 || ( std::abs( d.y() ) <= 0.2 && d.x() < 0 ) )
+        d = -d;
+      return d;
+    }
+  }
+
+  std::optional<double> sampleGrey( const cv::Mat &grey, const Eigen::Vector2d &pixelInImage )
+  {
+    const double x = pixelInImage.x() - 0.5, y = pixelInImage.y() - 0.5;
+    if ( !( x >= 0.0 && y >= 0.0 && x <= grey.cols - 1 && y <= grey.rows - 1 ) )
+      return std::nullopt;
+    const int x0 = std::min( static_cast<int>( x ), grey.cols - 2 ), y0 = std::min( static_cast<int>( y ), grey.rows - 2 );
+    const double u = x - x0, v = y - y0;
+    const uint8_t *a = grey.ptr<uint8_t>( y0 ) + x0, *b = grey.ptr<uint8_t>( y0 + 1 ) + x0;
+    return ( 1 - v ) * ( ( 1 - u ) * a[0] + u * a[1] ) + v * ( ( 1 - u ) * b[0] + u * b[1] );
+  }
+
+  std::optional<LineHit> locateLine( const cv::Mat &grey, const Eigen::Vector2d &centre, const Eigen::Vector2d &direction, const LineProfile &profile,
+                                     const LocateOptions &options )
+  {
+    const bool stripe = profile.kind != LineKind::Edge;
+    const int margin = stripe ? static_cast<int>( std::ceil( 0.5 * options.maxWidthRatio * std::max( profile.widthPx, 1.0 ) ) ) + 4 : 5;
+    const int half = static_cast<int>( std::ceil( options.searchHalfPx ) ) + margin;
+    const std::vector<double> p = crossProfile( grey, centre, direction, half, options.alongSamples );
+    const std::optional<LineHit> hit = stripe ? locateStripe( p, half, profile.kind == LineKind::BrightStripe, profile.widthPx, options )
+                                              : locateEdge( p, half, profile.polarity, options );
+    if ( !hit )
+      return std::nullopt;
+    LineHit out = *hit;
+    out.pixelInImage = centre + out.offsetPx * rightNormal( direction );
+    return out;
+  }
+
+  LocateOptions locateOptionsFor( const LineProfile &profile, const FollowOptions &follow, double searchHalfPx )
+  {
+    LocateOptions options;
+    options.searchHalfPx = searchHalfPx;
+    options.minContrast = std::max( follow.minContrastGrey, follow.minContrastFraction * profile.contrast );
+    return options;
+  }
+
+  SeedAnalysis analyseSeed( const cv::Mat &grey, const Eigen::Vector2d &seedPixel, std::optional<double> directionDeg, const SeedOptions &options )
+  {
+    if ( grey.empty() || grey.type() != CV_8UC1 )
+      throw std::invalid_argument( "analyseSeed needs an 8-bit grey image" );
+    SeedAnalysis out;
+    const auto fail = [&]( const std::string &why )
+    {
+      out.ok = false;
+      out.message = why;
+      return out;
+    };
+    if ( !sampleGrey( grey, seedPixel ) )
+      return fail( "the seed lies outside the image" );
+    Eigen::Vector2d direction;
+    if ( directionDeg )
+      direction = directionFromDegrees( *directionDeg );
+    else if ( const std::optional<Eigen::Vector2d> d = tensorDirection( grey, seedPixel, options.directionWindow ) )
+      direction = upOrRight( *d );
+    else
+      direction = Eigen::Vector2d( 0, -1 );
+
+    LocateOptions locate;
+    locate.searchHalfPx = options.searchRadiusPx;
+    locate.minContrast = options.minContrast;
+    locate.alongSamples = 5;
+    struct Candidate
+    {
+      LineProfile profile;
+      LineHit hit;
+    };
+    std::vector<Candidate> candidates;
+    for ( const LineKind kind : { LineKind::BrightStripe, LineKind::DarkStripe } )
+    {
+      std::optional<Candidate> bestOfKind;
+      locate.maxWidthRatio = locate.minWidthRatio = 1.5;
+      for ( const double width : { 2.0, 3.0, 4.5, 6.5, 9.0, 13.0, 18.0, 25.0, 35.0, 50.0, 70.0 } )
+      {
+        if ( width > options.maxStripeWidthPx )
+          break;
+        LineProfile profile { kind, 1, width, 0.0 };
+        if ( const std::optional<LineHit> hit = locateLine( grey, seedPixel, direction, profile, locate ) )
+          if ( !bestOfKind || hit->contrast > bestOfKind->hit.contrast )
+          {
+            profile.widthPx = hit->widthPx;
+            profile.contrast = hit->contrast;
+            bestOfKind = Candidate { profile, *hit };
+          }
+      }
+      if ( bestOfKind )
+        candidates.push_back( *bestOfKind );
+    }
+    locate.maxWidthRatio = locate.minWidthRatio = 2.2;
+    for ( const int polarity : { 1, -1 } )
+    {
+      LineProfile profile { LineKind::Edge, polarity, 0.0, 0.0 };
+      if ( const std::optional<LineHit> hit = locateLine( grey, seedPixel, direction, profile, locate ) )
+      {
+        profile.contrast = hit->contrast;
+        candidates.push_back( { profile, *hit } );
+      }
+    }
+    if ( candidates.empty() )
+      return fail( "no edge or painted line within " + std::to_string( static_cast<int>( options.searchRadiusPx ) ) + " px of the seed" );
+    // the line nearest the click (a stripe by its centre, an edge by its step); a stripe wins a near tie
+    const Candidate *chosen = nullptr;
+    const auto better = [&]( const Candidate &c )
+    {
+      const double dc = std::abs( c.hit.offsetPx ), db = std::abs( chosen->hit.offsetPx );
+      const bool cStripe = c.profile.kind != LineKind::Edge, bStripe = chosen->profile.kind != LineKind::Edge;
+      if ( cStripe != bStripe && std::abs( dc - db ) <= 1.0 )
+        return cStripe;
+      return dc < db - 1e-9 || ( std::abs( dc - db ) <= 1e-9 && c.hit.contrast > chosen->hit.contrast );
+    };
+    for ( const Candidate &c : candidates )
+      if ( !chosen || better( c ) )
+        chosen = &c;
+    out.profile = chosen->profile;
+    out.pixelInImage = chosen->hit.pixelInImage;
+
+    // the direction measured along the line: the line located either side of the seed
+    LocateOptions along = locateOptionsFor( out.profile, FollowOptions(), 3.0 );
+    along.maxWidthRatio = along.minWidthRatio = 2.0;
+    std::vector<Eigen::Vector2d> points { out.pixelInImage };
+    for ( const double step : { -12.0, -6.0, 6.0, 12.0 } )
+      if ( const std::optional<LineHit> h = locateLine( grey, out.pixelInImage + step * direction, direction, out.profile, along ) )
+        points.push_back( h->pixelInImage );
+    if ( points.size() >= 3 )
+    {
+      Eigen::Vector2d mean = Eigen::Vector2d::Zero();
+      for ( const Eigen::Vector2d &p : points )
+        mean += p;
+      mean /= static_cast<double>( points.size() );
+      Eigen::Matrix2d scatter = Eigen::Matrix2d::Zero();
+      for ( const Eigen::Vector2d &p : points )
+        scatter += ( p - mean ) * ( p - mean ).transpose();
+      Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> eigen( scatter );
+      Eigen::Vector2d measured = eigen.eigenvectors().col( 1 );
+      if ( measured.dot( direction ) < 0 )
+        measured = -measured;
+      if ( measured.dot( direction ) > std::cos( 25.0 * kPi / 180.0 ) )
+      {
+        // the edge polarity is relative to the direction of travel, which keeps its sense
+        direction = measured.normalized();
+      }
+    }
+    out.direction = direction;
+    out.ok = true;
+    return out;
+  }
+
+} // namespace geostation

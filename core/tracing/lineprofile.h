@@ -1,0 +1,79 @@
+/***************************************************************************
+  lineprofile.h - the road line across its direction (thesis §6.1, §6.5.1)
+  -------------------------------------------------------------------------
+  locateLine() finds the line on a grey-level profile sampled across its
+  direction: the centre of a stripe (half-contrast centroid) or the
+  steepest point of an edge of the right polarity (parabola on the
+  derivative), to a fraction of a pixel. analyseSeed() turns an operator's
+  click into a start: the line nearest the click, what kind it is, and its
+  direction (from the operator, or measured along the line).
+ ***************************************************************************/
+#ifndef GEOSTATION_TRACING_LINEPROFILE_H
+#define GEOSTATION_TRACING_LINEPROFILE_H
+
+#include <optional>
+#include <string>
+
+#include "tracing/linetrace.h"
+
+namespace geostation
+{
+
+  struct LineHit
+  {
+    Eigen::Vector2d pixelInImage = Eigen::Vector2d::Zero(); //!< on the line
+    double offsetPx = 0.0;   //!< from the sampling centre, along the right-hand normal
+    double contrast = 0.0;   //!< as LineProfile::contrast
+    double widthPx = 0.0;    //!< stripes: full width at half contrast
+    double sigmaPx = 0.5;    //!< across the line
+  };
+
+  struct LocateOptions
+  {
+    double searchHalfPx = 4.0;   //!< how far across the line to look, each side
+    double minContrast = 6.0;    //!< grey levels
+    int alongSamples = 3;        //!< profiles averaged along the line (1 px apart)
+    double maxWidthRatio = 2.2;  //!< stripes: width at most r times the expected width
+    double minWidthRatio = 2.2;  //!< stripes: width at least 1/r of the expected width (larger where the line may narrow with distance)
+    double noiseGrey = 2.0;      //!< grey-level noise assumed for sigmaPx
+  };
+
+  /**
+   * The line of `profile` on the profile through `centre` across `direction`
+   * (unit, pixel space): the candidate nearest the centre. Nothing when no
+   * candidate is within options.searchHalfPx or it is too weak.
+   */
+  std::optional<LineHit> locateLine( const cv::Mat &grey, const Eigen::Vector2d &centre, const Eigen::Vector2d &direction, const LineProfile &profile,
+                                     const LocateOptions &options );
+
+  struct SeedOptions
+  {
+    double searchRadiusPx = 8.0;  //!< "no edge within N px of the seed"
+    double minContrast = 10.0;    //!< grey levels
+    double maxStripeWidthPx = 60.0;
+    int directionWindow = 21;     //!< structure-tensor window when no direction is given
+  };
+
+  struct SeedAnalysis
+  {
+    bool ok = false;
+    std::string message;          //!< one sentence when not ok
+    Eigen::Vector2d pixelInImage = Eigen::Vector2d::Zero(); //!< snapped onto the line
+    Eigen::Vector2d direction = Eigen::Vector2d( 0, -1 );
+    LineProfile profile;
+  };
+
+  /**
+   * The line nearest an operator's click. With no `directionDeg` the
+   * direction is measured (structure tensor, then the line located either
+   * side of the seed) and points up the image (the thesis' 0 degrees
+   * default) or, for a line nearly along the rows, to the right.
+   */
+  SeedAnalysis analyseSeed( const cv::Mat &grey, const Eigen::Vector2d &seedPixel, std::optional<double> directionDeg, const SeedOptions &options = SeedOptions() );
+
+  //! The options a follower uses to locate a line of `profile` (contrast threshold from the seed's contrast).
+  LocateOptions locateOptionsFor( const LineProfile &profile, const FollowOptions &follow, double searchHalfPx );
+
+} // namespace geostation
+
+#endif // GEOSTATION_TRACING_LINEPROFILE_H

@@ -1,0 +1,705 @@
+/***************************************************************************
+  roadtracer.cpp - one click, the whole run traced (thesis §6.5)
+ ***************************************************************************/
+#include "tracing/roadtracer.h"
+
+#include <cmath>
+#include <limits>
+#include <list>
+#include <mutex>
+#include <set>
+#include <stdexcept>
+
+#include <Eigen/Dense>
+#include <opencv2/imgproc.hpp>
+
+#include "io/rasterfile.h"
+#include "workstation/stationsequence.h"
+
+namespace geostation
+{
+  namespace
+  {
+    double horizontalDistance( const Eigen::Vector3d &a, const Eigen::Vector3d &b ) { return ( a - b ).head<2>().norm(); }
+
+    //! The image of a station taken by a camera; nullptr if none.
+    const BlockImage *stationImage( const Block &block, const SequenceStation &station, const std::string &cameraId )
+    {
+      for ( const std::string &id : station.imageIds )
+        if ( const BlockImage *image = block.findImage( id ); image && image->cameraId == cameraId )
+          return image;
+      return nullptr;
+    }
+
+    //! The station's other oriented image that sees the ground point, its optical axis closest to the reference's.
+    const BlockImage *choosePartner( const Block &block, const SequenceStation &station, const BlockImage &reference, const OrientedImage &referenceImage,
+                                     const Eigen::Vector3d &ground )
+    {
+      const BlockImage *best = nullptr;
+      double bestCos = -2.0;
+      const Eigen::Vector3d axis = referenceImage.cameraFromWorldRotation().row( 2 ).transpose();
+      for ( const std::string &id : station.imageIds )
+      {
+        const BlockImage *image = block.findImage( id );
+        if ( !image || image->id == reference.id || !image->exterior )
+          continue;
+        const OrientedImage candidate = block.orientedImage( *image );
+        const GroundProjection p = candidate.projectGroundToPixel( ground );
+        const Camera &camera = candidate.camera();
+        if ( !p.ok() || p.pixelInImage.x() < 20 || p.pixelInImage.y() < 20 || p.pixelInImage.x() > camera.width - 20 || p.pixelInImage.y() > camera.height - 20 )
+          continue;
+        const double c = axis.dot( candidate.cameraFromWorldRotation().row( 2 ).transpose() );
+        if ( c > bestCos )
+        {
+          bestCos = c;
+          best = image;
+        }
+      }
+      return best;
+    }
+
+    /**
+     * The line continued beyond its last vertex every `step` metres up to
+     * `length`: a parabola fitted in plan to its last 30 m (so a road curve
+     * keeps bending, and the direction comes from more than one dash),
+     * with the grade of that stretch in height.
+     */
+    std::vector<Eigen::Vector3d> continuation( const std::vector<Eigen::Vector3d> &vertices, const Eigen::Vector3d &direction, double length, double step )
+    {
+      const Eigen::Vector3d end = vertices.back();
+      size_t first = vertices.size() - 1;
+      while ( first > 0 && ( end - vertices[first - 1] ).head<2>().norm() < 30.0 )
+        --first;
+      Eigen::Vector2d axis = direction.head<2>().normalized();
+      double slope = 0.0, bend = 0.0, grade = direction.z() / std::max( 1e-9, direction.head<2>().norm() );
+      const Eigen::Vector2d chord = end.head<2>() - vertices[first].head<2>();
+      if ( vertices.size() - first >= 4 && chord.norm() > 6.0 )
+      {
+        // y = a + b x + c x^2 in a frame along the chord, origin at the end
+        axis = chord.normalized();
+        const Eigen::Vector2d normal( -axis.y(), axis.x() );
+        Eigen::MatrixXd design( vertices.size() - first, 3 );
+        Eigen::VectorXd across( design.rows() ), heights( design.rows() );
+        for ( size_t i = first; i < vertices.size(); ++i )
+        {
+          const Eigen::Vector2d d = vertices[i].head<2>() - end.head<2>();
+          const double x = d.dot( axis );
+          design.row( i - first ) << 1.0, x, x * x;
+          across[i - first] = d.dot( normal );
+          heights[i - first] = vertices[i].z() - end.z();
+        }
+        const Eigen::Vector3d k = ( design.transpose() * design ).ldlt().solve( design.transpose() * across );
+        slope = k[1];
+        bend = std::clamp( k[2], -0.025, 0.025 ); // radius 20 m at the sharpest
+        const Eigen::Vector2d g = design.leftCols<2>().colPivHouseholderQr().solve( heights );
+        grade = g[1];
+      }
+      const Eigen::Vector2d normal( -axis.y(), axis.x() );
+      std::vector<Eigen::Vector3d> out;
+      for ( double s = step; s <= length + 1e-9; s += step )
+      {
+        // x along the chord; the curve's offset from it; arc length ~ x for gentle curves
+        const double x = s;
+        const Eigen::Vector2d xy = end.head<2>() + x * axis + ( slope * x + bend * x * x ) * normal;
+        out.push_back( Eigen::Vector3d( xy.x(), xy.y(), end.z() + grade * x ) );
+      }
+      return out;
+    }
+
+    /**
+     * The line continued parallel to the van's trajectory (the reference
+     * camera's path through the run): road lines run with the road, so the
+     * last vertex keeps its offset from the trajectory and follows its
+     * curves and grade. Every `step` metres up to `length`.
+     */
+    std::vector<Eigen::Vector3d> trajectoryContinuation( const std::vector<Eigen::Vector3d> &trajectory, const Eigen::Vector3d &last, int stepSign, double length, double step )
+    {
+      std::vector<Eigen::Vector3d> out;
+      if ( trajectory.size() < 2 )
+        return out;
+      // arc length and signed offset of the last vertex along the trajectory (in plan)
+      std::vector<double> arc { 0.0 };
+      for ( size_t i = 1; i < trajectory.size(); ++i )
+        arc.push_back( arc.back() + ( trajectory[i] - trajectory[i - 1] ).head<2>().norm() );
+      double bestDistance = std::numeric_limits<double>::infinity(), at = 0.0, offset = 0.0;
+      for ( size_t i = 0; i + 1 < trajectory.size(); ++i )
+      {
+        const Eigen::Vector2d a = trajectory[i].head<2>(), ab = trajectory[i + 1].head<2>() - a;
+        const double len2 = ab.squaredNorm();
+        if ( len2 <= 0 )
+          continue;
+        const double t = ( last.head<2>() - a ).dot( ab ) / len2; // unclamped at the ends: the trajectory extends straight
+        if ( ( t < 0 && i > 0 ) || ( t > 1 && i + 2 < trajectory.size() ) )
+          continue;
+        const Eigen::Vector2d foot = a + t * ab;
+        const double d = ( last.head<2>() - foot ).norm();
+        if ( d < bestDistance )
+        {
+          bestDistance = d;
+          at = arc[i] + t * std::sqrt( len2 );
+          const Eigen::Vector2d left( -ab.y(), ab.x() );
+          offset = ( last.head<2>() - foot ).dot( left.normalized() );
+        }
+      }
+      const auto pointAt = [&]( double s, double &z ) -> Eigen::Vector2d
+      {
+        size_t i = 0;
+        while ( i + 2 < trajectory.size() && arc[i + 1] < s )
+          ++i;
+        const double len = arc[i + 1] - arc[i];
+        const double t = len > 0 ? ( s - arc[i] ) / len : 0.0;
+        const Eigen::Vector3d p = trajectory[i] + t * ( trajectory[i + 1] - trajectory[i] );
+        const Eigen::Vector2d ab = ( trajectory[i + 1] - trajectory[i] ).head<2>().normalized();
+        z = p.z();
+        return p.head<2>() + offset * Eigen::Vector2d( -ab.y(), ab.x() );
+      };
+      double z0 = 0.0;
+      pointAt( at, z0 );
+      for ( double s = step; s <= length + 1e-9; s += step )
+      {
+        double z = 0.0;
+        const Eigen::Vector2d xy = pointAt( at + stepSign * s, z );
+        out.push_back( Eigen::Vector3d( xy.x(), xy.y(), last.z() + ( z - z0 ) ) );
+      }
+      return out;
+    }
+
+    /**
+     * The road surface under the van's track: the height of the nearest
+     * point of the trajectory (camera centres) minus the camera's height
+     * above the road, so the surface climbs and falls with the road; a
+     * traced vertex far from it is a wrong match.
+     */
+    std::optional<double> trackSurfaceHeight( const std::vector<Eigen::Vector3d> &trajectory, const Eigen::Vector2d &xy, double cameraHeightM )
+    {
+      if ( trajectory.empty() )
+        return std::nullopt;
+      if ( trajectory.size() == 1 )
+        return trajectory.front().z() - cameraHeightM;
+      double best = std::numeric_limits<double>::infinity(), z = 0.0;
+      for ( size_t i = 0; i + 1 < trajectory.size(); ++i )
+      {
+        const Eigen::Vector2d a = trajectory[i].head<2>(), ab = trajectory[i + 1].head<2>() - a;
+        const double len2 = ab.squaredNorm();
+        const double t = len2 > 0 ? std::clamp( ( xy - a ).dot( ab ) / len2, 0.0, 1.0 ) : 0.0;
+        const double d = ( a + t * ab - xy ).squaredNorm();
+        if ( d < best )
+        {
+          best = d;
+          z = trajectory[i].z() + t * ( trajectory[i + 1].z() - trajectory[i].z() );
+        }
+      }
+      return z - cameraHeightM;
+    }
+
+    //! The pixel polyline's length on the ground, or 0.
+    double groundLength( const OrientedImage &image, const std::vector<Eigen::Vector2d> &points, const GroundOfPixel &ground )
+    {
+      if ( points.size() < 2 )
+        return 0.0;
+      const std::optional<Eigen::Vector3d> a = ground( image, points.front() ), b = ground( image, points.back() );
+      return a && b ? ( *a - *b ).norm() : 0.0;
+    }
+  }
+
+  void RoadTraceOptions::check() const
+  {
+    if ( maxStations < 0 )
+      throw std::invalid_argument( "the number of stations must be 0 (the whole run) or more" );
+    if ( !( maxRangeM > handoverRangeM ) || !( handoverRangeM > 0 ) )
+      throw std::invalid_argument( "the distance limit must be larger than the handover range, and both positive" );
+    if ( !( cameraHeightM > 0 ) )
+      throw std::invalid_argument( "the camera height above the road must be positive" );
+    if ( !( vertexSpacingPx >= 2 ) )
+      throw std::invalid_argument( "the vertex spacing must be at least 2 px" );
+  }
+
+  std::string RoadTraceSummary::methods() const
+  {
+    std::vector<std::string> names;
+    for ( const TracedStation &s : stations )
+    {
+      const std::string n = traceMethodName( s.method );
+      if ( std::find( names.begin(), names.end(), n ) == names.end() )
+        names.push_back( n );
+    }
+    std::string out;
+    for ( const std::string &n : names )
+      out += ( out.empty() ? "" : "+" ) + n;
+    return out;
+  }
+
+  GreyImageSource fileGreyImageSource( const Block &block, size_t capacity )
+  {
+    struct Cache
+    {
+      std::mutex mutex;
+      std::list<std::pair<std::string, std::shared_ptr<const cv::Mat>>> entries;
+    };
+    auto cache = std::make_shared<Cache>();
+    const std::filesystem::path blockFile = block.sourceFile;
+    return [cache, capacity, &block]( const BlockImage &image, std::string &error ) -> std::shared_ptr<const cv::Mat>
+    {
+      const std::string path = block.imageFilePath( image ).string();
+      {
+        std::lock_guard<std::mutex> lock( cache->mutex );
+        for ( const auto &e : cache->entries )
+          if ( e.first == path )
+            return e.second;
+      }
+      try
+      {
+        const cv::Mat pixels = readRaster( path ).pixels;
+        auto grey = std::make_shared<cv::Mat>();
+        cv::Mat eight = pixels;
+        if ( pixels.depth() == CV_16U )
+        {
+          double lo, hi;
+          cv::minMaxLoc( pixels.reshape( 1 ), &lo, &hi );
+          pixels.convertTo( eight, CV_8U, hi > lo ? 255.0 / ( hi - lo ) : 1.0, hi > lo ? -lo * 255.0 / ( hi - lo ) : 0.0 );
+        }
+        if ( eight.channels() == 3 )
+          cv::cvtColor( eight, *grey, cv::COLOR_RGB2GRAY );
+        else
+          *grey = eight;
+        const Camera *camera = block.findCamera( image.cameraId );
+        if ( camera && ( grey->cols != camera->width || grey->rows != camera->height ) )
+        {
+          error = "the image " + image.id + " is " + std::to_string( grey->cols ) + " x " + std::to_string( grey->rows ) + " px but its camera " + camera->id + " is " +
+                  std::to_string( camera->width ) + " x " + std::to_string( camera->height );
+          return nullptr;
+        }
+        std::lock_guard<std::mutex> lock( cache->mutex );
+        cache->entries.push_front( { path, grey } );
+        if ( cache->entries.size() > capacity )
+          cache->entries.pop_back();
+        return grey;
+      }
+      catch ( const std::exception &e )
+      {
+        error = "the image " + image.id + " cannot be read: " + e.what();
+        return nullptr;
+      }
+    };
+  }
+
+  RoadTraceSummary traceRoadLine( const Block &block, const TraceSeed &seed, const RoadTraceOptions &options, const GreyImageSource &images )
+  {
+    options.check();
+    const BlockImage &seedImage = block.image( seed.imageId );
+    if ( !seedImage.exterior )
+      throw std::invalid_argument( "the seed image " + seedImage.id + " is not oriented" );
+    const StationSequence sequence( block );
+    int k = sequence.indexOf( seedImage.stationId.empty() ? seedImage.id : seedImage.stationId );
+    if ( k < 0 )
+      throw std::invalid_argument( "the seed image " + seedImage.id + " belongs to no station of the block" );
+
+    // the reference camera's path through the run, in run order
+    std::vector<Eigen::Vector3d> trajectory;
+    for ( const SequenceStation &st : sequence.stations() )
+      if ( const BlockImage *image = stationImage( block, st, seedImage.cameraId ); image && image->exterior )
+        trajectory.push_back( image->exterior->projectionCentre );
+
+    RoadTraceSummary out;
+    const auto stopWith = [&]( TraceStop stop, const std::string &message )
+    {
+      out.stop = stop;
+      out.message = message;
+    };
+    std::string error;
+    std::shared_ptr<const cv::Mat> referenceGrey = images( seedImage, error );
+    const std::string referenceCamera = seedImage.cameraId;
+    std::string partnerCamera;
+    Eigen::Vector2d start = seed.pixelInImage, direction;
+    LineProfile profile;
+    double widthTimesRange = 0.0; // stripes narrow as 1 / range
+    size_t keep = 0;              // run vertices kept when the next station's are appended
+    int step = 0;                 // +1 or -1 through the run, set at the first handover
+    Eigen::Vector3d lineDirection = Eigen::Vector3d::Zero();
+    std::optional<Eigen::Vector3d> previousCentre; // the last station's reference camera
+    int consecutiveLost = 0;
+
+    if ( !referenceGrey )
+    {
+      stopWith( TraceStop::ImageMissing, error );
+      return out;
+    }
+    const SeedAnalysis analysis = analyseSeed( *referenceGrey, seed.pixelInImage, seed.directionDeg, options.seed );
+    if ( !analysis.ok )
+    {
+      stopWith( TraceStop::NoEdge, "seed " + seed.id + " in " + seedImage.id + ": " + analysis.message );
+      return out;
+    }
+    start = analysis.pixelInImage;
+    direction = analysis.direction;
+    profile = analysis.profile;
+
+    for ( int stationsDone = 0;; ++stationsDone )
+    {
+      const SequenceStation &station = sequence.at( k );
+      const BlockImage *referenceImage = stationImage( block, station, referenceCamera );
+      const OrientedImage reference = block.orientedImage( *referenceImage );
+      const Eigen::Vector3d centre = reference.exterior().projectionCentre;
+      // the partner: chosen at the seed station by what sees the start, then the same camera throughout
+      // the road surface: the plane under the station, its height then taken from the track where the ray meets it
+      const auto roadPlaneOf = [&]( double z ) -> GroundOfPixel
+      {
+        return [z, h = options.cameraHeightM, &trajectory]( const OrientedImage &image, const Eigen::Vector2d &pixel ) -> std::optional<Eigen::Vector3d>
+        {
+          std::optional<Eigen::Vector3d> p = roadPlanePoint( image, pixel, z - h );
+          for ( int it = 0; it < 2 && p; ++it )
+            if ( const std::optional<double> surface = trackSurfaceHeight( trajectory, p->head<2>(), h ) )
+              if ( std::optional<Eigen::Vector3d> q = roadPlanePoint( image, pixel, *surface ) )
+                p = q;
+          return p;
+        };
+      };
+      if ( partnerCamera.empty() )
+      {
+        // the line's first 200 px on the ground: some of it must be in view of the partner
+        const GroundOfPixel single = options.groundOfPixel ? options.groundOfPixel : roadPlaneOf( centre.z() );
+        const BlockImage *partner = nullptr;
+        for ( double s = 0.0; !partner && s <= 200.0; s += 20.0 )
+          if ( const std::optional<Eigen::Vector3d> ground = single( reference, start + s * direction ) )
+            partner = choosePartner( block, station, *referenceImage, reference, *ground );
+        if ( !partner )
+        {
+          stopWith( TraceStop::NoStereoPartner, "the seed image " + referenceImage->id + " has no stereo partner: no other oriented image of station " + station.id + " sees the line" );
+          break;
+        }
+        partnerCamera = partner->cameraId;
+      }
+      const BlockImage *partnerImage = stationImage( block, station, partnerCamera );
+      if ( !partnerImage || !partnerImage->exterior )
+      {
+        stopWith( TraceStop::NoStereoPartner, "station " + station.id + " has no oriented image of the partner camera " + partnerCamera );
+        break;
+      }
+      const OrientedImage partner = block.orientedImage( *partnerImage );
+      const std::shared_ptr<const cv::Mat> partnerGrey = images( *partnerImage, error );
+      if ( !partnerGrey )
+      {
+        stopWith( TraceStop::ImageMissing, error );
+        break;
+      }
+      const GroundOfPixel ground = options.groundOfPixel ? options.groundOfPixel : roadPlaneOf( 0.5 * ( centre.z() + partner.exterior().projectionCentre.z() ) );
+
+      // the distance limit: past the point where the next station takes over, at most maxRangeM
+      double rangeLimit = options.maxRangeM;
+      for ( const int s : { 1, -1 } )
+        if ( ( step == 0 || s == step ) && k + s >= 0 && k + s < sequence.size() )
+          if ( const BlockImage *next = stationImage( block, sequence.at( k + s ), referenceCamera ); next && next->exterior )
+            rangeLimit = std::min( rangeLimit, horizontalDistance( next->exterior->projectionCentre, centre ) + options.handoverRangeM + 4.0 );
+      if ( step == 0 && sequence.size() == 1 )
+        rangeLimit = options.maxRangeM;
+      const auto withinLimitOf = [&]( const OrientedImage &image, double limit )
+      {
+        return [&image, &ground, centre, limit]( const Eigen::Vector2d &pixel )
+        {
+          const std::optional<Eigen::Vector3d> g = ground( image, pixel );
+          return g && horizontalDistance( *g, centre ) <= limit;
+        };
+      };
+      LineFollowOptions follow = options.follow;
+      follow.groundDistanceM = [&]( const Eigen::Vector2d &a, const Eigen::Vector2d &b ) -> std::optional<double>
+      {
+        const std::optional<Eigen::Vector3d> ga = ground( reference, a ), gb = ground( reference, b );
+        return ga && gb ? std::optional<double>( ( *ga - *gb ).norm() ) : std::nullopt;
+      };
+      const std::optional<Eigen::Vector3d> startGround = ground( reference, start );
+      if ( profile.kind != LineKind::Edge && startGround )
+      {
+        const double range = horizontalDistance( *startGround, centre );
+        if ( widthTimesRange <= 0 )
+          widthTimesRange = profile.widthPx * range;
+        profile.widthPx = widthTimesRange / std::max( range, 1.0 );
+      }
+
+      // follow in the reference image: the method asked for, or auto's choice
+      FollowRequest request;
+      request.start = start;
+      request.direction = direction;
+      request.profile = profile;
+      request.withinLimit = withinLimitOf( reference, rangeLimit );
+      // auto: polynomial strips first (they bridge dashes, wear and shadows and are the most precise in the
+      // tests); where they cover less than half the way, the skeleton (stripes) or least squares (edges)
+      TraceMethod method = options.method == TraceMethod::Auto ? TraceMethod::Polynomial : options.method;
+      LineFollowResult followed = followLine( *referenceGrey, request, method, follow );
+      if ( options.method == TraceMethod::Auto && startGround )
+      {
+        const double wanted = rangeLimit - horizontalDistance( *startGround, centre );
+        if ( groundLength( reference, followed.line.points, ground ) < 0.5 * wanted && followed.line.stop != TraceStop::LeftImage )
+        {
+          const TraceMethod other = profile.kind == LineKind::Edge ? TraceMethod::LeastSquares : TraceMethod::Directional;
+          LineFollowResult second = followLine( *referenceGrey, request, other, follow );
+          if ( groundLength( reference, second.line.points, ground ) > groundLength( reference, followed.line.points, ground ) )
+          {
+            followed = second;
+            method = other;
+          }
+        }
+      }
+      TracedStation record;
+      record.stationId = station.id;
+      record.referenceImageId = referenceImage->id;
+      record.partnerImageId = partnerImage->id;
+      record.method = method;
+      record.kind = profile.kind;
+      record.pixelsFollowed = followed.line.pixelsFollowed;
+      record.bridgedGaps = followed.bridgedGaps;
+      record.stop = followed.line.stop;
+      out.pixelsFollowed += followed.line.pixelsFollowed;
+      // a station where the line cannot be followed (it starts in a gap, a car hides it) is passed over:
+      // the next one picks the line up from the continuation of what was traced before
+      const bool lost = followed.line.points.size() < 2;
+      const std::string lostMessage = "the line could not be followed in " + referenceImage->id + " from (" + std::to_string( start.x() ).substr( 0, 6 ) + ", " +
+                                      std::to_string( start.y() ).substr( 0, 6 ) + ")";
+      consecutiveLost = lost ? consecutiveLost + 1 : 0;
+      if ( lost && ( out.vertices.empty() || consecutiveLost > options.maxStationsPassedOver ) )
+      {
+        out.stations.push_back( record );
+        stopWith( TraceStop::NoEdge, lostMessage );
+        break;
+      }
+      std::vector<LineVertex3d> vertices;
+      LineFollowResult partnerLine;
+      StartMatch partnerStart;
+      if ( !lost )
+      {
+
+      // the partner: start by correlation along the epipolar curve, then the same method
+      const StereoImage ref { referenceImage->id, &reference, referenceGrey.get() }, par { partnerImage->id, &partner, partnerGrey.get() };
+      // the first points of the line that the partner sees, tried in turn
+      std::vector<Eigen::Vector2d> points;
+      std::vector<double> sigmas;
+      intervalPoints( followed.line.points, followed.line.sigmaPx, options.vertexSpacingPx, points, sigmas );
+      partnerStart.message = "the line is not in view of " + partnerImage->id;
+      for ( size_t i = 0, tries = 0; i < points.size() && tries < 6; ++i )
+      {
+        const std::optional<Eigen::Vector3d> g = ground( reference, points[i] );
+        const GroundProjection p = g ? partner.projectGroundToPixel( *g ) : GroundProjection();
+        if ( !g || !p.ok() || p.pixelInImage.x() < 15 || p.pixelInImage.y() < 15 || p.pixelInImage.x() > partnerGrey->cols - 15 || p.pixelInImage.y() > partnerGrey->rows - 15 )
+          continue;
+        ++tries;
+        const Eigen::Vector2d along = ( points[std::min( i + 1, points.size() - 1 )] - points[i == 0 ? 0 : i - 1] ).normalized();
+        partnerStart = matchStartInPartner( ref, points[i], along, par, ground, followed.line.profile, options.start );
+        if ( partnerStart.ok )
+          break;
+      }
+      if ( partnerStart.ok )
+      {
+      record.partnerScore = partnerStart.score;
+      FollowRequest partnerRequest = request;
+      partnerRequest.start = partnerStart.pixelInImage;
+      partnerRequest.direction = partnerStart.direction;
+      partnerRequest.withinLimit = withinLimitOf( partner, rangeLimit + 3.0 );
+      LineFollowOptions partnerFollow = follow;
+      partnerFollow.groundDistanceM = [&]( const Eigen::Vector2d &a, const Eigen::Vector2d &b ) -> std::optional<double>
+      {
+        const std::optional<Eigen::Vector3d> ga = ground( partner, a ), gb = ground( partner, b );
+        return ga && gb ? std::optional<double>( ( *ga - *gb ).norm() ) : std::nullopt;
+      };
+      // the partner's line both ways from its start, so it covers all of the reference line
+      if ( const std::optional<LineHit> snapped = locateLine( *partnerGrey, partnerRequest.start, partnerRequest.direction, profile, locateOptionsFor( profile, options.follow.directional.follow, 4.0 ) ) )
+        partnerRequest.start = snapped->pixelInImage;
+      partnerLine = followLine( *partnerGrey, partnerRequest, method, partnerFollow );
+      FollowRequest backwardRequest = partnerRequest;
+      backwardRequest.direction = -partnerRequest.direction;
+      if ( profile.kind == LineKind::Edge )
+        backwardRequest.profile.polarity = -profile.polarity;
+      const LineFollowResult backward = followLine( *partnerGrey, backwardRequest, method, partnerFollow );
+      if ( backward.line.points.size() >= 2 )
+      {
+        std::vector<Eigen::Vector2d> both( backward.line.points.rbegin(), backward.line.points.rend() );
+        std::vector<double> bothSigma( backward.line.sigmaPx.rbegin(), backward.line.sigmaPx.rend() );
+        const size_t skip = !partnerLine.line.points.empty() && ( partnerLine.line.points.front() - both.back() ).norm() < 1.0 ? 1 : 0;
+        both.insert( both.end(), partnerLine.line.points.begin() + std::min( skip, partnerLine.line.points.size() ), partnerLine.line.points.end() );
+        bothSigma.insert( bothSigma.end(), partnerLine.line.sigmaPx.begin() + std::min( skip, partnerLine.line.sigmaPx.size() ), partnerLine.line.sigmaPx.end() );
+        partnerLine.line.points = both;
+        partnerLine.line.sigmaPx = bothSigma;
+      }
+      vertices = intersectLineVertices( ref, points, sigmas, par, partnerLine.line.points, partnerLine.line.sigmaPx, ground, options.vertices );
+      }
+      else
+        record.partnerMessage = partnerStart.message;
+      }
+      else
+        record.partnerMessage = lostMessage;
+
+      // into the run's line: the previous station's vertices beyond the handover point give way
+      out.vertices.resize( std::min( keep, out.vertices.size() ) );
+      const size_t firstOfStation = out.vertices.size();
+      for ( const LineVertex3d &v : vertices )
+      {
+        // a road line lies on the road: a vertex far off the surface is a wrong conjugate
+        if ( !options.groundOfPixel )
+          if ( const std::optional<double> surface = trackSurfaceHeight( trajectory, v.point.head<2>(), options.cameraHeightM );
+               surface && std::abs( v.point.z() - *surface ) > options.surfaceToleranceM )
+            continue;
+        // vertices must move forward along the line
+        if ( out.vertices.size() >= 2 )
+        {
+          const Eigen::Vector3d along = out.vertices.back().point - out.vertices[out.vertices.size() - 2].point;
+          if ( ( v.point - out.vertices.back().point ).dot( along ) <= 0 )
+            continue;
+        }
+        TracedVertex t;
+        t.point = v.point;
+        t.sigmaM = v.sigmaM;
+        t.covariance = v.covariance;
+        t.stationId = station.id;
+        t.imageIds = { referenceImage->id, partnerImage->id };
+        t.pixels = { v.pixelInReference, v.pixelInPartner };
+        t.residualsPx = { v.residualReferencePx, v.residualPartnerPx };
+        t.rangeM = v.rangeM;
+        out.vertices.push_back( t );
+      }
+      record.vertices = static_cast<int>( out.vertices.size() - firstOfStation );
+      out.stations.push_back( record );
+      if ( options.stationTraced )
+        options.stationTraced( record, followed.line.points, partnerLine.line.points );
+      if ( lost )
+        record.stop = TraceStop::NoEdge;
+      // the line on the ground so far: the run's vertices, or (before any) the reference line on the road surface
+      std::vector<Eigen::Vector3d> groundLine;
+      for ( const TracedVertex &v : out.vertices )
+        groundLine.push_back( v.point );
+      if ( groundLine.size() < 2 )
+        for ( const Eigen::Vector2d &p : followed.line.points )
+          if ( const std::optional<Eigen::Vector3d> g = ground( reference, p ) )
+            groundLine.push_back( *g );
+      // its direction over the last 20 m
+      if ( groundLine.size() >= 2 )
+      {
+        size_t from = groundLine.size() - 1;
+        while ( from > 0 && ( groundLine.back() - groundLine[from - 1] ).head<2>().norm() < 20.0 )
+          --from;
+        if ( ( groundLine.back() - groundLine[from] ).norm() > 0.2 )
+          lineDirection = ( groundLine.back() - groundLine[from] ).normalized();
+      }
+
+      if ( options.progress && !options.progress( sequence.size() > 1 ? static_cast<double>( stationsDone + 1 ) / sequence.size() : 1.0, "station " + station.id ) )
+      {
+        stopWith( TraceStop::Cancelled, "tracing was cancelled after station " + station.id );
+        break;
+      }
+      if ( options.maxStations > 0 && stationsDone + 1 >= options.maxStations )
+      {
+        stopWith( TraceStop::MaxStations, std::to_string( options.maxStations ) + " stations traced, as asked" );
+        break;
+      }
+      if ( groundLine.size() < 2 || lineDirection.isZero() )
+      {
+        stopWith( TraceStop::NoEdge, "no vertex of " + referenceImage->id + " could be matched in " + partnerImage->id +
+                  ( partnerStart.ok ? std::string() : " (" + partnerStart.message + ")" ) );
+        break;
+      }
+
+      // dynamic link: the next station ahead along the line
+      int nextStep = step;
+      if ( nextStep == 0 )
+        for ( const int s : { 1, -1 } )
+          if ( k + s >= 0 && k + s < sequence.size() )
+            if ( const BlockImage *n = stationImage( block, sequence.at( k + s ), referenceCamera ); n && n->exterior &&
+                 ( n->exterior->projectionCentre - centre ).dot( lineDirection ) > 0 )
+            {
+              nextStep = s;
+              break;
+            }
+      if ( nextStep == 0 )
+      {
+        if ( k + 1 >= sequence.size() && k - 1 < 0 )
+          stopWith( TraceStop::EndOfRun, "the run has no further station" );
+        else
+          stopWith( TraceStop::StationsOutOfOrder, "neither neighbour of station " + station.id + " in time order lies ahead along the line: the run's stations are out of order" );
+        break;
+      }
+      if ( k + nextStep < 0 || k + nextStep >= sequence.size() )
+      {
+        stopWith( TraceStop::EndOfRun, "the line was traced to the end of the run (station " + station.id + ")" );
+        break;
+      }
+      const SequenceStation &nextStation = sequence.at( k + nextStep );
+      const BlockImage *nextImage = stationImage( block, nextStation, referenceCamera );
+      if ( !nextImage || !nextImage->exterior )
+      {
+        stopWith( TraceStop::ImageMissing, "station " + nextStation.id + " has no oriented image of camera " + referenceCamera );
+        break;
+      }
+      // in order: the next station continues the way the run has gone so far (or, at the first step, along the line)
+      const Eigen::Vector3d runDirection = previousCentre ? Eigen::Vector3d( centre - *previousCentre ) : lineDirection;
+      if ( ( nextImage->exterior->projectionCentre - centre ).dot( runDirection ) <= 0 )
+      {
+        stopWith( TraceStop::StationsOutOfOrder, "station " + nextStation.id + " does not lie ahead of station " + station.id + " along the line: the run's stations are out of order" );
+        break;
+      }
+      std::shared_ptr<const cv::Mat> nextGrey = images( *nextImage, error );
+      if ( !nextGrey )
+      {
+        stopWith( TraceStop::ImageMissing, error );
+        break;
+      }
+      step = nextStep;
+      // candidates: this station's vertices, then the line's straight continuation across a gap
+      const OrientedImage next = block.orientedImage( *nextImage );
+      std::vector<std::pair<Eigen::Vector3d, size_t>> candidates; // point, vertices kept if taken
+      for ( size_t i = firstOfStation; i < out.vertices.size(); ++i )
+        candidates.push_back( { out.vertices[i].point, i } );
+      // (past the next station's camera by the gap limit: a station whose vertices failed is bridged too)
+      {
+        const double reach = horizontalDistance( groundLine.back(), next.exterior().projectionCentre ) + options.follow.maxGapM + options.handoverRangeM;
+        for ( const Eigen::Vector3d &p : trajectoryContinuation( trajectory, groundLine.back(), step, reach, 0.5 ) )
+          candidates.push_back( { p, out.vertices.size() } );
+        for ( const Eigen::Vector3d &p : continuation( groundLine, lineDirection, reach, 0.5 ) )
+          candidates.push_back( { p, out.vertices.size() } );
+      }
+      const Eigen::Vector3d nextCentre = next.exterior().projectionCentre;
+      bool handedOver = false;
+      LocateOptions locate = locateOptionsFor( profile, options.follow.directional.follow, 8.0 );
+      for ( const auto &[point, kept] : candidates )
+      {
+        const double range = horizontalDistance( point, nextCentre );
+        if ( range < options.handoverRangeM || ( point - nextCentre ).dot( lineDirection ) <= 0 )
+          continue;
+        const GroundProjection p = next.projectGroundToPixel( point ), ahead = next.projectGroundToPixel( point + lineDirection );
+        if ( !p.ok() || !ahead.ok() || p.pixelInImage.x() < 12 || p.pixelInImage.y() < 12 || p.pixelInImage.x() > nextGrey->cols - 12 || p.pixelInImage.y() > nextGrey->rows - 12 )
+          continue;
+        const Eigen::Vector2d d = ( ahead.pixelInImage - p.pixelInImage ).normalized();
+        LineProfile expected = profile;
+        if ( expected.kind != LineKind::Edge && widthTimesRange > 0 )
+          expected.widthPx = widthTimesRange / std::max( range, 1.0 );
+        const std::optional<LineHit> hit = locateLine( *nextGrey, p.pixelInImage, d, expected, locate );
+        if ( !hit )
+          continue;
+        LocateOptions confirm = locate;
+        confirm.searchHalfPx = 2.0;
+        if ( !locateLine( *nextGrey, hit->pixelInImage + 3.0 * d, d, expected, confirm ) )
+          continue;
+        start = hit->pixelInImage;
+        direction = d;
+        keep = kept;
+        handedOver = true;
+        break;
+      }
+      if ( !handedOver )
+      {
+        const TraceStop why = followed.line.stop == TraceStop::GapTooLarge || followed.line.stop == TraceStop::DirectionChange ? followed.line.stop : TraceStop::EndOfLine;
+        stopWith( why, "the line was not found in " + nextImage->id + " ahead of its last vertex (station " + station.id + "): " +
+                  ( why == TraceStop::GapTooLarge ? "the gap is too large" : why == TraceStop::DirectionChange ? "it turns too sharply; the operator is needed" : "the line ends or is hidden" ) );
+        break;
+      }
+      previousCentre = centre;
+      k += step;
+      referenceGrey = nextGrey;
+    }
+
+    for ( size_t i = 0; i < out.vertices.size(); ++i )
+    {
+      if ( i > 0 )
+        out.lengthM += ( out.vertices[i].point - out.vertices[i - 1].point ).norm();
+      out.sigmaMaxM = std::max( out.sigmaMaxM, out.vertices[i].sigmaM.maxCoeff() );
+    }
+    return out;
+  }
+
+} // namespace geostation

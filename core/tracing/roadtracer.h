@@ -1,0 +1,134 @@
+/***************************************************************************
+  roadtracer.h - one click, the whole run traced (thesis §6.5)
+  -------------------------------------------------------------------------
+  traceRoadLine() follows a road line from an operator's seed through the
+  stations of a mobile-mapping run: at each station the line is followed
+  in the reference image (the seed's camera) up to the distance limit,
+  found in the stereo partner (the station's other camera that sees it)
+  and intersected into 3-D vertices with sigmas. Then the dynamic link
+  (§6.5.3): the traced line - or, past its end, its straight continuation
+  across a gap - is projected into the next station's reference image,
+  where the first point at least handoverRangeM ahead of the camera is
+  found on the line; tracing continues from there, and the previous
+  station's vertices beyond that point are replaced by the nearer, more
+  accurate ones. The result is one polyline for the run.
+
+  Expected failures are stop reasons with one sentence; whatever was traced
+  before them is kept. Precondition violations (unknown or unoriented seed
+  image) throw std::invalid_argument.
+ ***************************************************************************/
+#ifndef GEOSTATION_TRACING_ROADTRACER_H
+#define GEOSTATION_TRACING_ROADTRACER_H
+
+#include <functional>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "io/block.h"
+#include "tracing/lineprofile.h"
+#include "tracing/linefollower.h"
+#include "tracing/stereolinematcher.h"
+
+namespace geostation
+{
+
+  struct TraceSeed
+  {
+    std::string id;
+    std::string imageId;
+    Eigen::Vector2d pixelInImage = Eigen::Vector2d::Zero();
+    std::optional<double> directionDeg; //!< 0 = up the image, clockwise
+  };
+
+  /**
+   * The 8-bit grey image of a block image; nullptr and `error` (one
+   * sentence) when it cannot be read.
+   */
+  using GreyImageSource = std::function<std::shared_ptr<const cv::Mat>( const BlockImage &, std::string &error )>;
+
+  //! Reads block images with GDAL and keeps the last `capacity` in memory.
+  GreyImageSource fileGreyImageSource( const Block &block, size_t capacity = 6 );
+
+  struct TracedStation
+  {
+    std::string stationId, referenceImageId, partnerImageId;
+    TraceMethod method = TraceMethod::Directional;
+    LineKind kind = LineKind::BrightStripe;
+    int pixelsFollowed = 0;
+    int bridgedGaps = 0;
+    int vertices = 0;         //!< kept in the run's line
+    TraceStop stop = TraceStop::EndOfLine; //!< why following stopped in this station's reference image
+    double partnerScore = 0.0;
+    std::string partnerMessage; //!< why the line was not found in the partner (the station then has no vertices)
+  };
+
+  struct RoadTraceOptions
+  {
+    TraceMethod method = TraceMethod::Auto;
+    int maxStations = 0;           //!< 0: to the end of the run
+    double maxRangeM = 20.0;       //!< distance limit: ground distance from the reference camera
+    double handoverRangeM = 5.5;   //!< the next station takes the line over this far ahead of its camera
+    double cameraHeightM = 2.6;    //!< above the road: the road plane of eqs. 6.22-6.25, following the track's heights
+    double surfaceToleranceM = 0.3; //!< a vertex further above or below the road surface is a wrong match and dropped
+    double vertexSpacingPx = 25.0; //!< interval points matched in the partner
+    int maxStationsPassedOver = 2; //!< stations in a row where the line cannot be followed before tracing stops
+    LineFollowOptions follow;
+    SeedOptions seed;
+    StartMatchOptions start;
+    VertexMatchOptions vertices;
+    /**
+     * Ground of a pixel instead of the road plane (e.g. a DEM through a
+     * monoplotter); when unset, the road plane of the station's two cameras.
+     */
+    GroundOfPixel groundOfPixel;
+    /**
+     * Called after each station with what was followed there: the reference
+     * and partner image lines in pixels (e.g. to draw them live).
+     */
+    std::function<void( const TracedStation &, const std::vector<Eigen::Vector2d> &referenceLine, const std::vector<Eigen::Vector2d> &partnerLine )> stationTraced;
+    //! Called after each station with the fraction of the run done; return false to cancel.
+    std::function<bool( double fraction, const std::string &message )> progress;
+
+    //! Throws std::invalid_argument naming the first bad value.
+    void check() const;
+  };
+
+  struct TracedVertex
+  {
+    Eigen::Vector3d point = Eigen::Vector3d::Zero();  //!< block CRS, metres
+    Eigen::Vector3d sigmaM = Eigen::Vector3d::Zero();
+    Eigen::Matrix3d covariance = Eigen::Matrix3d::Zero(); //!< m^2
+    std::string stationId;
+    std::vector<std::string> imageIds;                //!< reference, partner
+    std::vector<Eigen::Vector2d> pixels;              //!< in those images
+    std::vector<Eigen::Vector2d> residualsPx;         //!< projected - observed
+    double rangeM = 0.0;                              //!< from the reference camera
+  };
+
+  struct RoadTraceSummary
+  {
+    std::vector<TracedVertex> vertices;
+    std::vector<TracedStation> stations;
+    TraceStop stop = TraceStop::EndOfLine;
+    std::string message;      //!< one sentence: why tracing stopped
+    double lengthM = 0.0;
+    double sigmaMaxM = 0.0;   //!< largest vertex sigma (any axis)
+    int pixelsFollowed = 0;
+
+    bool ok() const { return vertices.size() >= 2; }
+    //! The methods used, "directional" or e.g. "least_squares+polynomial".
+    std::string methods() const;
+  };
+
+  /**
+   * Traces one line from a seed through the run; see the file comment.
+   * Throws std::invalid_argument for an unknown or unoriented seed image or
+   * bad options.
+   */
+  RoadTraceSummary traceRoadLine( const Block &block, const TraceSeed &seed, const RoadTraceOptions &options, const GreyImageSource &images );
+
+} // namespace geostation
+
+#endif // GEOSTATION_TRACING_ROADTRACER_H

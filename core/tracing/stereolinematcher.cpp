@@ -1,0 +1,277 @@
+/***************************************************************************
+  stereolinematcher.cpp - a traced line found in the stereo partner, in 3-D
+ ***************************************************************************/
+#include "tracing/stereolinematcher.h"
+
+#include <cmath>
+
+#include <Eigen/Geometry>
+
+#include "adjustment/intersection.h"
+#include "geometry/epipolar.h"
+
+namespace geostation
+{
+  namespace
+  {
+    constexpr double kPi = 3.14159265358979323846;
+
+    //! Grey values of a window sampled along (direction, its normal) around a centre; false outside.
+    bool orientedWindow( const cv::Mat &grey, const Eigen::Vector2d &centre, const Eigen::Vector2d &direction, int along, int across, std::vector<double> &values )
+    {
+      values.clear();
+      const Eigen::Vector2d normal = rightNormal( direction );
+      for ( int a = -along / 2; a <= along / 2; ++a )
+        for ( int b = -across / 2; b <= across / 2; ++b )
+        {
+          const std::optional<double> g = sampleGrey( grey, centre + a * direction + b * normal );
+          if ( !g )
+            return false;
+          values.push_back( *g );
+        }
+      return true;
+    }
+
+    double ncc( const std::vector<double> &a, const std::vector<double> &b )
+    {
+      const size_t n = a.size();
+      double ma = 0, mb = 0;
+      for ( size_t i = 0; i < n; ++i )
+      {
+        ma += a[i];
+        mb += b[i];
+      }
+      ma /= n;
+      mb /= n;
+      double sab = 0, saa = 0, sbb = 0;
+      for ( size_t i = 0; i < n; ++i )
+      {
+        sab += ( a[i] - ma ) * ( b[i] - mb );
+        saa += ( a[i] - ma ) * ( a[i] - ma );
+        sbb += ( b[i] - mb ) * ( b[i] - mb );
+      }
+      return saa > 0 && sbb > 0 ? sab / std::sqrt( saa * sbb ) : 0.0;
+    }
+
+    //! The curve's vertices as one polyline (pieces joined in order).
+    std::vector<Eigen::Vector2d> curvePolyline( const EpipolarCurve &curve )
+    {
+      std::vector<Eigen::Vector2d> out;
+      for ( const auto &piece : curve.pieces )
+        for ( const EpipolarVertex &v : piece )
+          out.push_back( v.pixelInImage );
+      return out;
+    }
+
+    //! Segment a-b crossing c-d: the parameter along a-b and c-d.
+    bool crossing( const Eigen::Vector2d &a, const Eigen::Vector2d &b, const Eigen::Vector2d &c, const Eigen::Vector2d &d, double &t, double &u )
+    {
+      const Eigen::Vector2d r = b - a, s = d - c;
+      const double den = r.x() * s.y() - r.y() * s.x();
+      if ( std::abs( den ) < 1e-12 )
+        return false;
+      const Eigen::Vector2d q = c - a;
+      t = ( q.x() * s.y() - q.y() * s.x() ) / den;
+      u = ( q.x() * r.y() - q.y() * r.x() ) / den;
+      return t >= 0 && t <= 1 && u >= 0 && u <= 1;
+    }
+
+    //! Covariance of a ground point from the rig's pose sigmas (rigid shift and small rotations about the rig).
+    Eigen::Matrix3d poseCovariance( const ExteriorOrientation &exterior, const Eigen::Vector3d &point, const Eigen::Vector3d &rigCentre )
+    {
+      Eigen::Matrix3d c = Eigen::Matrix3d::Zero();
+      if ( !exterior.sigma )
+        return c;
+      const ExteriorSigma &s = *exterior.sigma;
+      c.diagonal() << s.x * s.x, s.y * s.y, s.z * s.z;
+      const Eigen::Vector3d r = point - rigCentre;
+      const double angles[3] = { s.omegaDeg, s.phiDeg, s.kappaDeg };
+      for ( int i = 0; i < 3; ++i )
+      {
+        const Eigen::Vector3d j = Eigen::Vector3d( Eigen::Vector3d::Unit( i ) ).cross( r ) * ( angles[i] * kPi / 180.0 );
+        c += j * j.transpose();
+      }
+      return c;
+    }
+  }
+
+  std::optional<Eigen::Vector3d> roadPlanePoint( const OrientedImage &image, const Eigen::Vector2d &pixelInImage, double heightM )
+  {
+    const std::optional<Ray> ray = image.worldRayFromPixel( pixelInImage );
+    if ( !ray || ray->direction.z() > -1e-3 )
+      return std::nullopt;
+    const double t = ( heightM - ray->origin.z() ) / ray->direction.z();
+    if ( t <= 0 )
+      return std::nullopt;
+    return Eigen::Vector3d( ray->origin + t * ray->direction );
+  }
+
+  StartMatch matchStartInPartner( const StereoImage &reference, const Eigen::Vector2d &pixelInReference, const Eigen::Vector2d &directionInReference,
+                                  const StereoImage &partner, const GroundOfPixel &groundOfPixel, const LineProfile &profile,
+                                  const StartMatchOptions &options )
+  {
+    StartMatch out;
+    const int across = std::max( options.windowAcrossPx, profile.kind == LineKind::Edge ? 0 : static_cast<int>( 2.5 * profile.widthPx + 4 ) ) | 1;
+    const int along = std::max( options.windowAlongPx, 3 * across ) | 1;
+    const auto fail = [&]( const std::string &why )
+    {
+      out.message = why;
+      return out;
+    };
+    const std::optional<Eigen::Vector3d> ground = groundOfPixel( *reference.image, pixelInReference );
+    const std::optional<Eigen::Vector3d> further = groundOfPixel( *reference.image, pixelInReference + 20.0 * directionInReference );
+    if ( !ground || !further )
+      return fail( "the start's ray does not reach the road surface" );
+    const GroundProjection predicted = partner.image->projectGroundToPixel( *ground ), ahead = partner.image->projectGroundToPixel( *further );
+    if ( !predicted.ok() || !predicted.inFrame || !ahead.ok() )
+      return fail( "the start is not in view of " + partner.imageId );
+    const Eigen::Vector2d directionInPartner = ( ahead.pixelInImage - predicted.pixelInImage ).normalized();
+    const double distance = ( *ground - reference.image->exterior().projectionCentre ).norm();
+    EpipolarOptions epipolar;
+    epipolar.minDistanceM = 0.5 * distance;
+    epipolar.maxDistanceM = 2.0 * distance;
+    epipolar.maxSegmentPx = 0.5;
+    const EpipolarCurve epipolarPieces = epipolarCurve( *reference.image, pixelInReference, *partner.image, epipolar );
+    const std::vector<Eigen::Vector2d> curve = curvePolyline( epipolarPieces );
+    std::vector<double> curveDistance;
+    for ( const auto &piece : epipolarPieces.pieces )
+      for ( const EpipolarVertex &v : piece )
+        curveDistance.push_back( v.distanceM );
+    if ( curve.size() < 2 )
+      return fail( "the start's epipolar curve does not reach " + partner.imageId );
+    // the distances along the ray at which the road surface may lie, +- the height tolerance
+    const double depression = std::max( 0.02, ( reference.image->exterior().projectionCentre.z() - ground->z() ) / distance );
+    const double nearest = distance - options.heightToleranceM / depression, farthest = distance + options.heightToleranceM / depression;
+    std::vector<double> templateValues, values;
+    if ( !orientedWindow( *reference.grey, pixelInReference, directionInReference, along, across, templateValues ) )
+      return fail( "the start is too close to the border of " + reference.imageId );
+    // the curve's vertex nearest the prediction, then every vertex within the search length either side
+    size_t foot = 0;
+    for ( size_t i = 1; i < curve.size(); ++i )
+      if ( ( curve[i] - predicted.pixelInImage ).squaredNorm() < ( curve[foot] - predicted.pixelInImage ).squaredNorm() )
+        foot = i;
+    std::vector<std::pair<double, Eigen::Vector2d>> scored; // score, pixel
+    for ( size_t i = 0; i < curve.size(); ++i )
+    {
+      if ( ( curve[i] - curve[foot] ).norm() > options.searchAlongCurvePx && ( curveDistance[i] < nearest || curveDistance[i] > farthest ) )
+        continue;
+      if ( orientedWindow( *partner.grey, curve[i], directionInPartner, along, across, values ) )
+        scored.push_back( { ncc( templateValues, values ), curve[i] } );
+    }
+    size_t best = 0;
+    for ( size_t i = 1; i < scored.size(); ++i )
+      if ( scored[i].first > scored[best].first )
+        best = i;
+    if ( scored.empty() || scored[best].first < options.minScore )
+      return fail( "the line was not found in " + partner.imageId + " along the start's epipolar curve (best correlation " +
+                   std::to_string( scored.empty() ? 0.0 : scored[best].first ).substr( 0, 4 ) + ")" );
+    Eigen::Vector2d pixel = scored[best].second;
+    if ( best > 0 && best + 1 < scored.size() )
+    {
+      // parabola through the neighbours along the curve
+      const double a = scored[best - 1].first, b = scored[best].first, c = scored[best + 1].first;
+      const double den = a - 2 * b + c;
+      if ( den < 0 )
+      {
+        const double shift = std::clamp( 0.5 * ( a - c ) / den, -0.5, 0.5 );
+        pixel = shift > 0 ? Eigen::Vector2d( pixel + shift * ( scored[best + 1].second - pixel ) ) : Eigen::Vector2d( pixel - shift * ( scored[best - 1].second - pixel ) );
+      }
+    }
+    out.ok = true;
+    out.pixelInImage = pixel;
+    out.direction = directionInPartner;
+    out.score = scored[best].first;
+    return out;
+  }
+
+  std::vector<LineVertex3d> intersectLineVertices( const StereoImage &reference, const std::vector<Eigen::Vector2d> &referencePoints, const std::vector<double> &referenceSigmaPx,
+      const StereoImage &partner, const std::vector<Eigen::Vector2d> &partnerLine, const std::vector<double> &partnerSigmaPx,
+      const GroundOfPixel &groundOfPixel, const VertexMatchOptions &options )
+  {
+    std::vector<LineVertex3d> out;
+    if ( partnerLine.size() < 2 )
+      return out;
+    const Eigen::Vector3d rigCentre = 0.5 * ( reference.image->exterior().projectionCentre + partner.image->exterior().projectionCentre );
+    for ( size_t i = 0; i < referencePoints.size(); ++i )
+    {
+      const Eigen::Vector2d &p = referencePoints[i];
+      const std::optional<Eigen::Vector3d> ground = groundOfPixel( *reference.image, p );
+      if ( !ground )
+        continue;
+      const GroundProjection predicted = partner.image->projectGroundToPixel( *ground );
+      const double distance = ( *ground - reference.image->exterior().projectionCentre ).norm();
+      EpipolarOptions epipolar;
+      const double depression = std::max( 0.02, ( reference.image->exterior().projectionCentre.z() - ground->z() ) / distance );
+      epipolar.minDistanceM = std::max( 0.1, distance - options.heightToleranceM / depression );
+      epipolar.maxDistanceM = distance + options.heightToleranceM / depression;
+      epipolar.maxSegmentPx = 2.0;
+      const std::vector<Eigen::Vector2d> curve = curvePolyline( epipolarCurve( *reference.image, p, *partner.image, epipolar ) );
+      // the crossing of the curve and the partner's line nearest the prediction
+      bool found = false;
+      Eigen::Vector2d conjugate = Eigen::Vector2d::Zero();
+      double sigma = 0.0, bestDistance = 0.0;
+      for ( size_t a = 0; a + 1 < curve.size(); ++a )
+        for ( size_t b = 0; b + 1 < partnerLine.size(); ++b )
+        {
+          double t, u;
+          if ( !crossing( curve[a], curve[a + 1], partnerLine[b], partnerLine[b + 1], t, u ) )
+            continue;
+          const Eigen::Vector2d c = curve[a] + t * ( curve[a + 1] - curve[a] );
+          const Eigen::Vector2d dc = ( curve[a + 1] - curve[a] ).normalized(), dl = ( partnerLine[b + 1] - partnerLine[b] ).normalized();
+          const double sine = std::abs( dc.x() * dl.y() - dc.y() * dl.x() );
+          if ( sine < options.minCrossingSine )
+            continue;
+          const double d = predicted.ok() ? ( c - predicted.pixelInImage ).norm() : 0.0;
+          if ( found && d >= bestDistance )
+            continue;
+          found = true;
+          bestDistance = d;
+          conjugate = c;
+          const double lineSigma = ( 1 - u ) * partnerSigmaPx[b] + u * partnerSigmaPx[b + 1];
+          sigma = std::min( options.maxPartnerSigmaPx, std::max( options.pixelSigmaFloorPx, lineSigma ) / sine );
+        }
+      if ( !found )
+        continue;
+      std::vector<RayObservation> rays { { reference.image, p, std::max( options.pixelSigmaFloorPx, referenceSigmaPx[i] ) }, { partner.image, conjugate, sigma } };
+      const IntersectionSummary s = intersectRays( rays );
+      if ( !s.ok() )
+        continue;
+      LineVertex3d v;
+      v.point = s.point;
+      v.covariance = s.covariance;
+      if ( options.propagateExterior )
+        v.covariance += poseCovariance( reference.image->exterior(), s.point, rigCentre );
+      v.sigmaM = v.covariance.diagonal().cwiseMax( 0.0 ).cwiseSqrt();
+      v.pixelInReference = p;
+      v.pixelInPartner = conjugate;
+      v.residualReferencePx = s.residuals[0].residualPx;
+      v.residualPartnerPx = s.residuals[1].residualPx;
+      v.rangeM = s.residuals[0].rangeM;
+      out.push_back( v );
+    }
+    return out;
+  }
+
+  void intervalPoints( const std::vector<Eigen::Vector2d> &line, const std::vector<double> &sigmaPx, double spacingPx,
+                       std::vector<Eigen::Vector2d> &points, std::vector<double> &sigmas )
+  {
+    points.clear();
+    sigmas.clear();
+    if ( line.empty() )
+      return;
+    points.push_back( line.front() );
+    sigmas.push_back( sigmaPx.front() );
+    for ( size_t i = 0; i + 1 < line.size(); ++i )
+    {
+      const double length = ( line[i + 1] - line[i] ).norm();
+      const int n = std::max( 1, static_cast<int>( std::ceil( length / spacingPx ) ) );
+      for ( int k = 1; k <= n; ++k )
+      {
+        const double t = static_cast<double>( k ) / n;
+        points.push_back( line[i] + t * ( line[i + 1] - line[i] ) );
+        sigmas.push_back( t < 0.5 ? sigmaPx[i] : sigmaPx[i + 1] );
+      }
+    }
+  }
+
+} // namespace geostation

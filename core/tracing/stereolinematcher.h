@@ -1,0 +1,110 @@
+/***************************************************************************
+  stereolinematcher.h - a traced line found in the stereo partner, in 3-D
+  -------------------------------------------------------------------------
+  Thesis §6.5.1-6.5.2. The start point's ground position is predicted from
+  the road plane (the plane Z = mean of the two cameras' Z minus their
+  height above the road, eqs. 6.22-6.25) or from a DEM; projected into the
+  partner it gives the search position on the start's epipolar curve.
+  There the start is refined by correlation over about 15 px along the
+  curve, with a window extended along the line (21 x 7 px), both windows
+  sampled along the line's direction in their own image so they show
+  like-shaped patches. The line is then followed in the partner with the
+  same method, and each interval point of the reference line finds its
+  conjugate where its epipolar curve (restricted to a short depth range
+  around the prediction) crosses the partner's line. The two rays are
+  intersected with standard deviations; the station's GNSS/INS sigmas are
+  propagated too, since both cameras move with the van.
+ ***************************************************************************/
+#ifndef GEOSTATION_TRACING_STEREOLINEMATCHER_H
+#define GEOSTATION_TRACING_STEREOLINEMATCHER_H
+
+#include <functional>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+#include <opencv2/core.hpp>
+
+#include "geometry/projection.h"
+#include "tracing/linetrace.h"
+
+namespace geostation
+{
+
+  //! The ground point of a pixel of an image (road plane or DEM); nothing where the ray misses.
+  using GroundOfPixel = std::function<std::optional<Eigen::Vector3d>( const OrientedImage &, const Eigen::Vector2d & )>;
+
+  //! Ray / horizontal plane Z = heightM; nothing behind the camera or for rays nearly parallel to it.
+  std::optional<Eigen::Vector3d> roadPlanePoint( const OrientedImage &image, const Eigen::Vector2d &pixelInImage, double heightM );
+
+  struct StereoImage
+  {
+    std::string imageId;
+    const OrientedImage *image = nullptr;
+    const cv::Mat *grey = nullptr;
+  };
+
+  struct StartMatch
+  {
+    bool ok = false;
+    std::string message;
+    Eigen::Vector2d pixelInImage = Eigen::Vector2d::Zero(); //!< in the partner
+    Eigen::Vector2d direction = Eigen::Vector2d( 0, -1 );   //!< the line's direction there
+    double score = 0.0;                                     //!< NCC of the best window
+  };
+
+  struct StartMatchOptions
+  {
+    double searchAlongCurvePx = 7.5; //!< each side of the prediction (~15 px in all), at least
+    double heightToleranceM = 0.3;   //!< and as far as the road surface may lie above or below the predicted ground
+    int windowAlongPx = 21;   //!< at least; three times the window's width
+    int windowAcrossPx = 7;   //!< at least; a stripe's window is 2.5 x its width + 4, so it shows the asphalt either side
+    double minScore = 0.6;
+  };
+
+  /**
+   * The reference line's start (pixel and direction in the reference) in
+   * the partner image: prediction from `groundOfPixel`, then correlation
+   * along the epipolar curve.
+   */
+  StartMatch matchStartInPartner( const StereoImage &reference, const Eigen::Vector2d &pixelInReference, const Eigen::Vector2d &directionInReference,
+                                  const StereoImage &partner, const GroundOfPixel &groundOfPixel, const LineProfile &profile,
+                                  const StartMatchOptions &options = StartMatchOptions() );
+
+  struct LineVertex3d
+  {
+    Eigen::Vector3d point = Eigen::Vector3d::Zero();          //!< block CRS, metres
+    Eigen::Matrix3d covariance = Eigen::Matrix3d::Zero();     //!< m^2: pixels and, if asked, the station's pose
+    Eigen::Vector3d sigmaM = Eigen::Vector3d::Zero();
+    Eigen::Vector2d pixelInReference = Eigen::Vector2d::Zero();
+    Eigen::Vector2d pixelInPartner = Eigen::Vector2d::Zero();
+    Eigen::Vector2d residualReferencePx = Eigen::Vector2d::Zero(), residualPartnerPx = Eigen::Vector2d::Zero();
+    double rangeM = 0.0;                                      //!< from the reference camera
+  };
+
+  struct VertexMatchOptions
+  {
+    double heightToleranceM = 0.3;   //!< the epipolar curve where the ray is within this height of the predicted road surface
+    double minCrossingSine = 0.1;    //!< epipolar curve and partner line closer to parallel: no vertex
+    double maxPartnerSigmaPx = 2.0;
+    double pixelSigmaFloorPx = 0.15;
+    bool propagateExterior = true;   //!< add the station's GNSS/INS sigmas (the reference image's)
+  };
+
+  /**
+   * 3-D vertices of the reference line's interval points: each one's
+   * epipolar curve crossed with the partner's line (pixels and sigmas), then
+   * intersected. Points whose conjugate cannot be found are left out.
+   */
+  std::vector<LineVertex3d> intersectLineVertices( const StereoImage &reference, const std::vector<Eigen::Vector2d> &referencePoints, const std::vector<double> &referenceSigmaPx,
+      const StereoImage &partner, const std::vector<Eigen::Vector2d> &partnerLine, const std::vector<double> &partnerSigmaPx,
+      const GroundOfPixel &groundOfPixel, const VertexMatchOptions &options = VertexMatchOptions() );
+
+  //! Points along a polyline every `spacingPx` (and its ends), each with the sigma of the nearer vertex.
+  void intervalPoints( const std::vector<Eigen::Vector2d> &line, const std::vector<double> &sigmaPx, double spacingPx,
+                       std::vector<Eigen::Vector2d> &points, std::vector<double> &sigmas );
+
+} // namespace geostation
+
+#endif // GEOSTATION_TRACING_STEREOLINEMATCHER_H
