@@ -51,6 +51,7 @@ namespace geostation
     FollowRequest current = request;
     std::vector<Eigen::Vector2d> points;
     std::vector<double> sigmas;
+    std::vector<size_t> runStarts { 0 }; // the followed runs between bridged gaps
     FollowResult last;
     for ( int leg = 0; leg < 64; ++leg )
     {
@@ -108,6 +109,8 @@ namespace geostation
           continue;
         current.start = hit->pixelInImage;
         current.direction = d;
+        if ( !points.empty() )
+          runStarts.push_back( points.size() );
         current.profile = last.profile;
         ++out.bridgedGaps;
         out.bridgedPx += ( hit->pixelInImage - from ).norm();
@@ -120,15 +123,25 @@ namespace geostation
     out.line.stop = last.stop;
     out.line.profile = last.profile;
     out.line.direction = endDirection( points, last.direction, 25.0 );
-    // vertices: Douglas-Peucker on the followed points, keeping each kept point's sigma
-    const std::vector<Eigen::Vector2d> kept = douglasPeucker( points, options.vertexTolerancePx );
-    size_t j = 0;
-    for ( const Eigen::Vector2d &k : kept )
+    // vertices: Douglas-Peucker on each followed run, keeping each kept point's sigma; the runs
+    // are joined by bridged segments
+    runStarts.push_back( points.size() );
+    for ( size_t r = 0; r + 1 < runStarts.size(); ++r )
     {
-      while ( j < points.size() && ( points[j] - k ).norm() > 1e-9 )
-        ++j;
-      out.line.points.push_back( k );
-      out.line.sigmaPx.push_back( j < sigmas.size() ? sigmas[j] : 0.5 );
+      const std::vector<Eigen::Vector2d> run( points.begin() + runStarts[r], points.begin() + runStarts[r + 1] );
+      if ( run.empty() )
+        continue;
+      size_t j = runStarts[r];
+      bool first = true;
+      for ( const Eigen::Vector2d &k : douglasPeucker( run, options.vertexTolerancePx ) )
+      {
+        while ( j < runStarts[r + 1] && ( points[j] - k ).norm() > 1e-9 )
+          ++j;
+        out.line.points.push_back( k );
+        out.line.sigmaPx.push_back( j < sigmas.size() ? sigmas[j] : 0.5 );
+        out.line.bridged.push_back( first && !out.line.bridged.empty() );
+        first = false;
+      }
     }
     return out;
   }

@@ -104,6 +104,7 @@ namespace geostation
   {
     std::vector<Eigen::Vector2d> points; //!< sub-pixel positions on the line, in order of travel
     std::vector<double> sigmaPx;         //!< across the line, per point
+    std::vector<bool> bridged;           //!< per point: the segment that ends here crosses a gap (nothing observed on it); empty = none
     TraceStop stop = TraceStop::EndOfLine;
     int pixelsFollowed = 0;              //!< pixel steps taken along the line
     LineProfile profile;                 //!< as last seen (stripes narrow with distance)

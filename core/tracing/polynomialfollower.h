@@ -31,6 +31,7 @@ namespace geostation
     double outlierPx = 1.0;           //!< second pass: residual threshold (at least 2.5 sigma)
     int intervalStraightPx = 35;
     int intervalCurvedPx = 20;
+    double correlatedFraction = 0.45; //!< a point's sigma is at least this times the candidates' scatter
   };
 
   FollowResult followPolynomial( const cv::Mat &grey, const FollowRequest &request, const PolynomialFollowOptions &options = PolynomialFollowOptions() );

@@ -472,7 +472,7 @@ namespace geostation
       // the first points of the line that the partner sees, tried in turn
       std::vector<Eigen::Vector2d> points;
       std::vector<double> sigmas;
-      intervalPoints( followed.line.points, followed.line.sigmaPx, options.vertexSpacingPx, points, sigmas );
+      intervalPoints( followed.line, options.vertexSpacingPx, points, sigmas );
       partnerStart.message = "the line is not in view of " + partnerImage->id;
       for ( size_t i = 0, tries = 0; i < points.size() && tries < 6; ++i )
       {
@@ -515,10 +515,21 @@ namespace geostation
         const size_t skip = !partnerLine.line.points.empty() && ( partnerLine.line.points.front() - both.back() ).norm() < 1.0 ? 1 : 0;
         both.insert( both.end(), partnerLine.line.points.begin() + std::min( skip, partnerLine.line.points.size() ), partnerLine.line.points.end() );
         bothSigma.insert( bothSigma.end(), partnerLine.line.sigmaPx.begin() + std::min( skip, partnerLine.line.sigmaPx.size() ), partnerLine.line.sigmaPx.end() );
+        // bridged flags: reversed, the flag of the segment ending at point i + 1 is the original's of point n - 1 - i
+        const size_t n = backward.line.points.size();
+        std::vector<bool> bothBridged( n, false );
+        for ( size_t i = 0; i + 1 < n; ++i )
+          bothBridged[i + 1] = n - 1 - i < backward.line.bridged.size() && backward.line.bridged[n - 1 - i];
+        for ( size_t i = std::min( skip, partnerLine.line.points.size() ); i < partnerLine.line.points.size(); ++i )
+          bothBridged.push_back( i > 0 && i < partnerLine.line.bridged.size() && partnerLine.line.bridged[i] );
         partnerLine.line.points = both;
         partnerLine.line.sigmaPx = bothSigma;
+        partnerLine.line.bridged = bothBridged;
       }
-      vertices = intersectLineVertices( ref, points, sigmas, par, partnerLine.line.points, partnerLine.line.sigmaPx, ground, options.vertices );
+      VertexMatchOptions vertexOptions = options.vertices;
+      if ( profile.kind != LineKind::Edge )
+        vertexOptions.pixelSigmaFloorPx = std::max( vertexOptions.pixelSigmaFloorPx, options.stripeSigmaFloorPx );
+      vertices = intersectLineVertices( ref, points, sigmas, par, partnerLine.line, ground, vertexOptions );
       }
       else
         record.partnerMessage = partnerStart.message;
@@ -526,9 +537,12 @@ namespace geostation
       else
         record.partnerMessage = lostMessage;
 
-      // into the run's line: the previous station's vertices beyond the handover point give way
+      // into the run's line: the previous station's vertices beyond the handover point give way; this
+      // station's go in order along the run, none behind the line so far
       out.vertices.resize( std::min( keep, out.vertices.size() ) );
       const size_t firstOfStation = out.vertices.size();
+      const Eigen::Vector3d runAlong = previousCentre ? Eigen::Vector3d( centre - *previousCentre ) : Eigen::Vector3d( reference.cameraFromWorldRotation().row( 2 ).transpose() * -1.0 );
+      std::vector<const LineVertex3d *> ordered;
       for ( const LineVertex3d &v : vertices )
       {
         // a road line lies on the road: a vertex far off the surface is a wrong conjugate
@@ -536,22 +550,22 @@ namespace geostation
           if ( const std::optional<double> surface = trackSurfaceHeight( trajectory, v.point.head<2>(), options.cameraHeightM );
                surface && std::abs( v.point.z() - *surface ) > options.surfaceToleranceM )
             continue;
-        // vertices must move forward along the line
-        if ( out.vertices.size() >= 2 )
-        {
-          const Eigen::Vector3d along = out.vertices.back().point - out.vertices[out.vertices.size() - 2].point;
-          if ( ( v.point - out.vertices.back().point ).dot( along ) <= 0 )
-            continue;
-        }
+        if ( !out.vertices.empty() && ( v.point - out.vertices.back().point ).head<2>().dot( runAlong.head<2>() ) <= 0 )
+          continue;
+        ordered.push_back( &v );
+      }
+      std::stable_sort( ordered.begin(), ordered.end(), [&]( const LineVertex3d *a, const LineVertex3d *b ) { return a->point.head<2>().dot( runAlong.head<2>() ) < b->point.head<2>().dot( runAlong.head<2>() ); } );
+      for ( const LineVertex3d *v : ordered )
+      {
         TracedVertex t;
-        t.point = v.point;
-        t.sigmaM = v.sigmaM;
-        t.covariance = v.covariance;
+        t.point = v->point;
+        t.sigmaM = v->sigmaM;
+        t.covariance = v->covariance;
         t.stationId = station.id;
         t.imageIds = { referenceImage->id, partnerImage->id };
-        t.pixels = { v.pixelInReference, v.pixelInPartner };
-        t.residualsPx = { v.residualReferencePx, v.residualPartnerPx };
-        t.rangeM = v.rangeM;
+        t.pixels = { v->pixelInReference, v->pixelInPartner };
+        t.residualsPx = { v->residualReferencePx, v->residualPartnerPx };
+        t.rangeM = v->rangeM;
         out.vertices.push_back( t );
       }
       record.vertices = static_cast<int>( out.vertices.size() - firstOfStation );

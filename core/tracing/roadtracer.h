@@ -73,7 +73,14 @@ namespace geostation
     double cameraHeightM = 2.6;    //!< above the road: the road plane of eqs. 6.22-6.25, following the track's heights
     double surfaceToleranceM = 0.3; //!< a vertex further above or below the road surface is a wrong match and dropped
     double vertexSpacingPx = 25.0; //!< interval points matched in the partner
-    int maxStationsPassedOver = 2; //!< stations in a row where the line cannot be followed before tracing stops
+    int maxStationsPassedOver = 2;
+    /**
+     * A painted stripe's centre is no better than this (px) in either image:
+     * worn paint and its ragged edges move it together over many pixels, so
+     * the per-profile sigma is too optimistic (measured on the simulator's
+     * stripes with the exact orientation).
+     */
+    double stripeSigmaFloorPx = 0.5; //!< stations in a row where the line cannot be followed before tracing stops
     LineFollowOptions follow;
     SeedOptions seed;
     StartMatchOptions start;

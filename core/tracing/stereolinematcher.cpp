@@ -185,9 +185,11 @@ namespace geostation
   }
 
   std::vector<LineVertex3d> intersectLineVertices( const StereoImage &reference, const std::vector<Eigen::Vector2d> &referencePoints, const std::vector<double> &referenceSigmaPx,
-      const StereoImage &partner, const std::vector<Eigen::Vector2d> &partnerLine, const std::vector<double> &partnerSigmaPx,
-      const GroundOfPixel &groundOfPixel, const VertexMatchOptions &options )
+      const StereoImage &partner, const FollowResult &partnerFollowed, const GroundOfPixel &groundOfPixel, const VertexMatchOptions &options )
   {
+    const std::vector<Eigen::Vector2d> &partnerLine = partnerFollowed.points;
+    const std::vector<double> &partnerSigmaPx = partnerFollowed.sigmaPx;
+    const auto bridged = [&]( size_t b ) { return b + 1 < partnerFollowed.bridged.size() && partnerFollowed.bridged[b + 1]; };
     std::vector<LineVertex3d> out;
     if ( partnerLine.size() < 2 )
       return out;
@@ -214,7 +216,7 @@ namespace geostation
         for ( size_t b = 0; b + 1 < partnerLine.size(); ++b )
         {
           double t, u;
-          if ( !crossing( curve[a], curve[a + 1], partnerLine[b], partnerLine[b + 1], t, u ) )
+          if ( bridged( b ) || !crossing( curve[a], curve[a + 1], partnerLine[b], partnerLine[b + 1], t, u ) )
             continue;
           const Eigen::Vector2d c = curve[a] + t * ( curve[a + 1] - curve[a] );
           const Eigen::Vector2d dc = ( curve[a + 1] - curve[a] ).normalized(), dl = ( partnerLine[b + 1] - partnerLine[b] ).normalized();
@@ -252,9 +254,10 @@ namespace geostation
     return out;
   }
 
-  void intervalPoints( const std::vector<Eigen::Vector2d> &line, const std::vector<double> &sigmaPx, double spacingPx,
-                       std::vector<Eigen::Vector2d> &points, std::vector<double> &sigmas )
+  void intervalPoints( const FollowResult &followed, double spacingPx, std::vector<Eigen::Vector2d> &points, std::vector<double> &sigmas )
   {
+    const std::vector<Eigen::Vector2d> &line = followed.points;
+    const std::vector<double> &sigmaPx = followed.sigmaPx;
     points.clear();
     sigmas.clear();
     if ( line.empty() )
@@ -263,8 +266,9 @@ namespace geostation
     sigmas.push_back( sigmaPx.front() );
     for ( size_t i = 0; i + 1 < line.size(); ++i )
     {
+      const bool gap = i + 1 < followed.bridged.size() && followed.bridged[i + 1];
       const double length = ( line[i + 1] - line[i] ).norm();
-      const int n = std::max( 1, static_cast<int>( std::ceil( length / spacingPx ) ) );
+      const int n = gap ? 1 : std::max( 1, static_cast<int>( std::ceil( length / spacingPx ) ) );
       for ( int k = 1; k <= n; ++k )
       {
         const double t = static_cast<double>( k ) / n;

@@ -98,12 +98,14 @@ namespace geostation
    * intersected. Points whose conjugate cannot be found are left out.
    */
   std::vector<LineVertex3d> intersectLineVertices( const StereoImage &reference, const std::vector<Eigen::Vector2d> &referencePoints, const std::vector<double> &referenceSigmaPx,
-      const StereoImage &partner, const std::vector<Eigen::Vector2d> &partnerLine, const std::vector<double> &partnerSigmaPx,
-      const GroundOfPixel &groundOfPixel, const VertexMatchOptions &options = VertexMatchOptions() );
+      const StereoImage &partner, const FollowResult &partnerLine, const GroundOfPixel &groundOfPixel, const VertexMatchOptions &options = VertexMatchOptions() );
 
-  //! Points along a polyline every `spacingPx` (and its ends), each with the sigma of the nearer vertex.
-  void intervalPoints( const std::vector<Eigen::Vector2d> &line, const std::vector<double> &sigmaPx, double spacingPx,
-                       std::vector<Eigen::Vector2d> &points, std::vector<double> &sigmas );
+  /**
+   * Points along a followed line every `spacingPx` (and its vertices), each
+   * with the sigma of the nearer vertex; none inside bridged gaps, where
+   * nothing was observed.
+   */
+  void intervalPoints( const FollowResult &line, double spacingPx, std::vector<Eigen::Vector2d> &points, std::vector<double> &sigmas );
 
 } // namespace geostation
 

@@ -1,0 +1,337 @@
+// Road tracing (core/tracing) against the simulator's truth: a highway run
+// with curves, solid and dashed markings, worn paint, kerbs, shadows,
+// image noise, blur and JPEG, and GNSS/INS errors.
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <map>
+#include <random>
+#include <cstdlib>
+#include <unistd.h>
+
+#include <gtest/gtest.h>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include "io/block.h"
+#include "linescoring.h"
+#include "simulation/surveysimulator.h"
+#include "tracing/directionalfollower.h"
+#include "tracing/lineprofile.h"
+#include "tracing/roadtracer.h"
+
+using namespace geostation;
+
+namespace
+{
+  struct HighwayRun
+  {
+    std::filesystem::path dir;
+    Block block, truth;
+    std::vector<TruthRoadLine> roads;
+  };
+
+  //! 32 stations every 10 m (310 m, through the 220 m curve), two forward cameras.
+  const HighwayRun &highwayRun()
+  {
+    static const HighwayRun run = []
+    {
+      HighwayRun r;
+      r.dir = std::filesystem::temp_directory_path() / ( "geostation-tracing-" + std::to_string( ::getpid() ) );
+      SimulationOptions o;
+      o.preset = SurveyPreset::Highway;
+      o.outputDir = r.dir;
+      o.stations = 32;
+      o.stationSpacingM = 10.0;
+      o.cameras = 2;
+      o.imageWidth = 1024;
+      o.imageHeight = 768;
+      o.seed = 7;
+      o.degradation.noiseSigma = 2.0;
+      o.degradation.blurSigmaPx = 0.6;
+      o.degradation.jpegQuality = 85;
+      o.poseNoiseScale = 0.2; // a post-processed trajectory: 2 cm, 3 cm in height
+      simulateSurvey( o );
+      std::atexit( [] { std::error_code ec; std::filesystem::remove_all( std::filesystem::temp_directory_path() / ( "geostation-tracing-" + std::to_string( ::getpid() ) ), ec ); } );
+      r.block = Block::load( r.dir / "block.geostation.json" );
+      r.truth = Block::load( r.dir / "truth.geostation.json" );
+      r.roads = readTruthRoadLines( r.dir / "truth.gpkg" );
+      return r;
+    }();
+    return run;
+  }
+
+  //! Where an operator clicks: on the truth line (a dash of a dashed one) about `rangeM` ahead of the camera, projected by the true orientation.
+  TraceSeed seedOn( const HighwayRun &run, const std::string &prefix, const std::string &imageId, double rangeM, const Eigen::Vector2d &clickError )
+  {
+    const OrientedImage image = run.truth.orientedImage( run.truth.image( imageId ) );
+    const Eigen::Vector3d c = image.exterior().projectionCentre;
+    for ( const TruthRoadLine &part : run.roads )
+    {
+      if ( part.id.rfind( prefix + "-", 0 ) != 0 )
+        continue;
+      const std::vector<Eigen::Vector3d> &line = part.vertices;
+      for ( size_t i = 0; i + 1 < line.size(); ++i )
+        for ( int k = 0; k < 20; ++k )
+        {
+          const Eigen::Vector3d p = line[i] + k / 20.0 * ( line[i + 1] - line[i] );
+          const GroundProjection g = image.projectGroundToPixel( p );
+          if ( g.ok() && g.inFrame && ( p - c ).head<2>().norm() >= rangeM && ( i > 0 || k > 4 ) && ( i + 2 < line.size() || k < 15 ) )
+            return TraceSeed { "seed", imageId, g.pixelInImage + clickError, std::nullopt };
+        }
+    }
+    throw std::runtime_error( "the line is not in view of " + imageId );
+  }
+
+  struct LineScore
+  {
+    BufferScore buffer;
+    double rms15 = 0.0;        //!< 3-D distance to the truth line, vertices within 15 m of the camera
+    double normalisedSd = 0.0; //!< of cross-line and height errors over their sigmas
+    double lengthM = 0.0;
+    int vertices = 0, near = 0;
+  };
+
+  LineScore score( const RoadTraceSummary &s, const std::vector<Eigen::Vector3d> &truth, const HighwayRun &run, double bufferM )
+  {
+    LineScore out;
+    std::vector<Eigen::Vector3d> traced;
+    for ( const TracedVertex &v : s.vertices )
+      traced.push_back( v.point );
+    out.vertices = static_cast<int>( traced.size() );
+    if ( traced.size() < 2 )
+      return out;
+    // the truth from the first vertex to the reach of the last station (its camera + 12 m along the line)
+    const double from = projectOnto( truth, traced.front(), true ).station;
+    const Eigen::Vector3d lastCamera = run.block.image( s.stations.back().referenceImageId ).exterior->projectionCentre;
+    const double to = std::max( projectOnto( truth, lastCamera, true ).station + 12.0, projectOnto( truth, traced.back(), true ).station );
+    out.buffer = bufferScore( traced, polylineBetween( truth, from, to ), bufferM );
+    double sum = 0.0, sumN = 0.0, sumN2 = 0.0;
+    int n = 0;
+    for ( const TracedVertex &v : s.vertices )
+    {
+      const PolylineProjection p = projectOnto( truth, v.point, false );
+      if ( v.rangeM <= 15.0 )
+      {
+        sum += p.distance * p.distance;
+        ++out.near;
+      }
+      // cross-line (horizontal) and height errors against their sigmas
+      const Eigen::Vector3d e = v.point - p.point;
+      const Eigen::Vector3d across = Eigen::Vector3d( -p.tangent.y(), p.tangent.x(), 0.0 ).normalized();
+      for ( const Eigen::Vector3d &axis : { across, Eigen::Vector3d( Eigen::Vector3d::UnitZ() ) } )
+      {
+        const double z = e.dot( axis ) / std::sqrt( axis.dot( v.covariance * axis ) );
+        sumN += z;
+        sumN2 += z * z;
+        ++n;
+      }
+    }
+    out.rms15 = out.near ? std::sqrt( sum / out.near ) : 0.0;
+    out.normalisedSd = n > 1 ? std::sqrt( ( sumN2 - sumN * sumN / n ) / ( n - 1 ) ) : 0.0;
+    out.lengthM = s.lengthM;
+    return out;
+  }
+
+  struct HighwayLine
+  {
+    const char *name, *prefix;
+    double minCompleteness, minCorrectness; // asserted on the run with GNSS/INS errors
+  };
+  // the truth's "edge" is the asphalt / kerb face, "kerb" the kerb's outer edge to the verge
+  const HighwayLine kHighwayLines[] = {
+    { "centre (solid)", "R1-centre1", 0.95, 0.98 },
+    { "lane (dashed)", "R1-separator3", 0.90, 0.97 },
+    { "edge line", "R1-edge_line5", 0.93, 0.93 },
+    { "kerb face", "R1-edge-right", 0.95, 0.98 },
+  };
+
+  RoadTraceSummary traceFromSeed( const HighwayRun &run, const Block &block, const std::string &prefix, const std::string &imageId, TraceMethod method, int maxStations = 0 )
+  {
+    const TraceSeed seed = seedOn( run, prefix, imageId, 8.0, Eigen::Vector2d( 1.2, -0.8 ) );
+    RoadTraceOptions options;
+    options.method = method;
+    options.maxStations = maxStations;
+    return traceRoadLine( block, seed, options, fileGreyImageSource( block ) );
+  }
+
+  void print( const std::string &name, const RoadTraceSummary &s, const LineScore &sc )
+  {
+    std::printf( "%-16s %-28s stations %2zu vertices %3d length %6.1f m  completeness %.3f correctness %.3f  RMS(<=15 m) %.3f m (%d)  normalised sd %.2f  stop %s: %s\n",
+                 name.c_str(), s.methods().c_str(), s.stations.size(), sc.vertices, sc.lengthM, sc.buffer.completeness, sc.buffer.correctness, sc.rms15, sc.near,
+                 sc.normalisedSd, traceStopName( s.stop ).c_str(), s.message.c_str() );
+  }
+}
+
+TEST( Tracing, HighwayLinesFromOneSeedEach )
+{
+  const HighwayRun &run = highwayRun();
+  for ( const HighwayLine &c : kHighwayLines )
+  {
+    SCOPED_TRACE( c.name );
+    const std::vector<Eigen::Vector3d> truth = joinedTruthLine( run.roads, c.prefix );
+    ASSERT_GE( truth.size(), 2u );
+    const auto t0 = std::chrono::steady_clock::now();
+    const RoadTraceSummary s = traceFromSeed( run, run.block, c.prefix, "S0001_FL", TraceMethod::Auto );
+    const double seconds = std::chrono::duration<double>( std::chrono::steady_clock::now() - t0 ).count();
+    const LineScore sc = score( s, truth, run, 0.10 );
+    print( c.name, s, sc );
+    std::printf( "   %.2f s, %.0f stations/s\n", seconds, s.stations.size() / seconds );
+    EXPECT_GE( sc.buffer.completeness, c.minCompleteness );
+    EXPECT_GE( sc.buffer.correctness, c.minCorrectness );
+    // one click, the whole run: 310 m, 32 stations, through the 220 m curve
+    EXPECT_EQ( s.stop, TraceStop::EndOfRun ) << s.message;
+    EXPECT_GE( s.stations.size(), 20u );
+    EXPECT_GE( s.lengthM, 300.0 );
+    // with a post-processed trajectory (2 cm, 3 cm in height) the line is only as good as the poses
+    EXPECT_LE( sc.rms15, 0.07 );
+    EXPECT_GE( sc.normalisedSd, 0.7 );
+    EXPECT_LE( sc.normalisedSd, 1.6 );
+    for ( const TracedVertex &v : s.vertices )
+    {
+      ASSERT_EQ( v.imageIds.size(), 2u );
+      EXPECT_GT( v.sigmaM.minCoeff(), 0.0 );
+    }
+  }
+}
+
+TEST( Tracing, HighwayLinesWithExactOrientation )
+{
+  // the same images with the true orientation: what tracing and stereo alone achieve
+  const HighwayRun &run = highwayRun();
+  for ( const HighwayLine &c : kHighwayLines )
+  {
+    SCOPED_TRACE( c.name );
+    const std::vector<Eigen::Vector3d> truth = joinedTruthLine( run.roads, c.prefix );
+    const RoadTraceSummary s = traceFromSeed( run, run.truth, c.prefix, "S0001_FL", TraceMethod::Auto );
+    const LineScore sc = score( s, truth, run, 0.10 );
+    print( std::string( c.name ) + ", exact", s, sc );
+    if ( std::getenv( "GEOSTATION_TRACE_ERRORS" ) )
+      for ( const TracedVertex &v : s.vertices )
+      {
+        const PolylineProjection p = projectOnto( truth, v.point, false );
+        const Eigen::Vector3d e = v.point - p.point;
+        const Eigen::Vector3d across = Eigen::Vector3d( -p.tangent.y(), p.tangent.x(), 0.0 ).normalized();
+        std::printf( "  %s range %5.1f across %6.3f (sd %.3f) up %6.3f (sd %.3f) px %.1f %.1f / %.1f %.1f res %.2f %.2f\n", v.stationId.c_str(), v.rangeM, e.dot( across ), std::sqrt( across.dot( v.covariance * across ) ), e.z(),
+                     v.sigmaM.z(), v.pixels[0].x(), v.pixels[0].y(), v.pixels[1].x(), v.pixels[1].y(), v.residualsPx[0].norm(), v.residualsPx[1].norm() );
+      }
+    EXPECT_GE( sc.buffer.completeness, c.minCompleteness );
+    EXPECT_GE( sc.buffer.correctness, c.minCorrectness );
+    EXPECT_LE( sc.rms15, 0.05 );
+    EXPECT_GE( sc.normalisedSd, 0.7 );
+    EXPECT_LE( sc.normalisedSd, 2.2 ); // stripes' pixel sigmas are still somewhat optimistic (edge line 2.1)
+  }
+}
+
+TEST( Tracing, InterventionsPer100Metres )
+{
+  // where tracing stops before the end of the run, the operator clicks the line again in the next station
+  const HighwayRun &run = highwayRun();
+  for ( const HighwayLine &c : kHighwayLines )
+  {
+    int clicks = 0, station = 1;
+    double length = 0.0;
+    while ( station <= 32 && clicks < 10 )
+    {
+      char image[16];
+      std::snprintf( image, sizeof image, "S%04d_FL", station );
+      const RoadTraceSummary s = traceFromSeed( run, run.block, c.prefix, image, TraceMethod::Auto );
+      ++clicks;
+      length += s.lengthM;
+      if ( s.stop == TraceStop::EndOfRun || s.stations.empty() )
+        break;
+      station += std::max<int>( 1, static_cast<int>( s.stations.size() ) );
+    }
+    const double per100m = 100.0 * ( clicks - 1 ) / std::max( 1.0, length );
+    std::printf( "%-16s %d click(s) for %.0f m: %.2f interventions per 100 m\n", c.name, clicks, length, per100m );
+    EXPECT_LE( per100m, 0.5 ) << c.name;
+  }
+}
+
+TEST( Tracing, MethodsComparedPerLineType )
+{
+  // the thesis compares its methods per line type; here over the first 12 stations of the run
+  const HighwayRun &run = highwayRun();
+  std::printf( "%-16s %-14s %12s %12s %9s %12s\n", "line", "method", "completeness", "correctness", "RMS(m)", "pixels/s" );
+  for ( const HighwayLine &c : kHighwayLines )
+    for ( const TraceMethod m : { TraceMethod::Directional, TraceMethod::LeastSquares, TraceMethod::Polynomial, TraceMethod::Auto } )
+    {
+      const std::vector<Eigen::Vector3d> truth = joinedTruthLine( run.roads, c.prefix );
+      const auto t0 = std::chrono::steady_clock::now();
+      const RoadTraceSummary s = traceFromSeed( run, run.truth, c.prefix, "S0001_FL", m, 12 );
+      const double seconds = std::chrono::duration<double>( std::chrono::steady_clock::now() - t0 ).count();
+      const LineScore sc = score( s, truth, run, 0.10 );
+      std::printf( "%-16s %-14s %12.3f %12.3f %9.3f %12.0f  (%zu stations, %s)\n", c.name, traceMethodName( m ).c_str(), sc.buffer.completeness, sc.buffer.correctness, sc.rms15,
+                   s.pixelsFollowed / seconds, s.stations.size(), traceStopName( s.stop ).c_str() );
+      if ( m == TraceMethod::Polynomial || m == TraceMethod::Auto )
+        EXPECT_GE( sc.buffer.correctness, 0.9 ) << c.name << " " << traceMethodName( m );
+    }
+}
+
+TEST( Tracing, BadInputKeepsWhatWasTraced )
+{
+  const HighwayRun &run = highwayRun();
+  // a seed in the sky: one sentence, nothing traced
+  {
+    const TraceSeed seed { "sky", "S0001_FL", Eigen::Vector2d( 500.0, 40.0 ), std::nullopt };
+    const RoadTraceSummary s = traceRoadLine( run.block, seed, RoadTraceOptions(), fileGreyImageSource( run.block ) );
+    EXPECT_EQ( s.stop, TraceStop::NoEdge );
+    EXPECT_NE( s.message.find( "no edge or painted line within 8 px of the seed" ), std::string::npos ) << s.message;
+    EXPECT_FALSE( s.ok() );
+  }
+  // an unknown image is a precondition violation
+  EXPECT_THROW( traceRoadLine( run.block, TraceSeed { "x", "nope", Eigen::Vector2d( 1, 1 ), std::nullopt }, RoadTraceOptions(), fileGreyImageSource( run.block ) ),
+                std::invalid_argument );
+  // an image missing in the middle of the run: stops there with the image named, the line so far kept
+  {
+    Block block = run.block;
+    for ( BlockImage &image : block.images )
+      if ( image.id == "S0006_FL" )
+        image.path = "images/missing.tif";
+    const TraceSeed seed = seedOn( run, "R1-edge-right", "S0001_FL", 8.0, Eigen::Vector2d( 1.2, -0.8 ) );
+    const RoadTraceSummary s = traceRoadLine( block, seed, RoadTraceOptions(), fileGreyImageSource( block ) );
+    EXPECT_EQ( s.stop, TraceStop::ImageMissing );
+    EXPECT_NE( s.message.find( "S0006_FL" ), std::string::npos ) << s.message;
+    EXPECT_GE( s.stations.size(), 5u );
+    EXPECT_GE( s.lengthM, 40.0 );
+  }
+  // a seed image whose station has no other image that sees the line
+  {
+    Block block = run.block;
+    for ( BlockImage &image : block.images )
+      if ( image.id == "S0001_FR" )
+        image.stationId = "elsewhere";
+    const TraceSeed seed = seedOn( run, "R1-edge-right", "S0001_FL", 8.0, Eigen::Vector2d( 1.2, -0.8 ) );
+    const RoadTraceSummary s = traceRoadLine( block, seed, RoadTraceOptions(), fileGreyImageSource( block ) );
+    EXPECT_EQ( s.stop, TraceStop::NoStereoPartner ) << s.message;
+  }
+  // stations out of order: the next station in time lies behind
+  {
+    Block block = run.block;
+    for ( Station &station : block.stations )
+      if ( station.id == "S0004" )
+        station.time = "2026-05-04T09:00:00.000Z";
+    const TraceSeed seed = seedOn( run, "R1-edge-right", "S0005_FL", 8.0, Eigen::Vector2d( 1.2, -0.8 ) );
+    const RoadTraceSummary s = traceRoadLine( block, seed, RoadTraceOptions(), fileGreyImageSource( block ) );
+    EXPECT_TRUE( s.stop == TraceStop::StationsOutOfOrder || s.stop == TraceStop::EndOfRun ) << s.message;
+    EXPECT_TRUE( s.ok() );
+  }
+}
+
+TEST( Tracing, DirectionalMatricesSearchFartherFirst )
+{
+  const std::vector<DirectionalMatrix> &m = directionalMatrices();
+  ASSERT_EQ( m.size(), 24u );
+  for ( const DirectionalMatrix &d : m )
+  {
+    ASSERT_FALSE( d.offsets.empty() );
+    const Eigen::Vector2d dir = directionFromDegrees( d.directionDeg );
+    // the first position is two pixels ahead, the last one pixel
+    EXPECT_GE( d.offsets.front().cast<double>().dot( dir ), 1.4 );
+    EXPECT_LE( d.offsets.back().cast<double>().dot( dir ), 1.5 );
+  }
+  // 0 degrees searches straight up first
+  EXPECT_EQ( m[0].offsets.front(), Eigen::Vector2i( 0, -2 ) );
+  ASSERT_EQ( largeDirectionalMatrices().size(), 24u );
+}
