@@ -17,6 +17,7 @@
 #include "matchpointsalgorithm.h"
 #include "monoplotalgorithm.h"
 #include "simulatesurveyalgorithm.h"
+#include "traceroadlinesalgorithm.h"
 #include "projecttoimagealgorithm.h"
 #include "resectionalgorithm.h"
 
@@ -71,6 +72,7 @@ void GeoStationProvider::loadAlgorithms()
   addAlgorithm( new EnhanceImageAlgorithm() );
   addAlgorithm( new MatchPointsAlgorithm() );
   addAlgorithm( new ExportMeasurementsAlgorithm() );
+  addAlgorithm( new TraceRoadLinesAlgorithm() );
 }
 
 bool registerGeoStationProvider()

@@ -1,0 +1,295 @@
+/***************************************************************************
+  traceroadlinesalgorithm.cpp - geostation:trace_road_lines
+  -------------------------------------------------------------------------
+  Seeds (one click per line) in, one LineStringZ per seed out: the line
+  followed through the run by core/tracing (thesis ch. 6). Every seed is
+  traced before any output is created; a seed that cannot be traced gets
+  an empty geometry and its stop reason, and the run fails only when no
+  seed at all could be traced.
+ ***************************************************************************/
+#include "traceroadlinesalgorithm.h"
+
+#include <cmath>
+
+#include <qgsexception.h>
+#include <qgsfeaturesink.h>
+#include <qgsgeometry.h>
+#include <qgslinestring.h>
+#include <qgsprocessingfeedback.h>
+#include <qgsprocessingoutputs.h>
+#include <qgsprocessingparameters.h>
+#include <qgsrasterlayer.h>
+
+#include "dem/demintersection.h"
+#include "processingblock.h"
+#include "tracing/roadtracer.h"
+
+namespace
+{
+  const QStringList kMethods { QStringLiteral( "auto" ), QStringLiteral( "directional" ), QStringLiteral( "least_squares" ), QStringLiteral( "polynomial" ) };
+
+  struct SeedRow
+  {
+    geostation::TraceSeed seed;
+    QgsAttributes attributes;
+  };
+
+  //! seed_id, image_id, col, row [, direction_deg]; names match case-insensitively, numbers may be text.
+  QVector<SeedRow> readSeeds( QgsFeatureSource *source )
+  {
+    const QgsFields fields = source->fields();
+    const auto field = [&]( const QString &name, bool required )
+    {
+      const int i = fields.lookupField( name );
+      if ( i < 0 && required )
+        throw QgsProcessingException( QObject::tr( "The SEEDS table has no field %1 (it needs seed_id, image_id, col, row and optionally direction_deg)." ).arg( name ) );
+      return i;
+    };
+    const int id = field( QStringLiteral( "seed_id" ), true ), image = field( QStringLiteral( "image_id" ), true ), col = field( QStringLiteral( "col" ), true ),
+              row = field( QStringLiteral( "row" ), true ), direction = field( QStringLiteral( "direction_deg" ), false );
+    QVector<SeedRow> rows;
+    QgsFeature f;
+    QgsFeatureIterator it = source->getFeatures();
+    while ( it.nextFeature( f ) )
+    {
+      const auto number = [&]( int index, const QString &name )
+      {
+        bool ok = false;
+        const double v = f.attribute( index ).toString().toDouble( &ok );
+        if ( !ok || !std::isfinite( v ) )
+          throw QgsProcessingException( QObject::tr( "SEEDS row %1: %2 is not a number (\"%3\")." ).arg( rows.size() + 1 ).arg( name, f.attribute( index ).toString() ) );
+        return v;
+      };
+      SeedRow r;
+      r.seed.id = f.attribute( id ).toString().toStdString();
+      r.seed.imageId = f.attribute( image ).toString().trimmed().toStdString();
+      r.seed.pixelInImage = Eigen::Vector2d( number( col, QStringLiteral( "col" ) ), number( row, QStringLiteral( "row" ) ) );
+      if ( direction >= 0 && !f.attribute( direction ).isNull() && !f.attribute( direction ).toString().trimmed().isEmpty() )
+        r.seed.directionDeg = number( direction, QStringLiteral( "direction_deg" ) );
+      r.attributes = f.attributes();
+      rows << r;
+    }
+    if ( rows.isEmpty() )
+      throw QgsProcessingException( QObject::tr( "The SEEDS table is empty." ) );
+    return rows;
+  }
+}
+
+QString TraceRoadLinesAlgorithm::name() const
+{
+  return QStringLiteral( "trace_road_lines" );
+}
+
+QString TraceRoadLinesAlgorithm::displayName() const
+{
+  return QObject::tr( "Trace road lines through the run" );
+}
+
+QStringList TraceRoadLinesAlgorithm::tags() const
+{
+  return QObject::tr( "road,lane,marking,kerb,edge,tracing,following,mobile mapping,3d,stereo" ).split( ',' );
+}
+
+QString TraceRoadLinesAlgorithm::group() const
+{
+  return QObject::tr( "Image processing" );
+}
+
+QString TraceRoadLinesAlgorithm::groupId() const
+{
+  return QStringLiteral( "imageprocessing" );
+}
+
+QString TraceRoadLinesAlgorithm::shortHelpString() const
+{
+  return QObject::tr( "Follows road lines (painted markings, centre lines, kerbs) from one seed each through the stations of a "
+                      "mobile-mapping run and returns them as 3-D lines in the block CRS.\n\n"
+                      "SEEDS: seed_id, image_id, col, row (pixels, CONVENTIONS §1) and optionally direction_deg (0 = up the "
+                      "image, clockwise). At each station the line is followed in the seed's camera up to MAX_RANGE_M, found "
+                      "in the station's stereo partner along the epipolar curves, and intersected with standard deviations "
+                      "(pixels and the images' GNSS/INS sigmas); then it is carried to the next station. The road surface is "
+                      "the plane CAMERA_HEIGHT_M below the cameras, following the track, or the DEM when one is given.\n\n"
+                      "METHOD: auto, directional (matrices on the thinned edge image), least_squares (row-by-row shifts) or "
+                      "polynomial (second-order strips). MAX_STATIONS 0 traces to the end of the run.\n\n"
+                      "OUTPUT: one LineStringZ per seed with seed_id, method, stations, length_m, sigma_max, stop_reason and "
+                      "message; a seed that cannot be traced keeps its row with an empty geometry. VERTICES (optional): "
+                      "seed_id, vertex, X, Y, Z, sx, sy, sz, station, image_ids, residuals_px." );
+}
+
+TraceRoadLinesAlgorithm *TraceRoadLinesAlgorithm::createInstance() const
+{
+  return new TraceRoadLinesAlgorithm();
+}
+
+void TraceRoadLinesAlgorithm::initAlgorithm( const QVariantMap & )
+{
+  addParameter( GeoStationProcessing::blockParameter() );
+  addParameter( new QgsProcessingParameterFeatureSource( QStringLiteral( "SEEDS" ), QObject::tr( "Seeds (seed_id, image_id, col, row [, direction_deg])" ), QList<int>() << QgsProcessing::TypeVector ) );
+  addParameter( new QgsProcessingParameterRasterLayer( QStringLiteral( "DEM" ), QObject::tr( "DEM (instead of the road plane)" ), QVariant(), true ) );
+  addParameter( new QgsProcessingParameterEnum( QStringLiteral( "METHOD" ), QObject::tr( "Method" ), kMethods, false, QStringLiteral( "auto" ), false, true ) );
+  addParameter( new QgsProcessingParameterNumber( QStringLiteral( "MAX_STATIONS" ), QObject::tr( "Stations to trace (0 = to the end of the run)" ), QgsProcessingParameterNumber::Integer, 0, false, 0 ) );
+  addParameter( new QgsProcessingParameterNumber( QStringLiteral( "MAX_RANGE_M" ), QObject::tr( "Distance limit from the cameras (m)" ), QgsProcessingParameterNumber::Double, 20.0, false, 6.0, 200.0 ) );
+  addParameter( new QgsProcessingParameterNumber( QStringLiteral( "CAMERA_HEIGHT_M" ), QObject::tr( "Camera height above the road (m)" ), QgsProcessingParameterNumber::Double, 2.6, false, 0.1, 100.0 ) );
+  addParameter( new QgsProcessingParameterFeatureSink( QStringLiteral( "OUTPUT" ), QObject::tr( "Traced lines" ), QgsProcessing::TypeVectorLine ) );
+  addParameter( new QgsProcessingParameterFeatureSink( QStringLiteral( "VERTICES" ), QObject::tr( "Vertices" ), QgsProcessing::TypeVector, QVariant(), true, false ) );
+  addOutput( new QgsProcessingOutputNumber( QStringLiteral( "TRACED_COUNT" ), QObject::tr( "Seeds traced" ) ) );
+  addOutput( new QgsProcessingOutputNumber( QStringLiteral( "FAILED_COUNT" ), QObject::tr( "Seeds not traced" ) ) );
+}
+
+QVariantMap TraceRoadLinesAlgorithm::processAlgorithm( const QVariantMap &parameters, QgsProcessingContext &context, QgsProcessingFeedback *feedback )
+{
+  const geostation::Block block = GeoStationProcessing::loadBlock( parameterAsFile( parameters, QStringLiteral( "BLOCK" ), context ) );
+  const QgsCoordinateReferenceSystem crs = GeoStationProcessing::blockCrs( block );
+  std::unique_ptr<QgsProcessingFeatureSource> source( parameterAsSource( parameters, QStringLiteral( "SEEDS" ), context ) );
+  if ( !source )
+    throw QgsProcessingException( invalidSourceError( parameters, QStringLiteral( "SEEDS" ) ) );
+  const QVector<SeedRow> seeds = readSeeds( source.get() );
+  for ( const SeedRow &r : seeds )
+    GeoStationProcessing::orientedImage( block, GeoStationProcessing::blockImage( block, QString::fromStdString( r.seed.imageId ) ) ); // unknown or unoriented: one sentence, before any output
+
+  geostation::RoadTraceOptions options;
+  options.method = geostation::traceMethodFromName( parameterAsEnumString( parameters, QStringLiteral( "METHOD" ), context ).toStdString() );
+  options.maxStations = parameterAsInt( parameters, QStringLiteral( "MAX_STATIONS" ), context );
+  options.maxRangeM = parameterAsDouble( parameters, QStringLiteral( "MAX_RANGE_M" ), context );
+  options.cameraHeightM = parameterAsDouble( parameters, QStringLiteral( "CAMERA_HEIGHT_M" ), context );
+  std::unique_ptr<geostation::Dem> dem;
+  std::unique_ptr<geostation::CrsTransform> blockToDem;
+  if ( QgsRasterLayer *demLayer = parameterAsRasterLayer( parameters, QStringLiteral( "DEM" ), context ) )
+  {
+    try
+    {
+      dem = std::make_unique<geostation::Dem>( demLayer->source().toStdString() );
+      blockToDem = std::make_unique<geostation::CrsTransform>( block.crs, dem->crsWkt() );
+    }
+    catch ( const std::exception &e )
+    {
+      throw QgsProcessingException( QString::fromStdString( e.what() ) );
+    }
+    options.groundOfPixel = [&]( const geostation::OrientedImage &image, const Eigen::Vector2d &pixel ) -> std::optional<Eigen::Vector3d>
+    {
+      const std::optional<geostation::Ray> ray = image.worldRayFromPixel( pixel );
+      if ( !ray )
+        return std::nullopt;
+      const geostation::DemIntersection hit = geostation::intersectRayWithDem( *ray, *dem, *blockToDem );
+      return hit.hit() ? std::optional<Eigen::Vector3d>( hit.point ) : std::nullopt;
+    };
+  }
+  try
+  {
+    options.check();
+  }
+  catch ( const std::exception &e )
+  {
+    throw QgsProcessingException( QString::fromStdString( e.what() ) );
+  }
+
+  // trace every seed first: no output file exists until there is something to write
+  std::vector<geostation::RoadTraceSummary> results;
+  const geostation::GreyImageSource images = geostation::fileGreyImageSource( block );
+  int traced = 0;
+  for ( int i = 0; i < seeds.size(); ++i )
+  {
+    if ( feedback->isCanceled() )
+      break;
+    options.progress = [&, i]( double fraction, const std::string & )
+    {
+      feedback->setProgress( 100.0 * ( i + fraction ) / seeds.size() );
+      return !feedback->isCanceled();
+    };
+    results.push_back( geostation::traceRoadLine( block, seeds[i].seed, options, images ) );
+    const geostation::RoadTraceSummary &s = results.back();
+    if ( s.ok() )
+    {
+      ++traced;
+      feedback->pushInfo( QObject::tr( "Seed %1: %2 m over %3 stations (%4); stopped: %5." )
+                          .arg( QString::fromStdString( seeds[i].seed.id ) ).arg( s.lengthM, 0, 'f', 1 ).arg( s.stations.size() )
+                          .arg( QString::fromStdString( s.methods() ), QString::fromStdString( s.message ) ) );
+    }
+    else
+      feedback->pushWarning( QObject::tr( "Seed %1 was not traced: %2." ).arg( QString::fromStdString( seeds[i].seed.id ), QString::fromStdString( s.message ) ) );
+  }
+  if ( traced == 0 )
+  {
+    QString why = results.empty() ? QObject::tr( "cancelled" ) : QString::fromStdString( results.front().message );
+    throw QgsProcessingException( QObject::tr( "No seed could be traced (first: %1)." ).arg( why ) );
+  }
+
+  QgsFields fields = source->fields();
+  const auto addField = [&]( const QString &name, QVariant::Type type )
+  {
+    if ( fields.lookupField( name ) < 0 )
+      fields.append( QgsField( name, type ) );
+  };
+  addField( QStringLiteral( "seed_id" ), QVariant::String );
+  addField( QStringLiteral( "method" ), QVariant::String );
+  addField( QStringLiteral( "stations" ), QVariant::Int );
+  addField( QStringLiteral( "length_m" ), QVariant::Double );
+  addField( QStringLiteral( "sigma_max" ), QVariant::Double );
+  addField( QStringLiteral( "stop_reason" ), QVariant::String );
+  addField( QStringLiteral( "message" ), QVariant::String );
+  QString destination;
+  std::unique_ptr<QgsFeatureSink> sink( parameterAsSink( parameters, QStringLiteral( "OUTPUT" ), context, destination, fields, QgsWkbTypes::LineStringZ, crs ) );
+  if ( !sink )
+    throw QgsProcessingException( invalidSinkError( parameters, QStringLiteral( "OUTPUT" ) ) );
+  QgsFields vertexFields;
+  for ( const auto &[name, type] : std::vector<std::pair<QString, QVariant::Type>> { { "seed_id", QVariant::String }, { "vertex", QVariant::Int }, { "X", QVariant::Double },
+        { "Y", QVariant::Double }, { "Z", QVariant::Double }, { "sx", QVariant::Double }, { "sy", QVariant::Double }, { "sz", QVariant::Double },
+        { "station", QVariant::String }, { "image_ids", QVariant::String }, { "residuals_px", QVariant::String } } )
+    vertexFields.append( QgsField( name, type ) );
+  QString vertexDestination;
+  std::unique_ptr<QgsFeatureSink> vertexSink( parameterAsSink( parameters, QStringLiteral( "VERTICES" ), context, vertexDestination, vertexFields, QgsWkbTypes::NoGeometry, QgsCoordinateReferenceSystem() ) );
+
+  for ( size_t i = 0; i < results.size(); ++i )
+  {
+    const geostation::RoadTraceSummary &s = results[i];
+    QgsFeature f( fields );
+    QgsAttributes attributes = seeds[i].attributes;
+    attributes.resize( fields.size() );
+    const auto set = [&]( const QString &name, const QVariant &value ) { attributes[fields.lookupField( name )] = value; };
+    set( QStringLiteral( "seed_id" ), QString::fromStdString( seeds[i].seed.id ) );
+    set( QStringLiteral( "method" ), QString::fromStdString( s.methods() ) );
+    set( QStringLiteral( "stations" ), static_cast<int>( s.stations.size() ) );
+    set( QStringLiteral( "length_m" ), s.lengthM );
+    set( QStringLiteral( "sigma_max" ), s.sigmaMaxM );
+    set( QStringLiteral( "stop_reason" ), QString::fromStdString( geostation::traceStopName( s.stop ) ) );
+    set( QStringLiteral( "message" ), QString::fromStdString( s.message ) );
+    f.setAttributes( attributes );
+    if ( s.ok() )
+    {
+      QVector<double> x, y, z;
+      for ( const geostation::TracedVertex &v : s.vertices )
+      {
+        x << v.point.x();
+        y << v.point.y();
+        z << v.point.z();
+      }
+      f.setGeometry( QgsGeometry( new QgsLineString( x, y, z ) ) );
+    }
+    if ( !sink->addFeature( f, QgsFeatureSink::FastInsert ) )
+      throw QgsProcessingException( writeFeatureError( sink.get(), parameters, QStringLiteral( "OUTPUT" ) ) );
+    if ( !vertexSink )
+      continue;
+    for ( size_t k = 0; k < s.vertices.size(); ++k )
+    {
+      const geostation::TracedVertex &v = s.vertices[k];
+      QStringList ids, residuals;
+      for ( size_t j = 0; j < v.imageIds.size(); ++j )
+      {
+        ids << QString::fromStdString( v.imageIds[j] );
+        residuals << QStringLiteral( "%1 %2" ).arg( v.residualsPx[j].x(), 0, 'f', 3 ).arg( v.residualsPx[j].y(), 0, 'f', 3 );
+      }
+      QgsFeature vf( vertexFields );
+      vf.setAttributes( QgsAttributes() << QString::fromStdString( seeds[i].seed.id ) << static_cast<int>( k ) << v.point.x() << v.point.y() << v.point.z() << v.sigmaM.x()
+                        << v.sigmaM.y() << v.sigmaM.z() << QString::fromStdString( v.stationId ) << ids.join( ';' ) << residuals.join( ';' ) );
+      if ( !vertexSink->addFeature( vf, QgsFeatureSink::FastInsert ) )
+        throw QgsProcessingException( writeFeatureError( vertexSink.get(), parameters, QStringLiteral( "VERTICES" ) ) );
+    }
+  }
+  QVariantMap outputs;
+  outputs.insert( QStringLiteral( "OUTPUT" ), destination );
+  if ( vertexSink )
+    outputs.insert( QStringLiteral( "VERTICES" ), vertexDestination );
+  outputs.insert( QStringLiteral( "TRACED_COUNT" ), traced );
+  outputs.insert( QStringLiteral( "FAILED_COUNT" ), static_cast<int>( results.size() ) - traced );
+  return outputs;
+}

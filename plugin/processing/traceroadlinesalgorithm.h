@@ -1,0 +1,27 @@
+/***************************************************************************
+  traceroadlinesalgorithm.h - geostation:trace_road_lines
+ ***************************************************************************/
+#ifndef TRACEROADLINESALGORITHM_H
+#define TRACEROADLINESALGORITHM_H
+
+#include <qgsprocessingalgorithm.h>
+
+#include "geostation_processing_export.h"
+
+class GEOSTATION_PROCESSING_EXPORT TraceRoadLinesAlgorithm : public QgsProcessingAlgorithm
+{
+  public:
+    QString name() const override;
+    QString displayName() const override;
+    QStringList tags() const override;
+    QString group() const override;
+    QString groupId() const override;
+    QString shortHelpString() const override;
+    TraceRoadLinesAlgorithm *createInstance() const override;
+
+  protected:
+    void initAlgorithm( const QVariantMap &configuration = QVariantMap() ) override;
+    QVariantMap processAlgorithm( const QVariantMap &parameters, QgsProcessingContext &context, QgsProcessingFeedback *feedback ) override;
+};
+
+#endif // TRACEROADLINESALGORITHM_H
