@@ -327,7 +327,7 @@ namespace geostation
     const SeedAnalysis analysis = analyseSeed( *referenceGrey, seed.pixelInImage, seed.directionDeg, options.seed );
     if ( !analysis.ok )
     {
-      stopWith( TraceStop::NoEdge, "seed " + seed.id + " in " + seedImage.id + ": " + analysis.message );
+      stopWith( TraceStop::NoEdge, "in " + seedImage.id + ": " + analysis.message );
       return out;
     }
     start = analysis.pixelInImage;
