@@ -68,7 +68,7 @@ class DesktopSmokeTest(unittest.TestCase):
                                                                   "mActionGeoStationBundleAdjust", "mActionGeoStationInnerOrientation"])
         self.assertEqual(self.result.get("algorithms"), ["geostation:bundle_adjust", "geostation:enhance_image", "geostation:export_measurements", "geostation:inner_orientation", "geostation:intersect",
                                                          "geostation:match_points", "geostation:monoplot", "geostation:project_to_image", "geostation:resection",
-                                                         "geostation:simulate_survey"])
+                                                         "geostation:simulate_survey", "geostation:trace_road_lines"])
         self.assertIn("mActionGeoStationMonoplot", self.result.get("menu_actions", []))
         self.assertTrue(self.result.get("provider"))
         self.assertTrue(self.result.get("algorithm"))
