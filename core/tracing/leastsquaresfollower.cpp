@@ -25,7 +25,6 @@ namespace geostation
       double step( const Eigen::Vector2d &p ) const { return stepRows ? p.y() : p.x(); }
       //! Across-shift per step of a direction.
       double slope( const Eigen::Vector2d &d ) const { return ( stepRows ? d.x() : d.y() ) / std::abs( stepRows ? d.y() : d.x() ); }
-      Eigen::Vector2d direction( double slope ) const { return pixel( slope, sign ).normalized(); }
 
       static Frame of( const Eigen::Vector2d &d )
       {

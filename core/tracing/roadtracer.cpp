@@ -237,7 +237,6 @@ namespace geostation
       std::list<std::pair<std::string, std::shared_ptr<const cv::Mat>>> entries;
     };
     auto cache = std::make_shared<Cache>();
-    const std::filesystem::path blockFile = block.sourceFile;
     return [cache, capacity, &block]( const BlockImage &image, std::string &error ) -> std::shared_ptr<const cv::Mat>
     {
       const std::string path = block.imageFilePath( image ).string();

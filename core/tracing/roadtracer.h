@@ -48,7 +48,7 @@ namespace geostation
    */
   using GreyImageSource = std::function<std::shared_ptr<const cv::Mat>( const BlockImage &, std::string &error )>;
 
-  //! Reads block images with GDAL and keeps the last `capacity` in memory.
+  //! Reads block images with GDAL and keeps the last `capacity` in memory. The block is referenced: keep it alive.
   GreyImageSource fileGreyImageSource( const Block &block, size_t capacity = 6 );
 
   struct TracedStation

@@ -166,15 +166,9 @@ QVariantMap MonoplotAlgorithm::processAlgorithm( const QVariantMap &parameters, 
     throw QgsProcessingException( invalidRasterError( parameters, QStringLiteral( "DEM" ) ) );
   std::unique_ptr<geostation::Dem> dem;
   std::unique_ptr<geostation::CrsTransform> blockToDem;
-  try
-  {
-    dem = std::make_unique<geostation::Dem>( demLayer->source().toStdString() );
-    blockToDem = std::make_unique<geostation::CrsTransform>( block.crs, dem->crsWkt() );
-  }
-  catch ( const std::exception &e )
-  {
-    throw QgsProcessingException( QString::fromStdString( e.what() ) );
-  }
+  GeoStationProcessing::LoadedDem loaded = GeoStationProcessing::loadDem( demLayer->source(), block );
+  dem = std::move( loaded.dem );
+  blockToDem = std::move( loaded.blockToDem );
 
   std::unique_ptr<QgsProcessingFeatureSource> source( parameterAsSource( parameters, QStringLiteral( "INPUT" ), context ) );
   if ( !source )

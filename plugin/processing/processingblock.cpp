@@ -127,4 +127,18 @@ namespace GeoStationProcessing
       throw QgsProcessingException( QObject::tr( "Cannot write the report %1." ).arg( reportPath ) );
   }
 
+  LoadedDem loadDem( const QString &path, const geostation::Block &block )
+  {
+    LoadedDem out;
+    try
+    {
+      out.dem = std::make_unique<geostation::Dem>( path.toStdString() );
+      out.blockToDem = std::make_unique<geostation::CrsTransform>( block.crs, out.dem->crsWkt() );
+    }
+    catch ( const std::exception &e )
+    {
+      throw QgsProcessingException( QString::fromStdString( e.what() ) );
+    }
+    return out;
+  }
 }

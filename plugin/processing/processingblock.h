@@ -12,6 +12,10 @@
 
 #include <qgscoordinatereferencesystem.h>
 
+#include <memory>
+
+#include "dem/dem.h"
+#include "geometry/crs.h"
 #include "io/block.h"
 
 class QgsProcessingParameterFile;
@@ -53,6 +57,15 @@ namespace GeoStationProcessing
    * and committed only once the block has been saved (atomically).
    */
   void writeBlockAndReport( const geostation::Block &block, const QString &blockPath, const QJsonObject &report, const QString &reportPath );
+  //! A DEM and the transform from the block CRS to its CRS.
+  struct LoadedDem
+  {
+    std::unique_ptr<geostation::Dem> dem;
+    std::unique_ptr<geostation::CrsTransform> blockToDem;
+  };
+
+  //! Opens a DEM file for a block; throws QgsProcessingException with one sentence.
+  LoadedDem loadDem( const QString &path, const geostation::Block &block );
 }
 
 #endif // PROCESSINGBLOCK_H

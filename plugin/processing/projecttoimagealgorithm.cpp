@@ -132,15 +132,9 @@ QVariantMap ProjectToImageAlgorithm::processAlgorithm( const QVariantMap &parame
   std::unique_ptr<geostation::Monoplotter> monoplotter;
   if ( QgsRasterLayer *demLayer = parameterAsRasterLayer( parameters, QStringLiteral( "DEM" ), context ) )
   {
-    try
-    {
-      dem = std::make_unique<geostation::Dem>( demLayer->source().toStdString() );
-      blockToDem = std::make_unique<geostation::CrsTransform>( block.crs, dem->crsWkt() );
-    }
-    catch ( const std::exception &e )
-    {
-      throw QgsProcessingException( QString::fromStdString( e.what() ) );
-    }
+    GeoStationProcessing::LoadedDem loaded = GeoStationProcessing::loadDem( demLayer->source(), block );
+    dem = std::move( loaded.dem );
+    blockToDem = std::move( loaded.blockToDem );
     monoplotter = std::make_unique<geostation::Monoplotter>( orientedImage, *dem, *blockToDem );
   }
 

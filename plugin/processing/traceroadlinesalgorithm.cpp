@@ -156,15 +156,9 @@ QVariantMap TraceRoadLinesAlgorithm::processAlgorithm( const QVariantMap &parame
   std::unique_ptr<geostation::CrsTransform> blockToDem;
   if ( QgsRasterLayer *demLayer = parameterAsRasterLayer( parameters, QStringLiteral( "DEM" ), context ) )
   {
-    try
-    {
-      dem = std::make_unique<geostation::Dem>( demLayer->source().toStdString() );
-      blockToDem = std::make_unique<geostation::CrsTransform>( block.crs, dem->crsWkt() );
-    }
-    catch ( const std::exception &e )
-    {
-      throw QgsProcessingException( QString::fromStdString( e.what() ) );
-    }
+    GeoStationProcessing::LoadedDem loaded = GeoStationProcessing::loadDem( demLayer->source(), block );
+    dem = std::move( loaded.dem );
+    blockToDem = std::move( loaded.blockToDem );
     options.groundOfPixel = [&]( const geostation::OrientedImage &image, const Eigen::Vector2d &pixel ) -> std::optional<Eigen::Vector3d>
     {
       const std::optional<geostation::Ray> ray = image.worldRayFromPixel( pixel );

@@ -209,15 +209,6 @@ TEST( Tracing, HighwayLinesWithExactOrientation )
     const RoadTraceSummary s = traceFromSeed( run, run.truth, c.prefix, "S0001_FL", TraceMethod::Auto );
     const LineScore sc = score( s, truth, run, 0.10 );
     print( std::string( c.name ) + ", exact", s, sc );
-    if ( std::getenv( "GEOSTATION_TRACE_ERRORS" ) )
-      for ( const TracedVertex &v : s.vertices )
-      {
-        const PolylineProjection p = projectOnto( truth, v.point, false );
-        const Eigen::Vector3d e = v.point - p.point;
-        const Eigen::Vector3d across = Eigen::Vector3d( -p.tangent.y(), p.tangent.x(), 0.0 ).normalized();
-        std::printf( "  %s range %5.1f across %6.3f (sd %.3f) up %6.3f (sd %.3f) px %.1f %.1f / %.1f %.1f res %.2f %.2f\n", v.stationId.c_str(), v.rangeM, e.dot( across ), std::sqrt( across.dot( v.covariance * across ) ), e.z(),
-                     v.sigmaM.z(), v.pixels[0].x(), v.pixels[0].y(), v.pixels[1].x(), v.pixels[1].y(), v.residualsPx[0].norm(), v.residualsPx[1].norm() );
-      }
     EXPECT_GE( sc.buffer.completeness, c.minCompleteness );
     EXPECT_GE( sc.buffer.correctness, c.minCorrectness );
     EXPECT_LE( sc.rms15, 0.05 );
@@ -367,9 +358,6 @@ TEST( Tracing, RealPhotographUnderAKnownHomography )
   ASSERT_NE( seed.profile.kind, LineKind::Edge );
   ASSERT_GE( original.size(), 2u );
   const double originalLength = ( original.back() - original.front() ).norm();
-  if ( std::getenv( "GEOSTATION_TRACE_ERRORS" ) )
-    for ( const Eigen::Vector2d &p : original )
-      std::printf( "  original (%.2f %.2f)\n", p.x(), p.y() );
   EXPECT_GE( originalLength, 300.0 ); // most of the grid's height (about 450 px)
 
   // a view from lower down and to the side: the top narrows, scale 1.2 to 0.8 across the image
@@ -408,31 +396,19 @@ TEST( Tracing, RealPhotographUnderAKnownHomography )
   {
     const auto [warpedSeed, line] = trace( warped, map( forward, seed.pixelInImage ) + Eigen::Vector2d( 1.0, -1.0 ), m );
     ASSERT_GE( line.size(), 2u ) << traceMethodName( m );
+    // the vertices and the middle of each segment (where Douglas-Peucker dropped the followed points)
+    std::vector<Eigen::Vector2d> samples = line;
+    for ( size_t i = 0; i + 1 < line.size(); ++i )
+      samples.push_back( 0.5 * ( line[i] + line[i + 1] ) );
     double sum = 0.0, worst = 0.0;
     int compared = 0;
-    for ( const Eigen::Vector2d &p : line )
-    {
-      const std::optional<double> within = distanceToOriginal( map( inverse, p ) );
-      if ( !within )
-        continue;
-      const double d = *within;
-      ++compared;
-      if ( std::getenv( "GEOSTATION_TRACE_ERRORS" ) )
-        std::printf( "  %s (%.2f %.2f) -> (%.2f %.2f) %.2f\n", traceMethodName( m ).c_str(), p.x(), p.y(), map( inverse, p ).x(), map( inverse, p ).y(), d );
-      sum += d * d;
-      worst = std::max( worst, d );
-    }
-    for ( size_t i = 0; i + 1 < line.size(); ++i )
-    {
-      // and half-way along each segment, where Douglas-Peucker dropped the followed points
-      const std::optional<double> within = distanceToOriginal( map( inverse, 0.5 * ( line[i] + line[i + 1] ) ) );
-      if ( !within )
-        continue;
-      const double d = *within;
-      ++compared;
-      sum += d * d;
-      worst = std::max( worst, d );
-    }
+    for ( const Eigen::Vector2d &p : samples )
+      if ( const std::optional<double> d = distanceToOriginal( map( inverse, p ) ) )
+      {
+        sum += *d * *d;
+        worst = std::max( worst, *d );
+        ++compared;
+      }
     const double rms = std::sqrt( sum / std::max( 1, compared ) );
     const double coverage = ( map( inverse, line.back() ) - map( inverse, line.front() ) ).norm() / originalLength;
     std::printf( "real photograph, %-13s %3zu vertices, coverage %.2f of the line, RMS %.2f px, worst %.2f px (original pixels)\n", traceMethodName( m ).c_str(), line.size(), coverage, rms, worst );
