@@ -570,7 +570,7 @@ namespace geostation
       record.vertices = static_cast<int>( out.vertices.size() - firstOfStation );
       out.stations.push_back( record );
       if ( options.stationTraced )
-        options.stationTraced( record, followed.line.points, partnerLine.line.points );
+        options.stationTraced( record, followed.line.points, partnerLine.line.points, out.vertices );
       if ( lost )
         record.stop = TraceStop::NoEdge;
       // the line on the ground so far: the run's vertices, or (before any) the reference line on the road surface

@@ -64,6 +64,18 @@ namespace geostation
     std::string partnerMessage; //!< why the line was not found in the partner (the station then has no vertices)
   };
 
+  struct TracedVertex
+  {
+    Eigen::Vector3d point = Eigen::Vector3d::Zero();  //!< block CRS, metres
+    Eigen::Vector3d sigmaM = Eigen::Vector3d::Zero();
+    Eigen::Matrix3d covariance = Eigen::Matrix3d::Zero(); //!< m^2
+    std::string stationId;
+    std::vector<std::string> imageIds;                //!< reference, partner
+    std::vector<Eigen::Vector2d> pixels;              //!< in those images
+    std::vector<Eigen::Vector2d> residualsPx;         //!< projected - observed
+    double rangeM = 0.0;                              //!< from the reference camera
+  };
+
   struct RoadTraceOptions
   {
     TraceMethod method = TraceMethod::Auto;
@@ -92,9 +104,11 @@ namespace geostation
     GroundOfPixel groundOfPixel;
     /**
      * Called after each station with what was followed there: the reference
-     * and partner image lines in pixels (e.g. to draw them live).
+     * and partner image lines in pixels, and the run's line so far (e.g. to
+     * draw it live).
      */
-    std::function<void( const TracedStation &, const std::vector<Eigen::Vector2d> &referenceLine, const std::vector<Eigen::Vector2d> &partnerLine )> stationTraced;
+    std::function<void( const TracedStation &, const std::vector<Eigen::Vector2d> &referenceLine, const std::vector<Eigen::Vector2d> &partnerLine,
+                        const std::vector<TracedVertex> &lineSoFar )> stationTraced;
     //! Called after each station with the fraction of the run done; return false to cancel.
     std::function<bool( double fraction, const std::string &message )> progress;
 
@@ -102,17 +116,6 @@ namespace geostation
     void check() const;
   };
 
-  struct TracedVertex
-  {
-    Eigen::Vector3d point = Eigen::Vector3d::Zero();  //!< block CRS, metres
-    Eigen::Vector3d sigmaM = Eigen::Vector3d::Zero();
-    Eigen::Matrix3d covariance = Eigen::Matrix3d::Zero(); //!< m^2
-    std::string stationId;
-    std::vector<std::string> imageIds;                //!< reference, partner
-    std::vector<Eigen::Vector2d> pixels;              //!< in those images
-    std::vector<Eigen::Vector2d> residualsPx;         //!< projected - observed
-    double rangeM = 0.0;                              //!< from the reference camera
-  };
 
   struct RoadTraceSummary
   {

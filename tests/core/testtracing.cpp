@@ -22,6 +22,7 @@
 #include "tracing/linefollower.h"
 #include "tracing/lineprofile.h"
 #include "tracing/roadtracer.h"
+#include "tracing/tracedline.h"
 
 using namespace geostation;
 
@@ -310,6 +311,91 @@ TEST( Tracing, BadInputKeepsWhatWasTraced )
     EXPECT_TRUE( s.stop == TraceStop::StationsOutOfOrder || s.stop == TraceStop::EndOfRun ) << s.message;
     EXPECT_TRUE( s.ok() );
   }
+}
+
+TEST( Tracing, OperatorStopsTakesBackAndContinues )
+{
+  // the Multiview's Trace tool: the line grows station by station, Esc stops it, the operator takes back the
+  // last station's part, clicks the line again further on, and the parts make one line along the run
+  const HighwayRun &run = highwayRun();
+  const char *prefix = "R1-edge-right";
+  const std::vector<Eigen::Vector3d> truth = joinedTruthLine( run.roads, prefix );
+  RoadTraceOptions options;
+  std::vector<size_t> grown;
+  options.stationTraced = [&]( const TracedStation &, const std::vector<Eigen::Vector2d> &referenceLine, const std::vector<Eigen::Vector2d> &,
+                               const std::vector<TracedVertex> &lineSoFar )
+  {
+    EXPECT_GE( referenceLine.size(), 2u );
+    grown.push_back( lineSoFar.size() );
+  };
+  int stations = 0;
+  options.progress = [&]( double, const std::string & ) { return ++stations < 6; }; // Esc during the 6th station
+  const RoadTraceSummary first = traceRoadLine( run.block, seedOn( run, prefix, "S0001_FL", 8.0, Eigen::Vector2d( 1.2, -0.8 ) ), options, fileGreyImageSource( run.block ) );
+  EXPECT_EQ( first.stop, TraceStop::Cancelled ) << first.message;
+  ASSERT_EQ( grown.size(), 6u );
+  for ( size_t i = 1; i < grown.size(); ++i )
+    EXPECT_GT( grown[i], grown[i - 1] ) << "the line grows with every station";
+  EXPECT_EQ( grown.back(), first.vertices.size() );
+
+  TracedLine line;
+  EXPECT_EQ( line.append( first ), first.vertices.size() );
+  ASSERT_EQ( line.stationIds().size(), 6u );
+  const std::string last = line.takeBackLastStation();
+  EXPECT_EQ( last, "S0006" );
+  EXPECT_EQ( line.stationIds().size(), 5u );
+  EXPECT_NE( line.vertices().back().stationId, last );
+  const double before = line.lengthM();
+
+  // continue: a click on the line in station 5's image, a little behind where the line now ends
+  options.progress = nullptr;
+  options.stationTraced = nullptr;
+  options.maxStations = 8;
+  const RoadTraceSummary more = traceRoadLine( run.block, seedOn( run, prefix, "S0005_FL", 8.0, Eigen::Vector2d( -0.7, 1.1 ) ), options, fileGreyImageSource( run.block ) );
+  ASSERT_TRUE( more.ok() ) << more.message;
+  const size_t joined = line.append( more );
+  EXPECT_GT( joined, 0u );
+  EXPECT_LT( joined, more.vertices.size() ) << "the restart's vertices behind the line's end are dropped";
+  EXPECT_GT( line.lengthM(), before + 60.0 );
+  // one line along the run: every vertex ahead of the previous one, and on the truth
+  for ( size_t i = 1; i < line.vertices().size(); ++i )
+    EXPECT_GT( projectOnto( truth, line.vertices()[i].point, true ).station, projectOnto( truth, line.vertices()[i - 1].point, true ).station ) << i;
+  const std::vector<Eigen::Vector3d> points = line.points();
+  const double from = projectOnto( truth, points.front(), true ).station, to = projectOnto( truth, points.back(), true ).station;
+  const BufferScore b = bufferScore( points, polylineBetween( truth, from, to ), 0.10 );
+  std::printf( "operator session: %zu + %zu vertices, %.1f m, completeness %.3f correctness %.3f, sigma max %.3f m\n", first.vertices.size(), joined, line.lengthM(),
+               b.completeness, b.correctness, line.sigmaMaxM() );
+  EXPECT_GE( b.completeness, 0.95 );
+  EXPECT_GE( b.correctness, 0.98 );
+  EXPECT_GT( line.sigmaMaxM(), 0.0 );
+  EXPECT_LT( line.sigmaMaxM(), 0.5 );
+}
+
+TEST( Tracing, TracedLineJoinsPartsAlongTheLine )
+{
+  const auto vertex = []( double x, const std::string &station )
+  {
+    TracedVertex v;
+    v.point = Eigen::Vector3d( x, 0.1 * x, 100.0 );
+    v.sigmaM = Eigen::Vector3d( 0.01, 0.02, 0.03 );
+    v.stationId = station;
+    return v;
+  };
+  TracedLine line;
+  EXPECT_EQ( line.takeBackLastStation(), "" );
+  EXPECT_EQ( line.append( { vertex( 0, "A" ), vertex( 4, "A" ), vertex( 8, "B" ), vertex( 12, "B" ) } ), 4u );
+  // a restart behind the end: 6 and 12 are not ahead of 12, 14 and 18 are
+  EXPECT_EQ( line.append( { vertex( 6, "C" ), vertex( 12, "C" ), vertex( 14, "C" ), vertex( 18, "D" ) } ), 2u );
+  ASSERT_EQ( line.vertices().size(), 6u );
+  EXPECT_EQ( line.stationIds(), ( std::vector<std::string> { "A", "B", "C", "D" } ) );
+  EXPECT_NEAR( line.lengthM(), 18.0 * std::sqrt( 1.01 ), 1e-9 );
+  EXPECT_DOUBLE_EQ( line.sigmaMaxM(), 0.03 );
+  EXPECT_EQ( line.takeBackLastStation(), "D" );
+  EXPECT_EQ( line.takeBackLastStation(), "C" );
+  EXPECT_EQ( line.vertices().back().point.x(), 12.0 );
+  // a line of one vertex takes the new trace's own direction
+  TracedLine one;
+  one.append( { vertex( 10, "A" ) } );
+  EXPECT_EQ( one.append( { vertex( 5, "B" ), vertex( 11, "B" ), vertex( 15, "B" ) } ), 2u );
 }
 
 TEST( Tracing, DirectionalMatricesSearchFartherFirst )
