@@ -26,6 +26,7 @@
 #include "measurementcontroller.h"
 #include "measurementsettingsdialog.h"
 #include "measurementstore.h"
+#include "tracecontroller.h"
 #include "multiviewdock.h"
 #include "multiviewsession.h"
 #include "overviewlayers.h"
@@ -115,6 +116,15 @@ void GeoStationPlugin::initGui()
   mStore = new GeoStationMeasurementStore( mSession, QgsProject::instance(), this );
   mController = new GeoStationMeasurementController( mSession, mStore, this );
   mOverview = new GeoStationOverview( mSession, QgsProject::instance(), mIface->mapCanvas(), this );
+  mTrace = new GeoStationTraceController( mSession, mStore, this );
+  // the line being traced grows on the map too
+  connect( mTrace, &GeoStationTraceController::lineChanged, this, [this]
+  {
+    QVector<QgsPoint> points;
+    for ( const Eigen::Vector3d &p : mTrace->line().points() )
+      points << QgsPoint( p.x(), p.y(), p.z() );
+    mOverview->setTracedLine( points );
+  } );
   mMenu->addSeparator();
   mMultiviewAction = addAction( QStringLiteral( "mActionGeoStationMultiview" ), QStringLiteral( ":/geostation/icons/multiview.svg" ), tr( "Multiview" ),
                                 tr( "Show the image views of the current station and measure in them" ), &GeoStationPlugin::showMultiview );
@@ -187,6 +197,8 @@ void GeoStationPlugin::unload()
   delete mDock;
   if ( mOverview )
     mOverview->removeLayers();
+  delete mTrace; // waits for a running trace (at most one station)
+  mTrace = nullptr;
   delete mController;
   mController = nullptr;
   delete mOverview;
@@ -268,7 +280,7 @@ void GeoStationPlugin::showMultiview()
 {
   if ( !mDock )
   {
-    mDock = new GeoStationMultiviewDock( mSession, mController, mStore, mIface->mainWindow() );
+    mDock = new GeoStationMultiviewDock( mSession, mController, mStore, mIface->mainWindow(), mTrace );
     mIface->addDockWidget( Qt::RightDockWidgetArea, mDock );
   }
   mDock->setUserVisible( true );

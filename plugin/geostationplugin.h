@@ -19,6 +19,7 @@ class QAction;
 class QMenu;
 class QToolBar;
 class QgisInterface;
+class GeoStationTraceController;
 class GeoStationMeasurementController;
 class GeoStationMeasurementStore;
 class GeoStationMultiviewDock;
@@ -107,6 +108,7 @@ class GeoStationPlugin : public QObject, public QgisPlugin
     GeoStationSession *mSession = nullptr;
     GeoStationMeasurementStore *mStore = nullptr;
     GeoStationMeasurementController *mController = nullptr;
+    GeoStationTraceController *mTrace = nullptr;
     GeoStationOverview *mOverview = nullptr;
     QPointer<GeoStationMultiviewDock> mDock;
     QPointer<GeoStationStationPickTool> mPickTool;

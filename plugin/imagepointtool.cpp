@@ -16,10 +16,24 @@ void GeoStationImagePointTool::canvasMoveEvent( QgsMapMouseEvent *e )
   emit pixelHovered( pixelFromMap( e->mapPoint() ) );
 }
 
+void GeoStationImagePointTool::canvasPressEvent( QgsMapMouseEvent *e )
+{
+  mPressed = e->button() == Qt::LeftButton;
+  mPressScreen = e->pos();
+  mPressPixel = pixelFromMap( e->mapPoint() );
+}
+
 void GeoStationImagePointTool::canvasReleaseEvent( QgsMapMouseEvent *e )
 {
   if ( e->button() == Qt::LeftButton )
-    emit pixelPicked( pixelFromMap( e->mapPoint() ) );
+  {
+    // a drag of more than a few screen pixels, else a click
+    if ( mPressed && ( e->pos() - mPressScreen ).manhattanLength() > 6 )
+      emit pixelDragged( mPressPixel, pixelFromMap( e->mapPoint() ) );
+    else
+      emit pixelPicked( pixelFromMap( e->mapPoint() ) );
+    mPressed = false;
+  }
   else if ( e->button() == Qt::RightButton )
     emit undoRequested();
 }

@@ -1,9 +1,10 @@
 /***************************************************************************
   imagepointtool.h - the map tool of an image view: pick a pixel
   -------------------------------------------------------------------------
-  Only emits signals (as the georeferencer's tools do): a left click (or
-  the end of a drag, to move a proposed point) gives the pixel, the mouse
-  position is reported for the cursor readout. Pixels follow CONVENTIONS
+  Only emits signals (as the georeferencer's tools do): a left click gives
+  the pixel, a drag its start and end (to move a proposed point, or to give
+  a traced line's direction); the mouse position is reported for the cursor
+  readout. Pixels follow CONVENTIONS
   §1: the view shows the image at x = col, y = -row.
  ***************************************************************************/
 #ifndef GEOSTATIONIMAGEPOINTTOOL_H
@@ -26,13 +27,22 @@ class GeoStationImagePointTool : public QgsMapTool
     static QgsPointXY mapFromPixel( double col, double row ) { return QgsPointXY( col, -row ); }
 
     void canvasMoveEvent( QgsMapMouseEvent *e ) override;
+    void canvasPressEvent( QgsMapMouseEvent *e ) override;
     void canvasReleaseEvent( QgsMapMouseEvent *e ) override;
 
   signals:
+    //! A left click.
     void pixelPicked( QPointF pixelInImage );
+    //! A left drag, from where the button went down to where it came up.
+    void pixelDragged( QPointF fromPixel, QPointF toPixel );
     void pixelHovered( QPointF pixelInImage );
     //! Right click: take back the last step.
     void undoRequested();
+
+  private:
+    bool mPressed = false;
+    QPoint mPressScreen;
+    QPointF mPressPixel;
 };
 
 #endif // GEOSTATIONIMAGEPOINTTOOL_H

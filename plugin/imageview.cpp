@@ -65,6 +65,7 @@ GeoStationImageView::GeoStationImageView( int index, QWidget *parent )
   mTool = new GeoStationImagePointTool( mCanvas );
   mCanvas->setMapTool( mTool );
   connect( mTool, &GeoStationImagePointTool::pixelPicked, this, [this]( QPointF p ) { emit pixelPicked( mIndex, p ); } );
+  connect( mTool, &GeoStationImagePointTool::pixelDragged, this, [this]( QPointF from, QPointF to ) { emit pixelDragged( mIndex, from, to ); } );
   connect( mTool, &GeoStationImagePointTool::pixelHovered, this, [this]( QPointF p ) { emit pixelHovered( mIndex, p ); } );
   connect( mTool, &GeoStationImagePointTool::undoRequested, this, &GeoStationImageView::undoRequested );
   connect( mImageCombo, qOverload<int>( &QComboBox::activated ), this, [this]( int )
@@ -83,6 +84,9 @@ GeoStationImageView::GeoStationImageView( int index, QWidget *parent )
   mOverlayLines = new QgsRubberBand( mCanvas, QgsWkbTypes::LineGeometry );
   mOverlayLines->setStrokeColor( QColor( 255, 200, 0, 230 ) );
   mOverlayLines->setWidth( 2 );
+  mTraceOverlay = new QgsRubberBand( mCanvas, QgsWkbTypes::LineGeometry );
+  mTraceOverlay->setStrokeColor( QColor( 0, 220, 255, 240 ) );
+  mTraceOverlay->setWidth( 3 );
   mOverlayPoints = new QgsRubberBand( mCanvas, QgsWkbTypes::PointGeometry );
   mOverlayPoints->setStrokeColor( QColor( 255, 200, 0, 230 ) );
   mOverlayPoints->setIcon( QgsRubberBand::ICON_CIRCLE );
@@ -357,4 +361,13 @@ void GeoStationImageView::setFeatureOverlay( const QVector<QgsGeometry> &geometr
     mOverlayPoints->reset( QgsWkbTypes::PointGeometry );
   else
     mOverlayPoints->setToGeometry( QgsGeometry::collectGeometry( points ) );
+}
+
+void GeoStationImageView::setTraceOverlay( const QgsGeometry &geometry )
+{
+  mTraceOverlayVertices = geometry.isNull() ? 0 : geometry.constGet()->nCoordinates();
+  if ( geometry.isNull() )
+    mTraceOverlay->reset( QgsWkbTypes::LineGeometry );
+  else
+    mTraceOverlay->setToGeometry( geometry );
 }

@@ -80,11 +80,16 @@ class GeoStationImageView : public QWidget
     //! Measured features projected into this image (geometries in x = col, y = -row).
     void setFeatureOverlay( const QVector<QgsGeometry> &geometries );
     int featureOverlayCount() const { return mFeatureOverlayCount; }
+    //! The line being traced, projected into this image (x = col, y = -row); null clears it.
+    void setTraceOverlay( const QgsGeometry &geometry );
+    //! Vertices of the traced line drawn in this view (tests).
+    int traceOverlayVertexCount() const { return mTraceOverlayVertices; }
 
   signals:
     void imageChosen( int view, const QString &imageId );
     void enhancementChosen( int view, const QString &method );
     void pixelPicked( int view, QPointF pixelInImage );
+    void pixelDragged( int view, QPointF fromPixel, QPointF toPixel );
     void pixelHovered( int view, QPointF pixelInImage );
     void undoRequested();
 
@@ -110,6 +115,8 @@ class GeoStationImageView : public QWidget
     QgsRubberBand *mOverlayLines = nullptr;
     QgsRubberBand *mOverlayPoints = nullptr;
     int mFeatureOverlayCount = 0;
+    QgsRubberBand *mTraceOverlay = nullptr;
+    int mTraceOverlayVertices = 0;
 };
 
 #endif // GEOSTATIONIMAGEVIEW_H

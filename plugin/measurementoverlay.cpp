@@ -116,3 +116,24 @@ QVector<QgsGeometry> projectFeaturesIntoImage( const QList<QgsVectorLayer *> &la
   }
   return out;
 }
+
+QgsGeometry projectPolylineIntoImage( const std::vector<Eigen::Vector3d> &vertices, const geostation::OrientedImage &image, const GeoStationOverlayOptions &options )
+{
+  // the parts within range of the camera
+  QgsMultiLineString pieces;
+  const Eigen::Vector3d centre = image.exterior().projectionCentre;
+  std::vector<Eigen::Vector3d> run;
+  for ( size_t i = 0; i <= vertices.size(); ++i )
+  {
+    if ( i < vertices.size() && ( vertices[i] - centre ).head<2>().norm() <= options.maxRangeM )
+    {
+      run.push_back( vertices[i] );
+      continue;
+    }
+    addPolyline( image, run, options.densifyPx, pieces );
+    run.clear();
+  }
+  if ( pieces.numGeometries() == 0 )
+    return QgsGeometry();
+  return QgsGeometry( pieces.clone() );
+}

@@ -34,4 +34,11 @@ struct GeoStationOverlayOptions
 QVector<QgsGeometry> projectFeaturesIntoImage( const QList<QgsVectorLayer *> &layers, const geostation::OrientedImage &image,
     const QgsCoordinateReferenceSystem &blockCrs, const GeoStationOverlayOptions &options = GeoStationOverlayOptions() );
 
+/**
+ * A 3-D polyline (block CRS) as seen in `image`: a (multi)line in pixel
+ * space (x = col, y = -row), null when no part of it is in the frame.
+ */
+QgsGeometry projectPolylineIntoImage( const std::vector<Eigen::Vector3d> &vertices, const geostation::OrientedImage &image,
+                                      const GeoStationOverlayOptions &options = GeoStationOverlayOptions() );
+
 #endif // GEOSTATIONMEASUREMENTOVERLAY_H

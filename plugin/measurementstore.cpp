@@ -66,6 +66,8 @@ namespace
 
 QString GeoStationMeasuredFeature::method() const
 {
+  if ( !featureMethod.isEmpty() )
+    return featureMethod;
   geostation::VertexMethod weakest = geostation::VertexMethod::Intersection;
   for ( const geostation::MeasuredVertex &v : vertices )
     if ( methodRank( v.method ) > methodRank( weakest ) )

@@ -40,8 +40,10 @@ struct GeoStationMeasuredFeature
   QString measured;  //!< time of measurement (ISO 8601 UTC)
   QString measurementId;
   QVector<geostation::MeasuredVertex> vertices;
+  //! Set for a feature not measured point by point ("traced"); otherwise method() is its vertices'.
+  QString featureMethod;
 
-  //! The feature's method: the weakest of its vertices' (road-plane < monoplot-DEM < intersection).
+  //! The feature's method: featureMethod, or the weakest of its vertices' (road-plane < monoplot-DEM < intersection).
   QString method() const;
   int imageCount() const;
 };

@@ -28,13 +28,17 @@
 #include "measurementoverlay.h"
 #include "measurementstore.h"
 #include "multiviewsession.h"
+#include "tracebar.h"
+#include "tracecontroller.h"
+#include "tracing/linetrace.h"
 
 GeoStationMultiviewDock::GeoStationMultiviewDock( GeoStationSession *session, GeoStationMeasurementController *controller, GeoStationMeasurementStore *store,
-    QWidget *parent )
+    QWidget *parent, GeoStationTraceController *trace )
   : QgsDockWidget( tr( "GeoStation Multiview" ), parent )
   , mSession( session )
   , mController( controller )
   , mStore( store )
+  , mTrace( trace )
 {
   setObjectName( QStringLiteral( "GeoStationMultiviewDock" ) );
   QWidget *contents = new QWidget( this );
@@ -42,6 +46,15 @@ GeoStationMultiviewDock::GeoStationMultiviewDock( GeoStationSession *session, Ge
   layout->setContentsMargins( 2, 2, 2, 2 );
   layout->addWidget( buildToolbar() );
   layout->addWidget( buildMeasureBar() );
+  if ( mTrace )
+  {
+    mTraceBar = new GeoStationTraceBar( mTrace, contents );
+    layout->addWidget( mTraceBar );
+    // tracing and point measuring share the clicks: the open point (not the feature) goes
+    connect( mTraceBar, &GeoStationTraceBar::tracingToggled, mController, &GeoStationMeasurementController::viewsChanged );
+    connect( mTrace, &GeoStationTraceController::lineChanged, this, &GeoStationMultiviewDock::updateTraceOverlays );
+    connect( mTrace, &GeoStationTraceController::message, this, &GeoStationMultiviewDock::appendMessage );
+  }
 
   QSplitter *splitter = new QSplitter( Qt::Vertical, contents );
   mViewArea = new QWidget( splitter );
@@ -97,11 +110,45 @@ GeoStationMultiviewDock::~GeoStationMultiviewDock()
     delete dock;
 }
 
+bool GeoStationMultiviewDock::tracing() const
+{
+  return mTraceBar && mTraceBar->isTracing();
+}
+
+void GeoStationMultiviewDock::picked( int view, const QPointF &from, const std::optional<QPointF> &to )
+{
+  const GeoStationImageView *v = mViews.value( view );
+  if ( tracing() && v )
+  {
+    // a drag gives the line's direction
+    std::optional<double> directionDeg;
+    if ( to )
+      directionDeg = geostation::degreesFromDirection( Eigen::Vector2d( to->x() - from.x(), to->y() - from.y() ) );
+    mTrace->start( v->imageId(), from, directionDeg );
+    return;
+  }
+  mProposalTimer.start();
+  mController->pick( view, to ? *to : from );
+}
+
 std::function<void()> GeoStationMultiviewDock::keyAction( int key, Qt::KeyboardModifiers modifiers )
 {
   const bool ctrl = modifiers & Qt::ControlModifier;
   if ( modifiers & ~( Qt::ControlModifier | Qt::KeypadModifier ) )
     return nullptr;
+  if ( tracing() )
+    switch ( key )
+    {
+      case Qt::Key_Escape:
+        return [this] { mTrace->isRunning() ? mTrace->cancel() : mTrace->discard(); };
+      case Qt::Key_Backspace:
+        return [this] { mTrace->takeBackStation(); };
+      case Qt::Key_F:
+        return ctrl ? nullptr : std::function<void()>( [this] { mTrace->finish(); } );
+      case Qt::Key_Return:
+      case Qt::Key_Enter:
+        return [] {};
+    }
   switch ( key )
   {
     case Qt::Key_PageDown:
@@ -227,11 +274,8 @@ void GeoStationMultiviewDock::rebuildViews()
   while ( mViews.size() < wanted )
   {
     GeoStationImageView *view = new GeoStationImageView( mViews.size(), mViewArea );
-    connect( view, &GeoStationImageView::pixelPicked, this, [this]( int index, QPointF p )
-    {
-      mProposalTimer.start();
-      mController->pick( index, p );
-    } );
+    connect( view, &GeoStationImageView::pixelPicked, this, [this]( int index, QPointF p ) { picked( index, p, std::nullopt ); } );
+    connect( view, &GeoStationImageView::pixelDragged, this, [this]( int index, QPointF from, QPointF to ) { picked( index, from, to ); } );
     connect( view, &GeoStationImageView::pixelHovered, this, [this]( int index, QPointF p )
     {
       const GeoStationImageView *v = mViews.value( index );
@@ -239,7 +283,7 @@ void GeoStationMultiviewDock::rebuildViews()
         mCursorLabel->setText( tr( "%1   col %2   row %3   value %4" ).arg( v->imageId() ).arg( p.x(), 0, 'f', 1 ).arg( p.y(), 0, 'f', 1 ).arg( v->valueAt( p ) ) );
     } );
     connect( view, &GeoStationImageView::imageChosen, this, [this]( int index, const QString &id ) { mSession->setViewImage( index, id ); } );
-    connect( view, &GeoStationImageView::undoRequested, mController, &GeoStationMeasurementController::undoVertex );
+    connect( view, &GeoStationImageView::undoRequested, this, [this] { tracing() ? mTrace->takeBackStation() : mController->undoVertex(); } );
     connect( view->canvas(), &QgsMapCanvas::mapCanvasRefreshed, this, &GeoStationMultiviewDock::viewRefreshed );
     view->canvas()->installEventFilter( this );
     mViews << view;
@@ -349,6 +393,19 @@ void GeoStationMultiviewDock::showViewImages()
   }
   updateCameraPanel();
   scheduleFeatureOverlays();
+  updateTraceOverlays();
+}
+
+void GeoStationMultiviewDock::updateTraceOverlays()
+{
+  if ( !mTrace )
+    return;
+  const std::vector<Eigen::Vector3d> points = mTrace->line().points();
+  for ( GeoStationImageView *view : std::as_const( mViews ) )
+  {
+    const geostation::OrientedImage *image = mSession->orientedImage( view->imageId() );
+    view->setTraceOverlay( image && view->hasImage() && points.size() >= 2 ? projectPolylineIntoImage( points, *image ) : QgsGeometry() );
+  }
 }
 
 void GeoStationMultiviewDock::viewRefreshed()

@@ -8,11 +8,16 @@
   message panel (vertices with XYZ, sigma, residuals, ray angle; warnings).
   Measuring: click a point in a view, check the proposals in the others
   (click to correct), Return accepts, Backspace takes back, F finishes a
-  line or polygon, Escape cancels. All the work is done by the session,
+  line or polygon, Escape cancels. Tracing (the Trace bar's toggle): a
+  click or drag on a road line traces it through the run, drawn in every
+  view as it grows; Escape stops (again: drops the line), Backspace takes
+  back the last station's part, F writes the line. All the work is done by the session,
   the measurement controller and core; this only wires and draws.
  ***************************************************************************/
 #ifndef GEOSTATIONMULTIVIEWDOCK_H
 #define GEOSTATIONMULTIVIEWDOCK_H
+
+#include <optional>
 
 #include <QElapsedTimer>
 #include <QPointer>
@@ -32,6 +37,8 @@ class GeoStationImageView;
 class GeoStationMeasurementController;
 class GeoStationMeasurementStore;
 class GeoStationSession;
+class GeoStationTraceBar;
+class GeoStationTraceController;
 
 class GeoStationMultiviewDock : public QgsDockWidget
 {
@@ -40,8 +47,9 @@ class GeoStationMultiviewDock : public QgsDockWidget
     Q_PROPERTY( double lastProposalMs READ lastProposalMs )
 
   public:
+    //! `trace` may be nullptr: no Trace tool.
     GeoStationMultiviewDock( GeoStationSession *session, GeoStationMeasurementController *controller, GeoStationMeasurementStore *store,
-                             QWidget *parent = nullptr );
+                             QWidget *parent = nullptr, GeoStationTraceController *trace = nullptr );
     ~GeoStationMultiviewDock() override;
 
     GeoStationImageView *view( int index ) const { return mViews.value( index ); }
@@ -89,11 +97,15 @@ class GeoStationMultiviewDock : public QgsDockWidget
     void updateCameraPanel();
     void updateClassCombo();
     void updateFeatureStatus();
+    void updateTraceOverlays();
     void viewRefreshed();
 
   private:
     QWidget *buildToolbar();
     QWidget *buildMeasureBar();
+    bool tracing() const;
+    //! A click (or drag: `to` set) in a view, to the measurement or the Trace tool.
+    void picked( int view, const QPointF &from, const std::optional<QPointF> &to );
     //! The action of a key in the Multiview, or nothing.
     std::function<void()> keyAction( int key, Qt::KeyboardModifiers modifiers );
     void layoutViews();
@@ -101,6 +113,8 @@ class GeoStationMultiviewDock : public QgsDockWidget
     GeoStationSession *mSession;
     GeoStationMeasurementController *mController;
     GeoStationMeasurementStore *mStore;
+    GeoStationTraceController *mTrace = nullptr;
+    GeoStationTraceBar *mTraceBar = nullptr;
     QVector<GeoStationImageView *> mViews;
     QList<QPointer<QgsDockWidget>> mViewDocks;
     bool mSeparateDocks = false;

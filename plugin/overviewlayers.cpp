@@ -41,6 +41,27 @@ GeoStationOverview::GeoStationOverview( GeoStationSession *session, QgsProject *
 GeoStationOverview::~GeoStationOverview()
 {
   delete mHighlight;
+  delete mTraced;
+}
+
+void GeoStationOverview::setTracedLine( const QVector<QgsPoint> &pointsInBlockCrs )
+{
+  if ( !mCanvas )
+    return;
+  if ( !mTraced )
+  {
+    mTraced = new QgsRubberBand( mCanvas, QgsWkbTypes::LineGeometry );
+    mTraced->setStrokeColor( QColor( 0, 220, 255 ) );
+    mTraced->setWidth( 3 );
+  }
+  mTracedVertices = pointsInBlockCrs.size() >= 2 ? pointsInBlockCrs.size() : 0;
+  if ( mTracedVertices == 0 )
+  {
+    mTraced->reset( QgsWkbTypes::LineGeometry );
+    return;
+  }
+  // the rubber band transforms from the block CRS to the canvas's
+  mTraced->setToGeometry( QgsGeometry( new QgsLineString( pointsInBlockCrs ) ), mSession->crs() );
 }
 
 QgsVectorLayer *GeoStationOverview::addLayer( const QString &uri, const QString &name )

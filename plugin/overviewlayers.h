@@ -15,6 +15,7 @@
 #include <QPointer>
 
 #include <qgsmaptool.h>
+#include <qgspoint.h>
 #include <qgspointxy.h>
 #include <qgsvectorlayer.h>
 
@@ -42,6 +43,14 @@ class GeoStationOverview : public QObject
     //! Removes the overview layers (block closed, plugin unloaded).
     void removeLayers();
 
+    /**
+     * The line being traced (block CRS, as it grows), drawn over the map
+     * until it is finished or dropped; empty clears it.
+     */
+    void setTracedLine( const QVector<QgsPoint> &pointsInBlockCrs );
+    //! Vertices of the traced line on the map (tests).
+    int tracedLineVertexCount() const { return mTracedVertices; }
+
   public slots:
     void rebuild();
     void updateCurrentStation();
@@ -55,6 +64,8 @@ class GeoStationOverview : public QObject
     QPointer<QgsMapCanvas> mCanvas;
     QPointer<QgsVectorLayer> mTrajectory, mStations, mCones;
     QgsRubberBand *mHighlight = nullptr;
+    QgsRubberBand *mTraced = nullptr;
+    int mTracedVertices = 0;
 };
 
 /**

@@ -3,8 +3,10 @@
 // GeoPackage through the edit buffer (checked against the simulator's
 // truth), lines, undo, a read-only GeoPackage, the operator's own edit
 // session, the views (placeholder for a missing image, enhancement in
-// memory, features drawn back into the images) and the Overview layers.
+// memory, features drawn back into the images), the Overview layers and the
+// Trace tool (a kerb traced through the run into its layer, against truth).
 #include <QFile>
+#include <QLabel>
 #include <QMainWindow>
 #include <QRegularExpression>
 #include <QTemporaryDir>
@@ -33,6 +35,9 @@
 #include "overviewlayers.h"
 #include "simulation/surveysimulator.h"
 #include "simulationtruth.h"
+#include "linescoring.h"
+#include "tracebar.h"
+#include "tracecontroller.h"
 
 class TestMultiview : public QObject
 {
@@ -55,6 +60,7 @@ class TestMultiview : public QObject
     void exportWritesShapefileAndDxfWithAttributesAndZ();
     void viewsMoveBetweenTheGridAndDocksOfTheirOwn();
     void overviewShowsRunStationsAndCones();
+    void traceToolTracesStopsTakesBackAndWritesOneLine();
 
   private:
     //! A pole seen in the first two images of a station, with its truth pixels; false if none.
@@ -662,6 +668,134 @@ void TestMultiview::overviewShowsRunStationsAndCones()
   QCOMPARE( overview.stationNearestToMapPoint( QgsPointXY( s3.x() + 0.5, s3.y() - 0.5 ) ), 3 );
   overview.removeLayers();
   QVERIFY( !overview.stationsLayer() );
+}
+
+void TestMultiview::traceToolTracesStopsTakesBackAndWritesOneLine()
+{
+  QMainWindow window;
+  GeoStationTraceController trace( mSession.get(), mStore.get() );
+  GeoStationMultiviewDock *dock = new GeoStationMultiviewDock( mSession.get(), mController.get(), mStore.get(), &window, &trace );
+  window.addDockWidget( Qt::RightDockWidgetArea, dock );
+  window.resize( 1400, 900 );
+  window.show();
+  GeoStationOverview overview( mSession.get(), QgsProject::instance(), new QgsMapCanvas( &window ) );
+  connect( &trace, &GeoStationTraceController::lineChanged, &overview, [&]
+  {
+    QVector<QgsPoint> points;
+    for ( const Eigen::Vector3d &p : trace.line().points() )
+      points << QgsPoint( p.x(), p.y(), p.z() );
+    overview.setTracedLine( points );
+  } );
+  mSession->setCurrentStation( 0 );
+  mSession->setCurrentClass( QStringLiteral( "Kerb line" ) );
+  QAction *traceAction = dock->findChild<QAction *>( QStringLiteral( "mActionTrace" ) );
+  QVERIFY( traceAction );
+  traceAction->setChecked( true );
+
+  // where the operator clicks: on the kerb face about 8 m ahead, well inside views 0 and 1
+  const std::vector<geostation::TruthRoadLine> roads = geostation::readTruthRoadLines( mDir.filePath( QStringLiteral( "run/truth.gpkg" ) ).toStdString() );
+  const std::vector<Eigen::Vector3d> truth = geostation::joinedTruthLine( roads, "R1-edge-right" );
+  const geostation::OrientedImage *left = mSession->orientedImage( dock->view( 0 )->imageId() );
+  const geostation::OrientedImage *right = mSession->orientedImage( dock->view( 1 )->imageId() );
+  QVERIFY( left && right );
+  const auto inside = []( const geostation::OrientedImage &image, const Eigen::Vector3d &p )
+  {
+    const geostation::GroundProjection g = image.projectGroundToPixel( p );
+    return g.ok() && g.inFrame && ( g.pixelInImage.array() > 40.0 ).all() && g.pixelInImage.x() < image.camera().width - 40 && g.pixelInImage.y() < image.camera().height - 40;
+  };
+  std::optional<QPointF> click;
+  for ( size_t i = 0; i + 1 < truth.size() && !click; ++i )
+    for ( int k = 0; k < 10 && !click; ++k )
+    {
+      const Eigen::Vector3d p = truth[i] + k / 10.0 * ( truth[i + 1] - truth[i] );
+      if ( ( p - left->exterior().projectionCentre ).head<2>().norm() >= 8.0 && inside( *left, p ) && inside( *right, p ) )
+      {
+        const Eigen::Vector2d px = left->projectGroundToPixel( p ).pixelInImage;
+        click = QPointF( px.x() + 0.8, px.y() - 0.6 );
+      }
+    }
+  QVERIFY2( click, "the kerb is not in view of the first station's two images" );
+
+  // one click: the line grows station by station in every view and on the map
+  QSignalSpy grown( &trace, &GeoStationTraceController::lineChanged );
+  QSignalSpy stopped( &trace, &GeoStationTraceController::stopped );
+  emit dock->view( 0 )->pixelPicked( 0, *click );
+  QVERIFY( trace.isRunning() );
+  QVERIFY( stopped.wait( 120000 ) );
+  QVERIFY2( trace.line().vertices().size() >= 20, qPrintable( dock->messagesText() ) );
+  const size_t stations = trace.line().stationIds().size();
+  qInfo( "traced %zu stations, %zu vertices, %.1f m; stop %s: %s; last station on screen %.1f ms after it was traced", stations, trace.line().vertices().size(),
+         trace.line().lengthM(), qPrintable( trace.lastStop() ), qPrintable( trace.lastStopMessage() ), trace.lastStationDelayMs() );
+  QCOMPARE( trace.lastStop(), QStringLiteral( "end_of_run" ) );
+  QVERIFY( stations >= 8 );
+  QVERIFY( grown.count() >= static_cast<int>( stations ) );
+  QVERIFY( dock->view( 0 )->traceOverlayVertexCount() >= 2 );
+  QVERIFY( dock->view( 1 )->traceOverlayVertexCount() >= 2 );
+  QCOMPARE( overview.tracedLineVertexCount(), static_cast<int>( trace.line().vertices().size() ) );
+  QVERIFY( dock->findChild<QLabel *>( QStringLiteral( "mTraceStatus" ) )->text().contains( QStringLiteral( "stations" ) ) );
+
+  // Backspace takes back the last station's part
+  const size_t before = trace.line().vertices().size();
+  QTest::keyClick( dock->view( 0 )->canvas(), Qt::Key_Backspace );
+  QCOMPARE( trace.line().stationIds().size(), stations - 1 );
+  QVERIFY( trace.line().vertices().size() < before );
+
+  // F writes one LineStringZ, method "traced", with its vertex rows; the views draw it back
+  const std::vector<Eigen::Vector3d> written = trace.line().points();
+  QTest::keyClick( dock->view( 0 )->canvas(), Qt::Key_F );
+  QVERIFY( trace.line().empty() );
+  QCOMPARE( overview.tracedLineVertexCount(), 0 );
+  QString error;
+  const GeoStationFeatureClass *kerb = mSession->findClass( QStringLiteral( "Kerb line" ) );
+  QgsVectorLayer *layer = mStore->layerFor( *kerb, &error );
+  QVERIFY2( layer, qPrintable( error ) );
+  QCOMPARE( layer->featureCount(), 1L );
+  QgsFeature f;
+  QVERIFY( layer->getFeatures().nextFeature( f ) );
+  QCOMPARE( f.attribute( "method" ).toString(), QStringLiteral( "traced" ) );
+  QCOMPARE( f.geometry().constGet()->nCoordinates(), static_cast<int>( written.size() ) );
+  QVERIFY( f.geometry().constGet()->is3D() );
+  QVERIFY( f.attribute( "sigma_z" ).toDouble() > 0.0 );
+  QgsVectorLayer *vertices = mStore->verticesTable( &error );
+  QVERIFY( vertices );
+  QgsFeatureRequest request;
+  request.setFilterExpression( QStringLiteral( "measurement_id = '%1'" ).arg( f.attribute( "measurement_id" ).toString() ) );
+  long rows = 0;
+  QgsFeature row;
+  for ( QgsFeatureIterator it = vertices->getFeatures( request ); it.nextFeature( row ); )
+    ++rows;
+  QCOMPARE( rows, static_cast<long>( written.size() ) );
+  // on the kerb: the buffer method against the truth (0.10 m), the exact orientation
+  const double from = geostation::projectOnto( truth, written.front(), true ).station, to = geostation::projectOnto( truth, written.back(), true ).station;
+  const geostation::BufferScore score = geostation::bufferScore( written, geostation::polylineBetween( truth, from, to ), 0.10 );
+  qInfo( "written line: completeness %.3f correctness %.3f", score.completeness, score.correctness );
+  QVERIFY( score.completeness >= 0.95 );
+  QVERIFY( score.correctness >= 0.98 );
+  QTRY_VERIFY( dock->view( 0 )->featureOverlayCount() >= 1 );
+
+  // Esc while tracing stops it after the station and keeps what was traced; Esc again drops the line
+  emit dock->view( 0 )->pixelPicked( 0, *click );
+  QVERIFY( trace.isRunning() );
+  QTest::keyClick( dock->view( 0 )->canvas(), Qt::Key_Escape );
+  QVERIFY( stopped.wait( 60000 ) );
+  QCOMPARE( trace.lastStop(), QStringLiteral( "cancelled" ) );
+  QVERIFY( !trace.line().empty() );
+  QTest::keyClick( dock->view( 0 )->canvas(), Qt::Key_Escape );
+  QVERIFY( trace.line().empty() );
+  QCOMPARE( layer->featureCount(), 1L );
+
+  // bad input: a click in the sky says why, traces nothing, writes nothing
+  emit dock->view( 0 )->pixelPicked( 0, QPointF( 320.0, 20.0 ) );
+  QVERIFY( stopped.wait( 60000 ) );
+  QCOMPARE( trace.lastStop(), QStringLiteral( "no_edge" ) );
+  QVERIFY( dock->messagesText().contains( QStringLiteral( "no edge or painted line within 8 px of the seed" ) ) );
+  QVERIFY( trace.line().empty() );
+  QVERIFY( !trace.finish() );
+  QCOMPARE( layer->featureCount(), 1L );
+  // a point class is no class to trace into
+  mSession->setCurrentClass( QStringLiteral( "Pole" ) );
+  QVERIFY( !trace.start( dock->view( 0 )->imageId(), *click ) );
+  QVERIFY( dock->messagesText().contains( QStringLiteral( "Choose a line class" ) ) );
 }
 
 int main( int argc, char **argv )
