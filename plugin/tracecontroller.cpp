@@ -30,8 +30,14 @@ GeoStationTraceController::GeoStationTraceController( GeoStationSession *session
   // another block: a line of the old one means nothing there
   connect( mSession, &GeoStationSession::blockChanged, this, [this]
   {
-    cancel();
-    mWatcher.waitForFinished();
+    if ( mRunning )
+    {
+      // its result belongs to the old block: not taken
+      mCancel->store( true );
+      mWatcher.waitForFinished();
+      mRunning = false;
+      emit runningChanged( false );
+    }
     if ( !mLine.empty() )
       emit message( tr( "The traced line of %n vertex(es) was dropped: another block was opened.", nullptr, static_cast<int>( mLine.vertices().size() ) ), true );
     mLine.clear();
@@ -115,14 +121,15 @@ bool GeoStationTraceController::start( const QString &imageId, const QPointF &pi
       return failed;
     }
   } ) );
+  mRunning = true;
   emit runningChanged( true );
   return true;
 }
 
 void GeoStationTraceController::stationArrived( const geostation::TracedStation &station, const std::vector<geostation::TracedVertex> &lineSoFar, qint64 sentNs )
 {
-  if ( !isRunning() )
-    return; // a late part of a trace already finished (its result has been taken)
+  if ( !mRunning )
+    return; // a late part of a trace whose result has been taken
   mLastStationDelayMs = ( nowNs() - sentNs ) / 1e6;
   ++mStationsTraced;
   mLive = mLine;
@@ -138,7 +145,10 @@ void GeoStationTraceController::stationArrived( const geostation::TracedStation 
 
 void GeoStationTraceController::traceFinished()
 {
+  if ( !mRunning )
+    return; // dropped with its block
   const geostation::RoadTraceSummary summary = mWatcher.result();
+  mRunning = false;
   mBlock.reset();
   const size_t joined = mLine.append( summary );
   mLive = mLine;

@@ -43,7 +43,7 @@ class GeoStationTraceController : public QObject
     //! Cancels a running trace and waits for it (at most one station).
     ~GeoStationTraceController() override;
 
-    bool isRunning() const { return mWatcher.isRunning(); }
+    bool isRunning() const { return mRunning; }
     //! The line: every part traced so far, with the running trace's stations as they come.
     const geostation::TracedLine &line() const { return mLive; }
     //! The last stop: its reason name (e.g. "gap_too_large") and sentence; empty while none.
@@ -102,6 +102,7 @@ class GeoStationTraceController : public QObject
     std::shared_ptr<const geostation::Block> mBlock; //!< the copy the running trace works on
     QString mLastStop, mLastStopMessage;
     int mStationsTraced = 0;
+    bool mRunning = false; //!< from start() until the result is taken (the future finishes earlier, with stations still queued)
     double mLastStationDelayMs = 0.0;
 };
 

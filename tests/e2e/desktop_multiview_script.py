@@ -2,6 +2,7 @@
 plugin: opens a simulated highway block, navigates the Multiview with the
 keyboard, clicks the true pixel of a pole foot in the first view with QTest,
 accepts the proposed matches, and records what went into the GeoPackage;
+then traces the kerb from one click with the Trace tool and writes it (F);
 then saves the project, reopens it and records the restored session.
 Screenshots of the Multiview and the Overview are saved. Driven by
 test_desktop_multiview.py, which checks the findings against the truth."""
@@ -15,7 +16,7 @@ from qgis.core import QgsApplication, QgsPointXY, QgsProject, QgsVectorLayer
 from qgis.gui import QgsMapCanvas
 from qgis.PyQt.QtCore import Q_ARG, Q_RETURN_ARG, QMetaObject, QObject, Qt, QTimer
 from qgis.PyQt.QtTest import QTest
-from qgis.PyQt.QtWidgets import QAction, QDockWidget, QLabel
+from qgis.PyQt.QtWidgets import QAction, QComboBox, QDockWidget, QLabel
 from qgis.utils import iface
 
 RESULT = os.environ["GEOSTATION_E2E_RESULT"]
@@ -24,6 +25,7 @@ BLOCK = os.environ["GEOSTATION_E2E_BLOCK"]
 TARGET = os.environ["GEOSTATION_E2E_TARGET"]
 PROJECT = os.environ["GEOSTATION_E2E_PROJECT"]
 CLICK = json.loads(os.environ["GEOSTATION_E2E_CLICK"])  # station, image, col, row
+TRACE = json.loads(os.environ["GEOSTATION_E2E_TRACE"])  # col, row of a kerb pixel in the same image
 
 
 def wait(seconds):
@@ -125,6 +127,38 @@ def run():
         iface.mapCanvas().refreshAllLayers()
         wait(1.0)
         window.grab().save(os.path.join(ARTIFACTS, "overview.png"))
+
+        checkpoint(result, "tracing")
+        # the Trace tool: a line class, one click on the kerb, the run traced; F writes it
+        combo = dock.findChild(QComboBox, "mClassCombo")
+        combo.setCurrentIndex(combo.findData("Road edge"))
+        combo.activated.emit(combo.currentIndex())
+        dock.findChild(QAction, "mActionTrace").setChecked(True)
+        invoke(dock, "zoomViewToPixel", 0, float(TRACE["col"]), float(TRACE["row"]), 40.0)
+        wait(0.5)
+        screen = canvas0.getCoordinateTransform().transform(QgsPointXY(TRACE["col"], -TRACE["row"]))
+        started = time.time()
+        QTest.mouseClick(canvas0.viewport(), Qt.LeftButton, Qt.NoModifier, screen.toQPointF().toPoint())
+        status = dock.findChild(QLabel, "mTraceStatus")
+        while time.time() - started < 90 and "stopped" not in status.text():
+            wait(0.1)
+        result["trace_seconds"] = time.time() - started
+        result["trace_status"] = status.text()
+        invoke(dock, "zoomViewToPixel", 0, float(TRACE["col"]), float(TRACE["row"]), 400.0)
+        iface.mapCanvas().zoomScale(1500)
+        wait(1.0)
+        dock.grab().save(os.path.join(ARTIFACTS, "multiview-traced.png"))
+        window.grab().save(os.path.join(ARTIFACTS, "overview-traced.png"))
+        QTest.keyClick(canvas0, Qt.Key_F)
+        wait(1.0)
+        result["trace_messages"] = invoke(dock, "messagesText", returns=str)
+        edges = QgsVectorLayer(TARGET + "|layername=road_edge", "road_edge", "ogr")
+        result["traced"] = [{"method": f["method"], "station": f["station"], "class": f["class"],
+                             "vertices": [[v.x(), v.y(), v.z()] for v in f.geometry().vertices()]}
+                            for f in edges.getFeatures()] if edges.isValid() else []
+        vertices = QgsVectorLayer(TARGET + "|layername=vertices", "vertices", "ogr")
+        result["traced_vertex_rows"] = len([f for f in vertices.getFeatures() if f["layer"] == "road_edge"]) if vertices.isValid() else 0
+        dock.findChild(QAction, "mActionTrace").setChecked(False)
 
         checkpoint(result, "saving the session")
         # the session is kept with the project

@@ -3,7 +3,9 @@
 simulated highway run (exact orientations, image noise), keyboard
 navigation, a click on the true pixel of a pole foot, the proposed matches
 accepted, and the feature in the GeoPackage within 3 sigma of the truth;
-then the project saved and reopened with the session restored.
+the kerb traced from one click with the Trace tool, written as one line
+on the truth kerb; then the project saved and reopened with the session
+restored.
 Screenshots of the Multiview and the Overview are kept as artifacts.
 
     test_desktop_multiview.py SOURCE_DIR BUILD_DIR ARTIFACT_DIR
@@ -29,7 +31,20 @@ def truth_tables(gpkg):
     ds = ogr.Open(gpkg)
     objects = {f["id"]: f.GetGeometryRef().GetPoint() for f in ds.GetLayerByName("objects")}
     pixels = {(f["point_id"], f["image_id"]): (f["col"], f["row"]) for f in ds.GetLayerByName("image_truth")}
-    return objects, pixels
+    roads = {f["id"]: [f.GetGeometryRef().GetPoint(i) for i in range(f.GetGeometryRef().GetPointCount())] for f in ds.GetLayerByName("roads")}
+    return objects, pixels, roads
+
+
+def distance_to_polyline(p, line):
+    """Plan distance from a point to a polyline, and its height above the line there."""
+    best = (float("inf"), 0.0)
+    for a, b in zip(line, line[1:]):
+        dx, dy = b[0] - a[0], b[1] - a[1]
+        t = max(0.0, min(1.0, ((p[0] - a[0]) * dx + (p[1] - a[1]) * dy) / (dx * dx + dy * dy or 1.0)))
+        d = ((a[0] + t * dx - p[0]) ** 2 + (a[1] + t * dy - p[1]) ** 2) ** 0.5
+        if d < best[0]:
+            best = (d, p[2] - (a[2] + t * (b[2] - a[2])))
+    return best
 
 
 class DesktopMultiviewTest(unittest.TestCase):
@@ -41,7 +56,7 @@ class DesktopMultiviewTest(unittest.TestCase):
         subprocess.run([os.path.join(BUILD_DIR, "core", "geostation-simulate"), "--preset", "highway", "--stations", "8",
                         "--seed", "7", "--noise", "1", "--pose-noise-scale", "0", "--output-dir", run_dir, "--quiet"],
                        check=True, capture_output=True)
-        objects, pixels = truth_tables(os.path.join(run_dir, "truth.gpkg"))
+        objects, pixels, roads = truth_tables(os.path.join(run_dir, "truth.gpkg"))
         with open(os.path.join(run_dir, "block.geostation.json")) as f:
             block = json.load(f)
         stations = sorted({s["id"]: s["time"] for s in block["stations"]}.items(), key=lambda s: s[1])
@@ -61,6 +76,22 @@ class DesktopMultiviewTest(unittest.TestCase):
             if cls.click:
                 break
         assert cls.click, "the simulated run has no pole to measure"
+        # the kerb face (asphalt / kerb) 8-15 m ahead in the same image, well inside both front images
+        cls.kerb = [p for rid, line in sorted(roads.items()) if rid.startswith("R1-edge-right-") for p in line]
+        centre = next(i for i in block["images"] if i["id"] == cls.click["image"])
+        right = cls.click["image"][:-3] + "_FR"
+        cls.trace = None
+        for (pid, image), (col, row) in sorted(pixels.items()):
+            if image != cls.click["image"] or not pid.startswith("R1-edge-right-") or (pid, right) not in pixels:
+                continue
+            rid, index = pid.rsplit(":", 1)
+            point = roads[rid][int(index)]
+            distance = ((point[0] - centre["X"]) ** 2 + (point[1] - centre["Y"]) ** 2) ** 0.5
+            rcol, rrow = pixels[(pid, right)]
+            if 8 < distance < 15 and min(col, row, rcol, rrow) > 40 and max(col, rcol) < 600 and max(row, rrow) < 440:
+                cls.trace = {"col": col + 0.8, "row": row - 0.6, "point": pid}
+                break
+        assert cls.trace, "the kerb is not in view of both front images"
 
         os.makedirs(ARTIFACT_DIR, exist_ok=True)
         cls.target = os.path.join(cls.tmp, "measurements.gpkg")
@@ -69,14 +100,14 @@ class DesktopMultiviewTest(unittest.TestCase):
         env.update(GEOSTATION_E2E_RESULT=result_path, GEOSTATION_E2E_ARTIFACTS=ARTIFACT_DIR,
                    GEOSTATION_E2E_BLOCK=os.path.join(run_dir, "block.geostation.json"),
                    GEOSTATION_E2E_TARGET=cls.target, GEOSTATION_E2E_PROJECT=cls.project,
-                   GEOSTATION_E2E_CLICK=json.dumps(cls.click))
+                   GEOSTATION_E2E_CLICK=json.dumps(cls.click), GEOSTATION_E2E_TRACE=json.dumps(cls.trace))
         cls.exit_code, cls.log = desktop_harness.run_qgis(os.path.join(HERE, "desktop_multiview_script.py"), env, profiles,
                                                           screen="1600x1000")
         cls.result = {}
         if os.path.exists(result_path):
             with open(result_path) as f:
                 cls.result = json.load(f)
-        print(json.dumps({k: cls.result.get(k) for k in ("navigation_ms", "proposal_ms", "features", "clicked_pixel")}, indent=1))
+        print(json.dumps({k: cls.result.get(k) for k in ("navigation_ms", "proposal_ms", "features", "clicked_pixel", "trace_seconds", "trace_status")}, indent=1))
 
     @classmethod
     def tearDownClass(cls):
@@ -126,6 +157,22 @@ class DesktopMultiviewTest(unittest.TestCase):
             self.assertLess(abs(measured - true), 3 * sigma, "%s: %.3f m off, sigma %.3f m" % (axis, measured - true, sigma))
         self.assertIn("Vertex 1 (intersection", self.result.get("messages", ""))
 
+    def test_trace_tool_writes_the_kerb_from_one_click(self):
+        traced = self.result.get("traced", [])
+        self.assertEqual(len(traced), 1, self.result.get("trace_messages"))
+        line = traced[0]
+        self.assertEqual(line["method"], "traced")
+        self.assertEqual(line["class"], "Road edge")
+        self.assertIn("end_of_run", self.result.get("trace_status", ""))
+        self.assertGreaterEqual(len(line["vertices"]), 10)
+        self.assertEqual(self.result.get("traced_vertex_rows"), len(line["vertices"]))
+        # on the truth kerb (exact orientation): 95 % of the vertices within 0.10 m
+        errors = [distance_to_polyline(v, self.kerb) for v in line["vertices"]]
+        plan = sorted(e[0] for e in errors)
+        height = sorted(abs(e[1]) for e in errors)
+        self.assertLess(plan[int(0.95 * (len(plan) - 1))], 0.10, plan)
+        self.assertLess(height[int(0.95 * (len(height) - 1))], 0.10, height)
+
     def test_session_is_restored_from_the_project(self):
         self.assertTrue(self.result.get("saved"))
         self.assertTrue(self.result.get("reopened"))
@@ -134,7 +181,7 @@ class DesktopMultiviewTest(unittest.TestCase):
             self.assertIn(name, self.result.get("restored_layers", []))
 
     def test_screenshots_saved(self):
-        for name in ("multiview-proposals.png", "multiview-measured.png", "overview.png"):
+        for name in ("multiview-traced.png", "overview-traced.png", "multiview-proposals.png", "multiview-measured.png", "overview.png"):
             path = os.path.join(ARTIFACT_DIR, name)
             self.assertTrue(os.path.exists(path), name)
             self.assertGreater(os.path.getsize(path), 10000)

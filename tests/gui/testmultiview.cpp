@@ -729,6 +729,8 @@ void TestMultiview::traceToolTracesStopsTakesBackAndWritesOneLine()
   QCOMPARE( trace.lastStop(), QStringLiteral( "end_of_run" ) );
   QVERIFY( stations >= 8 );
   QVERIFY( grown.count() >= static_cast<int>( stations ) );
+  // every station reported in the messages as it was traced
+  QVERIFY( dock->messagesText().count( QRegularExpression( QStringLiteral( "^Station S\\d+: " ), QRegularExpression::MultilineOption ) ) >= static_cast<int>( stations ) );
   QVERIFY( dock->view( 0 )->traceOverlayVertexCount() >= 2 );
   QVERIFY( dock->view( 1 )->traceOverlayVertexCount() >= 2 );
   QCOMPARE( overview.tracedLineVertexCount(), static_cast<int>( trace.line().vertices().size() ) );
