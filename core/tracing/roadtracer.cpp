@@ -2,6 +2,7 @@
   roadtracer.cpp - one click, the whole run traced (thesis §6.5)
  ***************************************************************************/
 #include "tracing/roadtracer.h"
+#include "tracing/handovermatcher.h"
 
 #include <cmath>
 #include <limits>
@@ -192,6 +193,40 @@ namespace geostation
       return z - cameraHeightM;
     }
 
+    /**
+     * The trajectory with its heights smoothed: at each station a quadratic
+     * in arc length fitted to the stations within `halfWindowM` (a line with
+     * fewer than 5). The road's shape without the stations' independent
+     * height errors; tracing then hangs the surface from each station's own
+     * camera, so its images and its road plane agree whatever its error.
+     */
+    std::vector<Eigen::Vector3d> smoothedHeights( const std::vector<Eigen::Vector3d> &trajectory, double halfWindowM )
+    {
+      std::vector<double> arc { 0.0 };
+      for ( size_t i = 1; i < trajectory.size(); ++i )
+        arc.push_back( arc.back() + ( trajectory[i] - trajectory[i - 1] ).head<2>().norm() );
+      std::vector<Eigen::Vector3d> out = trajectory;
+      for ( size_t i = 0; i < trajectory.size(); ++i )
+      {
+        std::vector<size_t> near;
+        for ( size_t j = 0; j < trajectory.size(); ++j )
+          if ( std::abs( arc[j] - arc[i] ) <= halfWindowM )
+            near.push_back( j );
+        const int terms = near.size() >= 5 ? 3 : near.size() >= 2 ? 2 : 1;
+        Eigen::MatrixXd a( near.size(), terms );
+        Eigen::VectorXd b( near.size() );
+        for ( size_t r = 0; r < near.size(); ++r )
+        {
+          const double t = ( arc[near[r]] - arc[i] ) / std::max( halfWindowM, 1.0 );
+          for ( int c = 0; c < terms; ++c )
+            a( r, c ) = std::pow( t, c );
+          b( r ) = trajectory[near[r]].z();
+        }
+        out[i].z() = a.colPivHouseholderQr().solve( b )( 0 );
+      }
+      return out;
+    }
+
     //! The pixel polyline's length on the ground, or 0.
     double groundLength( const OrientedImage &image, const std::vector<Eigen::Vector2d> &points, const GroundOfPixel &ground )
     {
@@ -298,6 +333,16 @@ namespace geostation
     for ( const SequenceStation &st : sequence.stations() )
       if ( const BlockImage *image = stationImage( block, st, seedImage.cameraId ); image && image->exterior )
         trajectory.push_back( image->exterior->projectionCentre );
+    const std::vector<Eigen::Vector3d> smoothTrack = smoothedHeights( trajectory, 30.0 );
+    // the road surface under a point, hung from a camera at `cameraZ` over `cameraXY`: the smoothed track's
+    // shape, offset so that the surface is the camera's height below it there
+    const auto surfaceHeight = [&smoothTrack, h = options.cameraHeightM]( const Eigen::Vector2d &xy, double cameraZ, const Eigen::Vector2d &cameraXY ) -> std::optional<double>
+    {
+      const std::optional<double> here = trackSurfaceHeight( smoothTrack, xy, h ), under = trackSurfaceHeight( smoothTrack, cameraXY, 0.0 );
+      if ( !here || !under )
+        return std::nullopt;
+      return *here + ( cameraZ - *under );
+    };
 
     RoadTraceSummary out;
     const auto stopWith = [&]( TraceStop stop, const std::string &message )
@@ -341,13 +386,13 @@ namespace geostation
       const Eigen::Vector3d centre = reference.exterior().projectionCentre;
       // the partner: chosen at the seed station by what sees the start, then the same camera throughout
       // the road surface: the plane under the station, its height then taken from the track where the ray meets it
-      const auto roadPlaneOf = [&]( double z ) -> GroundOfPixel
+      const auto roadPlaneOf = [&]( double z, const Eigen::Vector2d &cameraXY ) -> GroundOfPixel
       {
-        return [z, h = options.cameraHeightM, &trajectory]( const OrientedImage &image, const Eigen::Vector2d &pixel ) -> std::optional<Eigen::Vector3d>
+        return [z, cameraXY, h = options.cameraHeightM, &surfaceHeight]( const OrientedImage &image, const Eigen::Vector2d &pixel ) -> std::optional<Eigen::Vector3d>
         {
           std::optional<Eigen::Vector3d> p = roadPlanePoint( image, pixel, z - h );
           for ( int it = 0; it < 2 && p; ++it )
-            if ( const std::optional<double> surface = trackSurfaceHeight( trajectory, p->head<2>(), h ) )
+            if ( const std::optional<double> surface = surfaceHeight( p->head<2>(), z, cameraXY ) )
               if ( std::optional<Eigen::Vector3d> q = roadPlanePoint( image, pixel, *surface ) )
                 p = q;
           return p;
@@ -356,7 +401,7 @@ namespace geostation
       if ( partnerCamera.empty() )
       {
         // the line's first 200 px on the ground: some of it must be in view of the partner
-        const GroundOfPixel single = options.groundOfPixel ? options.groundOfPixel : roadPlaneOf( centre.z() );
+        const GroundOfPixel single = options.groundOfPixel ? options.groundOfPixel : roadPlaneOf( centre.z(), centre.head<2>() );
         const BlockImage *partner = nullptr;
         for ( double s = 0.0; !partner && s <= 200.0; s += 20.0 )
           if ( const std::optional<Eigen::Vector3d> ground = single( reference, start + s * direction ) )
@@ -381,14 +426,15 @@ namespace geostation
         stopWith( TraceStop::ImageMissing, error );
         break;
       }
-      const GroundOfPixel ground = options.groundOfPixel ? options.groundOfPixel : roadPlaneOf( 0.5 * ( centre.z() + partner.exterior().projectionCentre.z() ) );
+      const GroundOfPixel ground = options.groundOfPixel ? options.groundOfPixel : roadPlaneOf( 0.5 * ( centre.z() + partner.exterior().projectionCentre.z() ), centre.head<2>() );
 
       // the distance limit: past the point where the next station takes over, at most maxRangeM
+      // (with stations closer than 8 m, still 18 m: a dashed line's next dash must be in reach of the gap bridging)
       double rangeLimit = options.maxRangeM;
       for ( const int s : { 1, -1 } )
         if ( ( step == 0 || s == step ) && k + s >= 0 && k + s < sequence.size() )
           if ( const BlockImage *next = stationImage( block, sequence.at( k + s ), referenceCamera ); next && next->exterior )
-            rangeLimit = std::min( rangeLimit, horizontalDistance( next->exterior->projectionCentre, centre ) + options.handoverRangeM + 4.0 );
+            rangeLimit = std::min( rangeLimit, std::max( horizontalDistance( next->exterior->projectionCentre, centre ) + options.handoverRangeM + 4.0, 18.0 ) );
       if ( step == 0 && sequence.size() == 1 )
         rangeLimit = options.maxRangeM;
       const auto withinLimitOf = [&]( const OrientedImage &image, double limit )
@@ -546,7 +592,7 @@ namespace geostation
       {
         // a road line lies on the road: a vertex far off the surface is a wrong conjugate
         if ( !options.groundOfPixel )
-          if ( const std::optional<double> surface = trackSurfaceHeight( trajectory, v.point.head<2>(), options.cameraHeightM );
+          if ( const std::optional<double> surface = surfaceHeight( v.point.head<2>(), centre.z(), centre.head<2>() );
                surface && std::abs( v.point.z() - *surface ) > options.surfaceToleranceM )
             continue;
         if ( !out.vertices.empty() && ( v.point - out.vertices.back().point ).head<2>().dot( runAlong.head<2>() ) <= 0 )
@@ -669,8 +715,75 @@ namespace geostation
       const Eigen::Vector3d nextCentre = next.exterior().projectionCentre;
       bool handedOver = false;
       LocateOptions locate = locateOptionsFor( profile, options.follow.directional.follow, 8.0 );
-      for ( const auto &[point, kept] : candidates )
+      LocateOptions snap = locate;
+      snap.searchHalfPx = 3.0;
+      const GroundOfPixel nextGround = options.groundOfPixel ? options.groundOfPixel : roadPlaneOf( nextCentre.z(), nextCentre.head<2>() );
+      Eigen::Vector3d correction = Eigen::Vector3d::Zero();
+      struct CorrelatedStart
       {
+        Eigen::Vector2d pixel, direction;
+        size_t keep;
+      };
+      std::optional<CorrelatedStart> correlatedStart;
+      // first the thesis' way: a vertex of this station, its surroundings in this image found in the next by
+      // correlation - the two stations' poses may disagree by more than the distance to a parallel edge (the
+      // edge line's paint beside the kerb). Vertices about 10 m ahead of the next camera, where a pose error
+      // moves the image least and the window still shows the line's surroundings.
+      {
+        std::vector<std::pair<double, size_t>> byRange;
+        for ( size_t i = firstOfStation; i < out.vertices.size(); ++i )
+        {
+          const double range = horizontalDistance( out.vertices[i].point, nextCentre );
+          if ( range >= options.handoverRangeM && ( out.vertices[i].point - nextCentre ).dot( lineDirection ) > 0 )
+            byRange.push_back( { std::abs( range - 10.0 ), i } );
+        }
+        std::sort( byRange.begin(), byRange.end() );
+        // how far apart the two poses may put a point: three times their relative sigma
+        const auto positionSigma = []( const OrientedImage &image )
+        {
+          const std::optional<ExteriorSigma> &sigma = image.exterior().sigma;
+          return sigma ? std::max( { sigma->x, sigma->y, sigma->z } ) : 0.0;
+        };
+        const double relativeSigmaM = std::hypot( positionSigma( reference ), positionSigma( next ) );
+        for ( size_t c = 0; c < byRange.size() && c < static_cast<size_t>( options.handoverCorrelations ) && !correlatedStart; ++c )
+        {
+          const size_t i = byRange[c].second;
+          const Eigen::Vector3d &point = out.vertices[i].point;
+          const GroundProjection p = next.projectGroundToPixel( point ), ahead = next.projectGroundToPixel( point + lineDirection );
+          const Eigen::Vector3d across = Eigen::Vector3d( -lineDirection.y(), lineDirection.x(), 0.0 ).normalized();
+          const GroundProjection side = next.projectGroundToPixel( point + across );
+          if ( !p.ok() || !ahead.ok() || !side.ok() || !p.inFrame )
+            continue;
+          const Eigen::Vector2d d = ( ahead.pixelInImage - p.pixelInImage ).normalized();
+          // where the poses cannot disagree by more than the locating window, the line is simply located below
+          const double disagreementPx = 3.0 * relativeSigmaM * ( side.pixelInImage - p.pixelInImage ).norm();
+          if ( disagreementPx <= locate.searchHalfPx )
+            break;
+          HandoverOptions handover = options.handover;
+          handover.searchAcrossPx = std::clamp( disagreementPx, options.handover.searchAcrossPx, options.handover.maxSearchAcrossPx );
+          const HandoverMatch m = refineHandover( *referenceGrey, reference, out.vertices[i].pixels.front(), *nextGrey, next, nextGround, d, handover );
+          if ( !m.ok )
+            continue;
+          LineProfile expected = profile;
+          if ( expected.kind != LineKind::Edge && widthTimesRange > 0 )
+            expected.widthPx = widthTimesRange / std::max( horizontalDistance( point, nextCentre ), 1.0 );
+          if ( const std::optional<LineHit> hit = locateLine( *nextGrey, m.pixelInNext, d, expected, snap ) )
+          {
+            LocateOptions confirm = locate;
+            confirm.searchHalfPx = 2.0;
+            if ( locateLine( *nextGrey, hit->pixelInImage + 3.0 * d, d, expected, confirm ) )
+              if ( const std::optional<Eigen::Vector3d> found = nextGround( next, hit->pixelInImage ) )
+              {
+                // the two poses' disagreement on the ground; the nearest point of the line is then taken over below
+                correction = *found - point;
+                correlatedStart = { hit->pixelInImage, d, i };
+              }
+          }
+        }
+      }
+      for ( const auto &[uncorrected, kept] : candidates )
+      {
+        const Eigen::Vector3d point = uncorrected + correction;
         const double range = horizontalDistance( point, nextCentre );
         if ( range < options.handoverRangeM || ( point - nextCentre ).dot( lineDirection ) <= 0 )
           continue;
@@ -681,7 +794,18 @@ namespace geostation
         LineProfile expected = profile;
         if ( expected.kind != LineKind::Edge && widthTimesRange > 0 )
           expected.widthPx = widthTimesRange / std::max( range, 1.0 );
-        const std::optional<LineHit> hit = locateLine( *nextGrey, p.pixelInImage, d, expected, locate );
+        // a point of the continuation is only as good as the extrapolation: its lateral uncertainty grows with the
+        // distance from the line's end (0.15 m + 2 %), searched across up to 20 px
+        LocateOptions around = locate;
+        if ( kept == out.vertices.size() )
+        {
+          const double lateralM = 0.15 + 0.02 * horizontalDistance( point, groundLine.back() );
+          const Eigen::Vector3d across = Eigen::Vector3d( -lineDirection.y(), lineDirection.x(), 0.0 ).normalized();
+          const GroundProjection side = next.projectGroundToPixel( point + lateralM * across );
+          if ( side.ok() )
+            around.searchHalfPx = std::clamp( ( side.pixelInImage - p.pixelInImage ).norm(), locate.searchHalfPx, 20.0 );
+        }
+        const std::optional<LineHit> hit = locateLine( *nextGrey, p.pixelInImage, d, expected, around );
         if ( !hit )
           continue;
         LocateOptions confirm = locate;
@@ -693,6 +817,14 @@ namespace geostation
         keep = kept;
         handedOver = true;
         break;
+      }
+      if ( !handedOver && correlatedStart )
+      {
+        // no nearer point of the line confirmed: the correlated vertex itself
+        start = correlatedStart->pixel;
+        direction = correlatedStart->direction;
+        keep = correlatedStart->keep;
+        handedOver = true;
       }
       if ( !handedOver )
       {

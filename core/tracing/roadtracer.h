@@ -28,6 +28,7 @@
 
 #include "io/block.h"
 #include "tracing/lineprofile.h"
+#include "tracing/handovermatcher.h"
 #include "tracing/linefollower.h"
 #include "tracing/stereolinematcher.h"
 
@@ -93,6 +94,9 @@ namespace geostation
      * stripes with the exact orientation).
      */
     double stripeSigmaFloorPx = 0.5; //!< stations in a row where the line cannot be followed before tracing stops
+    //! Vertices whose surroundings are looked for by correlation in the next station's image at the handover.
+    int handoverCorrelations = 3;
+    HandoverOptions handover;
     LineFollowOptions follow;
     SeedOptions seed;
     StartMatchOptions start;
