@@ -50,6 +50,13 @@ qgis_process.bin run geostation:project_to_image -- \
   DEM="$out/oblique_photo/terrain.tif" OUTPUT="$out/oblique_roads.gpkg" 2>/dev/null \
   | grep -E "^(PROJECTED_COUNT|IN_FRAME_COUNT|OUTPUT):" | sort -u
 
+echo
+echo "Tracing the dashed lane line and the kerb from one click each in S0003_FL (geostation:trace_road_lines):"
+/usr/bin/python3 "$source_dir/scripts/demo_seeds.py" "$out/highway" S0003_FL S0003_FR "$out/seeds.csv"
+qgis_process.bin run geostation:trace_road_lines -- \
+  BLOCK="$out/highway/block.geostation.json" SEEDS="$out/seeds.csv" OUTPUT="$out/traced_lines.gpkg" \
+  VERTICES="$out/traced_vertices.csv" 2>/dev/null | sed 's/^[0-9.]*//' | grep -E "^(Seed |TRACED_COUNT|FAILED_COUNT|OUTPUT):?" | sort -u
+
 /usr/bin/python3 "$source_dir/scripts/demo_project.py" "$out" "$image" "$out/highway/images/$image.tif" \
   2> >(grep -v -e XDG_RUNTIME_DIR -e "pixel/line and georeferenced" >&2)
 

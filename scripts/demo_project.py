@@ -1,7 +1,7 @@
 #!/usr/bin/python3
 """Prints the demo's results and writes two projects:
 - OUT_DIR/demo.qgz: the simulated highway run ready to measure: terrain and
-  road lines as the base map, the GeoStation session (block, station S0003,
+  road lines as the base map (and the lines demo.sh traced headless), the GeoStation session (block, station S0003,
   feature classes, measurements.gpkg beside the block). Opened in QGIS with
   the plugin, it shows the Multiview and the Overview.
 - OUT_DIR/image_demo.qgz: one image in pixel space (no CRS) with the
@@ -42,6 +42,10 @@ def write_multiview_project(out_dir):
         if not layer.isValid():
             sys.exit("demo_project.py: cannot read " + layer.source())
         project.addMapLayer(layer)
+    # the lines demo.sh traced headless, when it did
+    traced = QgsVectorLayer(os.path.join(out_dir, "traced_lines.gpkg"), "traced lines (geostation:trace_road_lines)", "ogr")
+    if traced.isValid():
+        project.addMapLayer(traced)
     path = os.path.join(out_dir, "demo.qgz")
     project.setFileName(path)
     scope = "GeoStation"
