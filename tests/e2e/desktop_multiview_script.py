@@ -26,6 +26,7 @@ TARGET = os.environ["GEOSTATION_E2E_TARGET"]
 PROJECT = os.environ["GEOSTATION_E2E_PROJECT"]
 CLICK = json.loads(os.environ["GEOSTATION_E2E_CLICK"])  # station, image, col, row
 TRACE = json.loads(os.environ["GEOSTATION_E2E_TRACE"])  # col, row of a kerb pixel in the same image
+LANE = json.loads(os.environ["GEOSTATION_E2E_LANE"])  # col, row of a dash of the lane line in the first station's first image
 
 
 def wait(seconds):
@@ -71,7 +72,8 @@ def run():
         result["block_opened"] = invoke(plugin, "openBlockFile", BLOCK, returns=bool)
         result["classes_set"] = invoke(plugin, "setFeatureClassesJson", json.dumps([
             {"name": "Pole", "geometry": "point", "attributes": {"kind": "pole"}},
-            {"name": "Road edge", "geometry": "line"}]), returns=bool)
+            {"name": "Road edge", "geometry": "line"},
+            {"name": "Lane marking", "geometry": "line"}]), returns=bool)
         result["target_set"] = invoke(plugin, "setTargetGeoPackage", TARGET, returns=bool)
         checkpoint(result, "opening the Multiview")
         window.findChild(QAction, "mActionGeoStationMultiview").trigger()
@@ -158,6 +160,30 @@ def run():
                             for f in edges.getFeatures()] if edges.isValid() else []
         vertices = QgsVectorLayer(TARGET + "|layername=vertices", "vertices", "ogr")
         result["traced_vertex_rows"] = len([f for f in vertices.getFeatures() if f["layer"] == "road_edge"]) if vertices.isValid() else 0
+        # the dashed lane line into its own class: one click on a dash at the first station
+        QTest.keyClick(canvas0, Qt.Key_Home)
+        wait(0.5)
+        combo.setCurrentIndex(combo.findData("Lane marking"))
+        combo.activated.emit(combo.currentIndex())
+        invoke(dock, "zoomViewToPixel", 0, float(LANE["col"]), float(LANE["row"]), 40.0)
+        wait(0.5)
+        screen = canvas0.getCoordinateTransform().transform(QgsPointXY(LANE["col"], -LANE["row"]))
+        started = time.time()
+        before = status.text()
+        QTest.mouseClick(canvas0.viewport(), Qt.LeftButton, Qt.NoModifier, screen.toQPointF().toPoint())
+        wait(0.2)
+        while time.time() - started < 90 and "stopped" not in status.text():
+            wait(0.1)
+        result["lane_status"] = status.text()
+        invoke(dock, "zoomViewToPixel", 0, float(LANE["col"]), float(LANE["row"]), 400.0)
+        wait(0.5)
+        dock.grab().save(os.path.join(ARTIFACTS, "multiview-traced-lane.png"))
+        QTest.keyClick(canvas0, Qt.Key_F)
+        wait(1.0)
+        lanes = QgsVectorLayer(TARGET + "|layername=lane_marking", "lane_marking", "ogr")
+        result["lane"] = [{"method": f["method"], "vertices": [[v.x(), v.y(), v.z()] for v in f.geometry().vertices()]}
+                          for f in lanes.getFeatures()] if lanes.isValid() else []
+        result["lane_messages"] = invoke(dock, "messagesText", returns=str)
         dock.findChild(QAction, "mActionTrace").setChecked(False)
 
         checkpoint(result, "saving the session")

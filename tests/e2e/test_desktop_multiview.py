@@ -92,6 +92,23 @@ class DesktopMultiviewTest(unittest.TestCase):
                 cls.trace = {"col": col + 0.8, "row": row - 0.6, "point": pid}
                 break
         assert cls.trace, "the kerb is not in view of both front images"
+        # the middle of a dash of the lane line (R1-separator3, 3 m dashes), 6-20 m ahead of the first station,
+        # inside both front images
+        cls.lane_truth = {rid: line for rid, line in roads.items() if rid.startswith("R1-separator3-")}
+        cls.lane = None
+        first = stations[0][0]
+        centre = next(i for i in block["images"] if i["id"] == first + "_FL")
+        for rid, line in sorted(cls.lane_truth.items()):
+            key = "%s:%d" % (rid, len(line) // 2)
+            if (key, first + "_FL") not in pixels or (key, first + "_FR") not in pixels:
+                continue
+            point = line[len(line) // 2]
+            (col, row), (rcol, rrow) = pixels[(key, first + "_FL")], pixels[(key, first + "_FR")]
+            distance = ((point[0] - centre["X"]) ** 2 + (point[1] - centre["Y"]) ** 2) ** 0.5
+            if 6 < distance < 20 and min(col, row, rcol, rrow) > 40 and max(col, rcol) < 600 and max(row, rrow) < 440:
+                cls.lane = {"col": col + 0.6, "row": row + 0.7, "point": key}
+                break
+        assert cls.lane, "no dash of the lane line in view of both front images"
 
         os.makedirs(ARTIFACT_DIR, exist_ok=True)
         cls.target = os.path.join(cls.tmp, "measurements.gpkg")
@@ -100,14 +117,14 @@ class DesktopMultiviewTest(unittest.TestCase):
         env.update(GEOSTATION_E2E_RESULT=result_path, GEOSTATION_E2E_ARTIFACTS=ARTIFACT_DIR,
                    GEOSTATION_E2E_BLOCK=os.path.join(run_dir, "block.geostation.json"),
                    GEOSTATION_E2E_TARGET=cls.target, GEOSTATION_E2E_PROJECT=cls.project,
-                   GEOSTATION_E2E_CLICK=json.dumps(cls.click), GEOSTATION_E2E_TRACE=json.dumps(cls.trace))
+                   GEOSTATION_E2E_CLICK=json.dumps(cls.click), GEOSTATION_E2E_TRACE=json.dumps(cls.trace), GEOSTATION_E2E_LANE=json.dumps(cls.lane))
         cls.exit_code, cls.log = desktop_harness.run_qgis(os.path.join(HERE, "desktop_multiview_script.py"), env, profiles,
                                                           screen="1600x1000")
         cls.result = {}
         if os.path.exists(result_path):
             with open(result_path) as f:
                 cls.result = json.load(f)
-        print(json.dumps({k: cls.result.get(k) for k in ("navigation_ms", "proposal_ms", "features", "clicked_pixel", "trace_seconds", "trace_status")}, indent=1))
+        print(json.dumps({k: cls.result.get(k) for k in ("navigation_ms", "proposal_ms", "features", "clicked_pixel", "trace_seconds", "trace_status", "lane_status")}, indent=1))
 
     @classmethod
     def tearDownClass(cls):
@@ -173,6 +190,18 @@ class DesktopMultiviewTest(unittest.TestCase):
         self.assertLess(plan[int(0.95 * (len(plan) - 1))], 0.10, plan)
         self.assertLess(height[int(0.95 * (len(height) - 1))], 0.10, height)
 
+    def test_trace_tool_writes_the_dashed_lane_line_from_one_click(self):
+        lanes = self.result.get("lane", [])
+        self.assertEqual(len(lanes), 1, self.result.get("lane_messages"))
+        self.assertEqual(lanes[0]["method"], "traced")
+        self.assertIn("end_of_run", self.result.get("lane_status", ""))
+        vertices = lanes[0]["vertices"]
+        self.assertGreaterEqual(len(vertices), 6)
+        # every vertex on a dash of the lane line (exact orientation: within 0.10 m in plan)
+        dashes = list(self.lane_truth.values())
+        plan = sorted(min(distance_to_polyline(v, d)[0] for d in dashes) for v in vertices)
+        self.assertLess(plan[-1], 0.10, plan)
+
     def test_session_is_restored_from_the_project(self):
         self.assertTrue(self.result.get("saved"))
         self.assertTrue(self.result.get("reopened"))
@@ -181,7 +210,7 @@ class DesktopMultiviewTest(unittest.TestCase):
             self.assertIn(name, self.result.get("restored_layers", []))
 
     def test_screenshots_saved(self):
-        for name in ("multiview-traced.png", "overview-traced.png", "multiview-proposals.png", "multiview-measured.png", "overview.png"):
+        for name in ("multiview-traced.png", "multiview-traced-lane.png", "overview-traced.png", "multiview-proposals.png", "multiview-measured.png", "overview.png"):
             path = os.path.join(ARTIFACT_DIR, name)
             self.assertTrue(os.path.exists(path), name)
             self.assertGreater(os.path.getsize(path), 10000)
