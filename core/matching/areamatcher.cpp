@@ -5,7 +5,12 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 #include <set>
+
+#include <Eigen/LU>
+#include <Eigen/SVD>
+#include <opencv2/core.hpp>
 
 namespace geostation
 {
@@ -53,9 +58,34 @@ namespace geostation
 
     constexpr double kCorrelationSigmaPx = 0.5; //!< the precision of a correlation peak without LSM (thesis: about a pixel at worst)
 
-    //! Parabola refinement around an integer peak, then LSM; fills the result.
+    //! Grey-value standard deviation of the reference window least squares matches (0 if it leaves the image).
+    double windowContrast( const MatchImage &image, const Eigen::Vector2d &pixel, int width, int height )
+    {
+      const int c0 = static_cast<int>( std::floor( pixel.x() ) ) - width / 2, r0 = static_cast<int>( std::floor( pixel.y() ) ) - height / 2;
+      if ( c0 < 0 || r0 < 0 || c0 + width > image.width() || r0 + height > image.height() )
+        return 0.0;
+      cv::Scalar mean, sd;
+      cv::meanStdDev( image.value()( cv::Rect( c0, r0, width, height ) ), mean, sd );
+      return sd[0];
+    }
+
+    //! Why a converged least-squares solution is still not a match ("" if it is one).
+    std::string implausible( const LsmResult &lsm, double contrast, const AreaMatchOptions &options )
+    {
+      if ( contrast > 0 && lsm.sigma0 > options.maxSigma0Ratio * contrast )
+        return "least squares fits poorly (sigma0 " + std::to_string( lsm.sigma0 ).substr( 0, 5 ) + " grey values for a window contrast of " +
+               std::to_string( contrast ).substr( 0, 5 ) + ")";
+      const Eigen::JacobiSVD<Eigen::Matrix2d> svd( lsm.affine );
+      const Eigen::Vector2d scales = svd.singularValues();
+      if ( scales.maxCoeff() > options.maxAffineScale || scales.minCoeff() < 1.0 / options.maxAffineScale )
+        return "least squares found an implausible shape (scales " + std::to_string( scales.minCoeff() ).substr( 0, 4 ) + " and " +
+               std::to_string( scales.maxCoeff() ).substr( 0, 4 ) + ")";
+      return std::string();
+    }
+
+    //! Parabola refinement around an integer peak, then LSM from several starts and its checks; fills the result.
     void refine( const MatchImage &reference, const Eigen::Vector2d &pixelInReference, const MatchImage &search, const CorrelationTemplate &target,
-                 int col, int row, const AreaMatchOptions &options, AreaMatch &result )
+                 int col, int row, const std::optional<Eigen::Vector2d> &approximate, double radiusPx, const AreaMatchOptions &options, AreaMatch &result )
     {
       const auto scoreAt = [&]( int c, int r ) { return target.score( search, c, r ).value_or( result.score ); };
       const double dx = parabolaPeakOffset( scoreAt( col - 1, row ), result.score, scoreAt( col + 1, row ) );
@@ -64,35 +94,142 @@ namespace geostation
       const Eigen::Vector2d offset = pixelInReference - Eigen::Vector2d( std::floor( pixelInReference.x() ) + 0.5, std::floor( pixelInReference.y() ) + 0.5 );
       result.correlationPixel = Eigen::Vector2d( col + 0.5 + dx, row + 0.5 + dy ) + offset;
       result.pixelInImage = result.correlationPixel;
-      if ( result.score < options.minScore )
+      const bool weakPeak = result.score < options.minScore;
+      const std::string weakReason = "best correlation " + std::to_string( result.score ).substr( 0, 5 ) + " is below the threshold " + std::to_string( options.minScore ).substr( 0, 4 );
+      // a weak peak still gets least squares from the approximate position (strong distortion lowers the
+      // correlation of square windows; least squares' affine shape absorbs it), and its checks decide
+      if ( weakPeak && ( !options.lsm || !approximate ) )
       {
-        result.reason = "best correlation " + std::to_string( result.score ).substr( 0, 5 ) + " is below the threshold " + std::to_string( options.minScore ).substr( 0, 4 );
+        result.status = MatchStatus::NoPeak;
+        result.reason = weakReason;
         return;
       }
-      result.sigmaPx = kCorrelationSigmaPx;
-      if ( options.lsm )
+      const bool ambiguous = result.secondScore > result.score - options.ambiguityMargin;
+      const auto correlationOnly = [&]( const std::string &why )
       {
-        result.lsm = leastSquaresMatch( reference, pixelInReference, search, result.correlationPixel, options.lsmOptions );
-        if ( result.lsm.converged )
+        result.sigmaPx = kCorrelationSigmaPx;
+        result.reason = why;
+        if ( ambiguous )
         {
-          result.pixelInImage = result.lsm.pixelInImage;
-          result.sigmaPx = result.lsm.sigmaPxMax();
+          result.status = MatchStatus::Ambiguous;
+          result.reason = ( why.empty() ? std::string() : why + "; " ) + "a second peak scores " + std::to_string( result.secondScore ).substr( 0, 5 ) +
+                          " against " + std::to_string( result.score ).substr( 0, 5 );
+          return;
         }
-        else
+        result.status = MatchStatus::Correlation;
+        result.matched = true;
+      };
+      if ( !options.lsm )
+      {
+        correlationOnly( std::string() );
+        return;
+      }
+
+      // least squares from several starts: the correlation peak, the approximate position, the next peaks
+      std::vector<Eigen::Vector2d> starts;
+      if ( weakPeak )
+        starts.push_back( *approximate );
+      starts.push_back( result.correlationPixel );
+      if ( approximate && !weakPeak )
+        starts.push_back( *approximate );
+      for ( size_t k = 1; k < result.peaks.size() && static_cast<int>( starts.size() ) < std::max( 1, options.lsmStarts ); ++k )
+        starts.push_back( result.peaks[k].first );
+      starts.resize( std::min<size_t>( starts.size(), std::max( 1, options.lsmStarts ) ) );
+      const double contrast = windowContrast( reference, pixelInReference, options.lsmOptions.windowWidth, options.lsmOptions.windowHeight );
+      std::optional<LsmResult> best;
+      bool degenerate = true;
+      std::string why;
+      for ( const Eigen::Vector2d &start : starts )
+      {
+        const LsmResult lsm = leastSquaresMatch( reference, pixelInReference, search, start, options.lsmOptions );
+        degenerate = degenerate && lsm.degenerate;
+        if ( !lsm.converged )
         {
-          // a line or an edge: LSM cannot fix the shift along it; the correlation peak stands, at its precision
-          result.reason = "least-squares matching could not refine: " + result.lsm.reason;
+          why = lsm.reason;
+          continue;
+        }
+        if ( const std::string bad = implausible( lsm, contrast, options ); !bad.empty() )
+        {
+          why = bad;
+          continue;
+        }
+        // the point is within the search radius of its approximate position: a solution beyond it is another point
+        if ( approximate && ( lsm.pixelInImage - *approximate ).norm() > radiusPx + 0.5 )
+        {
+          why = "least squares moved " + std::to_string( ( lsm.pixelInImage - *approximate ).norm() ).substr( 0, 4 ) +
+                " px from the approximate position, beyond the search radius";
+          continue;
+        }
+        if ( !best || lsm.sigma0 < best->sigma0 )
+          best = lsm;
+      }
+      // strong scale differences: least squares from the approximate position (or the peak) with the window
+      // scaled, when nothing else converged
+      for ( const double scale : options.fallbackScales )
+      {
+        if ( best )
+          break;
+        LsmOptions scaled = options.lsmOptions;
+        scaled.initialAffine = scale * Eigen::Matrix2d::Identity();
+        const LsmResult lsm = leastSquaresMatch( reference, pixelInReference, search, approximate ? *approximate : result.correlationPixel, scaled );
+        if ( !lsm.converged )
+          continue;
+        if ( const std::string bad = implausible( lsm, contrast, options ); !bad.empty() )
+          continue;
+        if ( approximate && ( lsm.pixelInImage - *approximate ).norm() > radiusPx + 0.5 )
+          continue;
+        best = lsm;
+      }
+      if ( !best && weakPeak )
+      {
+        result.status = MatchStatus::NoPeak;
+        result.reason = weakReason + ", and least squares from the approximate position failed: " + why;
+        return;
+      }
+      if ( !best )
+      {
+        if ( degenerate )
+        {
+          // a line or an edge: least squares cannot fix the shift along it; the correlation peak stands, at its precision
+          correlationOnly( "least-squares matching could not refine: " + why );
+          if ( result.lsm.reason.empty() )
+            result.lsm.reason = why;
+          return;
+        }
+        result.status = MatchStatus::Diverged;
+        result.reason = "least-squares matching failed from every start: " + why;
+        result.lsm.reason = why;
+        return;
+      }
+      result.lsm = *best;
+      result.pixelInImage = best->pixelInImage;
+      result.sigmaPx = best->sigmaPxMax();
+      if ( options.backMatch )
+      {
+        // back from the found point to the reference: a right match returns to where it came from
+        LsmOptions back = options.lsmOptions;
+        back.initialAffine = best->affine.inverse();
+        const LsmResult returned = leastSquaresMatch( search, best->pixelInImage, reference, pixelInReference, back );
+        if ( !returned.converged || ( returned.pixelInImage - pixelInReference ).norm() > options.consistencyPx )
+        {
+          result.status = MatchStatus::Inconsistent;
+          result.reason = returned.converged ? "matching back returns " + std::to_string( ( returned.pixelInImage - pixelInReference ).norm() ).substr( 0, 4 ) +
+                          " px from the reference point" : "matching back does not converge: " + returned.reason;
+          return;
         }
       }
+      result.status = MatchStatus::Lsm;
       result.matched = true;
     }
 
     AreaMatch searchCandidates( const MatchImage &reference, const Eigen::Vector2d &pixelInReference, const MatchImage &search,
-                                const std::vector<Candidate> &candidates, const AreaMatchOptions &options, bool jumps )
+                                const std::vector<Candidate> &candidates, const std::optional<Eigen::Vector2d> &approximate, double radiusPx,
+                                const AreaMatchOptions &options, bool jumps )
     {
       AreaMatch result;
       if ( !reference.canSample( pixelInReference.x(), pixelInReference.y() ) )
       {
+        result.status = MatchStatus::Outside;
         result.reason = "the point lies outside the reference image";
         return result;
       }
@@ -100,11 +237,13 @@ namespace geostation
       const CorrelationTemplate target( reference, centreCol, centreRow, options.windowWidth, options.windowHeight, options.measure );
       if ( !target.valid() )
       {
+        result.status = target.reason().find( "flat" ) != std::string::npos ? MatchStatus::NoPeak : MatchStatus::Outside;
         result.reason = target.reason();
         return result;
       }
       if ( candidates.empty() )
       {
+        result.status = MatchStatus::Outside;
         result.reason = "no search position in the search image";
         return result;
       }
@@ -131,6 +270,7 @@ namespace geostation
       }
       if ( !bestCandidate )
       {
+        result.status = MatchStatus::Outside;
         result.reason = "every search window leaves the search image or is flat";
         return result;
       }
@@ -153,15 +293,37 @@ namespace geostation
         if ( result.peaks.size() >= 8 )
           break;
       }
-      refine( reference, pixelInReference, search, target, bestCandidate->col, bestCandidate->row, options, result );
+      refine( reference, pixelInReference, search, target, bestCandidate->col, bestCandidate->row, approximate, radiusPx, options, result );
       return result;
     }
+  }
+
+  std::string matchStatusName( MatchStatus status )
+  {
+    switch ( status )
+    {
+      case MatchStatus::Lsm:
+        return "lsm";
+      case MatchStatus::Correlation:
+        return "correlation";
+      case MatchStatus::NoPeak:
+        return "no_peak";
+      case MatchStatus::Ambiguous:
+        return "ambiguous";
+      case MatchStatus::Diverged:
+        return "diverged";
+      case MatchStatus::Inconsistent:
+        return "inconsistent";
+      case MatchStatus::Outside:
+        return "outside";
+    }
+    return "no_peak";
   }
 
   AreaMatch matchAlongEpipolarBand( const MatchImage &reference, const Eigen::Vector2d &pixelInReference, const MatchImage &search,
                                     const std::vector<Eigen::Vector2d> &curve, const AreaMatchOptions &options )
   {
-    return searchCandidates( reference, pixelInReference, search, bandCandidates( curve, std::max( 0, options.bandHalfWidthPx ) ), options, options.jumpRule );
+    return searchCandidates( reference, pixelInReference, search, bandCandidates( curve, std::max( 0, options.bandHalfWidthPx ) ), std::nullopt, 0.0, options, options.jumpRule );
   }
 
   AreaMatch matchAroundPosition( const MatchImage &reference, const Eigen::Vector2d &pixelInReference, const MatchImage &search,
@@ -174,7 +336,7 @@ namespace geostation
       for ( int dc = -r; dc <= r; ++dc )
         if ( dc * dc + dr * dr <= radiusPx * radiusPx + 1e-9 )
           candidates.push_back( { c0 + dc, r0 + dr, 0 } );
-    return searchCandidates( reference, pixelInReference, search, candidates, options, false );
+    return searchCandidates( reference, pixelInReference, search, candidates, approximate, radiusPx, options, false );
   }
 
 } // namespace geostation

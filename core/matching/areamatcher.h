@@ -28,6 +28,25 @@
 namespace geostation
 {
 
+  /**
+   * What a match is (CONVENTIONS §8): least squares converged and passed its
+   * checks; a correlation peak only (LSM off, or not applicable on a line or
+   * an edge); or why there is no match.
+   */
+  enum class MatchStatus
+  {
+    Lsm,
+    Correlation,
+    NoPeak,       //!< no window to correlate, or the best correlation below the threshold
+    Ambiguous,    //!< a second peak (almost) as good, and least squares did not decide
+    Diverged,     //!< least squares went astray, or its fit or shape is implausible
+    Inconsistent, //!< matching back from the found point does not return to the reference point
+    Outside,      //!< the point or its window leaves an image
+  };
+
+  //! "lsm", "correlation", "no_peak", "ambiguous", "diverged", "inconsistent", "outside"
+  std::string matchStatusName( MatchStatus status );
+
   struct AreaMatchOptions
   {
     SimilarityMeasure measure = SimilarityMeasure::NCC;
@@ -38,11 +57,29 @@ namespace geostation
     bool jumpRule = false;      //!< the thesis' 4 / 3 / 2 pixel jumps below 0.2 / 0.4 / 0.6
     bool lsm = true;            //!< refine by least-squares matching
     LsmOptions lsmOptions;
+    /**
+     * Least squares is started from this many places - the correlation
+     * peak, the approximate position (2-D search) and the next separate
+     * peaks - and the converged solution with the smallest sigma0 kept.
+     */
+    int lsmStarts = 4;
+    //! Least squares is matched back from the found point to the reference; farther than this (px) from it: inconsistent.
+    bool backMatch = true;
+    double consistencyPx = 0.5;
+    //! sigma0 of least squares over the window's grey-value standard deviation above this: diverged (a poor fit).
+    double maxSigma0Ratio = 0.4;
+    //! The affine shape's scales outside [1 / maxAffineScale, maxAffineScale]: diverged.
+    double maxAffineScale = 3.0;
+    //! Window scales least squares starts from when no start converged with the same scale (strong scale differences).
+    std::vector<double> fallbackScales { 2.0, 0.5 };
+    //! A correlation-only match whose second peak scores within this of the best: ambiguous.
+    double ambiguityMargin = 0.05;
   };
 
   struct AreaMatch
   {
-    bool matched = false;
+    bool matched = false;                                  //!< status is Lsm or Correlation
+    MatchStatus status = MatchStatus::NoPeak;
     std::string reason;                                    //!< why not, when not matched (or why LSM did not refine)
     Eigen::Vector2d pixelInImage = Eigen::Vector2d::Zero(); //!< the conjugate point (best guess even when not matched)
     double score = 0.0;                                    //!< best correlation

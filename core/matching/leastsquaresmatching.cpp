@@ -46,13 +46,14 @@ namespace geostation
     const bool bilinear = options.resampling == LsmOptions::Resampling::Bilinear;
     // parameters: a0 a1 a2 b0 b1 b2 h0 h1
     Eigen::Matrix<double, 8, 1> p;
-    p << approximateInSearch.x(), 1, 0, approximateInSearch.y(), 0, 1, 0, 1;
+    p << approximateInSearch.x(), options.initialAffine( 0, 0 ), options.initialAffine( 0, 1 ), approximateInSearch.y(), options.initialAffine( 1, 0 ),
+      options.initialAffine( 1, 1 ), 0, 1;
     Eigen::Matrix<double, 8, 8> normal;
     double sumSq = 0.0;
     double gradientEnergy = 0.0;
     for ( int k = 0; k < n; ++k )
     {
-      const double col = approximateInSearch.x() + dx[k], row = approximateInSearch.y() + dy[k];
+      const double col = p[0] + p[1] * dx[k] + p[2] * dy[k], row = p[3] + p[4] * dx[k] + p[5] * dy[k];
       float dCol = 0, dRow = 0;
       if ( search.canSampleCubic( col, row ) )
       {
@@ -66,6 +67,7 @@ namespace geostation
     if ( gradientEnergy < 0.25 * n )
     {
       result.reason = "the window is flat (no texture to match)";
+      result.degenerate = true;
       return result;
     }
     // shifts and radiometry first: freeing the shape parameters far from the
@@ -108,6 +110,7 @@ namespace geostation
       if ( ldlt.info() != Eigen::Success || !( ldlt.rcond() > 1e-12 ) )
       {
         result.reason = "the window is flat (no texture to match)";
+        result.degenerate = true;
         return result;
       }
       const Eigen::Matrix<double, 8, 1> dp = ldlt.solve( rhs );

@@ -29,10 +29,12 @@ namespace geostation
   {
     int windowWidth = 9;          //!< odd; the thesis' best size for general objects is 9 x 9
     int windowHeight = 9;
-    int maxIterations = 30;
+    int maxIterations = 60;       //!< strong distortion (a 40° viewpoint change) needs about 40 with the shape freed late
     double convergencePx = 1e-3;  //!< stop when the shift changes by less than this
     double maxShiftPx = -1.0;     //!< reject a match this far from the start (default: half the window)
     bool shape = true;            //!< estimate the affine shape (false: shifts and radiometry only)
+    //! The shape to start from ([a1 a2; b1 b2]): identity, or one predicted from the geometry (or the inverse of a forward match's).
+    Eigen::Matrix2d initialAffine = Eigen::Matrix2d::Identity();
     /**
      * Resampling of the search window: the cubic B-spline (exact at the
      * pixels, smooth derivatives; the default, for the best sub-pixel
@@ -56,6 +58,8 @@ namespace geostation
     double sigma0 = 0.0;                               //!< grey levels
     int iterations = 0;
     Eigen::Matrix2d affine = Eigen::Matrix2d::Identity(); //!< [a1 a2; b1 b2]
+    //! The least-squares system was singular: a line or an edge, whose shift along itself the window cannot fix (LSM not applicable).
+    bool degenerate = false;
     double h0 = 0.0, h1 = 1.0;
 
     double sigmaPxMax() const { return sigmaPx.maxCoeff(); }

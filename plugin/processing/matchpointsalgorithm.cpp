@@ -9,6 +9,8 @@
  ***************************************************************************/
 #include "matchpointsalgorithm.h"
 
+#include <optional>
+
 #include <map>
 
 #include <qgsexception.h>
@@ -57,9 +59,13 @@ QString MatchPointsAlgorithm::shortHelpString() const
                       "to MAX_DEPTH_M, and BAND_PX parallels on each side); otherwise it searches SEARCH_RADIUS pixels around "
                       "approx_col, approx_row given per point. METHOD is cc, ncc, wcc or wncc (thesis eqs. 5.1-5.4) on a "
                       "WINDOW_W x WINDOW_H window (15 x 15; 15 x 3 for road lines); the best score above MIN_SCORE is refined "
-                      "by a parabola and, with LSM, by least-squares matching.\n\n"
-                      "OUTPUT holds the reference rows and every match (point_id, image_id, col, row, sigma_px, score), ready "
-                      "for geostation:intersect. Points that find no match are listed in the log with the reason." );
+                      "by a parabola and, with LSM, by least-squares matching started from the peak, the approximate position "
+                      "and the next peaks; a least-squares match must fit well, keep a plausible shape, stay within the search "
+                      "radius and match back to the reference point within half a pixel.\n\n"
+                      "OUTPUT holds the reference rows (status reference) and one row per point and target image with status: "
+                      "lsm (least squares converged and passed its checks), correlation (peak only: LSM off, or a line or edge "
+                      "LSM cannot fix), or why there is no match (no_peak, ambiguous, diverged, inconsistent, outside; no col/row, "
+                      "with the reason). geostation:intersect reads it as it is and leaves the failed rows out." );
 }
 
 MatchPointsAlgorithm *MatchPointsAlgorithm::createInstance() const
@@ -148,19 +154,26 @@ QVariantMap MatchPointsAlgorithm::processAlgorithm( const QVariantMap &parameter
   fields.append( QgsField( QStringLiteral( "row" ), QVariant::Double ) );
   fields.append( QgsField( QStringLiteral( "sigma_px" ), QVariant::Double ) );
   fields.append( QgsField( QStringLiteral( "score" ), QVariant::Double ) );
+  fields.append( QgsField( QStringLiteral( "status" ), QVariant::String ) );
+  fields.append( QgsField( QStringLiteral( "reason" ), QVariant::String ) );
   QString destination;
   std::unique_ptr<QgsFeatureSink> sink( parameterAsSink( parameters, QStringLiteral( "OUTPUT" ), context, destination, fields, QgsWkbTypes::NoGeometry, QgsCoordinateReferenceSystem() ) );
   if ( !sink )
     throw QgsProcessingException( invalidSinkError( parameters, QStringLiteral( "OUTPUT" ) ) );
-  const auto write = [&]( const QString &pointId, const QString &imageId, const Eigen::Vector2d &pixel, double sigma, double score )
+  // a failed match is a row too, with its status and reason and no col/row (CONVENTIONS §8)
+  const auto write = [&]( const QString &pointId, const QString &imageId, const std::optional<Eigen::Vector2d> &pixel, double sigma, double score, const QString &status,
+                          const QString &reason )
   {
     QgsFeature f( fields );
-    f.setAttributes( QgsAttributes() << pointId << imageId << pixel.x() << pixel.y() << sigma << score );
+    const QVariant none;
+    f.setAttributes( QgsAttributes() << pointId << imageId << ( pixel ? QVariant( pixel->x() ) : none ) << ( pixel ? QVariant( pixel->y() ) : none )
+                     << ( pixel ? QVariant( sigma ) : none ) << score << status << ( reason.isEmpty() ? none : QVariant( reason ) ) );
     if ( !sink->addFeature( f, QgsFeatureSink::FastInsert ) )
       throw QgsProcessingException( writeFeatureError( sink.get(), parameters, QStringLiteral( "OUTPUT" ) ) );
   };
 
   long matched = 0, unmatched = 0;
+  QMap<QString, long> statusCounts;
   for ( int i = 0; i < table.rows.size(); ++i )
   {
     if ( feedback->isCanceled() )
@@ -168,7 +181,7 @@ QVariantMap MatchPointsAlgorithm::processAlgorithm( const QVariantMap &parameter
     feedback->setProgress( 100.0 * i / std::max( 1, table.rows.size() ) );
     const GeoStationProcessing::ObservationRecord &r = table.rows[i];
     const geostation::BlockImage &reference = GeoStationProcessing::blockImage( block, r.imageId );
-    write( r.pointId, r.imageId, r.pixel, r.sigmaPx > 0 ? r.sigmaPx : referenceSigma, 1.0 );
+    write( r.pointId, r.imageId, r.pixel, r.sigmaPx > 0 ? r.sigmaPx : referenceSigma, 1.0, QStringLiteral( "reference" ), QString() );
     QStringList targets = targetIds;
     if ( targets.isEmpty() )
       for ( const geostation::BlockImage &other : block.images )
@@ -182,6 +195,7 @@ QVariantMap MatchPointsAlgorithm::processAlgorithm( const QVariantMap &parameter
       const geostation::BlockImage &target = GeoStationProcessing::blockImage( block, targetId );
       const geostation::MatchImage *to = imageFor( target );
       geostation::AreaMatch m;
+      m.status = geostation::MatchStatus::Outside;
       if ( !from || !to )
         m.reason = "the image " + ( from ? target.id : reference.id ) + " cannot be read: " + unreadable[from ? target.id : reference.id];
       else if ( reference.exterior && target.exterior )
@@ -203,19 +217,25 @@ QVariantMap MatchPointsAlgorithm::processAlgorithm( const QVariantMap &parameter
       }
       else
         m.reason = "the images are not both oriented and the table has no approx_col, approx_row";
+      const QString status = QString::fromStdString( geostation::matchStatusName( m.status ) ), reason = QString::fromStdString( m.reason );
+      ++statusCounts[status];
       if ( m.matched )
       {
-        write( r.pointId, targetId, m.pixelInImage, std::max( 0.02, m.sigmaPx ), m.score );
+        write( r.pointId, targetId, m.pixelInImage, std::max( 0.02, m.sigmaPx ), m.score, status, reason );
         ++matched;
       }
       else
       {
-        feedback->pushWarning( QObject::tr( "%1 in %2: no match (%3)." ).arg( r.pointId, targetId, QString::fromStdString( m.reason ) ) );
+        write( r.pointId, targetId, std::nullopt, 0.0, m.score, status, reason );
+        feedback->pushWarning( QObject::tr( "%1 in %2: no match, %3 (%4)." ).arg( r.pointId, targetId, status, reason ) );
         ++unmatched;
       }
     }
   }
-  feedback->pushInfo( QObject::tr( "%1 matches, %2 without a match." ).arg( matched ).arg( unmatched ) );
+  QStringList counts;
+  for ( auto it = statusCounts.constBegin(); it != statusCounts.constEnd(); ++it )
+    counts << QStringLiteral( "%1 %2" ).arg( it.key() ).arg( it.value() );
+  feedback->pushInfo( QObject::tr( "%1 matches, %2 without a match (%3)." ).arg( matched ).arg( unmatched ).arg( counts.join( QLatin1String( ", " ) ) ) );
   QVariantMap outputs;
   outputs.insert( QStringLiteral( "OUTPUT" ), destination );
   outputs.insert( QStringLiteral( "MATCHED_COUNT" ), static_cast<qlonglong>( matched ) );

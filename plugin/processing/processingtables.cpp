@@ -66,6 +66,9 @@ namespace GeoStationProcessing
     const int colField = requireField( fields, QStringLiteral( "col" ), what, expected );
     const int rowField = requireField( fields, QStringLiteral( "row" ), what, expected );
     const int sigmaField = fieldIndex( fields, QStringLiteral( "sigma_px" ) );
+    // match_points' output: rows of failed matches (status no_peak, ambiguous, ...) carry no col/row and are no observations
+    const int statusField = fieldIndex( fields, QStringLiteral( "status" ) );
+    const QStringList observed { QStringLiteral( "lsm" ), QStringLiteral( "correlation" ), QStringLiteral( "reference" ) };
 
     ObservationTable table;
     QList<int> extraIndexes;
@@ -89,6 +92,11 @@ namespace GeoStationProcessing
       r.imageId = text( f, imageField );
       if ( r.pointId.isEmpty() || r.imageId.isEmpty() )
         throw QgsProcessingException( QObject::tr( "Row %1 of the %2 table has no point_id or no image_id." ).arg( row ).arg( what ) );
+      if ( statusField >= 0 && !text( f, statusField ).isEmpty() && !observed.contains( text( f, statusField ).trimmed().toLower() ) )
+      {
+        ++table.failedMatches;
+        continue;
+      }
       r.pixel = Eigen::Vector2d( number( f, colField, row, QStringLiteral( "col" ), what ), number( f, rowField, row, QStringLiteral( "row" ), what ) );
       if ( sigmaField >= 0 )
       {
@@ -100,6 +108,8 @@ namespace GeoStationProcessing
         r.extra << f.attribute( i );
       table.rows << r;
     }
+    if ( feedback && table.failedMatches > 0 )
+      feedback->pushInfo( QObject::tr( "%n row(s) of the %1 table are failed matches (their status) and were left out.", nullptr, table.failedMatches ).arg( what ) );
     return table;
   }
 

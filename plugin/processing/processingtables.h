@@ -38,6 +38,7 @@ namespace GeoStationProcessing
   {
     QVector<ObservationRecord> rows;
     QgsFields extraFields;      //!< fields other than the standard ones
+    long failedMatches = 0;     //!< rows skipped: their status is a failure (CONVENTIONS §8), they have no col/row
   };
 
   struct GroundPointRecord

@@ -37,6 +37,7 @@ class TestMatchPointsAlgorithm : public QObject
     QString observations( const QString &name, int count, bool approx );
     //! (matches into S0002, of them within 1 px of the truth) in an output table
     std::pair<int, int> matchesInSecondImage( const QString &output );
+    int mFailedRows = 0, mBadRows = 0;
     QTemporaryDir mDir;
     QgsProcessingContext mContext;
     QString mRun;
@@ -108,6 +109,16 @@ std::pair<int, int> TestMatchPointsAlgorithm::matchesInSecondImage( const QStrin
   while ( it.nextFeature( f ) )
     if ( f.attribute( "image_id" ).toString() == "S0002" )
     {
+      // every row says what it is; a failed match has no col/row (CONVENTIONS §8)
+      const QString status = f.attribute( "status" ).toString();
+      if ( status != "lsm" && status != "correlation" )
+      {
+        if ( !QStringList { "no_peak", "ambiguous", "diverged", "inconsistent", "outside" }.contains( status ) || !f.attribute( "col" ).isNull() ||
+             f.attribute( "reason" ).toString().isEmpty() )
+          ++mBadRows; // an unknown status, or a failed match with col/row or without a reason
+        ++mFailedRows;
+        continue;
+      }
       ++total;
       const QPointF t = truth.value( f.attribute( "point_id" ).toString() );
       correct += std::hypot( f.attribute( "col" ).toDouble() - t.x(), f.attribute( "row" ).toDouble() - t.y() ) < 1.0 ? 1 : 0;
@@ -131,12 +142,17 @@ void TestMatchPointsAlgorithm::epipolarBandMatchesTheTruth()
   const QVariantMap result = run( { { "BLOCK", mRun + "/block.geostation.json" }, { "OBSERVATIONS", input }, { "TARGETS", "S0002" },
     { "MIN_DEPTH_M", 50.0 }, { "MAX_DEPTH_M", 150.0 }, { "BAND_PX", 1 }, { "OUTPUT", output } }, &ok, &feedback );
   QVERIFY2( ok, qPrintable( feedback.errors.join( '\n' ) ) );
+  mFailedRows = mBadRows = 0;
   const auto [total, correct] = matchesInSecondImage( output );
   const int tried = result.value( "MATCHED_COUNT" ).toInt() + result.value( "NO_MATCH_COUNT" ).toInt();
   qInfo() << "epipolar band:" << total << "of" << tried << "matched," << correct << "within 1 px";
+  // poles and signs stand up from the ground: their windows differ between the images (relief displacement);
+  // what matches is right, the rest is flagged (before the checks, 11 of 11 came back and 5 were wrong)
   QVERIFY( tried >= 10 );
-  QVERIFY( total >= 0.9 * tried );
-  QVERIFY( correct >= 0.8 * total );
+  QVERIFY( total >= 0.5 * tried );
+  QCOMPARE( correct, total );
+  QCOMPARE( mBadRows, 0 );
+  QCOMPARE( total + mFailedRows, tried );
 }
 
 void TestMatchPointsAlgorithm::twoDimensionalSearchForAnUnorientedTarget()
@@ -153,10 +169,12 @@ void TestMatchPointsAlgorithm::twoDimensionalSearchForAnUnorientedTarget()
   run( { { "BLOCK", mRun + "/unoriented.geostation.json" }, { "OBSERVATIONS", input }, { "TARGETS", "S0002" }, { "SEARCH_RADIUS", 6.0 },
     { "OUTPUT", output } }, &ok, &feedback );
   QVERIFY2( ok, qPrintable( feedback.errors.join( '\n' ) ) );
+  mFailedRows = mBadRows = 0;
   const auto [total, correct] = matchesInSecondImage( output );
   qInfo() << "2-D search:" << total << "matched," << correct << "within 1 px";
-  QVERIFY( total >= 10 );
-  QVERIFY( correct >= 0.8 * total );
+  QVERIFY( total >= 6 );
+  QCOMPARE( correct, total ); // (before the checks: 11 returned, 4 of them wrong)
+  QCOMPARE( mBadRows, 0 );
 }
 
 void TestMatchPointsAlgorithm::badInput()

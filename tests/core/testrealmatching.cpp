@@ -1,0 +1,203 @@
+// Matching on real photographs (Debian's opencv-doc example images) with
+// known geometry: the Graffiti pair with its published homography (a 40°
+// viewpoint change), and real photographs warped by known homographies and
+// affine maps (rotation, scale 0.5-2, strong perspective). 2-D mode: the
+// approximate position within +-2 px, a 21 x 21 window, LSM on, as a user of
+// match_points would run it. Every returned match must be right or flagged.
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <map>
+#include <random>
+
+#include <Eigen/Geometry>
+#include <Eigen/LU>
+#include <gtest/gtest.h>
+#include <opencv2/core/persistence.hpp>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include "matching/areamatcher.h"
+
+using namespace geostation;
+
+namespace
+{
+  const std::string kData = "/usr/share/doc/opencv-doc/examples/data/";
+
+  cv::Mat readRgb( const std::string &name )
+  {
+    cv::Mat bgr = cv::imread( kData + name, cv::IMREAD_COLOR );
+    if ( bgr.empty() )
+      return bgr;
+    cv::Mat rgb;
+    cv::cvtColor( bgr, rgb, cv::COLOR_BGR2RGB );
+    return rgb;
+  }
+
+  //! A homography on pixel indices (OpenCV, centres at integers) in CONVENTIONS §1 pixels (centres at i + 0.5).
+  Eigen::Matrix3d inOurPixels( const cv::Mat &h )
+  {
+    Eigen::Matrix3d m;
+    for ( int i = 0; i < 3; ++i )
+      for ( int j = 0; j < 3; ++j )
+        m( i, j ) = h.at<double>( i, j );
+    Eigen::Matrix3d shift = Eigen::Matrix3d::Identity();
+    shift( 0, 2 ) = shift( 1, 2 ) = 0.5;
+    return shift * m * shift.inverse();
+  }
+
+  struct RealScore
+  {
+    int attempted = 0, returned = 0, within1 = 0, wrongReturned = 0;
+    double median = 0.0;
+    std::map<std::string, int> statuses;
+    double within1Fraction() const { return attempted ? static_cast<double>( within1 ) / attempted : 0.0; }
+    double wrongFraction() const { return returned ? static_cast<double>( wrongReturned ) / returned : 0.0; }
+  };
+
+  /**
+   * Matches corners of `reference` (Shi-Tomasi, as an operator picks
+   * well-defined points) in `search`, whose truth is `searchFromReference`,
+   * from approximate positions within +-2 px.
+   */
+  RealScore matchWithTruth( const cv::Mat &reference, const cv::Mat &search, const Eigen::Matrix3d &searchFromReference, const AreaMatchOptions &options,
+                            unsigned seed = 5 )
+  {
+    const MatchImage a( reference ), b( search );
+    std::vector<cv::Point2f> corners;
+    cv::goodFeaturesToTrack( a.grey(), corners, 500, 0.01, 10 );
+    std::mt19937 random( seed );
+    std::uniform_real_distribution<double> within2( -2.0, 2.0 );
+    RealScore score;
+    std::vector<double> errors;
+    for ( const cv::Point2f &corner : corners )
+    {
+      const Eigen::Vector2d p( corner.x + 0.5, corner.y + 0.5 );
+      const Eigen::Vector2d truth = ( searchFromReference * p.homogeneous() ).hnormalized();
+      if ( p.x() < 30 || p.y() < 30 || p.x() > a.width() - 30 || p.y() > a.height() - 30 || truth.x() < 30 || truth.y() < 30 || truth.x() > b.width() - 30 ||
+           truth.y() > b.height() - 30 )
+        continue;
+      ++score.attempted;
+      const Eigen::Vector2d approximate = truth + Eigen::Vector2d( within2( random ), within2( random ) );
+      const AreaMatch m = matchAroundPosition( a, p, b, approximate, 3.0, options );
+      ++score.statuses[matchStatusName( m.status )];
+      EXPECT_EQ( m.matched, m.status == MatchStatus::Lsm || m.status == MatchStatus::Correlation );
+      if ( !m.matched )
+        continue;
+      const double error = ( m.pixelInImage - truth ).norm();
+      ++score.returned;
+      errors.push_back( error );
+      score.within1 += error <= 1.0;
+      score.wrongReturned += error > 2.0;
+    }
+    std::sort( errors.begin(), errors.end() );
+    score.median = errors.empty() ? 0.0 : errors[errors.size() / 2];
+    return score;
+  }
+
+  void print( const std::string &name, const RealScore &s )
+  {
+    std::printf( "%-34s attempted %3d returned %3d  within 1 px %5.1f %%  median %.2f px  returned > 2 px off %4.1f %%  (", name.c_str(), s.attempted, s.returned,
+                 100.0 * s.within1Fraction(), s.median, 100.0 * s.wrongFraction() );
+    for ( const auto &[status, n] : s.statuses )
+      std::printf( " %s %d", status.c_str(), n );
+    std::printf( " )\n" );
+  }
+
+  AreaMatchOptions userOptions()
+  {
+    AreaMatchOptions options;
+    options.windowWidth = options.windowHeight = 21;
+    options.lsmOptions.windowWidth = options.lsmOptions.windowHeight = 21;
+    options.lsm = true;
+    return options;
+  }
+
+  //! A known map about the image centre: rotation (degrees), scales, and a perspective tilt about the vertical axis (degrees).
+  Eigen::Matrix3d knownWarp( const cv::Size &size, double rotationDeg, double scaleX, double scaleY, double tiltDeg )
+  {
+    const double cx = size.width / 2.0, cy = size.height / 2.0;
+    Eigen::Matrix3d toCentre = Eigen::Matrix3d::Identity(), back = Eigen::Matrix3d::Identity();
+    toCentre( 0, 2 ) = -cx;
+    toCentre( 1, 2 ) = -cy;
+    back( 0, 2 ) = cx;
+    back( 1, 2 ) = cy;
+    const double r = rotationDeg * M_PI / 180.0;
+    Eigen::Matrix3d rotate = Eigen::Matrix3d::Identity();
+    rotate.topLeftCorner<2, 2>() << std::cos( r ), -std::sin( r ), std::sin( r ), std::cos( r );
+    Eigen::Matrix3d scale = Eigen::Vector3d( scaleX, scaleY, 1.0 ).asDiagonal();
+    // a plane seen turned by the tilt about the image's vertical axis (focal length = the image width)
+    const double t = tiltDeg * M_PI / 180.0, f = size.width;
+    Eigen::Matrix3d k;
+    k << f, 0, 0, 0, f, 0, 0, 0, 1;
+    Eigen::Matrix3d turn;
+    turn << std::cos( t ), 0, std::sin( t ), 0, 1, 0, -std::sin( t ), 0, std::cos( t );
+    Eigen::Matrix3d tilt = k * turn * k.inverse();
+    // keep the centre where it was
+    const Eigen::Vector2d centre = ( tilt * Eigen::Vector3d( 0, 0, 1 ) ).hnormalized();
+    Eigen::Matrix3d recentre = Eigen::Matrix3d::Identity();
+    recentre( 0, 2 ) = -centre.x();
+    recentre( 1, 2 ) = -centre.y();
+    tilt = recentre * tilt;
+    return back * tilt * scale * rotate * toCentre;
+  }
+}
+
+TEST( RealMatching, GraffitiPairWithItsPublishedHomography )
+{
+  // Mikolajczyk's Graffiti sequence, images 1 and 3 (a 40° viewpoint change) and the homography published with them
+  const cv::Mat one = readRgb( "graf1.png" ), three = readRgb( "graf3.png" );
+  ASSERT_FALSE( one.empty() || three.empty() ) << kData << " (Debian package opencv-doc, installed by scripts/setup-debian.sh)";
+  cv::FileStorage storage( kData + "H1to3p.xml", cv::FileStorage::READ );
+  cv::Mat h;
+  storage["H13"] >> h;
+  ASSERT_EQ( h.rows, 3 );
+  const RealScore s = matchWithTruth( one, three, inOurPixels( h ), userOptions() );
+  print( "graf1 -> graf3 (published H)", s );
+  EXPECT_GE( s.attempted, 300 );
+  EXPECT_GE( s.within1Fraction(), 0.65 );
+  EXPECT_LE( s.median, 0.4 );
+  EXPECT_LE( s.wrongFraction(), 0.05 );
+}
+
+TEST( RealMatching, PhotographsUnderKnownWarps )
+{
+  struct Case
+  {
+    const char *image;
+    double rotationDeg, scaleX, scaleY, tiltDeg;
+  };
+  const Case cases[] = {
+    { "building.jpg", 30.0, 1.0, 1.0, 0.0 },   // rotation
+    { "building.jpg", 0.0, 0.5, 0.5, 0.0 },    // half the scale
+    { "aero1.jpg", 0.0, 2.0, 2.0, 0.0 },       // twice the scale
+    { "aero1.jpg", 10.0, 0.8, 0.8, 45.0 },     // a 45° viewpoint change
+    { "box_in_scene.png", -20.0, 1.2, 0.9, 30.0 },
+  };
+  for ( const Case &c : cases )
+  {
+    const cv::Mat photo = readRgb( c.image );
+    ASSERT_FALSE( photo.empty() ) << kData << c.image << " (Debian package opencv-doc)";
+    const Eigen::Matrix3d ours = knownWarp( photo.size(), c.rotationDeg, c.scaleX, c.scaleY, c.tiltDeg );
+    // OpenCV warps on pixel indices: the same map moved by half a pixel
+    Eigen::Matrix3d shift = Eigen::Matrix3d::Identity();
+    shift( 0, 2 ) = shift( 1, 2 ) = 0.5;
+    const Eigen::Matrix3d onIndices = shift.inverse() * ours * shift;
+    cv::Mat h( 3, 3, CV_64F );
+    for ( int i = 0; i < 3; ++i )
+      for ( int j = 0; j < 3; ++j )
+        h.at<double>( i, j ) = onIndices( i, j );
+    cv::Mat warped;
+    cv::warpPerspective( photo, warped, h, photo.size(), cv::INTER_CUBIC, cv::BORDER_CONSTANT, cv::Scalar( 0, 0, 0 ) );
+    char name[96];
+    std::snprintf( name, sizeof name, "%s rot %.0f scale %.1f/%.1f tilt %.0f", c.image, c.rotationDeg, c.scaleX, c.scaleY, c.tiltDeg );
+    SCOPED_TRACE( name );
+    const RealScore s = matchWithTruth( photo, warped, ours, userOptions() );
+    print( name, s );
+    EXPECT_GE( s.attempted, 40 );
+    EXPECT_GE( s.within1Fraction(), 0.65 );
+    EXPECT_LE( s.median, 0.4 );
+    EXPECT_LE( s.wrongFraction(), 0.05 );
+  }
+}
