@@ -312,12 +312,14 @@ void GeoStationImageView::setEpipolarCurves( const geostation::EpipolarCurve &cu
     mEpipolar->setToGeometry( QgsGeometry::collectGeometry( lines ) );
 }
 
-void GeoStationImageView::setProposal( bool matched, const QPointF &pixelInImage, double score, const QString &status )
+void GeoStationImageView::setProposal( bool matched, const QPointF &pixelInImage, double score, const QString &status, bool doubtful )
 {
   if ( matched )
   {
     mProposal->setCenter( GeoStationImagePointTool::mapFromPixel( pixelInImage.x(), pixelInImage.y() ) );
-    mProposal->setColor( score >= 0.8 ? QColor( 40, 255, 40 ) : QColor( 255, 160, 0 ) );
+    // a correlation peak only: a red cross, for the operator to confirm
+    mProposal->setIconType( doubtful ? QgsVertexMarker::ICON_X : QgsVertexMarker::ICON_BOX );
+    mProposal->setColor( doubtful ? QColor( 255, 40, 40 ) : score >= 0.8 ? QColor( 40, 255, 40 ) : QColor( 255, 160, 0 ) );
     mProposal->show();
   }
   else

@@ -73,7 +73,7 @@ class GeoStationImageView : public QWidget
     // ---- overlays (pixel coordinates) ----
     void setEpipolarCurves( const geostation::EpipolarCurve &curve );
     //! The proposed conjugate point and its score; `matched` false draws nothing but the status text.
-    void setProposal( bool matched, const QPointF &pixelInImage, double score, const QString &status );
+    void setProposal( bool matched, const QPointF &pixelInImage, double score, const QString &status, bool doubtful = false );
     //! The observation taken for the vertex being measured (reference click or accepted/corrected point).
     void setObservation( bool present, const QPointF &pixelInImage, bool reference );
     void clearMeasurementOverlays();

@@ -124,14 +124,17 @@ void GeoStationMeasurementController::pick( int view, const QPointF &pixelInImag
     s.curve = p.curve;
     if ( p.matched )
     {
-      s.proposed = s.observed = true;
+      s.proposed = true;
       s.pixel = QPointF( p.pixelInImage.x(), p.pixelInImage.y() );
       s.score = p.score;
       s.sigmaPx = std::max( 0.3, p.sigmaPx );
-      s.status = tr( "match %1" ).arg( p.score, 0, 'f', 2 );
+      // only a least-squares match that passed its checks is taken as it is; a correlation peak is the operator's to confirm
+      s.doubtful = p.status != "lsm";
+      s.observed = !s.doubtful;
+      s.status = s.doubtful ? tr( "correlation only %1: click to confirm" ).arg( p.score, 0, 'f', 2 ) : tr( "match %1" ).arg( p.score, 0, 'f', 2 );
     }
     else if ( !mViews[i].imageId.isEmpty() )
-      s.status = tr( "no match: %1" ).arg( QString::fromStdString( p.reason ) );
+      s.status = tr( "no match (%1): %2" ).arg( QString::fromStdString( p.status ), QString::fromStdString( p.reason ) );
   }
   mLastProposalMs = timer.nsecsElapsed() / 1e6;
   emit viewStatesChanged();

@@ -50,6 +50,7 @@ class GeoStationMeasurementController : public QObject
       QPointF pixel;             //!< of the observation
       double sigmaPx = 0.5;
       bool proposed = false;     //!< a matched proposal exists
+      bool doubtful = false;     //!< correlation only: drawn as such, not taken unless the operator confirms it
       double score = 0.0;
       QString status;            //!< short text for the view's header
       geostation::EpipolarCurve curve; //!< of the reference pixel in this view

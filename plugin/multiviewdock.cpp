@@ -447,7 +447,7 @@ void GeoStationMultiviewDock::updateMeasurementOverlays()
     }
     const GeoStationMeasurementController::ViewState &s = states[i];
     mViews[i]->setEpipolarCurves( s.curve );
-    mViews[i]->setProposal( s.proposed && !s.corrected, s.pixel, s.score, s.status );
+    mViews[i]->setProposal( s.proposed && !s.corrected, s.pixel, s.score, s.status, s.doubtful );
     mViews[i]->setObservation( s.observed && ( s.reference || s.corrected ), s.pixel, s.reference );
   }
   if ( mProposalTimer.isValid() && mController->hasOpenPoint() )

@@ -77,6 +77,7 @@ namespace geostation
             p.pixelInImage = *m.pixels[k + 1];
             p.score = m.scores[k + 1];
             p.sigmaPx = 0.5;
+            p.status = matchStatusName( MatchStatus::Correlation );
           }
         }
       }
@@ -97,12 +98,22 @@ namespace geostation
         p.pixelInImage = m.pixelInImage;
         p.score = m.score;
         p.sigmaPx = std::max( 0.02, m.sigmaPx );
+        p.status = matchStatusName( m.status );
       }
       else if ( !together )
       {
         p.matched = false;
         p.reason = m.reason.empty() ? "no match" : m.reason;
+        p.status = matchStatusName( m.status );
       }
+      // the conjugate point of an oriented pair lies on the epipolar curve (within the band and the orientation's error)
+      if ( p.matched && !p.curve.pieces.empty() )
+        if ( const double off = p.curve.distanceToCurvePx( p.pixelInImage ); off > options.maxEpipolarDistancePx )
+        {
+          p.matched = false;
+          p.status = matchStatusName( MatchStatus::Inconsistent );
+          p.reason = "the match lies " + std::to_string( off ).substr( 0, 4 ) + " px from the epipolar curve";
+        }
     }
     return proposals;
   }

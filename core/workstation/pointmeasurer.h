@@ -44,6 +44,8 @@ namespace geostation
     EpipolarOptions epipolar { 1.5, 80.0, 2.0, 20000 }; //!< the depth range searched (metres along the ray)
     AreaMatchOptions area;       //!< correlation window, threshold, LSM
     bool multiImage = true;      //!< confirm candidates in all views that see the curve
+    //! A match farther from the reference pixel's epipolar curve than this (px) is inconsistent with the orientation.
+    double maxEpipolarDistancePx = 3.0;
   };
 
   struct ConjugateProposal
@@ -56,6 +58,13 @@ namespace geostation
     double score = 0.0;
     double sigmaPx = 0.5;
     std::string reason;            //!< why not matched
+    /**
+     * CONVENTIONS §8: "lsm" (least squares converged and passed its checks),
+     * "correlation" (a peak only: to be checked by the operator, never
+     * pre-accepted), or why there is no proposal ("no_peak", "ambiguous",
+     * "diverged", "inconsistent", "outside").
+     */
+    std::string status = "outside";
   };
 
   /**

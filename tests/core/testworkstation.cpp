@@ -121,7 +121,7 @@ TEST( PointMeasurer, ProposalsAndIntersectionAgreeWithTheTruth )
   const TruthTable truth = readTruth( highwayRun() / "truth.gpkg" );
   const StationSequence run( block );
   MatchImageCache cache;
-  int tried = 0, matchedCount = 0, proposedWithinPixel = 0, within3Sigma = 0, intersected = 0;
+  int tried = 0, matchedCount = 0, lsmCount = 0, proposedWithinPixel = 0, within3Sigma = 0, intersected = 0;
   double sumSquaredErrorPx = 0;
   for ( const SequenceStation &station : run.stations() )
   {
@@ -158,9 +158,19 @@ TEST( PointMeasurer, ProposalsAndIntersectionAgreeWithTheTruth )
       if ( std::getenv( "GEOSTATION_DEBUG" ) )
         std::cout << id << " " << station.id << " matched " << proposals[1].matched << " score " << proposals[1].score << " err " << errorPx << " reason " << proposals[1].reason
                   << " third " << proposals[2].matched << " " << proposals[2].curveInFrame << " range " << ( point - oriented[0].exterior().projectionCentre ).norm() << "\n";
+      // every proposal says what it is (CONVENTIONS §8)
+      for ( size_t i = 1; i < proposals.size(); ++i )
+      {
+        const std::string &status = proposals[i].status;
+        if ( proposals[i].matched )
+          EXPECT_TRUE( status == "lsm" || status == "correlation" ) << status;
+        else
+          EXPECT_TRUE( status == "no_peak" || status == "ambiguous" || status == "diverged" || status == "inconsistent" || status == "outside" ) << status;
+      }
       if ( !proposals[1].matched )
         continue;
       ++matchedCount;
+      lsmCount += proposals[1].status == "lsm";
       sumSquaredErrorPx += errorPx * errorPx;
       proposedWithinPixel += errorPx < 1.0 ? 1 : 0;
       std::vector<VertexObservation> observations { { station.imageIds[0], &oriented[0], left->second, 0.5 } };
@@ -183,6 +193,7 @@ TEST( PointMeasurer, ProposalsAndIntersectionAgreeWithTheTruth )
             << " intersections within 3 sigma\n";
   ASSERT_GE( tried, 6 );
   EXPECT_GE( proposedWithinPixel, 0.8 * tried ) << proposedWithinPixel << " of " << tried;
+  EXPECT_GE( lsmCount, 0.8 * matchedCount ) << "least squares confirms the proposals on these images";
   EXPECT_GE( within3Sigma, 0.8 * intersected ) << within3Sigma << " of " << intersected;
 }
 
