@@ -98,7 +98,7 @@ namespace geostation
       const std::string weakReason = "best correlation " + std::to_string( result.score ).substr( 0, 5 ) + " is below the threshold " + std::to_string( options.minScore ).substr( 0, 4 );
       // a weak peak still gets least squares from the approximate position (strong distortion lowers the
       // correlation of square windows; least squares' affine shape absorbs it), and its checks decide
-      if ( weakPeak && ( !options.lsm || !approximate ) )
+      if ( weakPeak && ( !options.lsm || !approximate || !options.lsmBelowThreshold ) )
       {
         result.status = MatchStatus::NoPeak;
         result.reason = weakReason;
@@ -162,9 +162,12 @@ namespace geostation
         }
         if ( !best || lsm.sigma0 < best->sigma0 )
           best = lsm;
+        // a close fit needs no other start
+        if ( contrast > 0 && best->sigma0 <= options.goodFitRatio * contrast )
+          break;
       }
       // strong scale differences: least squares from the approximate position (or the peak) with the window
-      // scaled, when nothing else converged
+      // scaled, when no start gave a plausible match
       for ( const double scale : options.fallbackScales )
       {
         if ( best )

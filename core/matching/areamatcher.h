@@ -68,8 +68,12 @@ namespace geostation
     double consistencyPx = 0.5;
     //! sigma0 of least squares over the window's grey-value standard deviation above this: diverged (a poor fit).
     double maxSigma0Ratio = 0.4;
+    //! At or below this ratio the fit is close and no further start is tried.
+    double goodFitRatio = 0.2;
     //! The affine shape's scales outside [1 / maxAffineScale, maxAffineScale]: diverged.
     double maxAffineScale = 3.0;
+    //! A peak below minScore still gets least squares from the approximate position (2-D search), whose checks decide.
+    bool lsmBelowThreshold = true;
     //! Window scales least squares starts from when no start converged with the same scale (strong scale differences).
     std::vector<double> fallbackScales { 2.0, 0.5 };
     //! A correlation-only match whose second peak scores within this of the best: ambiguous.

@@ -93,7 +93,10 @@ namespace geostation
         const double residual = target[k] - ( p[6] + p[7] * g );
         Eigen::Matrix<double, 8, 1> a;
         a << gx, gx * dx[k], gx * dy[k], gy, gy * dx[k], gy * dy[k], 1.0, g;
-        normal.selfadjointView<Eigen::Lower>().rankUpdate( a );
+        // the lower triangle of a a^T, written out (Eigen's rankUpdate is slow at this fixed small size)
+        for ( int c = 0; c < 8; ++c )
+          for ( int r = c; r < 8; ++r )
+            normal( r, c ) += a[r] * a[c];
         rhs += a * residual;
         sumSq += residual * residual;
       }
@@ -134,7 +137,7 @@ namespace geostation
       }
       if ( !shapeFree && options.shape )
       {
-        if ( std::hypot( dp[0], dp[3] ) < 0.05 || iteration >= 8 )
+        if ( std::hypot( dp[0], dp[3] ) < 0.05 || iteration >= 4 )
           shapeFree = true;
         continue;
       }
