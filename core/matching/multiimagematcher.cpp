@@ -73,6 +73,14 @@ namespace geostation
       result.reason = "master pair: " + pair.reason;
       return result;
     }
+    // the thesis' procedure as it stands: a candidate is refined from its peak and confirmed by the correlation
+    // threshold and the other images' geometry - that confirmation is the check here (matching back, made to
+    // catch wrong pairs, rejects right refinements on repetitive stripes and lets a wrong candidate win)
+    AreaMatchOptions confirm = options.area;
+    confirm.lsmBelowThreshold = false;
+    confirm.lsmStarts = 1;
+    confirm.fallbackScales.clear();
+    confirm.backMatch = false;
     double bestTotal = -1.0;
     for ( const auto &[peak, peakScore] : pair.peaks )
     {
@@ -80,7 +88,7 @@ namespace geostation
         break;
       ++result.candidatesTried;
       // refine the master match around the peak
-      const AreaMatch masterMatch = matchAroundPosition( *ref.pixels, pixelInReference, *views[master].pixels, peak, 1.5, options.area );
+      const AreaMatch masterMatch = matchAroundPosition( *ref.pixels, pixelInReference, *views[master].pixels, peak, 1.5, confirm );
       if ( !masterMatch.matched )
         continue;
       if ( onEdge && edgeStrength( *views[master].pixels, masterMatch.pixelInImage ) < 0.5 * options.edgeGradient )
@@ -112,7 +120,7 @@ namespace geostation
         const GroundProjection projected = views[v].image->projectGroundToPixel( *point );
         if ( !projected.ok() || !projected.inFrame )
           continue; // the point is not in this image: it neither confirms nor refutes
-        const AreaMatch other = matchAroundPosition( *ref.pixels, pixelInReference, *views[v].pixels, projected.pixelInImage, options.confirmRadiusPx, options.area );
+        const AreaMatch other = matchAroundPosition( *ref.pixels, pixelInReference, *views[v].pixels, projected.pixelInImage, options.confirmRadiusPx, confirm );
         if ( !other.matched || ( onEdge && edgeStrength( *views[v].pixels, other.pixelInImage ) < 0.5 * options.edgeGradient ) )
         {
           confirmed = false;

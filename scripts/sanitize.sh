@@ -1,0 +1,31 @@
+#!/usr/bin/env bash
+# Builds the core library and its tests with sanitizers and runs the tests
+# under them: AddressSanitizer + UndefinedBehaviorSanitizer by default, or
+# ThreadSanitizer (--thread) for the threaded code (image caches, rendering
+# threads, background tracing). Any finding fails the run.
+#
+#   scripts/sanitize.sh [--thread] [gtest filter]
+#
+# Build directory: build-sanitize/ (build-tsan/ for --thread), or
+# $GEOSTATION_SANITIZE_BUILD_DIR.
+set -euo pipefail
+source_dir="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+sanitizers="address,undefined"
+default_dir="$source_dir/build-sanitize"
+if [ "${1:-}" = "--thread" ]; then
+  sanitizers="thread"
+  default_dir="$source_dir/build-tsan"
+  shift
+fi
+filter="${1:-*}"
+build_dir="${GEOSTATION_SANITIZE_BUILD_DIR:-$default_dir}"
+mkdir -p "$build_dir"
+cmake -S "$source_dir" -B "$build_dir" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DGEOSTATION_SANITIZE="$sanitizers" \
+  -DGEOSTATION_BUILD_PLUGIN=OFF -DGEOSTATION_BUILD_BENCH=OFF > "$build_dir.configure.log" 2>&1 \
+  || { cat "$build_dir.configure.log"; exit 1; }
+cmake --build "$build_dir" -j"$(nproc)" --target geostation_core_tests
+export ASAN_OPTIONS="detect_leaks=1:abort_on_error=1:strict_string_checks=1:detect_stack_use_after_return=1"
+export UBSAN_OPTIONS="print_stacktrace=1:halt_on_error=1"
+export TSAN_OPTIONS="halt_on_error=1:second_deadlock_stack=1"
+echo "Core tests under -fsanitize=$sanitizers:"
+"$build_dir/tests/core/geostation_core_tests" --gtest_filter="$filter" --gtest_brief=1
