@@ -2,19 +2,17 @@
   roadtracer.cpp - one click, the whole run traced (thesis §6.5)
  ***************************************************************************/
 #include "tracing/roadtracer.h"
-#include "tracing/handovermatcher.h"
+#include "tracing/dynamiclink.h"
+#include "tracing/trackgeometry.h"
 
 #include <cmath>
 #include <limits>
-#include <list>
-#include <mutex>
 #include <set>
 #include <stdexcept>
 
 #include <Eigen/Dense>
 #include <opencv2/imgproc.hpp>
 
-#include "io/rasterfile.h"
 #include "workstation/stationsequence.h"
 
 namespace geostation
@@ -59,174 +57,6 @@ namespace geostation
       return best;
     }
 
-    /**
-     * The line continued beyond its last vertex every `step` metres up to
-     * `length`: a parabola fitted in plan to its last 30 m (so a road curve
-     * keeps bending, and the direction comes from more than one dash),
-     * with the grade of that stretch in height.
-     */
-    std::vector<Eigen::Vector3d> continuation( const std::vector<Eigen::Vector3d> &vertices, const Eigen::Vector3d &direction, double length, double step )
-    {
-      const Eigen::Vector3d end = vertices.back();
-      size_t first = vertices.size() - 1;
-      while ( first > 0 && ( end - vertices[first - 1] ).head<2>().norm() < 30.0 )
-        --first;
-      Eigen::Vector2d axis = direction.head<2>().normalized();
-      double slope = 0.0, bend = 0.0, grade = direction.z() / std::max( 1e-9, direction.head<2>().norm() );
-      const Eigen::Vector2d chord = end.head<2>() - vertices[first].head<2>();
-      if ( vertices.size() - first >= 4 && chord.norm() > 6.0 )
-      {
-        // y = a + b x + c x^2 in a frame along the chord, origin at the end
-        axis = chord.normalized();
-        const Eigen::Vector2d normal( -axis.y(), axis.x() );
-        Eigen::MatrixXd design( vertices.size() - first, 3 );
-        Eigen::VectorXd across( design.rows() ), heights( design.rows() );
-        for ( size_t i = first; i < vertices.size(); ++i )
-        {
-          const Eigen::Vector2d d = vertices[i].head<2>() - end.head<2>();
-          const double x = d.dot( axis );
-          design.row( i - first ) << 1.0, x, x * x;
-          across[i - first] = d.dot( normal );
-          heights[i - first] = vertices[i].z() - end.z();
-        }
-        const Eigen::Vector3d k = ( design.transpose() * design ).ldlt().solve( design.transpose() * across );
-        slope = k[1];
-        bend = std::clamp( k[2], -0.025, 0.025 ); // radius 20 m at the sharpest
-        const Eigen::Vector2d g = design.leftCols<2>().colPivHouseholderQr().solve( heights );
-        grade = g[1];
-      }
-      const Eigen::Vector2d normal( -axis.y(), axis.x() );
-      std::vector<Eigen::Vector3d> out;
-      for ( double s = step; s <= length + 1e-9; s += step )
-      {
-        // x along the chord; the curve's offset from it; arc length ~ x for gentle curves
-        const double x = s;
-        const Eigen::Vector2d xy = end.head<2>() + x * axis + ( slope * x + bend * x * x ) * normal;
-        out.push_back( Eigen::Vector3d( xy.x(), xy.y(), end.z() + grade * x ) );
-      }
-      return out;
-    }
-
-    /**
-     * The line continued parallel to the van's trajectory (the reference
-     * camera's path through the run): road lines run with the road, so the
-     * last vertex keeps its offset from the trajectory and follows its
-     * curves and grade. Every `step` metres up to `length`.
-     */
-    std::vector<Eigen::Vector3d> trajectoryContinuation( const std::vector<Eigen::Vector3d> &trajectory, const Eigen::Vector3d &last, int stepSign, double length, double step )
-    {
-      std::vector<Eigen::Vector3d> out;
-      if ( trajectory.size() < 2 )
-        return out;
-      // arc length and signed offset of the last vertex along the trajectory (in plan)
-      std::vector<double> arc { 0.0 };
-      for ( size_t i = 1; i < trajectory.size(); ++i )
-        arc.push_back( arc.back() + ( trajectory[i] - trajectory[i - 1] ).head<2>().norm() );
-      double bestDistance = std::numeric_limits<double>::infinity(), at = 0.0, offset = 0.0;
-      for ( size_t i = 0; i + 1 < trajectory.size(); ++i )
-      {
-        const Eigen::Vector2d a = trajectory[i].head<2>(), ab = trajectory[i + 1].head<2>() - a;
-        const double len2 = ab.squaredNorm();
-        if ( len2 <= 0 )
-          continue;
-        const double t = ( last.head<2>() - a ).dot( ab ) / len2; // unclamped at the ends: the trajectory extends straight
-        if ( ( t < 0 && i > 0 ) || ( t > 1 && i + 2 < trajectory.size() ) )
-          continue;
-        const Eigen::Vector2d foot = a + t * ab;
-        const double d = ( last.head<2>() - foot ).norm();
-        if ( d < bestDistance )
-        {
-          bestDistance = d;
-          at = arc[i] + t * std::sqrt( len2 );
-          const Eigen::Vector2d left( -ab.y(), ab.x() );
-          offset = ( last.head<2>() - foot ).dot( left.normalized() );
-        }
-      }
-      const auto pointAt = [&]( double s, double &z ) -> Eigen::Vector2d
-      {
-        size_t i = 0;
-        while ( i + 2 < trajectory.size() && arc[i + 1] < s )
-          ++i;
-        const double len = arc[i + 1] - arc[i];
-        const double t = len > 0 ? ( s - arc[i] ) / len : 0.0;
-        const Eigen::Vector3d p = trajectory[i] + t * ( trajectory[i + 1] - trajectory[i] );
-        const Eigen::Vector2d ab = ( trajectory[i + 1] - trajectory[i] ).head<2>().normalized();
-        z = p.z();
-        return p.head<2>() + offset * Eigen::Vector2d( -ab.y(), ab.x() );
-      };
-      double z0 = 0.0;
-      pointAt( at, z0 );
-      for ( double s = step; s <= length + 1e-9; s += step )
-      {
-        double z = 0.0;
-        const Eigen::Vector2d xy = pointAt( at + stepSign * s, z );
-        out.push_back( Eigen::Vector3d( xy.x(), xy.y(), last.z() + ( z - z0 ) ) );
-      }
-      return out;
-    }
-
-    /**
-     * The road surface under the van's track: the height of the nearest
-     * point of the trajectory (camera centres) minus the camera's height
-     * above the road, so the surface climbs and falls with the road; a
-     * traced vertex far from it is a wrong match.
-     */
-    std::optional<double> trackSurfaceHeight( const std::vector<Eigen::Vector3d> &trajectory, const Eigen::Vector2d &xy, double cameraHeightM )
-    {
-      if ( trajectory.empty() )
-        return std::nullopt;
-      if ( trajectory.size() == 1 )
-        return trajectory.front().z() - cameraHeightM;
-      double best = std::numeric_limits<double>::infinity(), z = 0.0;
-      for ( size_t i = 0; i + 1 < trajectory.size(); ++i )
-      {
-        const Eigen::Vector2d a = trajectory[i].head<2>(), ab = trajectory[i + 1].head<2>() - a;
-        const double len2 = ab.squaredNorm();
-        const double t = len2 > 0 ? std::clamp( ( xy - a ).dot( ab ) / len2, 0.0, 1.0 ) : 0.0;
-        const double d = ( a + t * ab - xy ).squaredNorm();
-        if ( d < best )
-        {
-          best = d;
-          z = trajectory[i].z() + t * ( trajectory[i + 1].z() - trajectory[i].z() );
-        }
-      }
-      return z - cameraHeightM;
-    }
-
-    /**
-     * The trajectory with its heights smoothed: at each station a quadratic
-     * in arc length fitted to the stations within `halfWindowM` (a line with
-     * fewer than 5). The road's shape without the stations' independent
-     * height errors; tracing then hangs the surface from each station's own
-     * camera, so its images and its road plane agree whatever its error.
-     */
-    std::vector<Eigen::Vector3d> smoothedHeights( const std::vector<Eigen::Vector3d> &trajectory, double halfWindowM )
-    {
-      std::vector<double> arc { 0.0 };
-      for ( size_t i = 1; i < trajectory.size(); ++i )
-        arc.push_back( arc.back() + ( trajectory[i] - trajectory[i - 1] ).head<2>().norm() );
-      std::vector<Eigen::Vector3d> out = trajectory;
-      for ( size_t i = 0; i < trajectory.size(); ++i )
-      {
-        std::vector<size_t> near;
-        for ( size_t j = 0; j < trajectory.size(); ++j )
-          if ( std::abs( arc[j] - arc[i] ) <= halfWindowM )
-            near.push_back( j );
-        const int terms = near.size() >= 5 ? 3 : near.size() >= 2 ? 2 : 1;
-        Eigen::MatrixXd a( near.size(), terms );
-        Eigen::VectorXd b( near.size() );
-        for ( size_t r = 0; r < near.size(); ++r )
-        {
-          const double t = ( arc[near[r]] - arc[i] ) / std::max( halfWindowM, 1.0 );
-          for ( int c = 0; c < terms; ++c )
-            a( r, c ) = std::pow( t, c );
-          b( r ) = trajectory[near[r]].z();
-        }
-        out[i].z() = a.colPivHouseholderQr().solve( b )( 0 );
-      }
-      return out;
-    }
-
     //! The pixel polyline's length on the ground, or 0.
     double groundLength( const OrientedImage &image, const std::vector<Eigen::Vector2d> &points, const GroundOfPixel &ground )
     {
@@ -262,59 +92,6 @@ namespace geostation
     for ( const std::string &n : names )
       out += ( out.empty() ? "" : "+" ) + n;
     return out;
-  }
-
-  GreyImageSource fileGreyImageSource( const Block &block, size_t capacity )
-  {
-    struct Cache
-    {
-      std::mutex mutex;
-      std::list<std::pair<std::string, std::shared_ptr<const cv::Mat>>> entries;
-    };
-    auto cache = std::make_shared<Cache>();
-    return [cache, capacity, &block]( const BlockImage &image, std::string &error ) -> std::shared_ptr<const cv::Mat>
-    {
-      const std::string path = block.imageFilePath( image ).string();
-      {
-        std::lock_guard<std::mutex> lock( cache->mutex );
-        for ( const auto &e : cache->entries )
-          if ( e.first == path )
-            return e.second;
-      }
-      try
-      {
-        const cv::Mat pixels = readRaster( path ).pixels;
-        auto grey = std::make_shared<cv::Mat>();
-        cv::Mat eight = pixels;
-        if ( pixels.depth() == CV_16U )
-        {
-          double lo, hi;
-          cv::minMaxLoc( pixels.reshape( 1 ), &lo, &hi );
-          pixels.convertTo( eight, CV_8U, hi > lo ? 255.0 / ( hi - lo ) : 1.0, hi > lo ? -lo * 255.0 / ( hi - lo ) : 0.0 );
-        }
-        if ( eight.channels() == 3 )
-          cv::cvtColor( eight, *grey, cv::COLOR_RGB2GRAY );
-        else
-          *grey = eight;
-        const Camera *camera = block.findCamera( image.cameraId );
-        if ( camera && ( grey->cols != camera->width || grey->rows != camera->height ) )
-        {
-          error = "the image " + image.id + " is " + std::to_string( grey->cols ) + " x " + std::to_string( grey->rows ) + " px but its camera " + camera->id + " is " +
-                  std::to_string( camera->width ) + " x " + std::to_string( camera->height );
-          return nullptr;
-        }
-        std::lock_guard<std::mutex> lock( cache->mutex );
-        cache->entries.push_front( { path, grey } );
-        if ( cache->entries.size() > capacity )
-          cache->entries.pop_back();
-        return grey;
-      }
-      catch ( const std::exception &e )
-      {
-        error = "the image " + image.id + " cannot be read: " + e.what();
-        return nullptr;
-      }
-    };
   }
 
   RoadTraceSummary traceRoadLine( const Block &block, const TraceSeed &seed, const RoadTraceOptions &options, const GreyImageSource &images )
@@ -699,132 +476,29 @@ namespace geostation
         break;
       }
       step = nextStep;
-      // candidates: this station's vertices, then the line's straight continuation across a gap
       const OrientedImage next = block.orientedImage( *nextImage );
-      std::vector<std::pair<Eigen::Vector3d, size_t>> candidates; // point, vertices kept if taken
-      for ( size_t i = firstOfStation; i < out.vertices.size(); ++i )
-        candidates.push_back( { out.vertices[i].point, i } );
-      // (past the next station's camera by the gap limit: a station whose vertices failed is bridged too)
-      {
-        const double reach = horizontalDistance( groundLine.back(), next.exterior().projectionCentre ) + options.follow.maxGapM + options.handoverRangeM;
-        for ( const Eigen::Vector3d &p : trajectoryContinuation( trajectory, groundLine.back(), step, reach, 0.5 ) )
-          candidates.push_back( { p, out.vertices.size() } );
-        for ( const Eigen::Vector3d &p : continuation( groundLine, lineDirection, reach, 0.5 ) )
-          candidates.push_back( { p, out.vertices.size() } );
-      }
       const Eigen::Vector3d nextCentre = next.exterior().projectionCentre;
-      bool handedOver = false;
-      LocateOptions locate = locateOptionsFor( profile, options.follow.directional.follow, 8.0 );
-      LocateOptions snap = locate;
-      snap.searchHalfPx = 3.0;
-      const GroundOfPixel nextGround = options.groundOfPixel ? options.groundOfPixel : roadPlaneOf( nextCentre.z(), nextCentre.head<2>() );
-      Eigen::Vector3d correction = Eigen::Vector3d::Zero();
-      struct CorrelatedStart
+      DynamicLinkInput link;
+      link.reference = &reference;
+      link.referenceGrey = referenceGrey.get();
+      link.next = &next;
+      link.nextGrey = nextGrey.get();
+      link.nextGround = options.groundOfPixel ? options.groundOfPixel : roadPlaneOf( nextCentre.z(), nextCentre.head<2>() );
+      link.vertices = &out.vertices;
+      link.firstOfStation = firstOfStation;
+      link.groundLine = &groundLine;
+      link.lineDirection = lineDirection;
+      link.trajectory = &trajectory;
+      link.step = step;
+      link.profile = profile;
+      link.widthTimesRange = widthTimesRange;
+      const std::optional<DynamicLink> linked = linkToNextStation( link, options );
+      const bool handedOver = linked.has_value();
+      if ( linked )
       {
-        Eigen::Vector2d pixel, direction;
-        size_t keep;
-      };
-      std::optional<CorrelatedStart> correlatedStart;
-      // first the thesis' way: a vertex of this station, its surroundings in this image found in the next by
-      // correlation - the two stations' poses may disagree by more than the distance to a parallel edge (the
-      // edge line's paint beside the kerb). Vertices about 10 m ahead of the next camera, where a pose error
-      // moves the image least and the window still shows the line's surroundings.
-      {
-        std::vector<std::pair<double, size_t>> byRange;
-        for ( size_t i = firstOfStation; i < out.vertices.size(); ++i )
-        {
-          const double range = horizontalDistance( out.vertices[i].point, nextCentre );
-          if ( range >= options.handoverRangeM && ( out.vertices[i].point - nextCentre ).dot( lineDirection ) > 0 )
-            byRange.push_back( { std::abs( range - 10.0 ), i } );
-        }
-        std::sort( byRange.begin(), byRange.end() );
-        // how far apart the two poses may put a point: three times their relative sigma
-        const auto positionSigma = []( const OrientedImage &image )
-        {
-          const std::optional<ExteriorSigma> &sigma = image.exterior().sigma;
-          return sigma ? std::max( { sigma->x, sigma->y, sigma->z } ) : 0.0;
-        };
-        const double relativeSigmaM = std::hypot( positionSigma( reference ), positionSigma( next ) );
-        for ( size_t c = 0; c < byRange.size() && c < static_cast<size_t>( options.handoverCorrelations ) && !correlatedStart; ++c )
-        {
-          const size_t i = byRange[c].second;
-          const Eigen::Vector3d &point = out.vertices[i].point;
-          const GroundProjection p = next.projectGroundToPixel( point ), ahead = next.projectGroundToPixel( point + lineDirection );
-          const Eigen::Vector3d across = Eigen::Vector3d( -lineDirection.y(), lineDirection.x(), 0.0 ).normalized();
-          const GroundProjection side = next.projectGroundToPixel( point + across );
-          if ( !p.ok() || !ahead.ok() || !side.ok() || !p.inFrame )
-            continue;
-          const Eigen::Vector2d d = ( ahead.pixelInImage - p.pixelInImage ).normalized();
-          // where the poses cannot disagree by more than the locating window, the line is simply located below
-          const double disagreementPx = 3.0 * relativeSigmaM * ( side.pixelInImage - p.pixelInImage ).norm();
-          if ( disagreementPx <= locate.searchHalfPx )
-            break;
-          HandoverOptions handover = options.handover;
-          handover.searchAcrossPx = std::clamp( disagreementPx, options.handover.searchAcrossPx, options.handover.maxSearchAcrossPx );
-          const HandoverMatch m = refineHandover( *referenceGrey, reference, out.vertices[i].pixels.front(), *nextGrey, next, nextGround, d, handover );
-          if ( !m.ok )
-            continue;
-          LineProfile expected = profile;
-          if ( expected.kind != LineKind::Edge && widthTimesRange > 0 )
-            expected.widthPx = widthTimesRange / std::max( horizontalDistance( point, nextCentre ), 1.0 );
-          if ( const std::optional<LineHit> hit = locateLine( *nextGrey, m.pixelInNext, d, expected, snap ) )
-          {
-            LocateOptions confirm = locate;
-            confirm.searchHalfPx = 2.0;
-            if ( locateLine( *nextGrey, hit->pixelInImage + 3.0 * d, d, expected, confirm ) )
-              if ( const std::optional<Eigen::Vector3d> found = nextGround( next, hit->pixelInImage ) )
-              {
-                // the two poses' disagreement on the ground; the nearest point of the line is then taken over below
-                correction = *found - point;
-                correlatedStart = { hit->pixelInImage, d, i };
-              }
-          }
-        }
-      }
-      for ( const auto &[uncorrected, kept] : candidates )
-      {
-        const Eigen::Vector3d point = uncorrected + correction;
-        const double range = horizontalDistance( point, nextCentre );
-        if ( range < options.handoverRangeM || ( point - nextCentre ).dot( lineDirection ) <= 0 )
-          continue;
-        const GroundProjection p = next.projectGroundToPixel( point ), ahead = next.projectGroundToPixel( point + lineDirection );
-        if ( !p.ok() || !ahead.ok() || p.pixelInImage.x() < 12 || p.pixelInImage.y() < 12 || p.pixelInImage.x() > nextGrey->cols - 12 || p.pixelInImage.y() > nextGrey->rows - 12 )
-          continue;
-        const Eigen::Vector2d d = ( ahead.pixelInImage - p.pixelInImage ).normalized();
-        LineProfile expected = profile;
-        if ( expected.kind != LineKind::Edge && widthTimesRange > 0 )
-          expected.widthPx = widthTimesRange / std::max( range, 1.0 );
-        // a point of the continuation is only as good as the extrapolation: its lateral uncertainty grows with the
-        // distance from the line's end (0.15 m + 2 %), searched across up to 20 px
-        LocateOptions around = locate;
-        if ( kept == out.vertices.size() )
-        {
-          const double lateralM = 0.15 + 0.02 * horizontalDistance( point, groundLine.back() );
-          const Eigen::Vector3d across = Eigen::Vector3d( -lineDirection.y(), lineDirection.x(), 0.0 ).normalized();
-          const GroundProjection side = next.projectGroundToPixel( point + lateralM * across );
-          if ( side.ok() )
-            around.searchHalfPx = std::clamp( ( side.pixelInImage - p.pixelInImage ).norm(), locate.searchHalfPx, 20.0 );
-        }
-        const std::optional<LineHit> hit = locateLine( *nextGrey, p.pixelInImage, d, expected, around );
-        if ( !hit )
-          continue;
-        LocateOptions confirm = locate;
-        confirm.searchHalfPx = 2.0;
-        if ( !locateLine( *nextGrey, hit->pixelInImage + 3.0 * d, d, expected, confirm ) )
-          continue;
-        start = hit->pixelInImage;
-        direction = d;
-        keep = kept;
-        handedOver = true;
-        break;
-      }
-      if ( !handedOver && correlatedStart )
-      {
-        // no nearer point of the line confirmed: the correlated vertex itself
-        start = correlatedStart->pixel;
-        direction = correlatedStart->direction;
-        keep = correlatedStart->keep;
-        handedOver = true;
+        start = linked->start;
+        direction = linked->direction;
+        keep = linked->keep;
       }
       if ( !handedOver )
       {

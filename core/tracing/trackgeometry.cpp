@@ -1,0 +1,158 @@
+/***************************************************************************
+  trackgeometry.cpp
+ ***************************************************************************/
+#include "tracing/trackgeometry.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include <Eigen/Dense>
+
+namespace geostation
+{
+
+  std::vector<Eigen::Vector3d> continuation( const std::vector<Eigen::Vector3d> &vertices, const Eigen::Vector3d &direction, double length, double step )
+  {
+    const Eigen::Vector3d end = vertices.back();
+    size_t first = vertices.size() - 1;
+    while ( first > 0 && ( end - vertices[first - 1] ).head<2>().norm() < 30.0 )
+      --first;
+    Eigen::Vector2d axis = direction.head<2>().normalized();
+    double slope = 0.0, bend = 0.0, grade = direction.z() / std::max( 1e-9, direction.head<2>().norm() );
+    const Eigen::Vector2d chord = end.head<2>() - vertices[first].head<2>();
+    if ( vertices.size() - first >= 4 && chord.norm() > 6.0 )
+    {
+      // y = a + b x + c x^2 in a frame along the chord, origin at the end
+      axis = chord.normalized();
+      const Eigen::Vector2d normal( -axis.y(), axis.x() );
+      Eigen::MatrixXd design( vertices.size() - first, 3 );
+      Eigen::VectorXd across( design.rows() ), heights( design.rows() );
+      for ( size_t i = first; i < vertices.size(); ++i )
+      {
+        const Eigen::Vector2d d = vertices[i].head<2>() - end.head<2>();
+        const double x = d.dot( axis );
+        design.row( i - first ) << 1.0, x, x * x;
+        across[i - first] = d.dot( normal );
+        heights[i - first] = vertices[i].z() - end.z();
+      }
+      const Eigen::Vector3d k = ( design.transpose() * design ).ldlt().solve( design.transpose() * across );
+      slope = k[1];
+      bend = std::clamp( k[2], -0.025, 0.025 ); // radius 20 m at the sharpest
+      const Eigen::Vector2d g = design.leftCols<2>().colPivHouseholderQr().solve( heights );
+      grade = g[1];
+    }
+    const Eigen::Vector2d normal( -axis.y(), axis.x() );
+    std::vector<Eigen::Vector3d> out;
+    for ( double s = step; s <= length + 1e-9; s += step )
+    {
+      // x along the chord; the curve's offset from it; arc length ~ x for gentle curves
+      const double x = s;
+      const Eigen::Vector2d xy = end.head<2>() + x * axis + ( slope * x + bend * x * x ) * normal;
+      out.push_back( Eigen::Vector3d( xy.x(), xy.y(), end.z() + grade * x ) );
+    }
+    return out;
+  }
+
+  std::vector<Eigen::Vector3d> trajectoryContinuation( const std::vector<Eigen::Vector3d> &trajectory, const Eigen::Vector3d &last, int stepSign, double length, double step )
+  {
+    std::vector<Eigen::Vector3d> out;
+    if ( trajectory.size() < 2 )
+      return out;
+    // arc length and signed offset of the last vertex along the trajectory (in plan)
+    std::vector<double> arc { 0.0 };
+    for ( size_t i = 1; i < trajectory.size(); ++i )
+      arc.push_back( arc.back() + ( trajectory[i] - trajectory[i - 1] ).head<2>().norm() );
+    double bestDistance = std::numeric_limits<double>::infinity(), at = 0.0, offset = 0.0;
+    for ( size_t i = 0; i + 1 < trajectory.size(); ++i )
+    {
+      const Eigen::Vector2d a = trajectory[i].head<2>(), ab = trajectory[i + 1].head<2>() - a;
+      const double len2 = ab.squaredNorm();
+      if ( len2 <= 0 )
+        continue;
+      const double t = ( last.head<2>() - a ).dot( ab ) / len2; // unclamped at the ends: the trajectory extends straight
+      if ( ( t < 0 && i > 0 ) || ( t > 1 && i + 2 < trajectory.size() ) )
+        continue;
+      const Eigen::Vector2d foot = a + t * ab;
+      const double d = ( last.head<2>() - foot ).norm();
+      if ( d < bestDistance )
+      {
+        bestDistance = d;
+        at = arc[i] + t * std::sqrt( len2 );
+        const Eigen::Vector2d left( -ab.y(), ab.x() );
+        offset = ( last.head<2>() - foot ).dot( left.normalized() );
+      }
+    }
+    const auto pointAt = [&]( double s, double &z ) -> Eigen::Vector2d
+    {
+      size_t i = 0;
+      while ( i + 2 < trajectory.size() && arc[i + 1] < s )
+        ++i;
+      const double len = arc[i + 1] - arc[i];
+      const double t = len > 0 ? ( s - arc[i] ) / len : 0.0;
+      const Eigen::Vector3d p = trajectory[i] + t * ( trajectory[i + 1] - trajectory[i] );
+      const Eigen::Vector2d ab = ( trajectory[i + 1] - trajectory[i] ).head<2>().normalized();
+      z = p.z();
+      return p.head<2>() + offset * Eigen::Vector2d( -ab.y(), ab.x() );
+    };
+    double z0 = 0.0;
+    pointAt( at, z0 );
+    for ( double s = step; s <= length + 1e-9; s += step )
+    {
+      double z = 0.0;
+      const Eigen::Vector2d xy = pointAt( at + stepSign * s, z );
+      out.push_back( Eigen::Vector3d( xy.x(), xy.y(), last.z() + ( z - z0 ) ) );
+    }
+    return out;
+  }
+
+  std::optional<double> trackSurfaceHeight( const std::vector<Eigen::Vector3d> &trajectory, const Eigen::Vector2d &xy, double cameraHeightM )
+  {
+    if ( trajectory.empty() )
+      return std::nullopt;
+    if ( trajectory.size() == 1 )
+      return trajectory.front().z() - cameraHeightM;
+    double best = std::numeric_limits<double>::infinity(), z = 0.0;
+    for ( size_t i = 0; i + 1 < trajectory.size(); ++i )
+    {
+      const Eigen::Vector2d a = trajectory[i].head<2>(), ab = trajectory[i + 1].head<2>() - a;
+      const double len2 = ab.squaredNorm();
+      const double t = len2 > 0 ? std::clamp( ( xy - a ).dot( ab ) / len2, 0.0, 1.0 ) : 0.0;
+      const double d = ( a + t * ab - xy ).squaredNorm();
+      if ( d < best )
+      {
+        best = d;
+        z = trajectory[i].z() + t * ( trajectory[i + 1].z() - trajectory[i].z() );
+      }
+    }
+    return z - cameraHeightM;
+  }
+
+  std::vector<Eigen::Vector3d> smoothedHeights( const std::vector<Eigen::Vector3d> &trajectory, double halfWindowM )
+  {
+    std::vector<double> arc { 0.0 };
+    for ( size_t i = 1; i < trajectory.size(); ++i )
+      arc.push_back( arc.back() + ( trajectory[i] - trajectory[i - 1] ).head<2>().norm() );
+    std::vector<Eigen::Vector3d> out = trajectory;
+    for ( size_t i = 0; i < trajectory.size(); ++i )
+    {
+      std::vector<size_t> near;
+      for ( size_t j = 0; j < trajectory.size(); ++j )
+        if ( std::abs( arc[j] - arc[i] ) <= halfWindowM )
+          near.push_back( j );
+      const int terms = near.size() >= 5 ? 3 : near.size() >= 2 ? 2 : 1;
+      Eigen::MatrixXd a( near.size(), terms );
+      Eigen::VectorXd b( near.size() );
+      for ( size_t r = 0; r < near.size(); ++r )
+      {
+        const double t = ( arc[near[r]] - arc[i] ) / std::max( halfWindowM, 1.0 );
+        for ( int c = 0; c < terms; ++c )
+          a( r, c ) = std::pow( t, c );
+        b( r ) = trajectory[near[r]].z();
+      }
+      out[i].z() = a.colPivHouseholderQr().solve( b )( 0 );
+    }
+    return out;
+  }
+
+} // namespace geostation

@@ -1,0 +1,55 @@
+/***************************************************************************
+  trackgeometry.h - a road line and the van's track (thesis §6.5.3)
+  -------------------------------------------------------------------------
+  Where a traced line goes on beyond what was traced - straight on along
+  its own last stretch, or parallel to the van's track (road lines run
+  with the road) - and the road surface under the track, for the road
+  plane of each station and the check of every vertex. Plan distances in
+  metres, heights in the block CRS.
+ ***************************************************************************/
+#ifndef GEOSTATION_TRACING_TRACKGEOMETRY_H
+#define GEOSTATION_TRACING_TRACKGEOMETRY_H
+
+#include <optional>
+#include <vector>
+
+#include <Eigen/Core>
+
+namespace geostation
+{
+
+  /**
+   * The line continued beyond its last vertex every `step` metres up to
+   * `length`: a parabola fitted in plan to its last 30 m (so a road curve
+   * keeps bending, and the direction comes from more than one dash), with
+   * the grade of that stretch in height.
+   */
+  std::vector<Eigen::Vector3d> continuation( const std::vector<Eigen::Vector3d> &vertices, const Eigen::Vector3d &direction, double length, double step );
+
+  /**
+   * The line continued parallel to the van's trajectory (the reference
+   * camera's path through the run): the last vertex keeps its offset from
+   * the trajectory and follows its curves and grade, every `step` metres up
+   * to `length`, in the run's direction `stepSign` (+1 / -1).
+   */
+  std::vector<Eigen::Vector3d> trajectoryContinuation( const std::vector<Eigen::Vector3d> &trajectory, const Eigen::Vector3d &last, int stepSign, double length,
+                                                       double step );
+
+  /**
+   * The road surface under the van's track: the height of the nearest
+   * point of the trajectory (camera centres) minus the camera's height
+   * above the road; nothing for an empty trajectory.
+   */
+  std::optional<double> trackSurfaceHeight( const std::vector<Eigen::Vector3d> &trajectory, const Eigen::Vector2d &xy, double cameraHeightM );
+
+  /**
+   * The trajectory with its heights smoothed: at each station a quadratic
+   * in arc length fitted to the stations within `halfWindowM` (a line with
+   * fewer than 5). The road's shape without the stations' independent
+   * height errors.
+   */
+  std::vector<Eigen::Vector3d> smoothedHeights( const std::vector<Eigen::Vector3d> &trajectory, double halfWindowM );
+
+} // namespace geostation
+
+#endif // GEOSTATION_TRACING_TRACKGEOMETRY_H
