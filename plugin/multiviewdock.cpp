@@ -14,7 +14,6 @@
 #include <QSpinBox>
 #include <QSplitter>
 #include <QTabWidget>
-#include <QTableWidget>
 #include <QTimer>
 #include <QToolBar>
 #include <QToolButton>
@@ -23,6 +22,7 @@
 #include <qgscoordinatereferencesystem.h>
 #include <qgsmapcanvas.h>
 
+#include "camerapanel.h"
 #include "imageview.h"
 #include "measurementcontroller.h"
 #include "measurementoverlay.h"
@@ -67,9 +67,7 @@ GeoStationMultiviewDock::GeoStationMultiviewDock( GeoStationSession *session, Ge
   mMessages->setReadOnly( true );
   mMessages->setMaximumBlockCount( 2000 );
   panels->addTab( mMessages, tr( "Messages" ) );
-  mCameraTable = new QTableWidget( panels );
-  mCameraTable->setObjectName( QStringLiteral( "mCameraTable" ) );
-  mCameraTable->setEditTriggers( QAbstractItemView::NoEditTriggers );
+  mCameraTable = new GeoStationCameraPanel( panels );
   panels->addTab( mCameraTable, tr( "Cameras" ) );
   splitter->addWidget( mViewArea );
   splitter->addWidget( panels );
@@ -478,41 +476,7 @@ void GeoStationMultiviewDock::updateFeatureOverlays()
 
 void GeoStationMultiviewDock::updateCameraPanel()
 {
-  const QStringList headers { tr( "Image" ), tr( "Camera" ), tr( "f [px]" ), tr( "cx" ), tr( "cy" ), tr( "Lens" ), tr( "X [m]" ), tr( "Y [m]" ), tr( "Z [m]" ),
-                              tr( "ω [°]" ), tr( "φ [°]" ), tr( "κ [°]" ), tr( "σ X/Y/Z [m]" ), tr( "σ ω/φ/κ [°]" ) };
-  mCameraTable->clear();
-  mCameraTable->setColumnCount( headers.size() );
-  mCameraTable->setHorizontalHeaderLabels( headers );
-  const geostation::Block *block = mSession->block();
-  const QStringList ids = mSession->viewImages();
-  mCameraTable->setRowCount( 0 );
-  if ( !block )
-    return;
-  for ( const QString &id : ids )
-  {
-    const geostation::BlockImage *image = id.isEmpty() ? nullptr : block->findImage( id.toStdString() );
-    if ( !image )
-      continue;
-    const geostation::Camera &camera = block->cameraOf( *image );
-    QStringList cells { id, QString::fromStdString( camera.id ), QString::number( camera.f, 'f', 2 ), QString::number( camera.cx, 'f', 2 ), QString::number( camera.cy, 'f', 2 ),
-                        QString::fromStdString( geostation::distortionModelName( camera.distortion.model ) ) };
-    if ( image->exterior )
-    {
-      const geostation::ExteriorOrientation &eo = *image->exterior;
-      cells << QString::number( eo.projectionCentre.x(), 'f', 3 ) << QString::number( eo.projectionCentre.y(), 'f', 3 ) << QString::number( eo.projectionCentre.z(), 'f', 3 )
-            << QString::number( eo.omegaDeg, 'f', 4 ) << QString::number( eo.phiDeg, 'f', 4 ) << QString::number( eo.kappaDeg, 'f', 4 );
-      if ( eo.sigma )
-        cells << QStringLiteral( "%1 / %2 / %3" ).arg( eo.sigma->x, 0, 'f', 3 ).arg( eo.sigma->y, 0, 'f', 3 ).arg( eo.sigma->z, 0, 'f', 3 )
-              << QStringLiteral( "%1 / %2 / %3" ).arg( eo.sigma->omegaDeg, 0, 'f', 3 ).arg( eo.sigma->phiDeg, 0, 'f', 3 ).arg( eo.sigma->kappaDeg, 0, 'f', 3 );
-    }
-    else
-      cells << tr( "not oriented" );
-    const int row = mCameraTable->rowCount();
-    mCameraTable->insertRow( row );
-    for ( int c = 0; c < cells.size(); ++c )
-      mCameraTable->setItem( row, c, new QTableWidgetItem( cells[c] ) );
-  }
-  mCameraTable->resizeColumnsToContents();
+  mCameraTable->showImages( mSession->block(), mSession->viewImages() );
 }
 
 void GeoStationMultiviewDock::updateClassCombo()

@@ -33,6 +33,7 @@ class QSpinBox;
 class QTableWidget;
 class QTimer;
 class QToolButton;
+class GeoStationCameraPanel;
 class GeoStationImageView;
 class GeoStationMeasurementController;
 class GeoStationMeasurementStore;
@@ -126,7 +127,7 @@ class GeoStationMultiviewDock : public QgsDockWidget
     QLabel *mFeatureStatus = nullptr;
     QLabel *mCursorLabel = nullptr;
     QPlainTextEdit *mMessages = nullptr;
-    QTableWidget *mCameraTable = nullptr;
+    GeoStationCameraPanel *mCameraTable = nullptr;
     QTimer *mOverlayTimer = nullptr;
     QElapsedTimer mNavigationTimer;
     int mPendingRefreshes = 0;
