@@ -100,14 +100,14 @@ bool GeoStationTraceController::start( const QString &imageId, const QPointF &pi
   };
 
   // the trace works on its own copy of the block: the operator may open another meanwhile
-  mBlock = std::make_shared<const geostation::Block>( *block );
+  auto blockCopy = std::make_shared<const geostation::Block>( *block );
   mLive = mLine;
   mStationsTraced = 0;
   mLastStop.clear();
   mLastStopMessage.clear();
   emit message( tr( "Tracing from %1 (%2, %3)%4…" ).arg( imageId ).arg( pixelInImage.x(), 0, 'f', 1 ).arg( pixelInImage.y(), 0, 'f', 1 )
                 .arg( mLine.empty() ? QString() : tr( ", continuing the line" ) ), false );
-  mWatcher.setFuture( QtConcurrent::run( [blockCopy = mBlock, seed, options]
+  mWatcher.setFuture( QtConcurrent::run( [blockCopy, seed, options]
   {
     try
     {
@@ -149,7 +149,6 @@ void GeoStationTraceController::traceFinished()
     return; // dropped with its block
   const geostation::RoadTraceSummary summary = mWatcher.result();
   mRunning = false;
-  mBlock.reset();
   const size_t joined = mLine.append( summary );
   mLive = mLine;
   mLastStop = QString::fromStdString( geostation::traceStopName( summary.stop ) );

@@ -99,7 +99,6 @@ class GeoStationTraceController : public QObject
     geostation::TracedLine mLive;      //!< finished parts + the running trace so far
     std::shared_ptr<std::atomic<bool>> mCancel = std::make_shared<std::atomic<bool>>( false );
     QFutureWatcher<geostation::RoadTraceSummary> mWatcher;
-    std::shared_ptr<const geostation::Block> mBlock; //!< the copy the running trace works on
     QString mLastStop, mLastStopMessage;
     int mStationsTraced = 0;
     bool mRunning = false; //!< from start() until the result is taken (the future finishes earlier, with stations still queued)

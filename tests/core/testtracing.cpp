@@ -35,16 +35,26 @@ namespace
     std::vector<TruthRoadLine> roads;
   };
 
+  //! Simulates a run into `dir` and reads its block, truth block and truth road lines.
+  HighwayRun simulateRun( SimulationOptions options, const std::filesystem::path &dir )
+  {
+    HighwayRun r;
+    r.dir = dir;
+    options.preset = SurveyPreset::Highway;
+    options.outputDir = dir;
+    simulateSurvey( options );
+    r.block = Block::load( dir / "block.geostation.json" );
+    r.truth = Block::load( dir / "truth.geostation.json" );
+    r.roads = readTruthRoadLines( dir / "truth.gpkg" );
+    return r;
+  }
+
   //! 32 stations every 10 m (310 m, through the 220 m curve), two forward cameras.
   const HighwayRun &highwayRun()
   {
     static const HighwayRun run = []
     {
-      HighwayRun r;
-      r.dir = std::filesystem::temp_directory_path() / ( "geostation-tracing-" + std::to_string( ::getpid() ) );
       SimulationOptions o;
-      o.preset = SurveyPreset::Highway;
-      o.outputDir = r.dir;
       o.stations = 32;
       o.stationSpacingM = 10.0;
       o.cameras = 2;
@@ -55,11 +65,8 @@ namespace
       o.degradation.blurSigmaPx = 0.6;
       o.degradation.jpegQuality = 85;
       o.poseNoiseScale = 0.2; // a post-processed trajectory: 2 cm, 3 cm in height
-      simulateSurvey( o );
+      HighwayRun r = simulateRun( o, std::filesystem::temp_directory_path() / ( "geostation-tracing-" + std::to_string( ::getpid() ) ) );
       std::atexit( [] { std::error_code ec; std::filesystem::remove_all( std::filesystem::temp_directory_path() / ( "geostation-tracing-" + std::to_string( ::getpid() ) ), ec ); } );
-      r.block = Block::load( r.dir / "block.geostation.json" );
-      r.truth = Block::load( r.dir / "truth.geostation.json" );
-      r.roads = readTruthRoadLines( r.dir / "truth.gpkg" );
       return r;
     }();
     return run;
@@ -376,17 +383,10 @@ TEST( Tracing, SmallImagesAndDenseStations )
   // trajectory (10 cm, 15 cm in height) - and another seed. Dashes (3 m, gaps of 9 m) are a few pixels wide
   // beyond 15 m, most stations see one dash or none within their reach, and the line's continuation from a
   // poorly placed last vertex lands beside the next dash
-  HighwayRun run;
-  run.dir = std::filesystem::temp_directory_path() / ( "geostation-tracing-small-" + std::to_string( ::getpid() ) );
   SimulationOptions o;
-  o.preset = SurveyPreset::Highway;
-  o.outputDir = run.dir;
   o.stations = 30;
   o.seed = 1;
-  simulateSurvey( o );
-  run.block = Block::load( run.dir / "block.geostation.json" );
-  run.truth = Block::load( run.dir / "truth.geostation.json" );
-  run.roads = readTruthRoadLines( run.dir / "truth.gpkg" );
+  const HighwayRun run = simulateRun( o, std::filesystem::temp_directory_path() / ( "geostation-tracing-small-" + std::to_string( ::getpid() ) ) );
   struct Case
   {
     const char *name, *prefix;
