@@ -1,0 +1,338 @@
+/***************************************************************************
+  resultmatrix.cpp - the raster record of what was extracted
+ ***************************************************************************/
+#include "extraction/resultmatrix.h"
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <stdexcept>
+
+#include <opencv2/imgproc.hpp>
+
+namespace geostation
+{
+
+  ResultMatrix::ResultMatrix( int width, int height )
+  {
+    if ( width <= 0 || height <= 0 )
+      throw std::invalid_argument( "a result matrix needs a positive size" );
+    mSymbols = cv::Mat::zeros( height, width, CV_8UC1 );
+  }
+
+  uint8_t ResultMatrix::at( int col, int row ) const
+  {
+    if ( col < 0 || row < 0 || col >= mSymbols.cols || row >= mSymbols.rows )
+      return 0;
+    return mSymbols.at<uint8_t>( row, col );
+  }
+
+  void ResultMatrix::drawPolyline( const std::vector<Eigen::Vector2d> &pixelsInImage, uint8_t symbol, bool overwrite )
+  {
+    if ( pixelsInImage.empty() )
+      return;
+    const auto cell = []( const Eigen::Vector2d &p ) { return cv::Point( static_cast<int>( std::floor( p.x() ) ), static_cast<int>( std::floor( p.y() ) ) ); };
+    const auto put = [&]( const cv::Point &c )
+    {
+      if ( c.x < 0 || c.y < 0 || c.x >= mSymbols.cols || c.y >= mSymbols.rows )
+        return;
+      uint8_t &v = mSymbols.at<uint8_t>( c.y, c.x );
+      if ( overwrite || v == 0 )
+        v = symbol;
+    };
+    put( cell( pixelsInImage.front() ) );
+    for ( size_t i = 1; i < pixelsInImage.size(); ++i )
+    {
+      const cv::Point a = cell( pixelsInImage[i - 1] ), b = cell( pixelsInImage[i] );
+      // Bresenham through the big canvas: LineIterator clips to the matrix
+      cv::LineIterator it( mSymbols, a, b, 8 );
+      for ( int k = 0; k < it.count; ++k, ++it )
+        put( it.pos() );
+    }
+  }
+
+  std::optional<Eigen::Vector2i> ResultMatrix::nearestSymbol( const Eigen::Vector2d &pixelInImage, double radiusPx, const std::string &symbols ) const
+  {
+    const int r = static_cast<int>( std::ceil( radiusPx ) );
+    const int cc = static_cast<int>( std::floor( pixelInImage.x() ) ), rc = static_cast<int>( std::floor( pixelInImage.y() ) );
+    std::optional<Eigen::Vector2i> best;
+    double bestD2 = radiusPx * radiusPx;
+    for ( int row = std::max( 0, rc - r ); row <= std::min( mSymbols.rows - 1, rc + r ); ++row )
+    {
+      const uint8_t *line = mSymbols.ptr<uint8_t>( row );
+      for ( int col = std::max( 0, cc - r ); col <= std::min( mSymbols.cols - 1, cc + r ); ++col )
+      {
+        const uint8_t v = line[col];
+        if ( v == 0 || ( !symbols.empty() && symbols.find( static_cast<char>( v ) ) == std::string::npos ) )
+          continue;
+        const double d2 = ( col + 0.5 - pixelInImage.x() ) * ( col + 0.5 - pixelInImage.x() ) + ( row + 0.5 - pixelInImage.y() ) * ( row + 0.5 - pixelInImage.y() );
+        if ( d2 <= bestD2 )
+        {
+          bestD2 = d2;
+          best = Eigen::Vector2i( col, row );
+        }
+      }
+    }
+    return best;
+  }
+
+  void ResultMatrix::erase( const std::string &symbols )
+  {
+    for ( int row = 0; row < mSymbols.rows; ++row )
+    {
+      uint8_t *line = mSymbols.ptr<uint8_t>( row );
+      for ( int col = 0; col < mSymbols.cols; ++col )
+        if ( line[col] && symbols.find( static_cast<char>( line[col] ) ) != std::string::npos )
+          line[col] = 0;
+    }
+  }
+
+  long ResultMatrix::count( const std::string &symbols ) const
+  {
+    long n = 0;
+    for ( int row = 0; row < mSymbols.rows; ++row )
+    {
+      const uint8_t *line = mSymbols.ptr<uint8_t>( row );
+      for ( int col = 0; col < mSymbols.cols; ++col )
+        n += line[col] && symbols.find( static_cast<char>( line[col] ) ) != std::string::npos;
+    }
+    return n;
+  }
+
+  double polylineLength( const std::vector<Eigen::Vector2d> &polyline )
+  {
+    double length = 0.0;
+    for ( size_t i = 1; i < polyline.size(); ++i )
+      length += ( polyline[i] - polyline[i - 1] ).norm();
+    return length;
+  }
+
+  namespace
+  {
+    Eigen::Vector2d centreOf( const Eigen::Vector2i &cell ) { return cell.cast<double>() + Eigen::Vector2d( 0.5, 0.5 ); }
+
+    constexpr int kDc[8] = { 0, 1, 1, 1, 0, -1, -1, -1 };
+    constexpr int kDr[8] = { -1, -1, 0, 1, 1, 1, 0, -1 };
+
+    //! The chosen pixels, padded by one, as 0/1; compilation works on this copy.
+    struct Grid
+    {
+      cv::Mat on; // CV_8UC1, (rows + 2) x (cols + 2)
+
+      bool at( int c, int r ) const { return on.at<uint8_t>( r + 1, c + 1 ) != 0; }
+      void set( int c, int r, bool v ) { on.at<uint8_t>( r + 1, c + 1 ) = v ? 1 : 0; }
+      int degree( int c, int r ) const
+      {
+        int n = 0;
+        for ( int k = 0; k < 8; ++k )
+          n += at( c + kDc[k], r + kDr[k] );
+        return n;
+      }
+    };
+  } // namespace
+
+  CompilationSummary compileMaxLengthPolygons( ResultMatrix &matrix, const std::string &symbols, bool erase, int minPixels )
+  {
+    const int w = matrix.width(), h = matrix.height();
+    Grid grid;
+    grid.on = cv::Mat::zeros( h + 2, w + 2, CV_8UC1 );
+    std::vector<Eigen::Vector2i> cells;
+    for ( int r = 0; r < h; ++r )
+      for ( int c = 0; c < w; ++c )
+        if ( const uint8_t v = matrix.at( c, r ); v && symbols.find( static_cast<char>( v ) ) != std::string::npos )
+        {
+          grid.set( c, r, true );
+          cells.emplace_back( c, r );
+        }
+    if ( erase )
+      matrix.erase( symbols );
+
+    // Corner pixels (two neighbours that touch each other) carry nothing: remove them so a line's run has exactly two neighbours.
+    for ( int pass = 0; pass < 3; ++pass )
+    {
+      bool changed = false;
+      for ( const Eigen::Vector2i &p : cells )
+      {
+        if ( !grid.at( p.x(), p.y() ) || grid.degree( p.x(), p.y() ) != 2 )
+          continue;
+        Eigen::Vector2i nb[2];
+        int k = 0;
+        for ( int d = 0; d < 8; ++d )
+          if ( grid.at( p.x() + kDc[d], p.y() + kDr[d] ) )
+            nb[k++] = Eigen::Vector2i( p.x() + kDc[d], p.y() + kDr[d] );
+        if ( ( nb[0] - nb[1] ).cwiseAbs().maxCoeff() == 1 )
+        {
+          grid.set( p.x(), p.y(), false );
+          changed = true;
+        }
+      }
+      if ( !changed )
+        break;
+    }
+
+    // Nodes: dead ends (one neighbour) and intersections (more than two), the latter grouped into one node each.
+    cv::Mat node = cv::Mat( h + 2, w + 2, CV_32SC1, cv::Scalar( -1 ) ); // node id per pixel, -1 for a run pixel or none
+    std::vector<Eigen::Vector2d> nodeCentre;
+    std::vector<bool> nodeIsIntersection;
+    const auto nodeAt = [&]( int c, int r ) -> int & { return node.at<int>( r + 1, c + 1 ); };
+    for ( const Eigen::Vector2i &p : cells )
+    {
+      if ( !grid.at( p.x(), p.y() ) || nodeAt( p.x(), p.y() ) >= 0 )
+        continue;
+      const int degree = grid.degree( p.x(), p.y() );
+      if ( degree == 2 )
+        continue;
+      const int id = static_cast<int>( nodeCentre.size() );
+      if ( degree < 3 )
+      {
+        nodeAt( p.x(), p.y() ) = id;
+        nodeCentre.push_back( centreOf( p ) );
+        nodeIsIntersection.push_back( false );
+        continue;
+      }
+      // the crossing examination: all touching pixels of more than two neighbours form one intersection
+      std::vector<Eigen::Vector2i> stack { p };
+      nodeAt( p.x(), p.y() ) = id;
+      Eigen::Vector2d sum = Eigen::Vector2d::Zero();
+      int members = 0;
+      while ( !stack.empty() )
+      {
+        const Eigen::Vector2i q = stack.back();
+        stack.pop_back();
+        sum += q.cast<double>();
+        ++members;
+        for ( int d = 0; d < 8; ++d )
+        {
+          const int c = q.x() + kDc[d], r = q.y() + kDr[d];
+          if ( grid.at( c, r ) && nodeAt( c, r ) < 0 && grid.degree( c, r ) >= 3 )
+          {
+            nodeAt( c, r ) = id;
+            stack.emplace_back( c, r );
+          }
+        }
+      }
+      nodeCentre.push_back( sum / members + Eigen::Vector2d( 0.5, 0.5 ) );
+      nodeIsIntersection.push_back( true );
+    }
+
+    CompilationSummary summary;
+    for ( size_t i = 0; i < nodeCentre.size(); ++i )
+      if ( nodeIsIntersection[i] )
+        summary.intersections.push_back( nodeCentre[i] );
+
+    cv::Mat visited = cv::Mat::zeros( h + 2, w + 2, CV_8UC1 );
+    const auto visitedAt = [&]( int c, int r ) -> uint8_t & { return visited.at<uint8_t>( r + 1, c + 1 ); };
+    std::map<std::pair<int, int>, int> directLinks;
+    const auto finish = [&]( std::vector<Eigen::Vector2d> pixels, int startNode, int endNode )
+    {
+      CompiledPolygon polygon;
+      if ( startNode >= 0 && nodeIsIntersection[startNode] )
+      {
+        polygon.startEnd = PolygonEnd::Intersection;
+        if ( ( pixels.front() - nodeCentre[startNode] ).norm() > 0.5 )
+          pixels.insert( pixels.begin(), nodeCentre[startNode] );
+      }
+      if ( endNode >= 0 && nodeIsIntersection[endNode] )
+      {
+        polygon.endEnd = PolygonEnd::Intersection;
+        if ( ( pixels.back() - nodeCentre[endNode] ).norm() > 0.5 )
+          pixels.push_back( nodeCentre[endNode] );
+      }
+      const bool spur = polygon.startEnd == PolygonEnd::DeadEnd || polygon.endEnd == PolygonEnd::DeadEnd;
+      if ( spur && static_cast<int>( pixels.size() ) < minPixels )
+        return;
+      if ( pixels.size() < 2 || ( startNode >= 0 && startNode == endNode && pixels.size() < 4 ) )
+        return;
+      polygon.pixels = std::move( pixels );
+      summary.polygons.push_back( std::move( polygon ) );
+    };
+
+    for ( const Eigen::Vector2i &p : cells )
+    {
+      if ( !grid.at( p.x(), p.y() ) )
+        continue;
+      const int startNode = nodeAt( p.x(), p.y() );
+      if ( startNode < 0 )
+        continue;
+      for ( int d = 0; d < 8; ++d )
+      {
+        const int c = p.x() + kDc[d], r = p.y() + kDr[d];
+        if ( !grid.at( c, r ) )
+          continue;
+        const int nbNode = nodeAt( c, r );
+        if ( nbNode >= 0 )
+        {
+          if ( nbNode == startNode )
+            continue;
+          const std::pair<int, int> key( std::min( startNode, nbNode ), std::max( startNode, nbNode ) );
+          if ( directLinks.count( key ) )
+            continue;
+          directLinks[key] = 1;
+          finish( { centreOf( p ), centreOf( Eigen::Vector2i( c, r ) ) }, startNode, nbNode );
+          continue;
+        }
+        if ( visitedAt( c, r ) )
+          continue;
+        std::vector<Eigen::Vector2d> pixels { centreOf( p ), centreOf( Eigen::Vector2i( c, r ) ) };
+        visitedAt( c, r ) = 1;
+        Eigen::Vector2i prev = p, cur( c, r );
+        int endNode = -1;
+        while ( true )
+        {
+          std::optional<Eigen::Vector2i> next;
+          for ( int e = 0; e < 8 && !next; ++e )
+          {
+            const Eigen::Vector2i q( cur.x() + kDc[e], cur.y() + kDr[e] );
+            if ( q == prev || !grid.at( q.x(), q.y() ) )
+              continue;
+            if ( nodeAt( q.x(), q.y() ) >= 0 && !( nodeAt( q.x(), q.y() ) == startNode && pixels.size() <= 2 ) )
+              next = q;
+            else if ( nodeAt( q.x(), q.y() ) < 0 && !visitedAt( q.x(), q.y() ) )
+              next = q;
+          }
+          if ( !next )
+            break;
+          pixels.push_back( centreOf( *next ) );
+          if ( nodeAt( next->x(), next->y() ) >= 0 )
+          {
+            endNode = nodeAt( next->x(), next->y() );
+            break;
+          }
+          visitedAt( next->x(), next->y() ) = 1;
+          prev = cur;
+          cur = *next;
+        }
+        finish( std::move( pixels ), startNode, endNode );
+      }
+    }
+
+    // closed rings without a node
+    for ( const Eigen::Vector2i &p : cells )
+    {
+      if ( !grid.at( p.x(), p.y() ) || nodeAt( p.x(), p.y() ) >= 0 || visitedAt( p.x(), p.y() ) )
+        continue;
+      std::vector<Eigen::Vector2d> pixels { centreOf( p ) };
+      visitedAt( p.x(), p.y() ) = 1;
+      Eigen::Vector2i cur = p;
+      while ( true )
+      {
+        std::optional<Eigen::Vector2i> next;
+        for ( int e = 0; e < 8 && !next; ++e )
+        {
+          const Eigen::Vector2i q( cur.x() + kDc[e], cur.y() + kDr[e] );
+          if ( grid.at( q.x(), q.y() ) && !visitedAt( q.x(), q.y() ) )
+            next = q;
+        }
+        if ( !next )
+          break;
+        visitedAt( next->x(), next->y() ) = 1;
+        pixels.push_back( centreOf( *next ) );
+        cur = *next;
+      }
+      pixels.push_back( centreOf( p ) );
+      finish( std::move( pixels ), -1, -1 );
+    }
+    return summary;
+  }
+
+} // namespace geostation
