@@ -10,6 +10,8 @@
 
 #include <opencv2/imgproc.hpp>
 
+#include "imageproc/edgeprimitives.h"
+
 namespace geostation
 {
 
@@ -243,7 +245,7 @@ namespace geostation
         return;
       if ( pixels.size() < 2 || ( startNode >= 0 && startNode == endNode && pixels.size() < 4 ) )
         return;
-      polygon.pixels = std::move( pixels );
+      polygon.pixels = douglasPeucker( pixels, 0.75 ); // the pixel staircase, straightened
       summary.polygons.push_back( std::move( polygon ) );
     };
 

@@ -72,7 +72,7 @@ namespace geostation
 
   struct CompiledPolygon
   {
-    std::vector<Eigen::Vector2d> pixels; //!< pixel centres in order, ends included (an intersection's end at its centre)
+    std::vector<Eigen::Vector2d> pixels; //!< vertices through the pixel centres (Douglas-Peucker, 0.75 px), ends included (an intersection's end at its centre)
     PolygonEnd startEnd = PolygonEnd::DeadEnd, endEnd = PolygonEnd::DeadEnd;
   };
 

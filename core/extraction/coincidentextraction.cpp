@@ -1,0 +1,224 @@
+/***************************************************************************
+  coincidentextraction.cpp - lines extracted in a stereo pair, each
+  verified in the partner
+ ***************************************************************************/
+#include "extraction/coincidentextraction.h"
+
+#include <chrono>
+#include <cmath>
+#include <stdexcept>
+
+namespace geostation
+{
+
+  void CoincidentExtractionOptions::check() const
+  {
+    extraction.check();
+    verification.check();
+    if ( maxRounds < 1 || maxRounds > 20 )
+      throw std::invalid_argument( "the number of extraction rounds must be 1 to 20" );
+    if ( !( minRoundGain >= 0.0 && minRoundGain < 1.0 ) )
+      throw std::invalid_argument( "the minimum gain of a round must be a fraction in [0, 1)" );
+    if ( !( kiteLengthPx > 0.0 ) || !( kiteWidthPx > 0.0 ) )
+      throw std::invalid_argument( "the intersection search area must have a positive size" );
+  }
+
+  namespace
+  {
+    using Clock = std::chrono::steady_clock;
+    double since( Clock::time_point t ) { return std::chrono::duration<double>( Clock::now() - t ).count(); }
+
+    double distanceToPolyline( const std::vector<Eigen::Vector2d> &line, const Eigen::Vector2d &p )
+    {
+      double best = std::numeric_limits<double>::infinity();
+      for ( size_t i = 0; i + 1 < line.size(); ++i )
+      {
+        const Eigen::Vector2d ab = line[i + 1] - line[i];
+        const double t = ab.squaredNorm() > 0 ? std::clamp( ( p - line[i] ).dot( ab ) / ab.squaredNorm(), 0.0, 1.0 ) : 0.0;
+        best = std::min( best, ( line[i] + t * ab - p ).norm() );
+      }
+      if ( line.size() == 1 )
+        best = ( line[0] - p ).norm();
+      return best;
+    }
+
+    void add( StageCounts &to, const StageCounts &from )
+    {
+      to.seconds += from.seconds;
+      to.linePx += from.linePx;
+      to.imagePixels += from.imagePixels;
+    }
+
+    std::vector<DeadEnd> openEnds( const std::vector<CompiledPolygon> &polygons )
+    {
+      std::vector<DeadEnd> ends;
+      for ( const CompiledPolygon &p : polygons )
+      {
+        if ( p.pixels.size() < 2 )
+          continue;
+        for ( const bool atStart : { true, false } )
+        {
+          if ( ( atStart ? p.startEnd : p.endEnd ) != PolygonEnd::DeadEnd )
+            continue;
+          const Eigen::Vector2d end = atStart ? p.pixels.front() : p.pixels.back();
+          const size_t k = std::min<size_t>( 5, p.pixels.size() - 1 );
+          const Eigen::Vector2d inner = atStart ? p.pixels[k] : p.pixels[p.pixels.size() - 1 - k];
+          DeadEnd d;
+          d.state.pixelInImage = end;
+          d.state.direction = ( end - inner ).norm() > 0 ? Eigen::Vector2d( ( end - inner ).normalized() ) : Eigen::Vector2d::UnitX();
+          d.kind = DeadEndKind::FinalBreakOff;
+          ends.push_back( d );
+        }
+      }
+      return ends;
+    }
+  } // namespace
+
+  int bridgeOpenEnds( ResultMatrix &matrix, const std::string &symbols, uint8_t symbol, double kiteLengthPx, double kiteWidthPx )
+  {
+    const CompilationSummary compiled = compileMaxLengthPolygons( matrix, symbols, false, 1 );
+    int joins = 0;
+    for ( const CompiledPolygon &polygon : compiled.polygons )
+    {
+      if ( polygon.pixels.size() < 2 )
+        continue;
+      for ( const bool atStart : { true, false } )
+      {
+        if ( ( atStart ? polygon.startEnd : polygon.endEnd ) != PolygonEnd::DeadEnd )
+          continue;
+        const Eigen::Vector2d q = atStart ? polygon.pixels.front() : polygon.pixels.back();
+        const size_t k = std::min<size_t>( 5, polygon.pixels.size() - 1 );
+        const Eigen::Vector2d inner = atStart ? polygon.pixels[k] : polygon.pixels[polygon.pixels.size() - 1 - k];
+        if ( ( q - inner ).norm() < 1.0 )
+          continue;
+        const Eigen::Vector2d axis = ( q - inner ).normalized(), normal( -axis.y(), axis.x() );
+        // the kite: widest (kiteWidth) at 30 % of its length, pointed at both ends
+        const double widest = 0.3 * kiteLengthPx;
+        std::optional<Eigen::Vector2d> best;
+        double bestDistance = std::numeric_limits<double>::infinity();
+        const int reach = static_cast<int>( std::ceil( kiteLengthPx ) );
+        for ( int dr = -reach; dr <= reach; ++dr )
+          for ( int dc = -reach; dc <= reach; ++dc )
+          {
+            const Eigen::Vector2d cell( std::floor( q.x() ) + dc + 0.5, std::floor( q.y() ) + dr + 0.5 );
+            const uint8_t v = matrix.at( static_cast<int>( std::floor( cell.x() ) ), static_cast<int>( std::floor( cell.y() ) ) );
+            if ( !v || symbols.find( static_cast<char>( v ) ) == std::string::npos )
+              continue;
+            const double t = ( cell - q ).dot( axis ), s = std::abs( ( cell - q ).dot( normal ) );
+            if ( t <= 0.5 || t > kiteLengthPx )
+              continue;
+            const double half = 0.5 * kiteWidthPx * ( t <= widest ? t / widest : ( kiteLengthPx - t ) / ( kiteLengthPx - widest ) );
+            if ( s > half + 0.5 )
+              continue;
+            const double distance = ( cell - q ).norm();
+            if ( distance >= bestDistance || distanceToPolyline( polygon.pixels, cell ) < 2.0 )
+              continue;
+            bestDistance = distance;
+            best = cell;
+          }
+        if ( best )
+        {
+          matrix.drawPolyline( { q, *best }, symbol );
+          ++joins;
+        }
+      }
+    }
+    return joins;
+  }
+
+  CoincidentExtractionSummary extractCoincident( const cv::Mat &greyA, const cv::Mat &greyB, const PairMapping &mapping,
+                                                 const CoincidentExtractionOptions &options, const ExtractionProgress &progress )
+  {
+    options.check();
+    if ( greyA.empty() || greyB.empty() || greyA.type() != CV_8UC1 || greyB.type() != CV_8UC1 )
+      throw std::invalid_argument( "coincident extraction needs two 8-bit single-band images" );
+    CoincidentExtractionSummary summary;
+    ResultMatrix matrix[2] = { ResultMatrix( greyA.cols, greyA.rows ), ResultMatrix( greyB.cols, greyB.rows ) };
+    const cv::Mat *grey[2] = { &greyA, &greyB };
+    const PixelMap toOther[2] = { [&]( const Eigen::Vector2d &p ) { return mapping.toB( p ); }, [&]( const Eigen::Vector2d &p ) { return mapping.toA( p ); } };
+    std::vector<DeadEnd> continueFrom[2];
+    bool searched[2] = { false, false };
+    double totalAccepted = 0.0;
+
+    for ( int round = 0; round < ( options.verify ? options.maxRounds : 1 ); ++round )
+    {
+      const int s = round % 2, t = 1 - s; // extract in s, verify in t
+      const Clock::time_point roundStart = Clock::now();
+      RoundReport report;
+      report.round = round + 1;
+      report.image = s == 0 ? "A" : "B";
+      const ExtractionProgress roundProgress = progress ? ExtractionProgress( [&]( double f ) { return progress( ( round + 0.8 * f ) / options.maxRounds ); } ) : nullptr;
+      const LineExtractionSummary extracted = extractLines( *grey[s], matrix[s], continueFrom[s], !searched[s], options.extraction, roundProgress );
+      if ( extracted.cancelled )
+      {
+        summary = CoincidentExtractionSummary();
+        summary.cancelled = true;
+        return summary;
+      }
+      searched[s] = true;
+      continueFrom[s].clear();
+      add( summary.startStage, extracted.startStage );
+      add( summary.lemStage, extracted.lemStage );
+      add( summary.remStage, extracted.remStage );
+      report.startingPoints = extracted.startingPoints;
+      report.linesStarted = extracted.linesStarted;
+      report.continued = extracted.continued;
+      report.extractedPx = extracted.linePx;
+      if ( !options.verify )
+      {
+        summary.rounds.push_back( report );
+        break;
+      }
+      Clock::time_point t0 = Clock::now();
+      const CompilationSummary compiled = compileMaxLengthPolygons( matrix[s], "S*+", true );
+      summary.compilationStage.seconds += since( t0 );
+      report.polygons = static_cast<int>( compiled.polygons.size() );
+      const VerificationSummary verified = verifyPolygons( *grey[s], *grey[t], compiled.polygons, toOther[s], options.extraction.object, options.verification );
+      summary.verificationStage.seconds += verified.seconds;
+      summary.verificationStage.linePx += verified.sourceLengthPx;
+      report.wholly = verified.wholly;
+      report.partly = verified.partly;
+      report.rejected = verified.rejected;
+      report.acceptedPx = verified.acceptedSourceLengthPx;
+      for ( const VerifiedPart &part : verified.accepted )
+      {
+        matrix[t].drawPolyline( part.inTarget, ResultMatrix::kExternal );
+        matrix[s].drawPolyline( part.inSource, ResultMatrix::kInternal );
+      }
+      continueFrom[t] = verified.continueFrom;
+      report.seconds = since( roundStart );
+      summary.rounds.push_back( report );
+      totalAccepted += verified.acceptedSourceLengthPx;
+      if ( progress && !progress( ( round + 1.0 ) / options.maxRounds ) )
+      {
+        summary = CoincidentExtractionSummary();
+        summary.cancelled = true;
+        return summary;
+      }
+      // a round after the first two that adds little ends the alternation (both images have had their starting points)
+      if ( round >= 1 && verified.acceptedSourceLengthPx < options.minRoundGain * totalAccepted )
+        break;
+      if ( round >= 1 && continueFrom[t].empty() )
+        break;
+    }
+
+    // final processing: bridge small gaps and broken intersections, compile
+    const Clock::time_point t0 = Clock::now();
+    const std::string finalSymbols = options.verify ? "IE" : "S*+";
+    for ( int i = 0; i < 2; ++i )
+      summary.bridged += bridgeOpenEnds( matrix[i], finalSymbols, options.verify ? ResultMatrix::kInternal : ResultMatrix::kRegional, options.kiteLengthPx, options.kiteWidthPx );
+    CompilationSummary finalA = compileMaxLengthPolygons( matrix[0], finalSymbols, false );
+    CompilationSummary finalB = compileMaxLengthPolygons( matrix[1], finalSymbols, false );
+    summary.compilationStage.seconds += since( t0 );
+    summary.linesA = std::move( finalA.polygons );
+    summary.linesB = std::move( finalB.polygons );
+    summary.intersectionsA = std::move( finalA.intersections );
+    summary.intersectionsB = std::move( finalB.intersections );
+    summary.deadEndsA = openEnds( summary.linesA );
+    summary.deadEndsB = openEnds( summary.linesB );
+    if ( progress )
+      progress( 1.0 );
+    return summary;
+  }
+
+} // namespace geostation

@@ -1,0 +1,84 @@
+/***************************************************************************
+  coincidentextraction.h - lines extracted in a stereo pair, each verified
+  in the partner (report §3, §4.4, §4.5)
+  -------------------------------------------------------------------------
+  Round 1 extracts in image A (starting points, LEM, REM), compiles the
+  new lines into maximum-length polygons (erasing them), maps them into B
+  and verifies them there: accepted parts enter B's result matrix as E
+  and A's as I. Round 2 extracts in B from the verification dead ends and
+  from B's own starting points, and verifies in A; round 3 continues in A
+  from its verification dead ends only; and so on, alternating, until a
+  round adds less than a fraction of what has been accepted (or the round
+  limit). Final processing bridges small gaps and broken intersections
+  from every open end (the kite-shaped search of §4.4.3: 20 px along the
+  end's direction, 12 px across) and compiles the final polygons of both
+  images from the symbols I and E.
+ ***************************************************************************/
+#ifndef GEOSTATION_EXTRACTION_COINCIDENTEXTRACTION_H
+#define GEOSTATION_EXTRACTION_COINCIDENTEXTRACTION_H
+
+#include <string>
+#include <vector>
+
+#include <opencv2/core.hpp>
+
+#include "extraction/lineextractor.h"
+#include "extraction/pairmapping.h"
+#include "extraction/verification.h"
+
+namespace geostation
+{
+
+  struct CoincidentExtractionOptions
+  {
+    LineExtractionOptions extraction;
+    VerificationOptions verification;
+    int maxRounds = 4;
+    double minRoundGain = 0.02;   //!< stop after a round whose accepted length is below this fraction of the total
+    double kiteLengthPx = 20.0;   //!< the intersection search's main axis (§4.4.3)
+    double kiteWidthPx = 12.0;    //!< and its smaller axis
+    bool verify = true;           //!< false: one extraction in A, nothing verified (for comparison)
+
+    //! Throws std::invalid_argument naming the first bad value.
+    void check() const;
+  };
+
+  struct RoundReport
+  {
+    int round = 0;
+    std::string image;            //!< "A" or "B": where this round extracted
+    int startingPoints = 0, linesStarted = 0, continued = 0;
+    int polygons = 0, wholly = 0, partly = 0, rejected = 0;
+    double extractedPx = 0.0, acceptedPx = 0.0;
+    double seconds = 0.0;
+  };
+
+  struct CoincidentExtractionSummary
+  {
+    std::vector<CompiledPolygon> linesA, linesB;       //!< final maximum-length polygons (pixelInImage of each image)
+    std::vector<Eigen::Vector2d> intersectionsA, intersectionsB;
+    std::vector<DeadEnd> deadEndsA, deadEndsB;         //!< open ends of the final network
+    std::vector<RoundReport> rounds;
+    StageCounts startStage, lemStage, remStage, verificationStage, compilationStage;
+    int bridged = 0;                                   //!< gaps and intersections closed by the final processing
+    bool cancelled = false;
+  };
+
+  /**
+   * Runs the coincident procedure on grey images A and B (CV_8UC1). Throws
+   * std::invalid_argument for bad images or options; cancelling returns
+   * with `cancelled` and no lines.
+   */
+  CoincidentExtractionSummary extractCoincident( const cv::Mat &greyA, const cv::Mat &greyB, const PairMapping &mapping,
+                                                 const CoincidentExtractionOptions &options, const ExtractionProgress &progress = nullptr );
+
+  /**
+   * Closes gaps from the open ends of the lines of `symbols` in the matrix:
+   * the nearest other line pixel in the kite ahead of each end is joined to
+   * it with `symbol`. Returns the number of joins.
+   */
+  int bridgeOpenEnds( ResultMatrix &matrix, const std::string &symbols, uint8_t symbol, double kiteLengthPx, double kiteWidthPx );
+
+} // namespace geostation
+
+#endif // GEOSTATION_EXTRACTION_COINCIDENTEXTRACTION_H

@@ -1,0 +1,80 @@
+/***************************************************************************
+  verification.h - a line of one image confirmed in its partner (§4.4.1)
+  -------------------------------------------------------------------------
+  Each maximum-length polygon extracted in the source image is mapped into
+  the target image and checked there by a modified REM: areas of interest
+  laid symmetrically along the mapped polygon, as wide as the mapping's
+  misregistration, and in each the chain of highest confidence anywhere
+  in the area (not necessarily from its centre). Once the line is found,
+  the next area follows its offset from the mapped polygon. The polygon is
+  accepted wholly, in parts, or not at all: the accepted parts of the
+  source polygon (the stretch the found line covers, projected onto the
+  mapped polygon) and the line found in the target are returned together.
+  An accepted part that reaches to within a few pixels of the polygon's end
+  leaves a verification dead end there (extraction continues in the target
+  image); other ends are final.
+ ***************************************************************************/
+#ifndef GEOSTATION_EXTRACTION_VERIFICATION_H
+#define GEOSTATION_EXTRACTION_VERIFICATION_H
+
+#include <functional>
+#include <optional>
+#include <vector>
+
+#include <Eigen/Core>
+#include <opencv2/core.hpp>
+
+#include "extraction/crossprofile.h"
+#include "extraction/linestate.h"
+#include "extraction/resultmatrix.h"
+
+namespace geostation
+{
+
+  struct VerificationOptions
+  {
+    double misregistrationPx = 12.0; //!< the mapping's error the search allows (half-width of the first areas)
+    double trackingHalfWidthPx = 4.0; //!< half-width beyond the band once the line is found
+    double areaLengthPx = 40.0;
+    double minChainConfidence = 0.5;  //!< mean confidence of a chain to accept
+    int minChainLinks = 3;
+    double maxAngleDeg = 20.0;
+    double deadEndReachPx = 8.0;      //!< "a few pixels": an accepted part this close to the polygon's end leaves a verification dead end
+    double densifyPx = 2.0;
+
+    //! Throws std::invalid_argument naming the first bad value.
+    void check() const;
+  };
+
+  struct VerifiedPart
+  {
+    std::vector<Eigen::Vector2d> inSource; //!< the accepted stretch of the source polygon (source pixels)
+    std::vector<Eigen::Vector2d> inTarget; //!< the line found in the target image (target pixels)
+  };
+
+  struct VerificationSummary
+  {
+    std::vector<VerifiedPart> accepted;
+    std::vector<DeadEnd> continueFrom; //!< verification dead ends, in the target image, pointing outwards
+    std::vector<DeadEnd> finalDeadEnds; //!< in the target image
+    int wholly = 0, partly = 0, rejected = 0;
+    double sourceLengthPx = 0.0, acceptedSourceLengthPx = 0.0;
+    double seconds = 0.0;
+  };
+
+  //! Source pixel -> target pixel (nothing where undefined).
+  using PixelMap = std::function<std::optional<Eigen::Vector2d>( const Eigen::Vector2d & )>;
+
+  /**
+   * Verifies `polygons` of the source image in the target image. The band's
+   * width and contrast are measured on the source image along each polygon.
+   */
+  VerificationSummary verifyPolygons( const cv::Mat &sourceGrey, const cv::Mat &targetGrey, const std::vector<CompiledPolygon> &polygons,
+                                      const PixelMap &sourceToTarget, const LineObjectOptions &object, const VerificationOptions &options );
+
+  //! The polyline resampled every `stepPx` (ends kept).
+  std::vector<Eigen::Vector2d> densifyPolyline( const std::vector<Eigen::Vector2d> &polyline, double stepPx );
+
+} // namespace geostation
+
+#endif // GEOSTATION_EXTRACTION_VERIFICATION_H
