@@ -55,7 +55,8 @@ namespace geostation
         ++summary.vertices;
         const std::optional<Eigen::Vector3d> ground = mapping.groundPoint( a, p );
         const std::optional<Ray> ray = a.worldRayFromPixel( p );
-        std::optional<Eigen::Vector2d> inB;
+        Eigen::Vector2d inB = Eigen::Vector2d::Zero();
+        bool haveB = false;
         double sigmaB = options.lineSigmaPx;
         std::string method;
         if ( ground && ray && std::abs( ray->direction.z() ) > 1e-6 )
@@ -91,9 +92,10 @@ namespace geostation
                       bestDistance = ( c->first - pred ).norm();
                       bestSine = c->second;
                       inB = c->first;
+                      haveB = true;
                     }
               }
-            if ( inB && bestSine >= minSine )
+            if ( haveB && bestSine >= minSine )
             {
               sigmaB = options.lineSigmaPx / bestSine;
               method = "line_crossing";
@@ -101,7 +103,7 @@ namespace geostation
             else if ( !imageA.empty() && !imageB.empty() )
             {
               // along the epipolar direction: area matching on the curve near the prediction
-              inB.reset();
+              haveB = false;
               std::vector<Eigen::Vector2d> band;
               for ( const Eigen::Vector2d &c : densifyPolyline( curve, 1.0 ) )
                 if ( ( c - pred ).norm() <= options.searchPx )
@@ -112,23 +114,24 @@ namespace geostation
                 if ( m.status == MatchStatus::Lsm )
                 {
                   inB = m.pixelInImage;
+                  haveB = true;
                   sigmaB = std::max( m.sigmaPx, 0.1 );
                   method = "area_match";
                 }
               }
             }
             else
-              inB.reset();
+              haveB = false;
           }
         }
-        if ( !inB )
+        if ( !haveB )
         {
           ++summary.unmatched;
           if ( ++missing > options.maxGapVertices )
             flush();
           continue;
         }
-        const std::vector<RayObservation> rays { { &a, p, options.lineSigmaPx }, { &b, *inB, sigmaB } };
+        const std::vector<RayObservation> rays { { &a, p, options.lineSigmaPx }, { &b, inB, sigmaB } };
         const IntersectionSummary x = intersectRays( rays );
         if ( !x.ok() )
         {
@@ -142,7 +145,7 @@ namespace geostation
         v.point = x.point;
         v.sigmaM = x.sigmaM;
         v.inA = p;
-        v.inB = *inB;
+        v.inB = inB;
         v.method = method;
         ( method == "line_crossing" ? summary.byCrossing : summary.byArea )++;
         current.vertices.push_back( v );

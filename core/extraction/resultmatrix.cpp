@@ -146,6 +146,7 @@ namespace geostation
           grid.set( c, r, true );
           cells.emplace_back( c, r );
         }
+    const cv::Mat original = matrix.symbols().clone();
     if ( erase )
       matrix.erase( symbols );
 
@@ -245,6 +246,15 @@ namespace geostation
         return;
       if ( pixels.size() < 2 || ( startNode >= 0 && startNode == endNode && pixels.size() < 4 ) )
         return;
+      for ( const Eigen::Vector2d &p : pixels )
+      {
+        const int c = static_cast<int>( std::floor( p.x() ) ), r = static_cast<int>( std::floor( p.y() ) );
+        if ( c < 0 || r < 0 || c >= w || r >= h )
+          continue;
+        const char v = static_cast<char>( original.at<uint8_t>( r, c ) );
+        if ( v && symbols.find( v ) != std::string::npos && polygon.symbols.find( v ) == std::string::npos )
+          polygon.symbols.push_back( v );
+      }
       polygon.pixels = douglasPeucker( pixels, 0.75 ); // the pixel staircase, straightened
       summary.polygons.push_back( std::move( polygon ) );
     };

@@ -74,6 +74,7 @@ namespace geostation
   {
     std::vector<Eigen::Vector2d> pixels; //!< vertices through the pixel centres (Douglas-Peucker, 0.75 px), ends included (an intersection's end at its centre)
     PolygonEnd startEnd = PolygonEnd::DeadEnd, endEnd = PolygonEnd::DeadEnd;
+    std::string symbols; //!< the distinct symbols along it, in order of first appearance (e.g. "I", "IE")
   };
 
   struct CompilationSummary

@@ -18,6 +18,7 @@
 #include "monoplotalgorithm.h"
 #include "simulatesurveyalgorithm.h"
 #include "traceroadlinesalgorithm.h"
+#include "extractroadsalgorithm.h"
 #include "projecttoimagealgorithm.h"
 #include "resectionalgorithm.h"
 
@@ -73,6 +74,7 @@ void GeoStationProvider::loadAlgorithms()
   addAlgorithm( new MatchPointsAlgorithm() );
   addAlgorithm( new ExportMeasurementsAlgorithm() );
   addAlgorithm( new TraceRoadLinesAlgorithm() );
+  addAlgorithm( new ExtractRoadsAlgorithm() );
 }
 
 bool registerGeoStationProvider()

@@ -1,0 +1,110 @@
+/***************************************************************************
+  roadnetworkextractor.cpp - a road network from a stereo pair, end to end
+ ***************************************************************************/
+#include "extraction/roadnetworkextractor.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <stdexcept>
+
+#include "adjustment/intersection.h"
+#include "geometry/epipolar.h"
+#include "matching/areamatcher.h"
+
+namespace geostation
+{
+
+  std::optional<TerrainHeightEstimate> estimateTerrainHeight( const OrientedImage &a, const OrientedImage &b, const MatchImage &imageA, const MatchImage &imageB )
+  {
+    EpipolarOptions epipolar;
+    epipolar.minDistanceM = 1.0;
+    epipolar.maxDistanceM = 100000.0;
+    epipolar.maxSegmentPx = 1.0;
+    AreaMatchOptions match;
+    match.windowWidth = match.windowHeight = 21;
+    match.minScore = 0.7;
+    std::vector<double> heights;
+    const int n = 9;
+    for ( int r = 1; r <= n; ++r )
+      for ( int c = 1; c <= n; ++c )
+      {
+        const Eigen::Vector2d p( imageA.width() * c / ( n + 1.0 ), imageA.height() * r / ( n + 1.0 ) );
+        const EpipolarCurve curve = epipolarCurve( a, p, b, epipolar );
+        std::vector<Eigen::Vector2d> band;
+        for ( const auto &piece : curve.pieces )
+          for ( const EpipolarVertex &v : piece )
+            if ( v.inFrame )
+              band.push_back( v.pixelInImage );
+        if ( band.size() < 3 )
+          continue;
+        const AreaMatch m = matchAlongEpipolarBand( imageA, p, imageB, band, match );
+        if ( m.status != MatchStatus::Lsm )
+          continue;
+        const std::vector<RayObservation> rays { { &a, p, 0.5 }, { &b, m.pixelInImage, 0.5 } };
+        const IntersectionSummary x = intersectRays( rays );
+        if ( x.ok() )
+          heights.push_back( x.point.z() );
+      }
+    if ( heights.size() < 5 )
+      return std::nullopt;
+    std::sort( heights.begin(), heights.end() );
+    TerrainHeightEstimate e;
+    e.heightM = heights[heights.size() / 2];
+    e.points = static_cast<int>( heights.size() );
+    std::vector<double> deviations;
+    for ( double h : heights )
+      deviations.push_back( std::abs( h - e.heightM ) );
+    std::sort( deviations.begin(), deviations.end() );
+    e.spreadM = deviations[deviations.size() / 2];
+    return e;
+  }
+
+  RoadNetworkSummary extractRoadNetwork( const MatchImage &imageA, const MatchImage &imageB, const OrientedImage *a, const OrientedImage *b,
+                                         const RoadNetworkOptions &options, const ExtractionProgress &progress )
+  {
+    const auto start = std::chrono::steady_clock::now();
+    if ( imageA.empty() || imageB.empty() )
+      throw std::invalid_argument( "both images of the pair are needed" );
+    if ( ( a == nullptr ) != ( b == nullptr ) )
+      throw std::invalid_argument( "either both images of the pair are oriented or neither" );
+    options.coincident.check();
+    RoadNetworkSummary summary;
+    summary.oriented = a != nullptr;
+    std::unique_ptr<PairMapping> mapping;
+    if ( !options.control.empty() || !summary.oriented )
+    {
+      if ( options.control.empty() )
+        throw std::invalid_argument( "an unoriented pair needs a table of control-point pairs for its registration" );
+      RegistrationReport report;
+      if ( options.controlMapping == ControlMapping::Projective )
+        mapping = std::make_unique<ProjectiveMapping>( ProjectiveMapping::fit( options.control, &report ) );
+      else
+        mapping = std::make_unique<MultiquadricMapping>( MultiquadricMapping::fit( options.control, 1.0, &report ) );
+      summary.registration = report;
+    }
+    if ( summary.oriented )
+    {
+      if ( options.meanHeightM )
+        summary.meanHeightM = *options.meanHeightM;
+      else
+      {
+        summary.terrainEstimate = estimateTerrainHeight( *a, *b, imageA, imageB );
+        if ( !summary.terrainEstimate && !options.terrain )
+          throw std::invalid_argument( "the terrain height could not be estimated by matching (the images do not overlap, or have no texture): give a DEM or a mean terrain height" );
+        summary.meanHeightM = summary.terrainEstimate ? summary.terrainEstimate->heightM : 0.0;
+      }
+    }
+    std::optional<OrientedPairMapping> oriented;
+    if ( summary.oriented )
+      oriented.emplace( *a, *b, summary.meanHeightM, options.terrain );
+    const PairMapping &registration = mapping ? *mapping : static_cast<const PairMapping &>( *oriented );
+    summary.mapping = registration.name();
+    summary.extraction = extractCoincident( imageA.grey(), imageB.grey(), registration, options.coincident, progress );
+    if ( oriented && !summary.extraction.cancelled )
+      summary.network = intersectNetwork( *oriented, summary.extraction.linesA, summary.extraction.linesB, imageA, imageB, options.network );
+    summary.seconds = std::chrono::duration<double>( std::chrono::steady_clock::now() - start ).count();
+    return summary;
+  }
+
+} // namespace geostation

@@ -1,0 +1,79 @@
+/***************************************************************************
+  roadnetworkextractor.h - a road network from a stereo pair, end to end
+  -------------------------------------------------------------------------
+  What geostation:extract_roads runs: the pair's registration (through the
+  orientation with a DEM or a mean terrain height - estimated by matching
+  a grid of points when neither is given - or from control-point pairs),
+  the coincident extraction with verification, and, for an oriented pair,
+  the 3-D lines.
+ ***************************************************************************/
+#ifndef GEOSTATION_EXTRACTION_ROADNETWORKEXTRACTOR_H
+#define GEOSTATION_EXTRACTION_ROADNETWORKEXTRACTOR_H
+
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "extraction/coincidentextraction.h"
+#include "extraction/networkintersection.h"
+#include "extraction/pairmapping.h"
+#include "geometry/projection.h"
+#include "matching/matchimage.h"
+
+namespace geostation
+{
+
+  enum class ControlMapping
+  {
+    Projective,
+    Multiquadric,
+  };
+
+  struct RoadNetworkOptions
+  {
+    CoincidentExtractionOptions coincident;
+    NetworkIntersectionOptions network;
+    TerrainHeight terrain;               //!< a DEM, when given (oriented pairs)
+    std::optional<double> meanHeightM;   //!< otherwise, or where the DEM has no height; estimated when absent
+    std::vector<ControlPair> control;    //!< an unoriented pair: registration from these pairs
+    ControlMapping controlMapping = ControlMapping::Multiquadric;
+  };
+
+  struct TerrainHeightEstimate
+  {
+    double heightM = 0.0;
+    int points = 0;   //!< matched (LSM) grid points the median is taken from
+    double spreadM = 0.0; //!< median absolute deviation of their heights
+  };
+
+  /**
+   * The median height of a 9 x 9 grid of points of A matched in B along
+   * their epipolar curves (LSM only); nothing when fewer than 5 match.
+   */
+  std::optional<TerrainHeightEstimate> estimateTerrainHeight( const OrientedImage &a, const OrientedImage &b, const MatchImage &imageA, const MatchImage &imageB );
+
+  struct RoadNetworkSummary
+  {
+    std::string mapping;                            //!< "orientation", "projective", "multiquadric"
+    std::optional<RegistrationReport> registration; //!< control-point mappings
+    std::optional<TerrainHeightEstimate> terrainEstimate;
+    double meanHeightM = 0.0;
+    CoincidentExtractionSummary extraction;
+    NetworkIntersectionSummary network;            //!< empty for an unoriented pair
+    bool oriented = false;
+    double seconds = 0.0;
+  };
+
+  /**
+   * `a` and `b` are the pair's orientations, or both null for an unoriented
+   * pair (then `options.control` is required). Throws std::invalid_argument
+   * with one sentence for bad input (images, options, control points, no
+   * terrain height to be had); a pair without roads gives an empty result.
+   */
+  RoadNetworkSummary extractRoadNetwork( const MatchImage &imageA, const MatchImage &imageB, const OrientedImage *a, const OrientedImage *b,
+                                         const RoadNetworkOptions &options, const ExtractionProgress &progress = nullptr );
+
+} // namespace geostation
+
+#endif // GEOSTATION_EXTRACTION_ROADNETWORKEXTRACTOR_H

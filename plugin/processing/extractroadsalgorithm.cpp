@@ -1,0 +1,313 @@
+/***************************************************************************
+  extractroadsalgorithm.cpp - geostation:extract_roads
+  -------------------------------------------------------------------------
+  A stereo pair in, its road network out (core/extraction): lines found in
+  one image and verified in the other, alternately, as image-space lines
+  of both images, 3-D lines with sigmas for an oriented pair, the open
+  ends, and a JSON report of the rounds. Everything is computed before
+  any output is created; a pair without roads gives empty layers and a
+  report that says so.
+ ***************************************************************************/
+#include "extractroadsalgorithm.h"
+
+#include <QJsonArray>
+#include <QJsonDocument>
+#include <QJsonObject>
+#include <QSaveFile>
+
+#include <qgsexception.h>
+#include <qgsfeaturesink.h>
+#include <qgsgeometry.h>
+#include <qgslinestring.h>
+#include <qgspoint.h>
+#include <qgsprocessingfeedback.h>
+#include <qgsprocessingoutputs.h>
+#include <qgsprocessingparameters.h>
+#include <qgsrasterlayer.h>
+
+#include "extraction/roadnetworkextractor.h"
+#include "io/rasterfile.h"
+#include "processingblock.h"
+
+namespace
+{
+  const QStringList kPolarities { QStringLiteral( "dark" ), QStringLiteral( "bright" ) };
+  const QStringList kMappings { QStringLiteral( "multiquadric" ), QStringLiteral( "projective" ) };
+
+  //! point_id, col_left, row_left, col_right, row_right
+  std::vector<geostation::ControlPair> readControl( QgsFeatureSource *source )
+  {
+    const QgsFields fields = source->fields();
+    QVector<int> index;
+    for ( const QString &name : { QStringLiteral( "point_id" ), QStringLiteral( "col_left" ), QStringLiteral( "row_left" ), QStringLiteral( "col_right" ), QStringLiteral( "row_right" ) } )
+    {
+      index << fields.lookupField( name );
+      if ( index.back() < 0 )
+        throw QgsProcessingException( QObject::tr( "The CONTROL table has no field %1 (it needs point_id, col_left, row_left, col_right, row_right)." ).arg( name ) );
+    }
+    std::vector<geostation::ControlPair> pairs;
+    QgsFeature f;
+    QgsFeatureIterator it = source->getFeatures();
+    while ( it.nextFeature( f ) )
+    {
+      double v[4];
+      for ( int k = 0; k < 4; ++k )
+      {
+        bool ok = false;
+        v[k] = f.attribute( index[k + 1] ).toString().toDouble( &ok );
+        if ( !ok || !std::isfinite( v[k] ) )
+          throw QgsProcessingException( QObject::tr( "CONTROL row %1: %2 is not a number." ).arg( pairs.size() + 1 ).arg( fields.at( index[k + 1] ).name() ) );
+      }
+      pairs.push_back( { f.attribute( index[0] ).toString().toStdString(), Eigen::Vector2d( v[0], v[1] ), Eigen::Vector2d( v[2], v[3] ) } );
+    }
+    return pairs;
+  }
+
+  geostation::MatchImage readImage( const geostation::Block &block, const geostation::BlockImage &image )
+  {
+    GeoStationProcessing::requireImageFile( block, image );
+    try
+    {
+      return geostation::MatchImage( geostation::readRaster( block.imageFilePath( image ).string() ).pixels );
+    }
+    catch ( const std::exception &e )
+    {
+      throw QgsProcessingException( QString::fromStdString( e.what() ) );
+    }
+  }
+
+  QgsGeometry imageSpaceLine( const std::vector<Eigen::Vector2d> &pixels )
+  {
+    QVector<double> x, y;
+    for ( const Eigen::Vector2d &p : pixels )
+    {
+      x << p.x();
+      y << -p.y(); // CONVENTIONS §1: x = col, y = -row
+    }
+    return QgsGeometry( new QgsLineString( x, y ) );
+  }
+
+  //! "right" (extracted in the left image, verified in the right), "left", or "both".
+  QString acceptedIn( const std::string &symbols, bool inLeft )
+  {
+    const bool internal = symbols.find( 'I' ) != std::string::npos, external = symbols.find( 'E' ) != std::string::npos;
+    if ( internal && external )
+      return QStringLiteral( "both" );
+    return ( internal == inLeft ) ? QStringLiteral( "right" ) : QStringLiteral( "left" );
+  }
+}
+
+QString ExtractRoadsAlgorithm::name() const { return QStringLiteral( "extract_roads" ); }
+QString ExtractRoadsAlgorithm::displayName() const { return QObject::tr( "Extract the road network of a stereo pair" ); }
+QStringList ExtractRoadsAlgorithm::tags() const { return QObject::tr( "road,network,extraction,aerial,stereo,verification,3d,lines" ).split( ',' ); }
+QString ExtractRoadsAlgorithm::group() const { return QObject::tr( "Image processing" ); }
+QString ExtractRoadsAlgorithm::groupId() const { return QStringLiteral( "imageprocessing" ); }
+
+QString ExtractRoadsAlgorithm::shortHelpString() const
+{
+  return QObject::tr( "Extracts roads automatically from one image of a stereo pair, verifies every line in the other image, "
+                      "continues from where verification stopped, alternating between the images until a round adds little, "
+                      "and assembles the result into maximum-length lines between dead ends and junctions.\n\n"
+                      "Roads are bands ROAD_WIDTH_MIN_PX to ROAD_WIDTH_MAX_PX wide, darker (POLARITY dark) or brighter than "
+                      "both sides by at least MIN_CONTRAST grey levels. An oriented pair is registered through its "
+                      "orientation and the DEM, or a mean terrain height (MEAN_HEIGHT_M, otherwise estimated by matching); "
+                      "an unoriented pair needs CONTROL (point_id, col_left, row_left, col_right, row_right) and is "
+                      "registered by the MAPPING, and then only the image-space outputs are written.\n\n"
+                      "OUTPUT: 3-D lines in the block CRS (line_id, accepted_in, length_m, sigma_max); OUTPUT_LEFT and "
+                      "OUTPUT_RIGHT: the lines in each image (x = col, y = -row); DEAD_ENDS: open ends in the left image "
+                      "(kind); REPORT: JSON with the rounds, counts, registration and times per stage." );
+}
+
+ExtractRoadsAlgorithm *ExtractRoadsAlgorithm::createInstance() const { return new ExtractRoadsAlgorithm(); }
+
+void ExtractRoadsAlgorithm::initAlgorithm( const QVariantMap & )
+{
+  addParameter( GeoStationProcessing::blockParameter() );
+  addParameter( new QgsProcessingParameterString( QStringLiteral( "LEFT" ), QObject::tr( "Left image id" ) ) );
+  addParameter( new QgsProcessingParameterString( QStringLiteral( "RIGHT" ), QObject::tr( "Right image id" ) ) );
+  addParameter( new QgsProcessingParameterRasterLayer( QStringLiteral( "DEM" ), QObject::tr( "DEM" ), QVariant(), true ) );
+  addParameter( new QgsProcessingParameterNumber( QStringLiteral( "MEAN_HEIGHT_M" ), QObject::tr( "Mean terrain height (m; empty: estimated)" ), QgsProcessingParameterNumber::Double, QVariant(), true ) );
+  addParameter( new QgsProcessingParameterNumber( QStringLiteral( "ROAD_WIDTH_MIN_PX" ), QObject::tr( "Narrowest road (px)" ), QgsProcessingParameterNumber::Double, 6.0, false, 2.0, 200.0 ) );
+  addParameter( new QgsProcessingParameterNumber( QStringLiteral( "ROAD_WIDTH_MAX_PX" ), QObject::tr( "Widest road (px)" ), QgsProcessingParameterNumber::Double, 20.0, false, 2.0, 200.0 ) );
+  addParameter( new QgsProcessingParameterEnum( QStringLiteral( "POLARITY" ), QObject::tr( "Roads are" ), kPolarities, false, QStringLiteral( "dark" ), false, true ) );
+  addParameter( new QgsProcessingParameterNumber( QStringLiteral( "MIN_CONTRAST" ), QObject::tr( "Minimum contrast (grey levels)" ), QgsProcessingParameterNumber::Double, 25.0, false, 1.0, 255.0 ) );
+  addParameter( new QgsProcessingParameterFeatureSource( QStringLiteral( "CONTROL" ), QObject::tr( "Control-point pairs (unoriented pair)" ), QList<int>() << QgsProcessing::TypeVector, QVariant(), true ) );
+  addParameter( new QgsProcessingParameterEnum( QStringLiteral( "MAPPING" ), QObject::tr( "Mapping from control points" ), kMappings, false, QStringLiteral( "multiquadric" ), false, true ) );
+  addParameter( new QgsProcessingParameterFeatureSink( QStringLiteral( "OUTPUT" ), QObject::tr( "Road network (3-D)" ), QgsProcessing::TypeVectorLine, QVariant(), true ) );
+  addParameter( new QgsProcessingParameterFeatureSink( QStringLiteral( "OUTPUT_LEFT" ), QObject::tr( "Roads in the left image" ), QgsProcessing::TypeVectorLine ) );
+  addParameter( new QgsProcessingParameterFeatureSink( QStringLiteral( "OUTPUT_RIGHT" ), QObject::tr( "Roads in the right image" ), QgsProcessing::TypeVectorLine ) );
+  addParameter( new QgsProcessingParameterFeatureSink( QStringLiteral( "DEAD_ENDS" ), QObject::tr( "Open ends (left image)" ), QgsProcessing::TypeVectorPoint, QVariant(), true ) );
+  addParameter( new QgsProcessingParameterFileDestination( QStringLiteral( "REPORT" ), QObject::tr( "Report" ), QObject::tr( "JSON (*.json)" ) ) );
+  addOutput( new QgsProcessingOutputNumber( QStringLiteral( "LINE_COUNT" ), QObject::tr( "Lines in the left image" ) ) );
+}
+
+QVariantMap ExtractRoadsAlgorithm::processAlgorithm( const QVariantMap &parameters, QgsProcessingContext &context, QgsProcessingFeedback *feedback )
+{
+  const geostation::Block block = GeoStationProcessing::loadBlock( parameterAsFile( parameters, QStringLiteral( "BLOCK" ), context ) );
+  const geostation::BlockImage &left = GeoStationProcessing::blockImage( block, parameterAsString( parameters, QStringLiteral( "LEFT" ), context ).trimmed() );
+  const geostation::BlockImage &right = GeoStationProcessing::blockImage( block, parameterAsString( parameters, QStringLiteral( "RIGHT" ), context ).trimmed() );
+  if ( left.id == right.id )
+    throw QgsProcessingException( QObject::tr( "LEFT and RIGHT are the same image (%1): a stereo pair needs two." ).arg( QString::fromStdString( left.id ) ) );
+
+  geostation::RoadNetworkOptions options;
+  geostation::LineObjectOptions &object = options.coincident.extraction.object;
+  object.polarity = parameterAsEnumString( parameters, QStringLiteral( "POLARITY" ), context ) == QLatin1String( "bright" ) ? 1 : -1;
+  object.minContrast = parameterAsDouble( parameters, QStringLiteral( "MIN_CONTRAST" ), context );
+  object.minWidthPx = parameterAsDouble( parameters, QStringLiteral( "ROAD_WIDTH_MIN_PX" ), context );
+  object.maxWidthPx = parameterAsDouble( parameters, QStringLiteral( "ROAD_WIDTH_MAX_PX" ), context );
+  if ( parameters.value( QStringLiteral( "MEAN_HEIGHT_M" ) ).isValid() && !parameters.value( QStringLiteral( "MEAN_HEIGHT_M" ) ).toString().isEmpty() )
+    options.meanHeightM = parameterAsDouble( parameters, QStringLiteral( "MEAN_HEIGHT_M" ), context );
+  if ( std::unique_ptr<QgsProcessingFeatureSource> control { parameterAsSource( parameters, QStringLiteral( "CONTROL" ), context ) } )
+    options.control = readControl( control.get() );
+  options.controlMapping = parameterAsEnumString( parameters, QStringLiteral( "MAPPING" ), context ) == QLatin1String( "projective" ) ? geostation::ControlMapping::Projective
+                           : geostation::ControlMapping::Multiquadric;
+  const bool oriented = left.exterior && right.exterior && options.control.empty();
+  std::optional<geostation::OrientedImage> orientedLeft, orientedRight;
+  if ( oriented )
+  {
+    orientedLeft.emplace( GeoStationProcessing::orientedImage( block, left ) );
+    orientedRight.emplace( GeoStationProcessing::orientedImage( block, right ) );
+  }
+  else if ( options.control.empty() )
+    throw QgsProcessingException( QObject::tr( "The pair is not oriented: give CONTROL, a table of point pairs (point_id, col_left, row_left, col_right, row_right)." ) );
+  GeoStationProcessing::LoadedDem dem;
+  if ( QgsRasterLayer *demLayer = parameterAsRasterLayer( parameters, QStringLiteral( "DEM" ), context ) )
+  {
+    dem = GeoStationProcessing::loadDem( demLayer->source(), block );
+    options.terrain = [&dem]( double x, double y ) { return dem.dem->heightAt( dem.blockToDem->transform( Eigen::Vector3d( x, y, 0 ) ).x(), dem.blockToDem->transform( Eigen::Vector3d( x, y, 0 ) ).y() ); };
+  }
+  const geostation::MatchImage imageLeft = readImage( block, left ), imageRight = readImage( block, right );
+
+  geostation::RoadNetworkSummary s;
+  try
+  {
+    s = geostation::extractRoadNetwork( imageLeft, imageRight, orientedLeft ? &*orientedLeft : nullptr, orientedRight ? &*orientedRight : nullptr, options,
+                                        [feedback]( double f ) { feedback->setProgress( 100.0 * f ); return !feedback->isCanceled(); } );
+  }
+  catch ( const std::invalid_argument &e )
+  {
+    throw QgsProcessingException( QString::fromStdString( e.what() ) );
+  }
+  if ( s.extraction.cancelled )
+    throw QgsProcessingException( QObject::tr( "Cancelled: nothing was written." ) );
+  if ( s.extraction.linesA.empty() )
+    feedback->pushWarning( QObject::tr( "No road was found in the pair (the layers are empty)." ) );
+
+  // outputs, only now
+  QgsFields lineFields;
+  lineFields.append( QgsField( QStringLiteral( "line_id" ), QVariant::Int ) );
+  lineFields.append( QgsField( QStringLiteral( "accepted_in" ), QVariant::String ) );
+  QVariantMap outputs;
+  const auto imageSink = [&]( const QString &name, const std::vector<geostation::CompiledPolygon> &lines, bool inLeft )
+  {
+    QString destination;
+    std::unique_ptr<QgsFeatureSink> sink( parameterAsSink( parameters, name, context, destination, lineFields, QgsWkbTypes::LineString, QgsCoordinateReferenceSystem() ) );
+    if ( !sink )
+      throw QgsProcessingException( invalidSinkError( parameters, name ) );
+    for ( size_t i = 0; i < lines.size(); ++i )
+    {
+      QgsFeature f( lineFields );
+      f.setAttributes( QgsAttributes() << static_cast<int>( i + 1 ) << acceptedIn( lines[i].symbols, inLeft ) );
+      f.setGeometry( imageSpaceLine( lines[i].pixels ) );
+      if ( !sink->addFeature( f, QgsFeatureSink::FastInsert ) )
+        throw QgsProcessingException( writeFeatureError( sink.get(), parameters, name ) );
+    }
+    sink.reset();
+    GeoStationProcessing::markPixelSpaceOutput( destination );
+    outputs.insert( name, destination );
+  };
+  imageSink( QStringLiteral( "OUTPUT_LEFT" ), s.extraction.linesA, true );
+  imageSink( QStringLiteral( "OUTPUT_RIGHT" ), s.extraction.linesB, false );
+
+  if ( s.oriented )
+  {
+    QgsFields fields = lineFields;
+    fields.append( QgsField( QStringLiteral( "length_m" ), QVariant::Double ) );
+    fields.append( QgsField( QStringLiteral( "sigma_max" ), QVariant::Double ) );
+    QString destination;
+    std::unique_ptr<QgsFeatureSink> sink( parameterAsSink( parameters, QStringLiteral( "OUTPUT" ), context, destination, fields, QgsWkbTypes::LineStringZ, GeoStationProcessing::blockCrs( block ) ) );
+    if ( sink )
+    {
+      for ( const geostation::NetworkLine &line : s.network.lines )
+      {
+        QVector<double> x, y, z;
+        double sigmaMax = 0.0, length = 0.0;
+        for ( size_t k = 0; k < line.vertices.size(); ++k )
+        {
+          const geostation::NetworkVertex &v = line.vertices[k];
+          x << v.point.x();
+          y << v.point.y();
+          z << v.point.z();
+          sigmaMax = std::max( sigmaMax, v.sigmaM.maxCoeff() );
+          if ( k > 0 )
+            length += ( v.point - line.vertices[k - 1].point ).norm();
+        }
+        QgsFeature f( fields );
+        f.setAttributes( QgsAttributes() << line.sourceLine + 1 << acceptedIn( s.extraction.linesA[line.sourceLine].symbols, true ) << length << sigmaMax );
+        f.setGeometry( QgsGeometry( new QgsLineString( x, y, z ) ) );
+        if ( !sink->addFeature( f, QgsFeatureSink::FastInsert ) )
+          throw QgsProcessingException( writeFeatureError( sink.get(), parameters, QStringLiteral( "OUTPUT" ) ) );
+      }
+      outputs.insert( QStringLiteral( "OUTPUT" ), destination );
+    }
+  }
+
+  QgsFields endFields;
+  endFields.append( QgsField( QStringLiteral( "kind" ), QVariant::String ) );
+  QString endsDestination;
+  if ( std::unique_ptr<QgsFeatureSink> ends { parameterAsSink( parameters, QStringLiteral( "DEAD_ENDS" ), context, endsDestination, endFields, QgsWkbTypes::Point, QgsCoordinateReferenceSystem() ) } )
+  {
+    for ( const geostation::DeadEnd &d : s.extraction.deadEndsA )
+    {
+      QgsFeature f( endFields );
+      f.setAttributes( QgsAttributes() << QString::fromStdString( geostation::deadEndKindName( d.kind ) ) );
+      f.setGeometry( QgsGeometry( new QgsPoint( d.state.pixelInImage.x(), -d.state.pixelInImage.y() ) ) );
+      ends->addFeature( f, QgsFeatureSink::FastInsert );
+    }
+    ends.reset();
+    GeoStationProcessing::markPixelSpaceOutput( endsDestination );
+    outputs.insert( QStringLiteral( "DEAD_ENDS" ), endsDestination );
+  }
+
+  QJsonArray rounds;
+  for ( const geostation::RoundReport &r : s.extraction.rounds )
+    rounds.append( QJsonObject { { "round", r.round }, { "extracted_in", r.image == "A" ? "left" : "right" }, { "starting_points", r.startingPoints },
+      { "lines_started", r.linesStarted }, { "continued_from_dead_ends", r.continued }, { "polygons", r.polygons }, { "accepted_wholly", r.wholly },
+      { "accepted_partly", r.partly }, { "rejected", r.rejected }, { "extracted_px", r.extractedPx }, { "accepted_px", r.acceptedPx }, { "seconds", r.seconds } } );
+  const auto stage = []( const geostation::StageCounts &c ) { return QJsonObject { { "seconds", c.seconds }, { "line_px", c.linePx }, { "image_px", static_cast<double>( c.imagePixels ) } }; };
+  QJsonObject report { { "algorithm", "geostation:extract_roads" }, { "left", QString::fromStdString( left.id ) }, { "right", QString::fromStdString( right.id ) },
+    { "mapping", QString::fromStdString( s.mapping ) }, { "rounds", rounds }, { "lines_left", static_cast<int>( s.extraction.linesA.size() ) },
+    { "lines_right", static_cast<int>( s.extraction.linesB.size() ) }, { "intersections_left", static_cast<int>( s.extraction.intersectionsA.size() ) },
+    { "intersections_right", static_cast<int>( s.extraction.intersectionsB.size() ) }, { "gaps_bridged", s.extraction.bridged },
+    { "stages", QJsonObject { { "starting_points", stage( s.extraction.startStage ) }, { "lem", stage( s.extraction.lemStage ) }, { "rem", stage( s.extraction.remStage ) },
+        { "verification", stage( s.extraction.verificationStage ) }, { "compilation", stage( s.extraction.compilationStage ) } } },
+    { "seconds", s.seconds }, { "empty", s.extraction.linesA.empty() } };
+  if ( s.oriented )
+  {
+    report.insert( "mean_height_m", s.meanHeightM );
+    if ( s.terrainEstimate )
+      report.insert( "terrain_estimate", QJsonObject { { "height_m", s.terrainEstimate->heightM }, { "points", s.terrainEstimate->points }, { "spread_m", s.terrainEstimate->spreadM } } );
+    report.insert( "vertices_3d", QJsonObject { { "total", s.network.vertices }, { "by_line_crossing", s.network.byCrossing }, { "by_area_matching", s.network.byArea },
+      { "unmatched", s.network.unmatched } } );
+  }
+  if ( s.registration )
+  {
+    QJsonArray residuals;
+    for ( size_t i = 0; i < s.registration->residualsPx.size(); ++i )
+      residuals.append( QJsonObject { { "point_id", QString::fromStdString( options.control[i].id ) }, { "misregistration_px", s.registration->residualsPx[i] } } );
+    report.insert( "registration", QJsonObject { { "method", QString::fromStdString( s.registration->method ) }, { "rms_px", s.registration->rmsPx },
+      { "max_px", s.registration->maxPx }, { "points", residuals } } );
+  }
+  const QString reportPath = parameterAsFileOutput( parameters, QStringLiteral( "REPORT" ), context );
+  QSaveFile file( reportPath );
+  if ( !file.open( QIODevice::WriteOnly ) )
+    throw QgsProcessingException( QObject::tr( "Cannot write the report %1." ).arg( reportPath ) );
+  file.write( QJsonDocument( report ).toJson( QJsonDocument::Indented ) );
+  if ( !file.commit() )
+    throw QgsProcessingException( QObject::tr( "Cannot write the report %1." ).arg( reportPath ) );
+  outputs.insert( QStringLiteral( "REPORT" ), reportPath );
+  outputs.insert( QStringLiteral( "LINE_COUNT" ), static_cast<int>( s.extraction.linesA.size() ) );
+  feedback->pushInfo( QObject::tr( "%1 lines in the left image, %2 in the right, %3 rounds, %4 s (mapping: %5)." ).arg( s.extraction.linesA.size() )
+                      .arg( s.extraction.linesB.size() ).arg( s.extraction.rounds.size() ).arg( s.seconds, 0, 'f', 2 ).arg( QString::fromStdString( s.mapping ) ) );
+  return outputs;
+}
