@@ -5,6 +5,7 @@
 #include "extraction/coincidentextraction.h"
 
 #include <chrono>
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 
@@ -19,8 +20,8 @@ namespace geostation
       throw std::invalid_argument( "the number of extraction rounds must be 1 to 20" );
     if ( !( minRoundGain >= 0.0 && minRoundGain < 1.0 ) )
       throw std::invalid_argument( "the minimum gain of a round must be a fraction in [0, 1)" );
-    if ( !( kiteLengthPx > 0.0 ) || !( kiteWidthPx > 0.0 ) )
-      throw std::invalid_argument( "the intersection search area must have a positive size" );
+    if ( kiteLengthPx < 0.0 || kiteWidthPx < 0.0 )
+      throw std::invalid_argument( "the intersection search area must not have a negative size (0: automatic)" );
   }
 
   namespace
@@ -126,6 +127,46 @@ namespace geostation
     return joins;
   }
 
+  int pruneSpurs( ResultMatrix &matrix, const std::string &symbols, double maxLengthPx )
+  {
+    int removed = 0;
+    for ( const CompiledPolygon &p : compileMaxLengthPolygons( matrix, symbols, false, 1 ).polygons )
+    {
+      const bool spur = ( p.startEnd == PolygonEnd::Intersection ) != ( p.endEnd == PolygonEnd::Intersection );
+      const double length = polylineLength( p.pixels );
+      if ( !spur || length >= maxLengthPx || p.pixels.size() < 2 )
+        continue;
+      // erase from the dead end to 2.5 px short of the intersection, three pixels wide (the staircase around the simplified line)
+      std::vector<Eigen::Vector2d> line = p.pixels;
+      if ( p.startEnd == PolygonEnd::Intersection )
+        std::reverse( line.begin(), line.end() );
+      const double keep = 2.5;
+      std::vector<Eigen::Vector2d> cut { line.front() };
+      double travelled = 0.0;
+      for ( size_t i = 1; i < line.size(); ++i )
+      {
+        const double step = ( line[i] - line[i - 1] ).norm();
+        if ( travelled + step > length - keep )
+        {
+          const double t = std::max( 0.0, ( length - keep - travelled ) / step );
+          cut.push_back( line[i - 1] + t * ( line[i] - line[i - 1] ) );
+          break;
+        }
+        travelled += step;
+        cut.push_back( line[i] );
+      }
+      for ( const Eigen::Vector2d &offset : { Eigen::Vector2d( 0, 0 ), Eigen::Vector2d( 1, 0 ), Eigen::Vector2d( -1, 0 ), Eigen::Vector2d( 0, 1 ), Eigen::Vector2d( 0, -1 ) } )
+      {
+        std::vector<Eigen::Vector2d> shifted;
+        for ( const Eigen::Vector2d &v : cut )
+          shifted.push_back( v + offset );
+        matrix.drawPolyline( shifted, 0, true );
+      }
+      ++removed;
+    }
+    return removed;
+  }
+
   CoincidentExtractionSummary extractCoincident( const cv::Mat &greyA, const cv::Mat &greyB, const PairMapping &mapping,
                                                  const CoincidentExtractionOptions &options, const ExtractionProgress &progress )
   {
@@ -205,8 +246,20 @@ namespace geostation
     // final processing: bridge small gaps and broken intersections, compile
     const Clock::time_point t0 = Clock::now();
     const std::string finalSymbols = options.verify ? "IE" : "S*+";
+    const double widest = options.extraction.object.maxWidthPx;
+    const double kiteLength = options.kiteLengthPx > 0.0 ? options.kiteLengthPx : std::max( 20.0, 2.0 * widest );
+    const double kiteWidth = options.kiteWidthPx > 0.0 ? options.kiteWidthPx : std::max( 12.0, 0.6 * widest );
     for ( int i = 0; i < 2; ++i )
-      summary.bridged += bridgeOpenEnds( matrix[i], finalSymbols, options.verify ? ResultMatrix::kInternal : ResultMatrix::kRegional, options.kiteLengthPx, options.kiteWidthPx );
+    {
+      summary.bridged += bridgeOpenEnds( matrix[i], finalSymbols, options.verify ? ResultMatrix::kInternal : ResultMatrix::kRegional, kiteLength, kiteWidth );
+      for ( int pass = 0; pass < 3; ++pass ) // pruning can leave a new spur behind
+      {
+        const int removed = pruneSpurs( matrix[i], finalSymbols, kiteLength );
+        summary.pruned += removed;
+        if ( removed == 0 )
+          break;
+      }
+    }
     CompilationSummary finalA = compileMaxLengthPolygons( matrix[0], finalSymbols, false );
     CompilationSummary finalB = compileMaxLengthPolygons( matrix[1], finalSymbols, false );
     summary.compilationStage.seconds += since( t0 );

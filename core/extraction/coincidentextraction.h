@@ -10,8 +10,8 @@
   from its verification dead ends only; and so on, alternating, until a
   round adds less than a fraction of what has been accepted (or the round
   limit). Final processing bridges small gaps and broken intersections
-  from every open end (the kite-shaped search of §4.4.3: 20 px along the
-  end's direction, 12 px across) and compiles the final polygons of both
+  from every open end (the kite-shaped search of §4.4.3, 20 x 12 matrix
+  elements there, scaled here with the widest road) and compiles the final polygons of both
   images from the symbols I and E.
  ***************************************************************************/
 #ifndef GEOSTATION_EXTRACTION_COINCIDENTEXTRACTION_H
@@ -35,8 +35,8 @@ namespace geostation
     VerificationOptions verification;
     int maxRounds = 4;
     double minRoundGain = 0.02;   //!< stop after a round whose accepted length is below this fraction of the total
-    double kiteLengthPx = 20.0;   //!< the intersection search's main axis (§4.4.3)
-    double kiteWidthPx = 12.0;    //!< and its smaller axis
+    double kiteLengthPx = 0.0;    //!< the intersection search's main axis (§4.4.3: 20); 0: twice the widest road, at least 20 px
+    double kiteWidthPx = 0.0;     //!< and its smaller axis (12); 0: 0.6 x the widest road, at least 12 px
     bool verify = true;           //!< false: one extraction in A, nothing verified (for comparison)
 
     //! Throws std::invalid_argument naming the first bad value.
@@ -61,6 +61,7 @@ namespace geostation
     std::vector<RoundReport> rounds;
     StageCounts startStage, lemStage, remStage, verificationStage, compilationStage;
     int bridged = 0;                                   //!< gaps and intersections closed by the final processing
+    int pruned = 0;                                    //!< spurs removed by the final processing
     bool cancelled = false;
   };
 
@@ -78,6 +79,13 @@ namespace geostation
    * it with `symbol`. Returns the number of joins.
    */
   int bridgeOpenEnds( ResultMatrix &matrix, const std::string &symbols, uint8_t symbol, double kiteLengthPx, double kiteWidthPx );
+
+  /**
+   * Removes spurs: lines of `symbols` shorter than `maxLengthPx` that run from
+   * an intersection to a dead end (left by bridging and by lines that wander
+   * into a junction). Returns the number removed.
+   */
+  int pruneSpurs( ResultMatrix &matrix, const std::string &symbols, double maxLengthPx );
 
 } // namespace geostation
 

@@ -111,11 +111,11 @@ namespace geostation
               if ( band.size() >= 3 )
               {
                 const AreaMatch m = matchAlongEpipolarBand( imageA, p, imageB, band, options.areaMatch );
-                if ( m.status == MatchStatus::Lsm )
+                if ( m.status == MatchStatus::Lsm || m.status == MatchStatus::Correlation )
                 {
                   inB = m.pixelInImage;
                   haveB = true;
-                  sigmaB = std::max( m.sigmaPx, 0.1 );
+                  sigmaB = std::max( m.sigmaPx, 0.3 );
                   method = "area_match";
                 }
               }

@@ -34,13 +34,15 @@ namespace geostation
     double searchPx = 12.0;         //!< conjugate within this of the mapped position
     double heightRangeM = 60.0;     //!< the epipolar curve spans the mapped height +- this
     int maxGapVertices = 2;         //!< a line is split where more vertices in a row have no conjugate
-    AreaMatchOptions areaMatch;     //!< for vertices along the epipolar direction (31 x 31: the road and its surroundings; LSM)
+    AreaMatchOptions areaMatch;     //!< for vertices along the epipolar direction (31 x 31: the road and its surroundings; the correlation peak, unambiguous)
 
     NetworkIntersectionOptions()
     {
       areaMatch.windowWidth = 31;
       areaMatch.windowHeight = 31;
-      areaMatch.minScore = 0.6;
+      areaMatch.minScore = 0.7;
+      areaMatch.lsm = false;           // noisy, low-contrast surroundings: least squares often fails its fit check where the peak is clear
+      areaMatch.ambiguityMargin = 0.1; // a second peak within 0.1: ambiguous
     }
   };
 

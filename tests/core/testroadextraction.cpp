@@ -2,6 +2,7 @@
 // an aerial stereo pair at 0.5 m ground pixels with three roads (curves,
 // two junctions, 6 and 7 m wide), trees and their shadows, fields, image
 // noise; and the pieces on hand-made images.
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -237,8 +238,48 @@ TEST( RoadExtraction, CoincidentExtractionVerifiesInThePartner )
   for ( const RoundReport &r : verified.rounds )
     std::printf( "round %d in %s: %d starts, %d lines, %d continued; %d polygons: %d wholly, %d partly, %d rejected; %.0f px extracted, %.0f accepted; %.2f s\n",
                  r.round, r.image.c_str(), r.startingPoints, r.linesStarted, r.continued, r.polygons, r.wholly, r.partly, r.rejected, r.extractedPx, r.acceptedPx, r.seconds );
-  std::printf( "coincident: A %.3f / %.3f, B %.3f / %.3f; correctness with verification %.3f, without %.3f; %d bridged, %zu + %zu intersections\n", a.completeness, a.correctness,
-               b.completeness, b.correctness, verifiedFull.correctness, unverified.correctness, verified.bridged, verified.intersectionsA.size(), verified.intersectionsB.size() );
+  std::printf( "coincident: A %.3f / %.3f, B %.3f / %.3f; correctness with verification %.3f, without %.3f; %d bridged, %d spurs pruned, %zu + %zu intersections\n", a.completeness, a.correctness,
+               b.completeness, b.correctness, verifiedFull.correctness, unverified.correctness, verified.bridged, verified.pruned, verified.intersectionsA.size(), verified.intersectionsB.size() );
+  // junctions: where a truth centre line ends within 6 m of another (its centre line is clipped at the other road's edge)
+  std::vector<Eigen::Vector2d> junctions;
+  {
+    std::vector<std::vector<Eigen::Vector3d>> centres;
+    for ( const TruthRoadLine &l : pair.roads )
+      if ( l.kind == "centre" )
+        centres.push_back( l.vertices );
+    const OrientedImage ta = pair.truth.orientedImage( pair.truth.images.at( 0 ) ), tb = pair.truth.orientedImage( pair.truth.images.at( 1 ) );
+    for ( size_t i = 0; i < centres.size(); ++i )
+      for ( const Eigen::Vector3d &end : { centres[i].front(), centres[i].back() } )
+        for ( size_t k = 0; k < centres.size(); ++k )
+        {
+          if ( k == i )
+            continue;
+          const PolylineProjection on = projectOnto( centres[k], end, true );
+          if ( on.distance > 6.0 )
+            continue;
+          const GroundProjection ga = ta.projectGroundToPixel( on.point ), gb = tb.projectGroundToPixel( on.point );
+          if ( ga.ok() && gb.ok() && ga.inFrame && gb.inFrame )
+            junctions.push_back( ga.pixelInImage );
+        }
+  }
+  int junctionsFound = 0;
+  for ( const Eigen::Vector2d &j : junctions )
+  {
+    bool found = false;
+    for ( const Eigen::Vector2d &x : verified.intersectionsA )
+      found = found || ( x - j ).norm() <= 6.0; // 3 m
+    junctionsFound += found;
+  }
+  std::printf( "junctions: %d of %d within 3 m; %zu intersections found in A\n", junctionsFound, static_cast<int>( junctions.size() ), verified.intersectionsA.size() );
+  if ( std::getenv( "GEOSTATION_EXTRACTION_DEBUG" ) )
+  {
+    for ( const Eigen::Vector2d &j : junctions )
+      std::printf( "  truth junction %.1f %.1f\n", j.x(), j.y() );
+    for ( const Eigen::Vector2d &x : verified.intersectionsA )
+      std::printf( "  found %.1f %.1f\n", x.x(), x.y() );
+  }
+  EXPECT_EQ( junctions.size(), 2u );
+  EXPECT_GE( junctionsFound, static_cast<int>( junctions.size() ) );
   drawDebug( "coincidentA", pair.left, verified.linesA, truthA );
   if ( std::getenv( "GEOSTATION_EXTRACTION_DEBUG" ) )
     for ( const DeadEnd &d : verified.deadEndsA )
@@ -254,6 +295,7 @@ TEST( RoadExtraction, CoincidentExtractionVerifiesInThePartner )
   const NetworkIntersectionSummary network = intersectNetwork( mapping, verified.linesA, verified.linesB, MatchImage( pair.left ), MatchImage( pair.right ) );
   std::vector<std::vector<Eigen::Vector3d>> ground, truthGround;
   int within2Sigma = 0, vertices = 0;
+  std::vector<double> planDistances;
   std::vector<Eigen::Vector3d> allTruth;
   for ( const TruthRoadLine &l : pair.roads )
     if ( l.kind == "centre" )
@@ -273,6 +315,7 @@ TEST( RoadExtraction, CoincidentExtractionVerifiesInThePartner )
       }
       const double dz = std::abs( v.point.z() - nearest.point.z() );
       const double sigmaPlan = std::hypot( v.sigmaM.x(), v.sigmaM.y() );
+      planDistances.push_back( nearest.distance );
       ++vertices;
       within2Sigma += dz <= 2.0 * v.sigmaM.z() && nearest.distance <= 2.0 * sigmaPlan;
       if ( std::getenv( "GEOSTATION_EXTRACTION_DEBUG" ) && !( dz <= 2.0 * v.sigmaM.z() && nearest.distance <= 2.0 * sigmaPlan ) )
@@ -304,6 +347,9 @@ TEST( RoadExtraction, CoincidentExtractionVerifiesInThePartner )
       truthStereo.push_back( run );
   }
   const BufferScore onGround = scoreInImage( ground, truthStereo, 0.5 );
+  std::sort( planDistances.begin(), planDistances.end() );
+  if ( !planDistances.empty() )
+    std::printf( "3-D plan distance to the truth: median %.2f m, 90 %% %.2f m\n", planDistances[planDistances.size() / 2], planDistances[planDistances.size() * 9 / 10] );
   std::printf( "3-D: %d vertices, %d by line crossing, %d by area matching, %d unmatched; on the ground %.3f / %.3f (0.5 m); %.1f %% within 2 sigma\n",
                network.vertices, network.byCrossing, network.byArea, network.unmatched, onGround.completeness, onGround.correctness, 100.0 * within2Sigma / std::max( 1, vertices ) );
   // below the aims (0.85 / 0.95, 90 %): roads along the base are matched by area only where it succeeds
