@@ -251,7 +251,13 @@ namespace geostation
     const double kiteWidth = options.kiteWidthPx > 0.0 ? options.kiteWidthPx : std::max( 12.0, 0.6 * widest );
     for ( int i = 0; i < 2; ++i )
     {
-      summary.bridged += bridgeOpenEnds( matrix[i], finalSymbols, options.verify ? ResultMatrix::kInternal : ResultMatrix::kRegional, kiteLength, kiteWidth );
+      for ( int pass = 0; pass < 3; ++pass ) // a gap closed in one pass gives an end nearby its line in the next
+      {
+        const int joins = bridgeOpenEnds( matrix[i], finalSymbols, options.verify ? ResultMatrix::kInternal : ResultMatrix::kRegional, kiteLength, kiteWidth );
+        summary.bridged += joins;
+        if ( joins == 0 )
+          break;
+      }
       for ( int pass = 0; pass < 3; ++pass ) // pruning can leave a new spur behind
       {
         const int removed = pruneSpurs( matrix[i], finalSymbols, kiteLength );

@@ -89,7 +89,24 @@ namespace geostation
       }
     };
 
-    int flankOf( int width ) { return std::max( 2, static_cast<int>( std::lround( 0.25 * width ) ) ); }
+    int flankOf( int width ) { return std::clamp( static_cast<int>( std::lround( 0.25 * width ) ), 2, 4 ); }
+
+    //! The inside of a band starting at a, w wide, without its blurred first and last samples.
+    int w0( int a, int w ) { return w >= 4 ? a + 1 : a; }
+    int w1( int a, int w ) { return w >= 4 ? a + w - 1 : a + w; }
+
+    double robustSpread( const std::vector<double> &p, int from, int to )
+    {
+      std::vector<double> v( p.begin() + from, p.begin() + to );
+      if ( v.size() < 2 )
+        return 0.0;
+      std::nth_element( v.begin(), v.begin() + v.size() / 2, v.end() );
+      const double median = v[v.size() / 2];
+      for ( double &x : v )
+        x = std::abs( x - median );
+      std::nth_element( v.begin(), v.begin() + v.size() / 2, v.end() );
+      return 1.4826 * v[v.size() / 2];
+    }
 
     //! Where the profile crosses `level` between samples a and b (a < b or a > b), walking from a.
     std::optional<double> crossing( const std::vector<double> &p, int from, int to, double level )
@@ -134,8 +151,9 @@ namespace geostation
         const double contrast = std::min( inside - left, inside - right );
         if ( contrast < minContrast )
           continue;
+        // a cheap first look: markings and cars inside a road inflate the standard deviation, so allow twice the limit here
         const double variation = w >= 4 ? sums.stdDev( a + 1, a + w - 1 ) : sums.stdDev( a, a + w );
-        if ( variation > maxVariation )
+        if ( variation > 2.0 * maxVariation )
           continue;
         candidates.push_back( { a, w, contrast, variation, contrast - 0.5 * variation, inside, left, right } );
       }
@@ -152,6 +170,10 @@ namespace geostation
         overlaps = overlaps || std::abs( centre - tc ) < 0.5 * std::max<double>( tw, c.w ) + 1.0;
       if ( overlaps )
         continue;
+      // the uniformity test proper: a robust spread (1.4826 x the median absolute deviation), indifferent to a few bright or dark pixels
+      const double spread = robustSpread( profile, w0( c.a, c.w ), w1( c.a, c.w ) );
+      if ( spread > maxVariation )
+        continue;
       taken.emplace_back( centre, c.w );
       const int f = flankOf( c.w );
       const std::optional<double> leftEdge = crossing( profile, std::max( 0, c.a - gap - f / 2 ), std::min( n - 1, c.a + c.w / 2 ), 0.5 * ( c.inside + c.left ) );
@@ -162,7 +184,7 @@ namespace geostation
       s.offsetPx = ( r > l ? 0.5 * ( l + r ) : centre ) - origin;
       s.widthPx = r > l ? r - l : c.w;
       s.contrast = c.contrast;
-      s.variation = c.variation;
+      s.variation = robustSpread( profile, w0( c.a, c.w ), w1( c.a, c.w ) );
       found.push_back( s );
     }
     return found;

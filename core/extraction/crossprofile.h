@@ -29,7 +29,7 @@ namespace geostation
   {
     int polarity = 1;           //!< +1: brighter than its surroundings, -1: darker
     double minContrast = 15.0;  //!< grey levels: both sides at least this much darker (polarity applied)
-    double maxVariation = 14.0; //!< standard deviation of the grey levels inside the band
+    double maxVariation = 14.0; //!< spread of the grey levels inside the band (robust: 1.4826 x median absolute deviation)
     double minWidthPx = 4.0;
     double maxWidthPx = 24.0;
 
@@ -43,7 +43,7 @@ namespace geostation
     double offsetPx = 0.0;  //!< centre, along the profile from its origin (pixels)
     double widthPx = 0.0;   //!< between the half-contrast crossings
     double contrast = 0.0;  //!< the smaller side's contrast, polarity applied (grey levels)
-    double variation = 0.0; //!< standard deviation inside (grey levels)
+    double variation = 0.0; //!< robust spread inside (grey levels; markings and cars hardly count)
   };
 
   /**
@@ -58,7 +58,8 @@ namespace geostation
   /**
    * Bands of width widthMinPx..widthMaxPx on a profile from
    * sampleCrossProfile() whose both sides are at least `minContrast` darker
-   * (polarity applied) and whose inside varies at most `maxVariation`;
+   * (polarity applied) and whose inside varies at most `maxVariation`
+   * (robust spread);
    * overlapping candidates suppressed, strongest first. Offsets are
    * relative to the profile's centre sample.
    */

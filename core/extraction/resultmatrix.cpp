@@ -8,6 +8,7 @@
 #include <map>
 #include <stdexcept>
 
+#include <Eigen/LU>
 #include <opencv2/imgproc.hpp>
 
 #include "imageproc/edgeprimitives.h"
@@ -218,45 +219,29 @@ namespace geostation
       nodeIsIntersection.push_back( true );
     }
 
-    CompilationSummary summary;
-    for ( size_t i = 0; i < nodeCentre.size(); ++i )
-      if ( nodeIsIntersection[i] )
-        summary.intersections.push_back( nodeCentre[i] );
-
+    struct RawPolygon
+    {
+      std::vector<Eigen::Vector2d> pixels;
+      int startNode = -1, endNode = -1; //!< intersection nodes only
+      bool live = true;
+    };
+    std::vector<RawPolygon> raw;
     cv::Mat visited = cv::Mat::zeros( h + 2, w + 2, CV_8UC1 );
     const auto visitedAt = [&]( int c, int r ) -> uint8_t & { return visited.at<uint8_t>( r + 1, c + 1 ); };
     std::map<std::pair<int, int>, int> directLinks;
     const auto finish = [&]( std::vector<Eigen::Vector2d> pixels, int startNode, int endNode )
     {
-      CompiledPolygon polygon;
-      if ( startNode >= 0 && nodeIsIntersection[startNode] )
-      {
-        polygon.startEnd = PolygonEnd::Intersection;
-        if ( ( pixels.front() - nodeCentre[startNode] ).norm() > 0.5 )
-          pixels.insert( pixels.begin(), nodeCentre[startNode] );
-      }
-      if ( endNode >= 0 && nodeIsIntersection[endNode] )
-      {
-        polygon.endEnd = PolygonEnd::Intersection;
-        if ( ( pixels.back() - nodeCentre[endNode] ).norm() > 0.5 )
-          pixels.push_back( nodeCentre[endNode] );
-      }
-      const bool spur = polygon.startEnd == PolygonEnd::DeadEnd || polygon.endEnd == PolygonEnd::DeadEnd;
-      if ( spur && static_cast<int>( pixels.size() ) < minPixels )
-        return;
+      RawPolygon polygon;
+      polygon.startNode = startNode >= 0 && nodeIsIntersection[startNode] ? startNode : -1;
+      polygon.endNode = endNode >= 0 && nodeIsIntersection[endNode] ? endNode : -1;
+      if ( polygon.startNode >= 0 && ( pixels.front() - nodeCentre[startNode] ).norm() > 0.5 )
+        pixels.insert( pixels.begin(), nodeCentre[startNode] );
+      if ( polygon.endNode >= 0 && ( pixels.back() - nodeCentre[endNode] ).norm() > 0.5 )
+        pixels.push_back( nodeCentre[endNode] );
       if ( pixels.size() < 2 || ( startNode >= 0 && startNode == endNode && pixels.size() < 4 ) )
         return;
-      for ( const Eigen::Vector2d &p : pixels )
-      {
-        const int c = static_cast<int>( std::floor( p.x() ) ), r = static_cast<int>( std::floor( p.y() ) );
-        if ( c < 0 || r < 0 || c >= w || r >= h )
-          continue;
-        const char v = static_cast<char>( original.at<uint8_t>( r, c ) );
-        if ( v && symbols.find( v ) != std::string::npos && polygon.symbols.find( v ) == std::string::npos )
-          polygon.symbols.push_back( v );
-      }
-      polygon.pixels = douglasPeucker( pixels, 0.75 ); // the pixel staircase, straightened
-      summary.polygons.push_back( std::move( polygon ) );
+      polygon.pixels = std::move( pixels );
+      raw.push_back( std::move( polygon ) );
     };
 
     for ( const Eigen::Vector2i &p : cells )
@@ -343,6 +328,123 @@ namespace geostation
       }
       pixels.push_back( centreOf( p ) );
       finish( std::move( pixels ), -1, -1 );
+    }
+
+    // A node that only one line leaves is the blob at a line's end (a dead end); a node two lines leave is a bend
+    // of one line (the two are joined); only three or more make an intersection.
+    const auto branches = [&]( int node )
+    {
+      std::vector<std::pair<size_t, bool>> ends; // polygon, at its start
+      for ( size_t i = 0; i < raw.size(); ++i )
+        if ( raw[i].live )
+        {
+          if ( raw[i].startNode == node )
+            ends.emplace_back( i, true );
+          if ( raw[i].endNode == node )
+            ends.emplace_back( i, false );
+        }
+      return ends;
+    };
+    for ( size_t node = 0; node < nodeCentre.size(); ++node )
+    {
+      if ( !nodeIsIntersection[node] )
+        continue;
+      std::vector<std::pair<size_t, bool>> ends = branches( static_cast<int>( node ) );
+      if ( ends.size() == 1 )
+      {
+        ( ends[0].second ? raw[ends[0].first].startNode : raw[ends[0].first].endNode ) = -1;
+        nodeIsIntersection[node] = false;
+      }
+      else if ( ends.size() == 2 && ends[0].first != ends[1].first )
+      {
+        RawPolygon &a = raw[ends[0].first], &b = raw[ends[1].first];
+        if ( ends[0].second ) // a must end at the node
+        {
+          std::reverse( a.pixels.begin(), a.pixels.end() );
+          std::swap( a.startNode, a.endNode );
+        }
+        if ( !ends[1].second ) // b must start there
+        {
+          std::reverse( b.pixels.begin(), b.pixels.end() );
+          std::swap( b.startNode, b.endNode );
+        }
+        a.pixels.insert( a.pixels.end(), b.pixels.begin() + 1, b.pixels.end() );
+        a.endNode = b.endNode;
+        b.live = false;
+        nodeIsIntersection[node] = false;
+      }
+      else if ( ends.size() == 2 ) // a ring through one node
+        nodeIsIntersection[node] = false;
+    }
+
+    // the crossing examined: the intersection lies where its branches' lines meet (least squares), not at the centroid of its pixels
+    for ( size_t node = 0; node < nodeCentre.size(); ++node )
+    {
+      if ( !nodeIsIntersection[node] )
+        continue;
+      const std::vector<std::pair<size_t, bool>> ends = branches( static_cast<int>( node ) );
+      Eigen::Matrix2d normal = Eigen::Matrix2d::Zero();
+      Eigen::Vector2d rhs = Eigen::Vector2d::Zero();
+      for ( const auto &[index, atStart] : ends )
+      {
+        const std::vector<Eigen::Vector2d> &px = raw[index].pixels;
+        const auto along = [&]( double distance ) -> Eigen::Vector2d
+        {
+          // the point `distance` px along the branch from the node
+          double travelled = 0.0;
+          for ( size_t k = 1; k < px.size(); ++k )
+          {
+            const Eigen::Vector2d a = atStart ? px[k - 1] : px[px.size() - k], b = atStart ? px[k] : px[px.size() - 1 - k];
+            const double step = ( b - a ).norm();
+            if ( travelled + step >= distance && step > 0 )
+              return a + ( b - a ) * ( ( distance - travelled ) / step );
+            travelled += step;
+          }
+          return atStart ? px.back() : px.front();
+        };
+        const Eigen::Vector2d near = along( 3.0 ), far = along( 12.0 );
+        if ( ( far - near ).norm() < 2.0 )
+          continue;
+        const Eigen::Vector2d d = ( far - near ).normalized();
+        const Eigen::Matrix2d projector = Eigen::Matrix2d::Identity() - d * d.transpose();
+        normal += projector;
+        rhs += projector * near;
+      }
+      if ( std::abs( normal.determinant() ) < 0.05 )
+        continue; // branches all but parallel: keep the centroid
+      const Eigen::Vector2d meet = normal.inverse() * rhs;
+      if ( ( meet - nodeCentre[node] ).norm() > 8.0 )
+        continue;
+      for ( const auto &[index, atStart] : ends )
+        ( atStart ? raw[index].pixels.front() : raw[index].pixels.back() ) = meet;
+      nodeCentre[node] = meet;
+    }
+
+    CompilationSummary summary;
+    for ( size_t i = 0; i < nodeCentre.size(); ++i )
+      if ( nodeIsIntersection[i] && !branches( static_cast<int>( i ) ).empty() )
+        summary.intersections.push_back( nodeCentre[i] );
+    for ( RawPolygon &r : raw )
+    {
+      if ( !r.live )
+        continue;
+      CompiledPolygon polygon;
+      polygon.startEnd = r.startNode >= 0 ? PolygonEnd::Intersection : PolygonEnd::DeadEnd;
+      polygon.endEnd = r.endNode >= 0 ? PolygonEnd::Intersection : PolygonEnd::DeadEnd;
+      const bool spur = polygon.startEnd == PolygonEnd::DeadEnd || polygon.endEnd == PolygonEnd::DeadEnd;
+      if ( spur && static_cast<int>( r.pixels.size() ) < minPixels )
+        continue;
+      for ( const Eigen::Vector2d &p : r.pixels )
+      {
+        const int c = static_cast<int>( std::floor( p.x() ) ), row = static_cast<int>( std::floor( p.y() ) );
+        if ( c < 0 || row < 0 || c >= w || row >= h )
+          continue;
+        const char v = static_cast<char>( original.at<uint8_t>( row, c ) );
+        if ( v && symbols.find( v ) != std::string::npos && polygon.symbols.find( v ) == std::string::npos )
+          polygon.symbols.push_back( v );
+      }
+      polygon.pixels = douglasPeucker( r.pixels, 0.75 ); // the pixel staircase, straightened
+      summary.polygons.push_back( std::move( polygon ) );
     }
     return summary;
   }

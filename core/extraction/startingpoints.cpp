@@ -47,6 +47,11 @@ namespace geostation
       return best;
     }
 
+    double meanWidthOf( const std::optional<CrossSection> &a, const std::optional<CrossSection> &b, const std::optional<CrossSection> &c )
+    {
+      return ( a->widthPx + b->widthPx + c->widthPx ) / 3.0;
+    }
+
     //! The full test of a candidate; the starting point or nothing.
     std::optional<LineState> testCandidate( const cv::Mat &grey, const Eigen::Vector2d &candidate, double apparentWidth, const LineObjectOptions &object,
                                             const StartingPointOptions &options )
@@ -98,9 +103,12 @@ namespace geostation
           return std::nullopt;
       const Eigen::Vector2d a = centre + reach * bestDirection + ahead->offsetPx * n;
       const Eigen::Vector2d b = centre - reach * bestDirection + behind->offsetPx * n;
-      // uniformity along the line
+      // uniformity along the line, on three parallels inside the band (a centre marking on one of them does not decide)
       const Eigen::Vector2d along = ( a - b ).normalized();
-      if ( meanAlong( grey, centre, along, 2.0 * reach, object.polarity ).second > object.maxVariation )
+      double spread = 1e9;
+      for ( const double offset : { -0.25 * meanWidthOf( ahead, mid, behind ), 0.0, 0.25 * meanWidthOf( ahead, mid, behind ) } )
+        spread = std::min( spread, meanAlong( grey, centre + offset * normalOf( along ), along, 2.0 * reach, object.polarity ).second );
+      if ( spread > object.maxVariation )
         return std::nullopt;
       LineState state;
       state.pixelInImage = centre;

@@ -7,10 +7,14 @@
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
+#include <tuple>
 #include <unistd.h>
 
 #include <Eigen/Geometry>
+#include <gdal.h>
 #include <gtest/gtest.h>
+#include <ogr_api.h>
+#include <ogr_srs_api.h>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
@@ -49,27 +53,90 @@ namespace
     return grey;
   }
 
+  AerialPair simulatePair( const std::string &name, const std::string &roadsPath, uint32_t seed )
+  {
+    AerialPair p;
+    p.dir = std::filesystem::temp_directory_path() / ( "geostation-extraction-" + std::to_string( ::getpid() ) ) / name;
+    SimulationOptions o;
+    o.preset = SurveyPreset::AerialStereo;
+    o.outputDir = p.dir;
+    o.stations = 2;
+    o.groundPixelSizeM = 0.5;
+    o.seed = seed;
+    o.roadsPath = roadsPath;
+    o.degradation.noiseSigma = 4.0;
+    simulateSurvey( o );
+    p.block = Block::load( p.dir / "block.geostation.json" );
+    p.truth = Block::load( p.dir / "truth.geostation.json" );
+    p.roads = readTruthRoadLines( p.dir / "truth.gpkg" );
+    p.left = luminance( p.block.imageFilePath( p.block.images.at( 0 ) ) );
+    p.right = luminance( p.block.imageFilePath( p.block.images.at( 1 ) ) );
+    return p;
+  }
+
+  void removeTemporaries()
+  {
+    std::error_code ec;
+    std::filesystem::remove_all( std::filesystem::temp_directory_path() / ( "geostation-extraction-" + std::to_string( ::getpid() ) ), ec );
+  }
+
+  //! The aerial_stereo preset's roads: a curved main road, a side road and a third road, two T junctions.
   const AerialPair &aerialPair()
   {
     static const AerialPair pair = []
     {
-      AerialPair p;
-      p.dir = std::filesystem::temp_directory_path() / ( "geostation-extraction-" + std::to_string( ::getpid() ) );
-      SimulationOptions o;
-      o.preset = SurveyPreset::AerialStereo;
-      o.outputDir = p.dir;
-      o.stations = 2;
-      o.groundPixelSizeM = 0.5;
-      o.seed = 3;
-      o.degradation.noiseSigma = 4.0;
-      simulateSurvey( o );
-      std::atexit( [] { std::error_code ec; std::filesystem::remove_all( std::filesystem::temp_directory_path() / ( "geostation-extraction-" + std::to_string( ::getpid() ) ), ec ); } );
-      p.block = Block::load( p.dir / "block.geostation.json" );
-      p.truth = Block::load( p.dir / "truth.geostation.json" );
-      p.roads = readTruthRoadLines( p.dir / "truth.gpkg" );
-      p.left = luminance( p.block.imageFilePath( p.block.images.at( 0 ) ) );
-      p.right = luminance( p.block.imageFilePath( p.block.images.at( 1 ) ) );
-      return p;
+      std::atexit( removeTemporaries );
+      return simulatePair( "preset", "", 3 );
+    }();
+    return pair;
+  }
+
+  /**
+   * A network laid out differently, from a road layer: a dual carriageway
+   * (2 lanes each way, 14 m) crossed by two 7 m roads, one of them bending,
+   * and a third 7 m road meeting the straight one in a T.
+   */
+  const AerialPair &townPair()
+  {
+    static const AerialPair pair = []
+    {
+      std::atexit( removeTemporaries );
+      const std::filesystem::path dir = std::filesystem::temp_directory_path() / ( "geostation-extraction-" + std::to_string( ::getpid() ) );
+      std::filesystem::create_directories( dir );
+      const std::string path = ( dir / "town.gpkg" ).string();
+      GDALAllRegister();
+      GDALDriverH driver = GDALGetDriverByName( "GPKG" );
+      GDALDatasetH ds = GDALCreate( driver, path.c_str(), 0, 0, 0, GDT_Unknown, nullptr );
+      OGRSpatialReferenceH srs = OSRNewSpatialReference( nullptr );
+      OSRImportFromEPSG( srs, 32617 );
+      OGRLayerH layer = GDALDatasetCreateLayer( ds, "roads", srs, wkbLineString, nullptr );
+      OSRDestroySpatialReference( srs );
+      OGRFieldDefnH id = OGR_Fld_Create( "id", OFTString ), lanes = OGR_Fld_Create( "lanes", OFTInteger );
+      OGR_L_CreateField( layer, id, TRUE );
+      OGR_L_CreateField( layer, lanes, TRUE );
+      OGR_Fld_Destroy( id );
+      OGR_Fld_Destroy( lanes );
+      const double x0 = 500000.0, y0 = 4400000.0;
+      const std::vector<std::tuple<std::string, int, std::vector<Eigen::Vector2d>>> roads {
+        { "D1", 2, { { -400, 10 }, { 400, -10 } } },
+        { "C1", 1, { { -20, -400 }, { 10, 400 } } },
+        { "C2", 1, { { 150, -400 }, { 140, -120 }, { 110, 60 }, { 60, 220 }, { 20, 400 } } },
+        { "T1", 1, { { -300, 150 }, { -120, 140 }, { 0.6, 150 } } },
+      };
+      for ( const auto &[name, lanesPerDirection, vertices] : roads )
+      {
+        OGRFeatureH f = OGR_F_Create( OGR_L_GetLayerDefn( layer ) );
+        OGR_F_SetFieldString( f, 0, name.c_str() );
+        OGR_F_SetFieldInteger( f, 1, lanesPerDirection );
+        OGRGeometryH g = OGR_G_CreateGeometry( wkbLineString );
+        for ( const Eigen::Vector2d &v : vertices )
+          OGR_G_AddPoint_2D( g, x0 + v.x(), y0 + v.y() );
+        OGR_F_SetGeometryDirectly( f, g );
+        OGR_L_CreateFeature( layer, f );
+        OGR_F_Destroy( f );
+      }
+      GDALClose( ds );
+      return simulatePair( "town", path, 11 );
     }();
     return pair;
   }
@@ -216,14 +283,20 @@ namespace
         cv::line( canvas, cv::Point2d( p.pixels[i].x() - 0.5, p.pixels[i].y() - 0.5 ), cv::Point2d( p.pixels[i + 1].x() - 0.5, p.pixels[i + 1].y() - 0.5 ), cv::Scalar( 0, 0, 255 ), 1 );
     cv::imwrite( std::string( out ) + "/" + name + ".png", canvas );
   }
-} // namespace
+  struct PairEvaluation
+  {
+    BufferScore a, b, verifiedAll, unverifiedAll, onGround;
+    int junctions = 0, junctionsFound = 0, vertices = 0, within2Sigma = 0;
+    size_t intersectionsA = 0;
+  };
 
-TEST( RoadExtraction, CoincidentExtractionVerifiesInThePartner )
-{
-  const AerialPair &pair = aerialPair();
+  //! Runs the coincident extraction and the 3-D lines on a pair and scores them against the truth.
+  PairEvaluation evaluate( const AerialPair &pair, const LineExtractionOptions &extraction, const std::string &name, double junctionReachM )
+  {
+    PairEvaluation e;
   const OrientedPairMapping mapping( pair.block.orientedImage( pair.block.images.at( 0 ) ), pair.block.orientedImage( pair.block.images.at( 1 ) ), meanRoadHeight( pair ) );
   CoincidentExtractionOptions options;
-  options.extraction = aerialOptions();
+  options.extraction = extraction;
   const CoincidentExtractionSummary verified = extractCoincident( pair.left, pair.right, mapping, options );
   options.verify = false;
   const CoincidentExtractionSummary single = extractCoincident( pair.left, pair.right, mapping, options );
@@ -255,12 +328,43 @@ TEST( RoadExtraction, CoincidentExtractionVerifiesInThePartner )
           if ( k == i )
             continue;
           const PolylineProjection on = projectOnto( centres[k], end, true );
-          if ( on.distance > 6.0 )
+          if ( on.distance > junctionReachM )
             continue;
           const GroundProjection ga = ta.projectGroundToPixel( on.point ), gb = tb.projectGroundToPixel( on.point );
-          if ( ga.ok() && gb.ok() && ga.inFrame && gb.inFrame )
+          bool known = false;
+          for ( const Eigen::Vector2d &j : junctions )
+            known = known || ( j - ga.pixelInImage ).norm() < 6.0; // both ends of a crossing road give the same junction
+          if ( ga.ok() && gb.ok() && ga.inFrame && gb.inFrame && !known )
             junctions.push_back( ga.pixelInImage );
         }
+  }
+  // and where two centre lines cross
+  {
+    std::vector<std::vector<Eigen::Vector3d>> centres;
+    for ( const TruthRoadLine &l : pair.roads )
+      if ( l.kind == "centre" )
+        centres.push_back( l.vertices );
+    const OrientedImage ta = pair.truth.orientedImage( pair.truth.images.at( 0 ) ), tb = pair.truth.orientedImage( pair.truth.images.at( 1 ) );
+    for ( size_t i = 0; i < centres.size(); ++i )
+      for ( size_t k = i + 1; k < centres.size(); ++k )
+        for ( size_t u = 0; u + 1 < centres[i].size(); ++u )
+          for ( size_t v = 0; v + 1 < centres[k].size(); ++v )
+          {
+            const Eigen::Vector2d p = centres[i][u].head<2>(), r = centres[i][u + 1].head<2>() - p, q = centres[k][v].head<2>(), t = centres[k][v + 1].head<2>() - q;
+            const double den = r.x() * t.y() - r.y() * t.x();
+            if ( std::abs( den ) < 1e-9 )
+              continue;
+            const double a = ( ( q - p ).x() * t.y() - ( q - p ).y() * t.x() ) / den, b = ( ( q - p ).x() * r.y() - ( q - p ).y() * r.x() ) / den;
+            if ( a < 0 || a > 1 || b < 0 || b > 1 )
+              continue;
+            const Eigen::Vector3d x = centres[i][u] + a * ( centres[i][u + 1] - centres[i][u] );
+            const GroundProjection ga = ta.projectGroundToPixel( x ), gb = tb.projectGroundToPixel( x );
+            bool known = false;
+            for ( const Eigen::Vector2d &j : junctions )
+              known = known || ( j - ga.pixelInImage ).norm() < 6.0;
+            if ( ga.ok() && gb.ok() && ga.inFrame && gb.inFrame && !known )
+              junctions.push_back( ga.pixelInImage );
+          }
   }
   int junctionsFound = 0;
   for ( const Eigen::Vector2d &j : junctions )
@@ -278,18 +382,18 @@ TEST( RoadExtraction, CoincidentExtractionVerifiesInThePartner )
     for ( const Eigen::Vector2d &x : verified.intersectionsA )
       std::printf( "  found %.1f %.1f\n", x.x(), x.y() );
   }
-  EXPECT_EQ( junctions.size(), 2u );
-  EXPECT_GE( junctionsFound, static_cast<int>( junctions.size() ) );
-  drawDebug( "coincidentA", pair.left, verified.linesA, truthA );
+  e.junctions = static_cast<int>( junctions.size() );
+  e.junctionsFound = junctionsFound;
+  e.intersectionsA = verified.intersectionsA.size();
+  drawDebug( name + "A", pair.left, verified.linesA, truthA );
   if ( std::getenv( "GEOSTATION_EXTRACTION_DEBUG" ) )
     for ( const DeadEnd &d : verified.deadEndsA )
       std::printf( "open end in A at %.1f %.1f towards %.2f %.2f\n", d.state.pixelInImage.x(), d.state.pixelInImage.y(), d.state.direction.x(), d.state.direction.y() );
-  drawDebug( "coincidentB", pair.right, verified.linesB, truthB );
-  EXPECT_GT( a.completeness, 0.85 );
-  EXPECT_GT( a.correctness, 0.95 );
-  EXPECT_GT( b.completeness, 0.85 );
-  EXPECT_GT( b.correctness, 0.95 );
-  EXPECT_GT( verifiedFull.correctness, unverified.correctness );
+  drawDebug( name + "B", pair.right, verified.linesB, truthB );
+  e.a = a;
+  e.b = b;
+  e.verifiedAll = verifiedFull;
+  e.unverifiedAll = unverified;
 
   // 3-D: on the ground against the truth centre lines (0.5 m buffer), and the sigmas
   const NetworkIntersectionSummary network = intersectNetwork( mapping, verified.linesA, verified.linesB, MatchImage( pair.left ), MatchImage( pair.right ) );
@@ -352,10 +456,47 @@ TEST( RoadExtraction, CoincidentExtractionVerifiesInThePartner )
     std::printf( "3-D plan distance to the truth: median %.2f m, 90 %% %.2f m\n", planDistances[planDistances.size() / 2], planDistances[planDistances.size() * 9 / 10] );
   std::printf( "3-D: %d vertices, %d by line crossing, %d by area matching, %d unmatched; on the ground %.3f / %.3f (0.5 m); %.1f %% within 2 sigma\n",
                network.vertices, network.byCrossing, network.byArea, network.unmatched, onGround.completeness, onGround.correctness, 100.0 * within2Sigma / std::max( 1, vertices ) );
-  // below the aims (0.85 / 0.95, 90 %): roads along the base are matched by area only where it succeeds
-  EXPECT_GT( onGround.completeness, 0.55 );
-  EXPECT_GT( onGround.correctness, 0.85 );
-  EXPECT_GE( within2Sigma, 0.85 * vertices );
+  e.onGround = onGround;
+  e.vertices = vertices;
+  e.within2Sigma = within2Sigma;
+  return e;
+  }
+
+
+} // namespace
+
+TEST( RoadExtraction, CoincidentExtractionVerifiesInThePartner )
+{
+  const PairEvaluation e = evaluate( aerialPair(), aerialOptions(), "coincident", 6.0 );
+  // image space, buffer 2 px, where both images see the roads
+  EXPECT_GT( e.a.completeness, 0.90 );
+  EXPECT_GT( e.a.correctness, 0.95 );
+  EXPECT_GT( e.b.completeness, 0.90 );
+  EXPECT_GT( e.b.correctness, 0.95 );
+  // verification earns its keep
+  EXPECT_GT( e.verifiedAll.correctness, e.unverifiedAll.correctness );
+  EXPECT_EQ( e.junctions, 2 );
+  EXPECT_EQ( e.junctionsFound, 2 );
+  // on the ground, 0.5 m (one pixel): below the aims of 0.85 / 0.95
+  EXPECT_GT( e.onGround.completeness, 0.75 );
+  EXPECT_GT( e.onGround.correctness, 0.85 );
+  EXPECT_GE( e.within2Sigma, 0.88 * e.vertices );
+}
+
+TEST( RoadExtraction, ANetworkBuiltDifferently )
+{
+  // widths from 7 to 14 m (14 to 28 px), two crossings, a T, a bend: a scene laid out by hand, not by the preset
+  LineExtractionOptions options = aerialOptions();
+  options.object.maxWidthPx = 32.0;
+  const PairEvaluation e = evaluate( townPair(), options, "town", 9.0 );
+  EXPECT_GT( e.a.completeness, 0.90 );
+  EXPECT_GT( e.b.completeness, 0.90 );
+  // below the aim of 0.95: the shadow strip along the dual carriageway's north edge is a real band in both images, and verification keeps it
+  EXPECT_GT( e.a.correctness, 0.90 );
+  EXPECT_GT( e.b.correctness, 0.90 );
+  EXPECT_EQ( e.junctions, 3 );
+  EXPECT_EQ( e.junctionsFound, 3 );
+  EXPECT_GE( e.within2Sigma, 0.8 * e.vertices );
 }
 
 TEST( RoadExtraction, SingleImageFindsTheRoads )
