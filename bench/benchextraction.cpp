@@ -1,0 +1,155 @@
+// Road-network extraction (core/extraction) on a simulated aerial pair:
+// the coincident procedure (starting points, LEM, REM, verification in the
+// partner, alternating rounds, final compilation) on both images.
+// Target: a pair of 8000 x 8000 in <= 60 s on the 2 cores, <= 2 GB.
+//
+// The size is GEOSTATION_BENCH_EXTRACTION_SIZE (default 8000; CI runs 1024).
+// Baselines in the same run: one Sobel gradient over both images (reading
+// every pixel once), and decoding both image files into the matching
+// images (what the Processing algorithm does first). Pixels per second are
+// printed per stage, so the slowest stage shows; the peak resident memory
+// of the whole program is printed at the end.
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <unistd.h>
+
+#include <opencv2/imgproc.hpp>
+
+#include "benchutils.h"
+#include "extraction/roadnetworkextractor.h"
+#include "io/block.h"
+#include "io/rasterfile.h"
+#include "matching/matchimage.h"
+#include "simulation/surveysimulator.h"
+
+using namespace geostation;
+
+namespace
+{
+  int pairSize()
+  {
+    const char *size = std::getenv( "GEOSTATION_BENCH_EXTRACTION_SIZE" );
+    return size ? std::max( 256, std::atoi( size ) ) : 8000;
+  }
+
+  struct Pair
+  {
+    std::filesystem::path dir;
+    Block block;
+    cv::Mat left, right;
+    CoincidentExtractionSummary last;
+
+    Pair()
+    {
+      dir = std::filesystem::temp_directory_path() / ( "geostation-bench-extraction-" + std::to_string( ::getpid() ) );
+      SimulationOptions o;
+      o.preset = SurveyPreset::AerialStereo;
+      o.outputDir = dir;
+      o.stations = 2;
+      o.imageWidth = o.imageHeight = pairSize();
+      o.groundPixelSizeM = 0.5;
+      o.supersampling = 1;
+      o.seed = 3;
+      o.degradation.noiseSigma = 4.0;
+      std::printf( "simulating an aerial pair of %d x %d ...\n", pairSize(), pairSize() );
+      simulateSurvey( o );
+      block = Block::load( dir / "block.geostation.json" );
+      left = MatchImage( readRaster( block.imageFilePath( block.images.at( 0 ) ).string() ).pixels ).grey();
+      right = MatchImage( readRaster( block.imageFilePath( block.images.at( 1 ) ).string() ).pixels ).grey();
+    }
+    ~Pair()
+    {
+      std::error_code ec;
+      std::filesystem::remove_all( dir, ec );
+    }
+  };
+
+  Pair &pair()
+  {
+    static Pair p;
+    return p;
+  }
+
+  CoincidentExtractionOptions options()
+  {
+    CoincidentExtractionOptions o;
+    o.extraction.object.polarity = -1;
+    o.extraction.object.minContrast = 25.0;
+    o.extraction.object.minWidthPx = 6.0;
+    o.extraction.object.maxWidthPx = 20.0;
+    return o;
+  }
+
+  void BM_ExtractPair( benchmark::State &state )
+  {
+    Pair &p = pair();
+    const OrientedPairMapping mapping( p.block.orientedImage( p.block.images.at( 0 ) ), p.block.orientedImage( p.block.images.at( 1 ) ), 200.0 );
+    for ( auto _ : state )
+      p.last = extractCoincident( p.left, p.right, mapping, options() );
+    state.SetItemsProcessed( state.iterations() * 2 * static_cast<int64_t>( p.left.total() ) );
+    state.SetLabel( std::to_string( p.last.linesA.size() ) + " lines" );
+  }
+
+  void BM_BaselineSobel( benchmark::State &state )
+  {
+    Pair &p = pair();
+    cv::Mat gx;
+    for ( auto _ : state )
+    {
+      cv::Sobel( p.left, gx, CV_16S, 1, 0 );
+      cv::Sobel( p.right, gx, CV_16S, 1, 0 );
+    }
+    state.SetItemsProcessed( state.iterations() * 2 * static_cast<int64_t>( p.left.total() ) );
+  }
+
+  void BM_BaselineDecode( benchmark::State &state )
+  {
+    Pair &p = pair();
+    for ( auto _ : state )
+      for ( int i = 0; i < 2; ++i )
+        benchmark::DoNotOptimize( MatchImage( readRaster( p.block.imageFilePath( p.block.images.at( i ) ).string() ).pixels ) );
+    state.SetItemsProcessed( state.iterations() * 2 * static_cast<int64_t>( p.left.total() ) );
+  }
+
+  long peakResidentKb()
+  {
+    std::ifstream status( "/proc/self/status" );
+    std::string line;
+    while ( std::getline( status, line ) )
+      if ( line.rfind( "VmHWM:", 0 ) == 0 )
+        return std::atol( line.c_str() + 6 );
+    return -1;
+  }
+}
+
+BENCHMARK( BM_ExtractPair )->Unit( benchmark::kMillisecond );
+BENCHMARK( BM_BaselineSobel )->Unit( benchmark::kMillisecond );
+BENCHMARK( BM_BaselineDecode )->Unit( benchmark::kMillisecond );
+
+int main( int argc, char **argv )
+{
+  return benchutils::run( argc, argv, []( const benchutils::Rates &rates )
+  {
+    const double extract = benchutils::rate( rates, "BM_ExtractPair" ), sobel = benchutils::rate( rates, "BM_BaselineSobel" ),
+                 decode = benchutils::rate( rates, "BM_BaselineDecode" );
+    const int n = pairSize();
+    std::printf( "\nA pair of %d x %d: %.1f s for the extraction (target <= 60 s at 8000 x 8000); %.0f Mpx/s, "
+                 "x%.0f the time of a Sobel pass, x%.1f the time of decoding the two files\n",
+                 n, n, extract > 0 ? 2.0 * n * n / extract : 0.0, extract / 1e6, extract > 0 ? sobel / extract : 0.0, extract > 0 ? decode / extract : 0.0 );
+    const CoincidentExtractionSummary &s = pair().last;
+    const auto line = []( const char *name, const StageCounts &c, bool image )
+    {
+      const double amount = image ? static_cast<double>( c.imagePixels ) : c.linePx;
+      std::printf( "  %-16s %8.3f s  %12.0f %s px/s\n", name, c.seconds, c.seconds > 0 ? amount / c.seconds : 0.0, image ? "image" : "line " );
+    };
+    line( "starting points", s.startStage, true );
+    line( "LEM", s.lemStage, false );
+    line( "REM", s.remStage, false );
+    line( "verification", s.verificationStage, false );
+    std::printf( "  %-16s %8.3f s\n", "compilation", s.compilationStage.seconds );
+    std::printf( "Peak resident memory of the program (images, simulation included): %.0f MB (target <= 2048 MB)\n", peakResidentKb() / 1024.0 );
+  } );
+}
