@@ -2,6 +2,7 @@
   geostationplugin.cpp - the GeoStation plugin for QGIS desktop
  ***************************************************************************/
 #include "geostationplugin.h"
+#include "extractionreview.h"
 
 #include <QAction>
 #include <QFileDialog>
@@ -148,6 +149,32 @@ void GeoStationPlugin::initGui()
     mSession->setCurrentStation( index );
     showMultiview();
   } );
+  // reviewing an extracted road network: click lines of geostation:extract_roads' output on the map
+  mReview = new GeoStationExtractionReview( mSession, mStore, this );
+  mReviewAction = addAction( QStringLiteral( "mActionGeoStationReviewExtracted" ), QStringLiteral( ":/geostation/icons/pickstation.svg" ), tr( "Review Extracted Roads" ),
+                             tr( "Click an extracted road on the map: left accepts it into the current line class (method \"extracted\"), right rejects it" ), nullptr );
+  mReviewAction->setCheckable( true );
+  mReviewTool = new GeoStationReviewTool( mIface->mapCanvas() );
+  mReviewTool->setAction( mReviewAction );
+  connect( mReviewAction, &QAction::triggered, this, [this]( bool on )
+  {
+    if ( on )
+      mIface->mapCanvas()->setMapTool( mReviewTool );
+    else if ( mIface->mapCanvas()->mapTool() == mReviewTool )
+      mIface->mapCanvas()->unsetMapTool( mReviewTool );
+  } );
+  connect( mReviewTool, &GeoStationReviewTool::picked, mReview, &GeoStationExtractionReview::review );
+  connect( mReviewTool, &GeoStationReviewTool::missed, this, [this]
+  {
+    mIface->messageBar()->pushMessage( tr( "GeoStation" ), tr( "No extracted road there: add geostation:extract_roads' OUTPUT to the map and click one of its lines." ),
+                                       Qgis::MessageLevel::Info, 4 );
+  } );
+  connect( mReview, &GeoStationExtractionReview::message, this, [this]( const QString &text, bool warning )
+  {
+    mIface->messageBar()->pushMessage( tr( "GeoStation review" ), text, warning ? Qgis::MessageLevel::Warning : Qgis::MessageLevel::Success, 4 );
+  } );
+  addAlgorithmAction( mMenu, QStringLiteral( "mActionGeoStationExtractRoads" ), tr( "Extract Roads from a Stereo Pair…" ), QStringLiteral( "geostation:extract_roads" ) );
+
   QAction *goTo = new QAction( tr( "Go to Coordinate…" ), mIface->mainWindow() );
   goTo->setObjectName( QStringLiteral( "mActionGeoStationGoTo" ) );
   connect( goTo, &QAction::triggered, this, &GeoStationPlugin::goToCoordinate );
@@ -194,6 +221,12 @@ void GeoStationPlugin::unload()
   if ( mIface->mapCanvas()->mapTool() == mPickTool )
     mIface->mapCanvas()->unsetMapTool( mPickTool );
   delete mPickTool;
+  if ( mIface->mapCanvas()->mapTool() == mReviewTool )
+    mIface->mapCanvas()->unsetMapTool( mReviewTool );
+  delete mReviewTool;
+  delete mReview;
+  mReview = nullptr;
+  mReviewAction = nullptr;
   delete mDock;
   if ( mOverview )
     mOverview->removeLayers();

@@ -20,6 +20,8 @@ class QMenu;
 class QToolBar;
 class QgisInterface;
 class GeoStationTraceController;
+class GeoStationExtractionReview;
+class GeoStationReviewTool;
 class GeoStationMeasurementController;
 class GeoStationMeasurementStore;
 class GeoStationMultiviewDock;
@@ -112,6 +114,9 @@ class GeoStationPlugin : public QObject, public QgisPlugin
     GeoStationOverview *mOverview = nullptr;
     QPointer<GeoStationMultiviewDock> mDock;
     QPointer<GeoStationStationPickTool> mPickTool;
+    GeoStationExtractionReview *mReview = nullptr;
+    QPointer<GeoStationReviewTool> mReviewTool;
+    QAction *mReviewAction = nullptr;
 };
 
 #endif // GEOSTATIONPLUGIN_H

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
+#include <unordered_map>
 #include <stdexcept>
 
 #include <Eigen/LU>
@@ -117,13 +118,16 @@ namespace geostation
     constexpr int kDc[8] = { 0, 1, 1, 1, 0, -1, -1, -1 };
     constexpr int kDr[8] = { -1, -1, 0, 1, 1, 1, 0, -1 };
 
-    //! The chosen pixels, padded by one, as 0/1; compilation works on this copy.
+    //! The chosen pixels within their bounding box, padded by one (their symbols); compilation works on this copy.
     struct Grid
     {
-      cv::Mat on; // CV_8UC1, (rows + 2) x (cols + 2)
+      cv::Mat on; // CV_8UC1, (box rows + 2) x (box cols + 2)
+      int c0 = 0, r0 = 0;
 
-      bool at( int c, int r ) const { return on.at<uint8_t>( r + 1, c + 1 ) != 0; }
-      void set( int c, int r, bool v ) { on.at<uint8_t>( r + 1, c + 1 ) = v ? 1 : 0; }
+      bool inside( int c, int r ) const { return c - c0 + 1 >= 0 && r - r0 + 1 >= 0 && c - c0 + 1 < on.cols && r - r0 + 1 < on.rows; }
+      uint8_t symbol( int c, int r ) const { return inside( c, r ) ? on.at<uint8_t>( r - r0 + 1, c - c0 + 1 ) : 0; }
+      bool at( int c, int r ) const { return symbol( c, r ) != 0; }
+      void clear( int c, int r ) { on.at<uint8_t>( r - r0 + 1, c - c0 + 1 ) = 0; }
       int degree( int c, int r ) const
       {
         int n = 0;
@@ -137,19 +141,41 @@ namespace geostation
   CompilationSummary compileMaxLengthPolygons( ResultMatrix &matrix, const std::string &symbols, bool erase, int minPixels )
   {
     const int w = matrix.width(), h = matrix.height();
-    Grid grid;
-    grid.on = cv::Mat::zeros( h + 2, w + 2, CV_8UC1 );
+    bool chosen[256] = {};
+    for ( const char c : symbols )
+      chosen[static_cast<uint8_t>( c )] = true;
     std::vector<Eigen::Vector2i> cells;
+    int cMin = w, cMax = -1, rMin = h, rMax = -1;
     for ( int r = 0; r < h; ++r )
+    {
+      const uint8_t *line = matrix.symbols().ptr<uint8_t>( r );
       for ( int c = 0; c < w; ++c )
-        if ( const uint8_t v = matrix.at( c, r ); v && symbols.find( static_cast<char>( v ) ) != std::string::npos )
+        if ( line[c] && chosen[line[c]] )
         {
-          grid.set( c, r, true );
           cells.emplace_back( c, r );
+          cMin = std::min( cMin, c );
+          cMax = std::max( cMax, c );
+          rMin = std::min( rMin, r );
+          rMax = std::max( rMax, r );
         }
-    const cv::Mat original = matrix.symbols().clone();
+    }
+    CompilationSummary empty;
+    if ( cells.empty() )
+      return empty;
+    Grid grid;
+    grid.c0 = cMin;
+    grid.r0 = rMin;
+    grid.on = cv::Mat::zeros( rMax - rMin + 3, cMax - cMin + 3, CV_8UC1 );
+    for ( const Eigen::Vector2i &p : cells )
+      grid.on.at<uint8_t>( p.y() - rMin + 1, p.x() - cMin + 1 ) = matrix.symbols().at<uint8_t>( p.y(), p.x() );
+    const cv::Mat original = grid.on.clone(); // the symbols, for each polygon's record
+    const auto originalSymbol = [&]( int c, int r ) -> uint8_t
+    {
+      return grid.inside( c, r ) ? original.at<uint8_t>( r - grid.r0 + 1, c - grid.c0 + 1 ) : 0;
+    };
     if ( erase )
-      matrix.erase( symbols );
+      for ( const Eigen::Vector2i &p : cells )
+        matrix.drawPolyline( { centreOf( p ) }, 0, true );
 
     // Corner pixels (two neighbours that touch each other) carry nothing: remove them so a line's run has exactly two neighbours.
     for ( int pass = 0; pass < 3; ++pass )
@@ -166,7 +192,7 @@ namespace geostation
             nb[k++] = Eigen::Vector2i( p.x() + kDc[d], p.y() + kDr[d] );
         if ( ( nb[0] - nb[1] ).cwiseAbs().maxCoeff() == 1 )
         {
-          grid.set( p.x(), p.y(), false );
+          grid.clear( p.x(), p.y() );
           changed = true;
         }
       }
@@ -175,13 +201,19 @@ namespace geostation
     }
 
     // Nodes: dead ends (one neighbour) and intersections (more than two), the latter grouped into one node each.
-    cv::Mat node = cv::Mat( h + 2, w + 2, CV_32SC1, cv::Scalar( -1 ) ); // node id per pixel, -1 for a run pixel or none
+    std::unordered_map<long, int> node; // node id of a node pixel; run pixels have none
     std::vector<Eigen::Vector2d> nodeCentre;
     std::vector<bool> nodeIsIntersection;
-    const auto nodeAt = [&]( int c, int r ) -> int & { return node.at<int>( r + 1, c + 1 ); };
+    const auto key = [&]( int c, int r ) { return static_cast<long>( r - grid.r0 + 1 ) * grid.on.cols + ( c - grid.c0 + 1 ); };
+    const auto nodeOf = [&]( int c, int r ) -> int
+    {
+      const auto it = node.find( key( c, r ) );
+      return it == node.end() ? -1 : it->second;
+    };
+    const auto setNode = [&]( int c, int r, int id ) { node[key( c, r )] = id; };
     for ( const Eigen::Vector2i &p : cells )
     {
-      if ( !grid.at( p.x(), p.y() ) || nodeAt( p.x(), p.y() ) >= 0 )
+      if ( !grid.at( p.x(), p.y() ) || nodeOf( p.x(), p.y() ) >= 0 )
         continue;
       const int degree = grid.degree( p.x(), p.y() );
       if ( degree == 2 )
@@ -189,14 +221,14 @@ namespace geostation
       const int id = static_cast<int>( nodeCentre.size() );
       if ( degree < 3 )
       {
-        nodeAt( p.x(), p.y() ) = id;
+        setNode( p.x(), p.y(), id );
         nodeCentre.push_back( centreOf( p ) );
         nodeIsIntersection.push_back( false );
         continue;
       }
       // the crossing examination: all touching pixels of more than two neighbours form one intersection
       std::vector<Eigen::Vector2i> stack { p };
-      nodeAt( p.x(), p.y() ) = id;
+      setNode( p.x(), p.y(), id );
       Eigen::Vector2d sum = Eigen::Vector2d::Zero();
       int members = 0;
       while ( !stack.empty() )
@@ -208,9 +240,9 @@ namespace geostation
         for ( int d = 0; d < 8; ++d )
         {
           const int c = q.x() + kDc[d], r = q.y() + kDr[d];
-          if ( grid.at( c, r ) && nodeAt( c, r ) < 0 && grid.degree( c, r ) >= 3 )
+          if ( grid.at( c, r ) && nodeOf( c, r ) < 0 && grid.degree( c, r ) >= 3 )
           {
-            nodeAt( c, r ) = id;
+            setNode( c, r, id );
             stack.emplace_back( c, r );
           }
         }
@@ -226,8 +258,8 @@ namespace geostation
       bool live = true;
     };
     std::vector<RawPolygon> raw;
-    cv::Mat visited = cv::Mat::zeros( h + 2, w + 2, CV_8UC1 );
-    const auto visitedAt = [&]( int c, int r ) -> uint8_t & { return visited.at<uint8_t>( r + 1, c + 1 ); };
+    cv::Mat visited = cv::Mat::zeros( grid.on.rows, grid.on.cols, CV_8UC1 );
+    const auto visitedAt = [&]( int c, int r ) -> uint8_t & { return visited.at<uint8_t>( r - grid.r0 + 1, c - grid.c0 + 1 ); };
     std::map<std::pair<int, int>, int> directLinks;
     const auto finish = [&]( std::vector<Eigen::Vector2d> pixels, int startNode, int endNode )
     {
@@ -248,7 +280,7 @@ namespace geostation
     {
       if ( !grid.at( p.x(), p.y() ) )
         continue;
-      const int startNode = nodeAt( p.x(), p.y() );
+      const int startNode = nodeOf( p.x(), p.y() );
       if ( startNode < 0 )
         continue;
       for ( int d = 0; d < 8; ++d )
@@ -256,7 +288,7 @@ namespace geostation
         const int c = p.x() + kDc[d], r = p.y() + kDr[d];
         if ( !grid.at( c, r ) )
           continue;
-        const int nbNode = nodeAt( c, r );
+        const int nbNode = nodeOf( c, r );
         if ( nbNode >= 0 )
         {
           if ( nbNode == startNode )
@@ -282,17 +314,17 @@ namespace geostation
             const Eigen::Vector2i q( cur.x() + kDc[e], cur.y() + kDr[e] );
             if ( q == prev || !grid.at( q.x(), q.y() ) )
               continue;
-            if ( nodeAt( q.x(), q.y() ) >= 0 && !( nodeAt( q.x(), q.y() ) == startNode && pixels.size() <= 2 ) )
+            if ( nodeOf( q.x(), q.y() ) >= 0 && !( nodeOf( q.x(), q.y() ) == startNode && pixels.size() <= 2 ) )
               next = q;
-            else if ( nodeAt( q.x(), q.y() ) < 0 && !visitedAt( q.x(), q.y() ) )
+            else if ( nodeOf( q.x(), q.y() ) < 0 && !visitedAt( q.x(), q.y() ) )
               next = q;
           }
           if ( !next )
             break;
           pixels.push_back( centreOf( *next ) );
-          if ( nodeAt( next->x(), next->y() ) >= 0 )
+          if ( nodeOf( next->x(), next->y() ) >= 0 )
           {
-            endNode = nodeAt( next->x(), next->y() );
+            endNode = nodeOf( next->x(), next->y() );
             break;
           }
           visitedAt( next->x(), next->y() ) = 1;
@@ -306,7 +338,7 @@ namespace geostation
     // closed rings without a node
     for ( const Eigen::Vector2i &p : cells )
     {
-      if ( !grid.at( p.x(), p.y() ) || nodeAt( p.x(), p.y() ) >= 0 || visitedAt( p.x(), p.y() ) )
+      if ( !grid.at( p.x(), p.y() ) || nodeOf( p.x(), p.y() ) >= 0 || visitedAt( p.x(), p.y() ) )
         continue;
       std::vector<Eigen::Vector2d> pixels { centreOf( p ) };
       visitedAt( p.x(), p.y() ) = 1;
@@ -436,10 +468,7 @@ namespace geostation
         continue;
       for ( const Eigen::Vector2d &p : r.pixels )
       {
-        const int c = static_cast<int>( std::floor( p.x() ) ), row = static_cast<int>( std::floor( p.y() ) );
-        if ( c < 0 || row < 0 || c >= w || row >= h )
-          continue;
-        const char v = static_cast<char>( original.at<uint8_t>( row, c ) );
+        const char v = static_cast<char>( originalSymbol( static_cast<int>( std::floor( p.x() ) ), static_cast<int>( std::floor( p.y() ) ) ) );
         if ( v && symbols.find( v ) != std::string::npos && polygon.symbols.find( v ) == std::string::npos )
           polygon.symbols.push_back( v );
       }

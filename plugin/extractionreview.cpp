@@ -1,0 +1,181 @@
+/***************************************************************************
+  extractionreview.cpp - reviewing an extracted road network in QGIS
+ ***************************************************************************/
+#include "extractionreview.h"
+
+#include <QDateTime>
+#include <QUuid>
+
+#include <qgsexception.h>
+#include <qgsgeometry.h>
+#include <qgsmapcanvas.h>
+#include <qgsmapmouseevent.h>
+#include <qgsvectordataprovider.h>
+#include <qgsvectorlayer.h>
+
+#include "measurementstore.h"
+#include "multiviewsession.h"
+
+GeoStationExtractionReview::GeoStationExtractionReview( GeoStationSession *session, GeoStationMeasurementStore *store, QObject *parent )
+  : QObject( parent ), mSession( session ), mStore( store )
+{
+}
+
+bool GeoStationExtractionReview::isExtractedRoadsLayer( const QgsVectorLayer *layer )
+{
+  if ( !layer || !layer->isValid() || layer->geometryType() != QgsWkbTypes::LineGeometry || !QgsWkbTypes::hasZ( layer->wkbType() ) )
+    return false;
+  const QgsFields fields = layer->fields();
+  return fields.lookupField( QStringLiteral( "line_id" ) ) >= 0 && fields.lookupField( QStringLiteral( "accepted_in" ) ) >= 0
+         && fields.lookupField( QStringLiteral( "sigma_max" ) ) >= 0;
+}
+
+bool GeoStationExtractionReview::mark( QgsVectorLayer *layer, QgsFeatureId fid, const QString &decision )
+{
+  int field = layer->fields().lookupField( QStringLiteral( "review" ) );
+  if ( field < 0 )
+  {
+    if ( layer->isEditable() )
+      layer->addAttribute( QgsField( QStringLiteral( "review" ), QVariant::String ) );
+    else if ( !( layer->dataProvider()->capabilities() & QgsVectorDataProvider::AddAttributes )
+              || !layer->dataProvider()->addAttributes( { QgsField( QStringLiteral( "review" ), QVariant::String ) } ) )
+      return false;
+    layer->updateFields();
+    field = layer->fields().lookupField( QStringLiteral( "review" ) );
+  }
+  if ( field < 0 )
+    return false;
+  if ( layer->isEditable() )
+    return layer->changeAttributeValue( fid, field, decision );
+  return layer->dataProvider()->changeAttributeValues( { { fid, { { field, decision } } } } ) && ( layer->triggerRepaint(), true );
+}
+
+bool GeoStationExtractionReview::review( QgsVectorLayer *layer, QgsFeatureId fid, bool accept )
+{
+  if ( !isExtractedRoadsLayer( layer ) )
+  {
+    emit message( tr( "This is not a layer of extracted roads (geostation:extract_roads' OUTPUT)." ), true );
+    return false;
+  }
+  QgsFeature f;
+  if ( !layer->getFeatures( QgsFeatureRequest( fid ) ).nextFeature( f ) || f.geometry().isEmpty() )
+  {
+    emit message( tr( "The line is no longer in the layer." ), true );
+    return false;
+  }
+  const int reviewField = layer->fields().lookupField( QStringLiteral( "review" ) );
+  const QString previous = reviewField >= 0 ? f.attribute( reviewField ).toString() : QString();
+  const QString lineId = f.attribute( QStringLiteral( "line_id" ) ).toString();
+  if ( previous == QLatin1String( "accepted" ) )
+  {
+    emit message( tr( "Line %1 was accepted already." ).arg( lineId ), false );
+    return false;
+  }
+  if ( !accept )
+  {
+    const bool marked = mark( layer, fid, QStringLiteral( "rejected" ) );
+    emit message( marked ? tr( "Line %1 rejected." ).arg( lineId ) : tr( "Line %1 rejected, but the decision could not be written to %2 (read-only)." ).arg( lineId, layer->name() ), !marked );
+    return marked;
+  }
+  const GeoStationFeatureClass *featureClass = mSession->findClass( mSession->currentClass() );
+  if ( !featureClass || featureClass->geometry != GeoStationFeatureClass::Geometry::Line )
+  {
+    emit message( tr( "Choose a line class to copy accepted roads into." ), true );
+    return false;
+  }
+  GeoStationMeasuredFeature measured;
+  measured.className = featureClass->name;
+  measured.featureMethod = QStringLiteral( "extracted" );
+  measured.measured = QDateTime::currentDateTimeUtc().toString( Qt::ISODateWithMs );
+  measured.measurementId = QUuid::createUuid().toString( QUuid::WithoutBraces );
+  const double sigma = f.attribute( QStringLiteral( "sigma_max" ) ).toDouble();
+  for ( auto v = f.geometry().vertices_begin(); v != f.geometry().vertices_end(); ++v )
+  {
+    geostation::MeasuredVertex vertex;
+    vertex.ok = true;
+    vertex.method = geostation::VertexMethod::Intersection;
+    vertex.point = Eigen::Vector3d( ( *v ).x(), ( *v ).y(), ( *v ).z() );
+    vertex.sigmaM = Eigen::Vector3d::Constant( sigma );
+    measured.vertices << vertex;
+  }
+  if ( measured.vertices.size() < 2 )
+  {
+    emit message( tr( "Line %1 has fewer than two vertices." ).arg( lineId ), true );
+    return false;
+  }
+  const GeoStationMeasurementStore::Result result = mStore->addFeature( measured );
+  if ( !result.ok )
+  {
+    emit message( tr( "Line %1 could not be copied into %2: %3" ).arg( lineId, featureClass->name, result.message ), true );
+    return false;
+  }
+  const bool marked = mark( layer, fid, QStringLiteral( "accepted" ) );
+  emit message( tr( "Line %1 accepted into %2 (%3 vertices): %4%5" ).arg( lineId, featureClass->name ).arg( measured.vertices.size() ).arg( result.message,
+                marked ? QString() : tr( "; the decision could not be written to %1" ).arg( layer->name() ) ), !result.committed || !marked );
+  return true;
+}
+
+GeoStationReviewTool::GeoStationReviewTool( QgsMapCanvas *canvas )
+  : QgsMapTool( canvas )
+{
+}
+
+bool GeoStationReviewTool::lineAt( QgsMapCanvas *canvas, const QgsPointXY &pointInCanvasCrs, double radius, QgsVectorLayer *&layer, QgsFeatureId &fid )
+{
+  double best = radius;
+  bool found = false;
+  const QgsGeometry point = QgsGeometry::fromPointXY( pointInCanvasCrs );
+  for ( QgsMapLayer *l : canvas->layers() )
+  {
+    QgsVectorLayer *candidate = qobject_cast<QgsVectorLayer *>( l );
+    if ( !GeoStationExtractionReview::isExtractedRoadsLayer( candidate ) )
+      continue;
+    const QgsCoordinateTransform toCanvas( candidate->crs(), canvas->mapSettings().destinationCrs(), candidate->transformContext() );
+    const QgsRectangle search( pointInCanvasCrs.x() - radius, pointInCanvasCrs.y() - radius, pointInCanvasCrs.x() + radius, pointInCanvasCrs.y() + radius );
+    QgsFeatureRequest request;
+    try
+    {
+      request.setFilterRect( toCanvas.transformBoundingBox( search, Qgis::TransformDirection::Reverse ) ).setNoAttributes();
+    }
+    catch ( const QgsCsException & )
+    {
+      continue; // the click is outside the layer's CRS area
+    }
+    QgsFeature f;
+    QgsFeatureIterator it = candidate->getFeatures( request );
+    while ( it.nextFeature( f ) )
+    {
+      QgsGeometry g = f.geometry();
+      try
+      {
+        if ( g.transform( toCanvas ) != Qgis::GeometryOperationResult::Success )
+          continue;
+      }
+      catch ( const QgsCsException & )
+      {
+        continue;
+      }
+      const double d = g.distance( point );
+      if ( d <= best )
+      {
+        best = d;
+        layer = candidate;
+        fid = f.id();
+        found = true;
+      }
+    }
+  }
+  return found;
+}
+
+void GeoStationReviewTool::canvasReleaseEvent( QgsMapMouseEvent *e )
+{
+  if ( e->button() != Qt::LeftButton && e->button() != Qt::RightButton )
+    return;
+  QgsVectorLayer *layer = nullptr;
+  QgsFeatureId fid = FID_NULL;
+  if ( lineAt( canvas(), e->mapPoint(), searchRadiusMU( canvas() ), layer, fid ) )
+    emit picked( layer, fid, e->button() == Qt::LeftButton );
+  else
+    emit missed();
+}
