@@ -7,8 +7,8 @@
 // Baselines in the same run: one Sobel gradient over both images (reading
 // every pixel once), and decoding both image files into the matching
 // images (what the Processing algorithm does first). Pixels per second are
-// printed per stage, so the slowest stage shows; the peak resident memory
-// of the whole program is printed at the end.
+// printed per stage, so the slowest stage shows, and the peak resident
+// memory from the end of the simulation to the end of the extraction.
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -59,6 +59,8 @@ namespace
       block = Block::load( dir / "block.geostation.json" );
       left = MatchImage( readRaster( block.imageFilePath( block.images.at( 0 ) ).string() ).pixels ).grey();
       right = MatchImage( readRaster( block.imageFilePath( block.images.at( 1 ) ).string() ).pixels ).grey();
+      // the simulation's peak is not the extraction's: start the high-water mark afresh (Linux: clear_refs 5)
+      std::ofstream( "/proc/self/clear_refs" ) << "5";
     }
     ~Pair()
     {
@@ -83,12 +85,25 @@ namespace
     return o;
   }
 
+  long extractionPeakKb = -1;
+
+  long peakResidentKb()
+  {
+    std::ifstream status( "/proc/self/status" );
+    std::string line;
+    while ( std::getline( status, line ) )
+      if ( line.rfind( "VmHWM:", 0 ) == 0 )
+        return std::atol( line.c_str() + 6 );
+    return -1;
+  }
+
   void BM_ExtractPair( benchmark::State &state )
   {
     Pair &p = pair();
     const OrientedPairMapping mapping( p.block.orientedImage( p.block.images.at( 0 ) ), p.block.orientedImage( p.block.images.at( 1 ) ), 200.0 );
     for ( auto _ : state )
       p.last = extractCoincident( p.left, p.right, mapping, options() );
+    extractionPeakKb = peakResidentKb();
     state.SetItemsProcessed( state.iterations() * 2 * static_cast<int64_t>( p.left.total() ) );
     state.SetLabel( std::to_string( p.last.linesA.size() ) + " lines" );
   }
@@ -114,15 +129,6 @@ namespace
     state.SetItemsProcessed( state.iterations() * 2 * static_cast<int64_t>( p.left.total() ) );
   }
 
-  long peakResidentKb()
-  {
-    std::ifstream status( "/proc/self/status" );
-    std::string line;
-    while ( std::getline( status, line ) )
-      if ( line.rfind( "VmHWM:", 0 ) == 0 )
-        return std::atol( line.c_str() + 6 );
-    return -1;
-  }
 }
 
 BENCHMARK( BM_ExtractPair )->Unit( benchmark::kMillisecond );
@@ -150,6 +156,6 @@ int main( int argc, char **argv )
     line( "REM", s.remStage, false );
     line( "verification", s.verificationStage, false );
     std::printf( "  %-16s %8.3f s\n", "compilation", s.compilationStage.seconds );
-    std::printf( "Peak resident memory of the program (images, simulation included): %.0f MB (target <= 2048 MB)\n", peakResidentKb() / 1024.0 );
+    std::printf( "Peak resident memory during the extraction (the two grey images held): %.0f MB (target <= 2048 MB)\n", extractionPeakKb / 1024.0 );
   } );
 }
