@@ -111,7 +111,8 @@ namespace geostation
             const double half = 0.5 * kiteWidthPx * ( t <= widest ? t / widest : ( kiteLengthPx - t ) / ( kiteLengthPx - widest ) );
             if ( s > half + 0.5 )
               continue;
-            const double distance = ( cell - q ).norm();
+            // the search favours the main axis (§4.4.3): a line is continued along its course, not to the nearest pixel aside
+            const double distance = t + 3.0 * s;
             if ( distance >= bestDistance || distanceToPolyline( polygon.pixels, cell ) < 2.0 )
               continue;
             bestDistance = distance;

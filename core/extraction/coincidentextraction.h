@@ -75,8 +75,9 @@ namespace geostation
 
   /**
    * Closes gaps from the open ends of the lines of `symbols` in the matrix:
-   * the nearest other line pixel in the kite ahead of each end is joined to
-   * it with `symbol`. Returns the number of joins.
+   * the other line's pixel in the kite ahead of each end nearest to its
+   * course (distance along it plus three times the distance across) is
+   * joined to it with `symbol`. Returns the number of joins.
    */
   int bridgeOpenEnds( ResultMatrix &matrix, const std::string &symbols, uint8_t symbol, double kiteLengthPx, double kiteWidthPx );
 

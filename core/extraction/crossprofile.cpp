@@ -125,7 +125,7 @@ namespace geostation
   } // namespace
 
   std::vector<CrossSection> findCrossSections( const std::vector<double> &profile, double widthMinPx, double widthMaxPx,
-                                               double minContrast, double maxVariation )
+                                               double minContrast, double maxVariation, bool oneSided )
   {
     struct Candidate
     {
@@ -148,7 +148,9 @@ namespace geostation
         const double inside = sums.mean( a, a + w );
         const double left = sums.mean( a - gap - f, a - gap );
         const double right = sums.mean( a + w + gap, a + w + gap + f );
-        const double contrast = std::min( inside - left, inside - right );
+        double contrast = std::min( inside - left, inside - right );
+        if ( oneSided && contrast >= -minContrast / 3.0 )
+          contrast = std::max( inside - left, inside - right );
         if ( contrast < minContrast )
           continue;
         // a cheap first look: markings and cars inside a road inflate the standard deviation, so allow twice the limit here

@@ -59,12 +59,14 @@ namespace geostation
    * Bands of width widthMinPx..widthMaxPx on a profile from
    * sampleCrossProfile() whose both sides are at least `minContrast` darker
    * (polarity applied) and whose inside varies at most `maxVariation`
-   * (robust spread);
-   * overlapping candidates suppressed, strongest first. Offsets are
-   * relative to the profile's centre sample.
+   * (robust spread); overlapping candidates suppressed, strongest first.
+   * Offsets are relative to the profile's centre sample. `oneSided`: one
+   * side suffices and the other need only not be darker by more than a
+   * third of the minimum contrast (where another road joins, the band opens
+   * on that side).
    */
   std::vector<CrossSection> findCrossSections( const std::vector<double> &profile, double widthMinPx, double widthMaxPx,
-                                               double minContrast, double maxVariation );
+                                               double minContrast, double maxVariation, bool oneSided = false );
 
   /**
    * Band response of a fixed width at every sample of the profile: the

@@ -49,6 +49,8 @@ namespace geostation
       throw std::invalid_argument( "LEM's contrast fraction must be in (0, 1]" );
     if ( maxSteps < 1 )
       throw std::invalid_argument( "LEM needs at least one step" );
+    if ( openSideWidths < 0.0 )
+      throw std::invalid_argument( "LEM's reach through a junction's mouth must not be negative" );
   }
 
   double lemStepPx( const LemOptions &options, double widthPx )
@@ -87,20 +89,22 @@ namespace geostation
     return best;
   }
 
-  std::optional<LineState> localStep( const cv::Mat &grey, const LineState &from, const LineObjectOptions &object, const LemOptions &options )
+  std::optional<LineState> localStep( const cv::Mat &grey, const LineState &from, const LineObjectOptions &object, const LemOptions &options, bool openSide )
   {
     const double w = from.widthPx;
     const double step = lemStepPx( options, w );
-    const double search = options.searchPx > 0.0 ? options.searchPx : 0.35 * w + 1.5;
-    const double wMax = std::min( object.maxWidthPx, w * ( 1.0 + options.widthTolerance ) );
-    const double wMin = std::max( object.minWidthPx, w * ( 1.0 - options.widthTolerance ) );
+    // through a junction's mouth the line keeps its course: the open side cannot steer it
+    const double search = openSide ? 1.5 : ( options.searchPx > 0.0 ? options.searchPx : 0.35 * w + 1.5 );
+    const double tolerance = openSide ? 0.1 : options.widthTolerance;
+    const double wMax = std::min( object.maxWidthPx, w * ( 1.0 + tolerance ) );
+    const double wMin = std::max( object.minWidthPx, w * ( 1.0 - tolerance ) );
     if ( wMin > wMax )
       return std::nullopt;
     const Eigen::Vector2d predicted = from.pixelInImage + step * from.direction;
     const int half = static_cast<int>( std::ceil( 0.5 * wMax + std::max( 2.0, 0.5 * wMax ) + 2.0 + search ) );
     const std::vector<double> profile = sampleCrossProfile( grey, predicted, from.direction, half, object.polarity, step / 3.0, 3 );
     const double minContrast = std::max( object.minContrast, options.contrastFraction * from.contrast );
-    const std::vector<CrossSection> sections = findCrossSections( profile, wMin, wMax, minContrast, object.maxVariation );
+    const std::vector<CrossSection> sections = findCrossSections( profile, wMin, wMax, minContrast, object.maxVariation, openSide );
     const CrossSection *chosen = nullptr;
     for ( const CrossSection &s : sections )
       if ( std::abs( s.offsetPx ) <= search && ( !chosen || std::abs( s.offsetPx ) < std::abs( chosen->offsetPx ) ) )
@@ -113,9 +117,9 @@ namespace geostation
       return std::nullopt;
     LineState next;
     next.pixelInImage = found;
-    next.direction = ( from.direction + heading ).normalized();
-    next.widthPx = 0.8 * w + 0.2 * chosen->widthPx;
-    next.contrast = 0.8 * from.contrast + 0.2 * chosen->contrast;
+    next.direction = openSide ? from.direction : Eigen::Vector2d( ( from.direction + heading ).normalized() );
+    next.widthPx = openSide ? w : 0.8 * w + 0.2 * chosen->widthPx;
+    next.contrast = openSide ? from.contrast : 0.8 * from.contrast + 0.2 * chosen->contrast;
     return next;
   }
 
@@ -125,6 +129,7 @@ namespace geostation
     LemSummary summary;
     summary.pixels.push_back( start.pixelInImage );
     summary.end = start;
+    double openStepsPx = 0.0;
     while ( summary.steps < options.maxSteps )
     {
       if ( nearImageBorder( grey, summary.end.pixelInImage + lemStepPx( options, summary.end.widthPx ) * summary.end.direction, summary.end.widthPx ) )
@@ -132,7 +137,16 @@ namespace geostation
         summary.stop = DeadEndKind::ImageBorder;
         return summary;
       }
-      const std::optional<LineState> next = localStep( grey, summary.end, object, options );
+      std::optional<LineState> next = localStep( grey, summary.end, object, options );
+      if ( next )
+        openStepsPx = 0.0;
+      else if ( summary.steps >= 2 && openStepsPx < options.openSideWidths * summary.end.widthPx )
+      {
+        // a junction's mouth: the band opens on one side
+        next = localStep( grey, summary.end, object, options, true );
+        if ( next )
+          openStepsPx += ( next->pixelInImage - summary.end.pixelInImage ).norm();
+      }
       if ( !next )
       {
         summary.stop = DeadEndKind::BreakOff;

@@ -36,6 +36,8 @@ namespace geostation
     double contrastFraction = 0.4; //!< a step's contrast at least this fraction of the line's (and the minimum contrast)
     double searchPx = 0.0;        //!< 0: 0.35 x width + 1.5 px either side of the prediction
     int maxSteps = 100000;
+    //! Steps through a junction's mouth (one side of the band open), at most this many widths of line in a row.
+    double openSideWidths = 2.0;
 
     //! Throws std::invalid_argument naming the first bad value.
     void check() const;
@@ -59,9 +61,12 @@ namespace geostation
   /**
    * One LEM step from `from`: the next point and the line's state there, or
    * nothing when the profile does not comply. Used by REM to decide that
-   * the line is ideal again.
+   * the line is ideal again. With `openSide`, a band of the line's width
+   * open on one side (a junction's mouth) complies within 1.5 px of the
+   * prediction; direction, width and contrast are then kept.
    */
-  std::optional<LineState> localStep( const cv::Mat &grey, const LineState &from, const LineObjectOptions &object, const LemOptions &options );
+  std::optional<LineState> localStep( const cv::Mat &grey, const LineState &from, const LineObjectOptions &object, const LemOptions &options,
+                                      bool openSide = false );
 
   //! The step LEM takes for a line of this width.
   double lemStepPx( const LemOptions &options, double widthPx );

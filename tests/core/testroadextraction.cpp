@@ -644,3 +644,30 @@ TEST( RoadExtraction, EmptyAndBadInput )
   ResultMatrix small( 100, 100 );
   EXPECT_THROW( extractLines( fields, small, {}, true, aerialOptions() ), std::invalid_argument );
 }
+
+TEST( RoadExtraction, FiveMorePairs )
+{
+  // the preset's layout with other terrain, trees, shadows, cars and noise (seeds): the spread of the numbers
+  double completeness = 0, correctness = 0, worstCompleteness = 1, worstCorrectness = 1;
+  int junctions = 0, found = 0;
+  const std::vector<uint32_t> seeds { 1, 2, 4, 5, 6 };
+  for ( const uint32_t seed : seeds )
+  {
+    const AerialPair pair = simulatePair( "seed" + std::to_string( seed ), "", seed );
+    const PairEvaluation e = evaluate( pair, aerialOptions(), "seed" + std::to_string( seed ), 6.0 );
+    completeness += e.a.completeness / seeds.size();
+    correctness += e.a.correctness / seeds.size();
+    worstCompleteness = std::min( worstCompleteness, e.a.completeness );
+    worstCorrectness = std::min( worstCorrectness, e.a.correctness );
+    junctions += e.junctions;
+    found += e.junctionsFound;
+  }
+  std::printf( "five pairs: completeness %.3f (worst %.3f), correctness %.3f (worst %.3f), junctions %d of %d within 3 m\n", completeness, worstCompleteness,
+               correctness, worstCorrectness, found, junctions );
+  EXPECT_GT( completeness, 0.90 );
+  EXPECT_GT( correctness, 0.95 );
+  EXPECT_GT( worstCompleteness, 0.80 );
+  EXPECT_GT( worstCorrectness, 0.95 );
+  // below the aim of 90 %: where a side road's last stretch is in shadow, its end is bridged short of the true junction
+  EXPECT_GE( found, junctions / 2 );
+}
