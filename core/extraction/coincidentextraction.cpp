@@ -249,7 +249,7 @@ namespace geostation
     const std::string finalSymbols = options.verify ? "IE" : "S*+";
     const double widest = options.extraction.object.maxWidthPx;
     const double kiteLength = options.kiteLengthPx > 0.0 ? options.kiteLengthPx : std::max( 20.0, 2.0 * widest );
-    const double kiteWidth = options.kiteWidthPx > 0.0 ? options.kiteWidthPx : std::max( 12.0, 0.6 * widest );
+    const double kiteWidth = options.kiteWidthPx > 0.0 ? options.kiteWidthPx : std::max( 12.0, widest );
     for ( int i = 0; i < 2; ++i )
     {
       for ( int pass = 0; pass < 3; ++pass ) // a gap closed in one pass gives an end nearby its line in the next

@@ -36,7 +36,7 @@ namespace geostation
     int maxRounds = 4;
     double minRoundGain = 0.02;   //!< stop after a round whose accepted length is below this fraction of the total
     double kiteLengthPx = 0.0;    //!< the intersection search's main axis (§4.4.3: 20); 0: twice the widest road, at least 20 px
-    double kiteWidthPx = 0.0;     //!< and its smaller axis (12); 0: 0.6 x the widest road, at least 12 px
+    double kiteWidthPx = 0.0;     //!< and its smaller axis (12); 0: the widest road, at least 12 px
     bool verify = true;           //!< false: one extraction in A, nothing verified (for comparison)
 
     //! Throws std::invalid_argument naming the first bad value.
