@@ -29,6 +29,20 @@ namespace geostation
         throw std::invalid_argument( "the control points of the " + what + " mapping lie on a line: it needs points spread over the overlap" );
     }
 
+    //! The pairs' points in A and in B, checked: numbers, and spread over a plane in both images.
+    void splitPairs( const std::vector<ControlPair> &pairs, const std::string &mapping, std::vector<Eigen::Vector2d> &a, std::vector<Eigen::Vector2d> &b )
+    {
+      for ( const ControlPair &p : pairs )
+      {
+        if ( !p.inA.allFinite() || !p.inB.allFinite() )
+          throw std::invalid_argument( "control point \"" + p.id + "\" has a coordinate that is not a number" );
+        a.push_back( p.inA );
+        b.push_back( p.inB );
+      }
+      requireNotCollinear( a, mapping );
+      requireNotCollinear( b, mapping );
+    }
+
     Eigen::Matrix3d normalising( const std::vector<Eigen::Vector2d> &points )
     {
       Eigen::Vector2d mean = Eigen::Vector2d::Zero();
@@ -119,15 +133,7 @@ namespace geostation
     if ( pairs.size() < 4 )
       throw std::invalid_argument( "the projective mapping needs at least 4 control-point pairs, got " + std::to_string( pairs.size() ) );
     std::vector<Eigen::Vector2d> a, b;
-    for ( const ControlPair &p : pairs )
-    {
-      if ( !p.inA.allFinite() || !p.inB.allFinite() )
-        throw std::invalid_argument( "control point \"" + p.id + "\" has a coordinate that is not a number" );
-      a.push_back( p.inA );
-      b.push_back( p.inB );
-    }
-    requireNotCollinear( a, "projective" );
-    requireNotCollinear( b, "projective" );
+    splitPairs( pairs, "projective", a, b );
     ProjectiveMapping m;
     m.mBFromA = homography( a, b );
     m.mAFromB = m.mBFromA.inverse();
@@ -159,15 +165,7 @@ namespace geostation
     if ( !( smoothing >= 0.0 ) )
       throw std::invalid_argument( "the multiquadric smoothing factor must not be negative" );
     std::vector<Eigen::Vector2d> a, b;
-    for ( const ControlPair &p : pairs )
-    {
-      if ( !p.inA.allFinite() || !p.inB.allFinite() )
-        throw std::invalid_argument( "control point \"" + p.id + "\" has a coordinate that is not a number" );
-      a.push_back( p.inA );
-      b.push_back( p.inB );
-    }
-    requireNotCollinear( a, "multiquadric" );
-    requireNotCollinear( b, "multiquadric" );
+    splitPairs( pairs, "multiquadric", a, b );
     MultiquadricMapping m;
     m.mForward = fitSurface( a, b, smoothing );
     m.mBackward = fitSurface( b, a, smoothing );

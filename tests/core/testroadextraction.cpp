@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
+#include <stdexcept>
 #include <tuple>
 #include <unistd.h>
 
@@ -132,13 +133,27 @@ namespace
         for ( const Eigen::Vector2d &v : vertices )
           OGR_G_AddPoint_2D( g, x0 + v.x(), y0 + v.y() );
         OGR_F_SetGeometryDirectly( f, g );
-        OGR_L_CreateFeature( layer, f );
+        if ( OGR_L_CreateFeature( layer, f ) != OGRERR_NONE )
+          throw std::runtime_error( "cannot write the road layer " + path );
         OGR_F_Destroy( f );
       }
       GDALClose( ds );
       return simulatePair( "town", path, 11 );
     }();
     return pair;
+  }
+
+  //! Appends `point` to the current run while `keep` holds; otherwise the run (if a line) joins `runs` and a new one starts.
+  void extendRun( std::vector<std::vector<Eigen::Vector3d>> &runs, std::vector<Eigen::Vector3d> &run, bool keep, const Eigen::Vector3d &point )
+  {
+    if ( keep )
+    {
+      run.push_back( point );
+      return;
+    }
+    if ( run.size() > 1 )
+      runs.push_back( run );
+    run.clear();
   }
 
   /**
@@ -168,15 +183,8 @@ namespace
         {
           const Eigen::Vector3d ground = a + ( b - a ) * ( static_cast<double>( k ) / n );
           const GroundProjection g = image.projectGroundToPixel( ground );
-          if ( g.ok() && g.inFrame && ( !stereo || ( inside( g, image ) && inside( other.projectGroundToPixel( ground ), other ) ) ) )
-            run.emplace_back( g.pixelInImage.x(), g.pixelInImage.y(), 0.0 );
-          else if ( run.size() > 1 )
-          {
-            out.push_back( run );
-            run.clear();
-          }
-          else
-            run.clear();
+          const bool seen = g.ok() && g.inFrame && ( !stereo || ( inside( g, image ) && inside( other.projectGroundToPixel( ground ), other ) ) );
+          extendRun( out, run, seen, Eigen::Vector3d( g.pixelInImage.x(), g.pixelInImage.y(), 0.0 ) );
         }
       }
       if ( run.size() > 1 )
@@ -437,15 +445,7 @@ namespace
     {
       const GroundProjection ga = ta.projectGroundToPixel( v ), gb = tb.projectGroundToPixel( v );
       const bool seen = ga.ok() && gb.ok() && ga.pixelInImage.minCoeff() > 10 && gb.pixelInImage.minCoeff() > 10 && ga.pixelInImage.maxCoeff() < 1014 && gb.pixelInImage.maxCoeff() < 1014;
-      if ( seen )
-        run.push_back( v );
-      else if ( run.size() > 1 )
-      {
-        truthStereo.push_back( run );
-        run.clear();
-      }
-      else
-        run.clear();
+      extendRun( truthStereo, run, seen, v );
     }
     if ( run.size() > 1 )
       truthStereo.push_back( run );
