@@ -97,7 +97,17 @@ namespace geostation
     }
     std::optional<OrientedPairMapping> oriented;
     if ( summary.oriented )
+    {
       oriented.emplace( *a, *b, summary.meanHeightM, options.terrain );
+      // a 9 x 9 grid of the first image mapped into the second: none inside, no stereo model
+      bool overlap = false;
+      for ( int r = 0; r <= 8 && !overlap; ++r )
+        for ( int c = 0; c <= 8 && !overlap; ++c )
+          if ( const std::optional<Eigen::Vector2d> q = oriented->toB( Eigen::Vector2d( imageA.width() * c / 8.0, imageA.height() * r / 8.0 ) ) )
+            overlap = q->x() >= 0 && q->y() >= 0 && q->x() <= imageB.width() && q->y() <= imageB.height();
+      if ( !overlap )
+        throw std::invalid_argument( "the two images do not overlap (at the terrain height of " + std::to_string( static_cast<int>( std::lround( summary.meanHeightM ) ) ) + " m): no stereo pair" );
+    }
     const PairMapping &registration = mapping ? *mapping : static_cast<const PairMapping &>( *oriented );
     summary.mapping = registration.name();
     summary.extraction = extractCoincident( imageA.grey(), imageB.grey(), registration, options.coincident, progress );

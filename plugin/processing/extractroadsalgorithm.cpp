@@ -174,7 +174,11 @@ QVariantMap ExtractRoadsAlgorithm::processAlgorithm( const QVariantMap &paramete
   if ( QgsRasterLayer *demLayer = parameterAsRasterLayer( parameters, QStringLiteral( "DEM" ), context ) )
   {
     dem = GeoStationProcessing::loadDem( demLayer->source(), block );
-    options.terrain = [&dem]( double x, double y ) { return dem.dem->heightAt( dem.blockToDem->transform( Eigen::Vector3d( x, y, 0 ) ).x(), dem.blockToDem->transform( Eigen::Vector3d( x, y, 0 ) ).y() ); };
+    options.terrain = [&dem]( double x, double y )
+    {
+      const Eigen::Vector3d inDem = dem.blockToDem->transform( Eigen::Vector3d( x, y, 0 ) );
+      return dem.dem->heightAt( inDem.x(), inDem.y() );
+    };
   }
   const geostation::MatchImage imageLeft = readImage( block, left ), imageRight = readImage( block, right );
 

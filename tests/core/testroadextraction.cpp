@@ -23,6 +23,7 @@
 #include "extraction/crossprofile.h"
 #include "extraction/networkintersection.h"
 #include "extraction/pairmapping.h"
+#include "extraction/roadnetworkextractor.h"
 #include "extraction/lineextractor.h"
 #include "extraction/resultmatrix.h"
 #include "io/block.h"
@@ -643,6 +644,25 @@ TEST( RoadExtraction, EmptyAndBadInput )
   EXPECT_THROW( extractLines( cv::Mat( 400, 400, CV_8UC3 ), matrix, {}, true, aerialOptions() ), std::invalid_argument );
   ResultMatrix small( 100, 100 );
   EXPECT_THROW( extractLines( fields, small, {}, true, aerialOptions() ), std::invalid_argument );
+
+  // a pair that does not overlap: one sentence
+  const AerialPair &pair = aerialPair();
+  const OrientedImage a = pair.block.orientedImage( pair.block.images.at( 0 ) );
+  ExteriorOrientation away = pair.block.orientedImage( pair.block.images.at( 1 ) ).exterior();
+  away.projectionCentre.x() += 5000.0;
+  const OrientedImage b = a.withExterior( away );
+  RoadNetworkOptions network;
+  network.coincident.extraction = aerialOptions();
+  network.meanHeightM = meanRoadHeight( pair );
+  try
+  {
+    extractRoadNetwork( MatchImage( pair.left ), MatchImage( pair.right ), &a, &b, network );
+    FAIL() << "a pair without overlap accepted";
+  }
+  catch ( const std::invalid_argument &e )
+  {
+    EXPECT_NE( std::string( e.what() ).find( "do not overlap" ), std::string::npos ) << e.what();
+  }
 }
 
 TEST( RoadExtraction, FiveMorePairs )
