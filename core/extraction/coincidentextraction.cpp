@@ -4,6 +4,8 @@
  ***************************************************************************/
 #include "extraction/coincidentextraction.h"
 
+#include "extraction/regionalextraction.h"
+
 #include <chrono>
 #include <algorithm>
 #include <cmath>
@@ -123,6 +125,66 @@ namespace geostation
           matrix.drawPolyline( { q, *best }, symbol );
           ++joins;
         }
+      }
+    }
+    return joins;
+  }
+
+  int bridgeFacingEnds( ResultMatrix &matrix, const cv::Mat &grey, const std::string &symbols, uint8_t symbol, const LineObjectOptions &object, double maxDistancePx )
+  {
+    const CompilationSummary compiled = compileMaxLengthPolygons( matrix, symbols, false, 1 );
+    const std::vector<DeadEnd> ends = openEnds( compiled.polygons );
+    std::vector<bool> used( ends.size(), false );
+    const double cosLimit = std::cos( 25.0 * 3.14159265358979323846 / 180.0 );
+    int joins = 0;
+    for ( size_t i = 0; i < ends.size(); ++i )
+    {
+      if ( used[i] )
+        continue;
+      std::optional<size_t> best;
+      double bestDistance = maxDistancePx;
+      for ( size_t k = 0; k < ends.size(); ++k )
+      {
+        if ( k == i || used[k] )
+          continue;
+        const Eigen::Vector2d d = ends[k].state.pixelInImage - ends[i].state.pixelInImage;
+        const double distance = d.norm();
+        if ( distance < 1.0 || distance >= bestDistance )
+          continue;
+        if ( ends[i].state.direction.dot( d ) < cosLimit * distance || ends[k].state.direction.dot( -d ) < cosLimit * distance )
+          continue;
+        // nothing extracted in between (the join would cross another line), and the image between them a band of the road's
+        // width along most of the way, one side allowed to be lost in shadow
+        const Eigen::Vector2d axis = d / distance;
+        bool crosses = false;
+        for ( double t = 3.0; t < distance - 3.0 && !crosses; t += 1.0 )
+          crosses = matrix.nearestSymbol( ends[i].state.pixelInImage + t * axis, 1.0 ).has_value();
+        if ( crosses )
+          continue;
+        const std::optional<CrossSection> atEnd = refineAcross( grey, ends[i].state.pixelInImage - 4.0 * axis, axis, 0.5 * ( object.minWidthPx + object.maxWidthPx ), object, 3.0 );
+        const double width = atEnd ? atEnd->widthPx : 0.5 * ( object.minWidthPx + object.maxWidthPx );
+        const int half = static_cast<int>( std::ceil( width ) ) + 6;
+        int samples = 0, supported = 0;
+        for ( double t = 2.0; t < distance - 1.0; t += 2.0, ++samples )
+        {
+          const std::vector<double> profile = sampleCrossProfile( grey, ends[i].state.pixelInImage + t * axis, axis, half, object.polarity, 1.0, 3 );
+          for ( const CrossSection &c : findCrossSections( profile, 0.8 * width, 1.2 * width, 0.5 * object.minContrast, 2.0 * object.maxVariation, true ) )
+            if ( std::abs( c.offsetPx ) <= 2.5 )
+            {
+              ++supported;
+              break;
+            }
+        }
+        if ( samples == 0 || supported < 0.7 * samples )
+          continue;
+        bestDistance = distance;
+        best = k;
+      }
+      if ( best )
+      {
+        matrix.drawPolyline( { ends[i].state.pixelInImage, ends[*best].state.pixelInImage }, symbol );
+        used[i] = used[*best] = true;
+        ++joins;
       }
     }
     return joins;
@@ -252,6 +314,9 @@ namespace geostation
     const double kiteWidth = options.kiteWidthPx > 0.0 ? options.kiteWidthPx : std::max( 12.0, widest );
     for ( int i = 0; i < 2; ++i )
     {
+      // long gaps (a stretch in shadow) between ends that face each other, where the image shows the road between them
+      summary.bridged += bridgeFacingEnds( matrix[i], *grey[i], finalSymbols, options.verify ? ResultMatrix::kInternal : ResultMatrix::kRegional,
+                                           options.extraction.object, 12.0 * widest );
       for ( int pass = 0; pass < 3; ++pass ) // a gap closed in one pass gives an end nearby its line in the next
       {
         const int joins = bridgeOpenEnds( matrix[i], finalSymbols, options.verify ? ResultMatrix::kInternal : ResultMatrix::kRegional, kiteLength, kiteWidth );

@@ -82,6 +82,15 @@ namespace geostation
   int bridgeOpenEnds( ResultMatrix &matrix, const std::string &symbols, uint8_t symbol, double kiteLengthPx, double kiteWidthPx );
 
   /**
+   * Closes long gaps (a stretch of road in shadow): two open ends within
+   * `maxDistancePx` that face each other (within 25 degrees of the line
+   * between them) are joined with `symbol` when no line lies between them
+   * and the image shows a band of the road's width along at least 70 % of
+   * the way (one side may be lost in shadow). Returns the number of joins.
+   */
+  int bridgeFacingEnds( ResultMatrix &matrix, const cv::Mat &grey, const std::string &symbols, uint8_t symbol, const LineObjectOptions &object, double maxDistancePx );
+
+  /**
    * Removes spurs: lines of `symbols` shorter than `maxLengthPx` that run from
    * an intersection to a dead end (left by bridging and by lines that wander
    * into a junction). Returns the number removed.
