@@ -9,10 +9,12 @@
   from B's own starting points, and verifies in A; round 3 continues in A
   from its verification dead ends only; and so on, alternating, until a
   round adds less than a fraction of what has been accepted (or the round
-  limit). Final processing bridges small gaps and broken intersections
-  from every open end (the kite-shaped search of §4.4.3, 20 x 12 matrix
-  elements there, scaled here with the widest road) and compiles the final polygons of both
-  images from the symbols I and E.
+  limit). Final processing joins open ends that face each other across a
+  stretch the image supports (a road in shadow), bridges small gaps and
+  broken intersections from every open end (the kite-shaped search of
+  §4.4.3, 20 x 12 matrix elements there, scaled here with the widest road),
+  prunes spurs, and compiles the final polygons of both images from the
+  symbols I and E.
  ***************************************************************************/
 #ifndef GEOSTATION_EXTRACTION_COINCIDENTEXTRACTION_H
 #define GEOSTATION_EXTRACTION_COINCIDENTEXTRACTION_H
