@@ -66,10 +66,13 @@ class DesktopSmokeTest(unittest.TestCase):
         self.assertTrue(self.result.get("toolbar"))
         self.assertEqual(self.result.get("adjustment_actions"), ["mActionGeoStationIntersect", "mActionGeoStationResection",
                                                                   "mActionGeoStationBundleAdjust", "mActionGeoStationInnerOrientation"])
-        self.assertEqual(self.result.get("algorithms"), ["geostation:bundle_adjust", "geostation:enhance_image", "geostation:export_measurements", "geostation:inner_orientation", "geostation:intersect",
+        self.assertEqual(self.result.get("algorithms"), ["geostation:bundle_adjust", "geostation:enhance_image", "geostation:export_measurements",
+                                                         "geostation:extract_roads", "geostation:inner_orientation", "geostation:intersect",
                                                          "geostation:match_points", "geostation:monoplot", "geostation:project_to_image", "geostation:resection",
                                                          "geostation:simulate_survey", "geostation:trace_road_lines"])
         self.assertIn("mActionGeoStationMonoplot", self.result.get("menu_actions", []))
+        self.assertIn("mActionGeoStationExtractRoads", self.result.get("menu_actions", []))
+        self.assertIn("mActionGeoStationReviewExtracted", self.result.get("menu_actions", []))
         self.assertTrue(self.result.get("provider"))
         self.assertTrue(self.result.get("algorithm"))
         self.assertGreater(self.result.get("processing_in_frame", 0), 0)
