@@ -8,12 +8,7 @@
   fall in (pixelInImage as CONVENTIONS §1: pixel (c, r) covers
   [c, c+1) x [r, r+1), its centre is (c + 0.5, r + 0.5)).
 
-  Maximum-length polygon compilation (§4.2) follows the strings of chosen
-  symbols: 3 x 3 neighbourhoods tell a dead end (one neighbour), the line's
-  run (two) and an intersection (more); the pixels of an intersection are
-  examined together (the report's 5 x 5 crossing examination) so that its
-  branches leave from one node. Each polygon runs between two dead ends,
-  two intersections, or one of each, without an intersection inside.
+  The maximum-length polygons compiled from it: polygoncompilation.h.
  ***************************************************************************/
 #ifndef GEOSTATION_EXTRACTION_RESULTMATRIX_H
 #define GEOSTATION_EXTRACTION_RESULTMATRIX_H
@@ -63,36 +58,11 @@ namespace geostation
       cv::Mat mSymbols; // CV_8UC1
   };
 
-  //! How a compiled polygon ends.
-  enum class PolygonEnd
-  {
-    DeadEnd,
-    Intersection,
-  };
-
-  struct CompiledPolygon
-  {
-    std::vector<Eigen::Vector2d> pixels; //!< vertices through the pixel centres (Douglas-Peucker, 0.75 px), ends included (an intersection's end at its centre)
-    PolygonEnd startEnd = PolygonEnd::DeadEnd, endEnd = PolygonEnd::DeadEnd;
-    std::string symbols; //!< the distinct symbols along it, in order of first appearance (e.g. "I", "IE")
-  };
-
-  struct CompilationSummary
-  {
-    std::vector<CompiledPolygon> polygons;
-    std::vector<Eigen::Vector2d> intersections; //!< centres of the intersections (pixelInImage)
-  };
-
-  /**
-   * Maximum-length polygons of the strings of `symbols` in the matrix;
-   * polygons shorter than `minPixels` pixels are dropped (stubs). With
-   * `erase`, the compiled symbols are cleared from the matrix.
-   */
-  CompilationSummary compileMaxLengthPolygons( ResultMatrix &matrix, const std::string &symbols, bool erase, int minPixels = 3 );
-
   //! Polyline length in pixels.
   double polylineLength( const std::vector<Eigen::Vector2d> &polyline );
 
 } // namespace geostation
+
+#include "extraction/polygoncompilation.h"
 
 #endif // GEOSTATION_EXTRACTION_RESULTMATRIX_H
