@@ -157,4 +157,54 @@ namespace geostation
     return out;
   }
 
+  ProjectedPolylineParts projectPolylineCut( const std::vector<Eigen::Vector3d> &dense, const GroundToPixel &project )
+  {
+    const auto boundary = [&]( const Eigen::Vector3d &inside, const Eigen::Vector3d &outside )
+    {
+      Eigen::Vector3d a = inside, b = outside;
+      for ( int k = 0; k < 40; ++k )
+      {
+        const Eigen::Vector3d mid = 0.5 * ( a + b );
+        ( project( mid ) ? a : b ) = mid;
+      }
+      return project( a );
+    };
+    std::vector<std::vector<Eigen::Vector2d>> runs( 1 );
+    std::optional<Eigen::Vector2d> previous;
+    for ( size_t i = 0; i < dense.size(); ++i )
+    {
+      const std::optional<Eigen::Vector2d> p = project( dense[i] );
+      if ( p )
+      {
+        if ( runs.back().empty() && i > 0 )
+          if ( const std::optional<Eigen::Vector2d> start = boundary( dense[i], dense[i - 1] ) )
+            runs.back().push_back( *start );
+        runs.back().push_back( *p );
+      }
+      else if ( !runs.back().empty() )
+      {
+        if ( const std::optional<Eigen::Vector2d> end = boundary( dense[i - 1], dense[i] ) )
+          runs.back().push_back( *end );
+        runs.emplace_back();
+      }
+    }
+    ProjectedPolylineParts out;
+    double bestLength = 0.0;
+    for ( std::vector<Eigen::Vector2d> &run : runs )
+    {
+      if ( run.size() < 2 )
+        continue;
+      double length = 0.0;
+      for ( size_t k = 1; k < run.size(); ++k )
+        length += ( run[k] - run[k - 1] ).norm();
+      if ( length > bestLength || out.longest < 0 )
+      {
+        bestLength = length;
+        out.longest = static_cast<int>( out.parts.size() );
+      }
+      out.parts.push_back( std::move( run ) );
+    }
+    return out;
+  }
+
 } // namespace geostation

@@ -253,57 +253,28 @@ QVariantMap ProjectToImageAlgorithm::processAlgorithm( const QVariantMap &parame
     else
     {
       // A line leaving the projectable field (behind the camera, or far outside the lens field) is cut
-      // where it leaves it: the boundary is found by bisection along the ground segment.
+      // where it leaves it; the longest part is the feature (the others kept for a multi-line)
       Conversion probe;
-      const auto boundary = [&]( const Eigen::Vector3d & inside, const Eigen::Vector3d & outside )
+      const geostation::ProjectedPolylineParts cut = geostation::projectPolylineCut( dense, [&]( const Eigen::Vector3d & g ) -> std::optional<Eigen::Vector2d>
       {
-        Eigen::Vector3d a = inside, b = outside;
-        for ( int k = 0; k < 40; ++k )
-        {
-          const Eigen::Vector3d mid = 0.5 * ( a + b );
-          ( projectVertex( mid, probe ) ? a : b ) = mid;
-        }
-        return projectVertex( a, probe );
-      };
-      std::vector<QVector<QgsPoint>> runs( 1 );
-      for ( size_t i = 0; i < dense.size(); ++i )
-      {
-        if ( projected[i] )
-        {
-          if ( runs.back().isEmpty() && i > 0 )
-            if ( const std::optional<QgsPoint> start = boundary( dense[i], dense[i - 1] ) )
-              runs.back() << *start;
-          runs.back() << *projected[i];
-        }
-        else if ( !runs.back().isEmpty() )
-        {
-          if ( const std::optional<QgsPoint> end = boundary( dense[i - 1], dense[i] ) )
-            runs.back() << *end;
-          runs.emplace_back();
-        }
-      }
-      // the longest part in front of the camera (reported when a line falls into several)
-      double bestLength = 0.0;
-      int parts = 0, best = -1;
-      for ( int k = 0; k < static_cast<int>( runs.size() ); ++k )
-      {
-        if ( runs[k].size() < 2 )
-          continue;
-        ++parts;
-        const double length = QgsLineString( runs[k] ).length();
-        if ( length > bestLength )
-        {
-          bestLength = length;
-          best = k;
-        }
-      }
-      if ( best < 0 )
+        const std::optional<QgsPoint> p = projectVertex( g, probe );
+        return p ? std::optional<Eigen::Vector2d>( Eigen::Vector2d( p->x(), p->y() ) ) : std::nullopt;
+      } );
+      if ( cut.longest < 0 )
         return nullptr;
-      pixels = runs[best];
+      const auto toLine = []( const std::vector<Eigen::Vector2d> &part )
+      {
+        QVector<QgsPoint> points;
+        for ( const Eigen::Vector2d &v : part )
+          points << QgsPoint( v.x(), v.y() );
+        return points;
+      };
+      pixels = toLine( cut.parts[cut.longest] );
       if ( otherParts )
-        for ( int k = 0; k < static_cast<int>( runs.size() ); ++k )
-          if ( k != best && runs[k].size() >= 2 )
-            otherParts->push_back( std::make_unique<QgsLineString>( runs[k] ) );
+        for ( int k = 0; k < static_cast<int>( cut.parts.size() ); ++k )
+          if ( k != cut.longest )
+            otherParts->push_back( std::make_unique<QgsLineString>( toLine( cut.parts[k] ) ) );
+      const size_t parts = cut.parts.size();
       c.clipped = true;
       c.behind = c.behind || ( parts > 1 && !otherParts );
     }

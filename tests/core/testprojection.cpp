@@ -170,3 +170,26 @@ TEST( Projection, RingsAreClippedToWhatTheImageCanProject )
   EXPECT_TRUE( clipRingToImageField( image, behind ).empty() );
   EXPECT_THROW( clipRingToImageField( image, ahead, 0.0 ), std::invalid_argument );
 }
+
+TEST( Projection, PolylineCutWhereItLeavesTheProjectableField )
+{
+  // a field that ends at x = 10 and starts again at x = 14: the line is cut at both boundaries
+  const GroundToPixel project = []( const Eigen::Vector3d &g ) -> std::optional<Eigen::Vector2d>
+  {
+    if ( g.x() > 10.0 && g.x() < 14.0 )
+      return std::nullopt;
+    return Eigen::Vector2d( 2.0 * g.x(), g.y() );
+  };
+  std::vector<Eigen::Vector3d> dense;
+  for ( int i = 0; i <= 20; ++i )
+    dense.emplace_back( i + 0.5, 1.0, 0.0 );
+  const ProjectedPolylineParts cut = projectPolylineCut( dense, project );
+  ASSERT_EQ( cut.parts.size(), 2u );
+  EXPECT_EQ( cut.longest, 0 );
+  EXPECT_NEAR( cut.parts[0].front().x(), 1.0, 1e-12 );
+  EXPECT_NEAR( cut.parts[0].back().x(), 20.0, 1e-6 ); // the boundary x = 10, not the last vertex in the field (9.5)
+  EXPECT_NEAR( cut.parts[1].front().x(), 28.0, 1e-6 ); // x = 14
+  EXPECT_NEAR( cut.parts[1].back().x(), 41.0, 1e-12 );
+  // nothing in the field: no part
+  EXPECT_EQ( projectPolylineCut( { Eigen::Vector3d( 11, 0, 0 ), Eigen::Vector3d( 13, 0, 0 ) }, project ).longest, -1 );
+}
