@@ -482,4 +482,16 @@ namespace geostation
     return intersectAlongChords( ray, d, dem, blockToDem, options );
   }
 
+  GroundOfPixel demGroundOfPixel( const Dem &dem, const CrsTransform &blockToDem, const DemIntersectionOptions &options )
+  {
+    return [&dem, &blockToDem, options]( const OrientedImage &image, const Eigen::Vector2d &pixel ) -> std::optional<Eigen::Vector3d>
+    {
+      const std::optional<Ray> ray = image.worldRayFromPixel( pixel );
+      if ( !ray )
+        return std::nullopt;
+      const DemIntersection hit = intersectRayWithDem( *ray, dem, blockToDem, options );
+      return hit.hit() ? std::optional<Eigen::Vector3d>( hit.point ) : std::nullopt;
+    };
+  }
+
 } // namespace geostation

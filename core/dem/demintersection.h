@@ -27,6 +27,7 @@
 #include "dem/dem.h"
 #include "geometry/crs.h"
 #include "geometry/projection.h"
+#include "geometry/windowshape.h"
 
 namespace geostation
 {
@@ -60,6 +61,13 @@ namespace geostation
    * block coordinates to the DEM's CRS (identity when they agree).
    */
   DemIntersection intersectRayWithDem( const Ray &ray, const Dem &dem, const CrsTransform &blockToDem, const DemIntersectionOptions &options = DemIntersectionOptions() );
+
+  /**
+   * The DEM as a surface for any oriented image: a pixel's ray intersected
+   * with it (e.g. to predict matching windows' shapes). The DEM and the
+   * transform are referenced, not copied: they must outlive the function.
+   */
+  GroundOfPixel demGroundOfPixel( const Dem &dem, const CrsTransform &blockToDem, const DemIntersectionOptions &options = DemIntersectionOptions() );
 
 } // namespace geostation
 

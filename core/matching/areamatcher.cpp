@@ -7,6 +7,7 @@
 #include <cmath>
 #include <optional>
 #include <set>
+#include <stdexcept>
 
 #include <Eigen/LU>
 #include <Eigen/SVD>
@@ -22,15 +23,54 @@ namespace geostation
       int along; //!< index along the curve, for the jump rule and peak separation
     };
 
-    //! Integer pixels (col, row index) of the curve at 1 px steps and of its parallels.
-    std::vector<Candidate> bandCandidates( const std::vector<Eigen::Vector2d> &curve, int halfWidth )
+    /**
+     * The part of segment a-b inside the rectangle [lo, hi] (Liang-Barsky);
+     * false when none. Curve vertices far outside the frame (a depth near
+     * the search camera's plane projects to huge pixel values) are cut off here.
+     */
+    bool clipSegment( Eigen::Vector2d &a, Eigen::Vector2d &b, const Eigen::Vector2d &lo, const Eigen::Vector2d &hi )
+    {
+      if ( !a.allFinite() || !b.allFinite() )
+        return false;
+      const Eigen::Vector2d d = b - a;
+      double t0 = 0.0, t1 = 1.0;
+      for ( int k = 0; k < 2; ++k )
+      {
+        const double p[2] = { -d[k], d[k] }, q[2] = { a[k] - lo[k], hi[k] - a[k] };
+        for ( int j = 0; j < 2; ++j )
+        {
+          if ( p[j] == 0.0 )
+          {
+            if ( q[j] < 0 )
+              return false;
+            continue;
+          }
+          const double t = q[j] / p[j];
+          if ( p[j] < 0 )
+            t0 = std::max( t0, t );
+          else
+            t1 = std::min( t1, t );
+        }
+      }
+      if ( t0 > t1 )
+        return false;
+      b = a + t1 * d;
+      a = a + t0 * d;
+      return true;
+    }
+
+    //! Integer pixels (col, row index) of the curve at 1 px steps and of its parallels, within the search image.
+    std::vector<Candidate> bandCandidates( const std::vector<Eigen::Vector2d> &curve, int halfWidth, int width, int height )
     {
       std::vector<Candidate> out;
       std::set<std::pair<int, int>> seen;
+      const Eigen::Vector2d lo( -halfWidth - 1.0, -halfWidth - 1.0 ), hi( width + halfWidth + 1.0, height + halfWidth + 1.0 );
       int along = 0;
       for ( size_t i = 0; i + 1 < curve.size(); ++i )
       {
-        const Eigen::Vector2d a = curve[i], b = curve[i + 1];
+        Eigen::Vector2d a = curve[i], b = curve[i + 1];
+        if ( !clipSegment( a, b, lo, hi ) )
+          continue;
         const double length = ( b - a ).norm();
         if ( length <= 0.0 )
           continue;
@@ -56,6 +96,7 @@ namespace geostation
       return out;
     }
 
+    constexpr int kMaxGrownWindow = 41; //!< the largest least-squares window a predicted shape may ask for
     constexpr double kCorrelationSigmaPx = 0.5; //!< the precision of a correlation peak without LSM (thesis: about a pixel at worst)
 
     //! Grey-value standard deviation of the reference window least squares matches (0 if it leaves the image).
@@ -69,13 +110,39 @@ namespace geostation
       return sd[0];
     }
 
+    double smallestScale( const Eigen::Matrix2d &shape )
+    {
+      return Eigen::JacobiSVD<Eigen::Matrix2d>( shape ).singularValues().minCoeff();
+    }
+
+    /**
+     * Least squares started from a strong shape. Where the search image
+     * shows the patch smaller, the reference window grows so that its
+     * footprint there keeps the nominal size (a 9 x 9 window of a near image
+     * covers a few pixels of a far one), and is smoothed to the search
+     * image's resolution: a search pixel spans 1 / shrink reference pixels,
+     * a box whose variance w^2 / 12 exceeds the reference pixel's own.
+     */
+    LsmOptions adaptedToShape( LsmOptions lsm, const Eigen::Matrix2d &searchFromReference )
+    {
+      lsm.initialAffine = searchFromReference;
+      const double shrink = smallestScale( searchFromReference );
+      if ( shrink >= 1.0 )
+        return lsm;
+      const auto grown = [&]( int size ) { return std::min( kMaxGrownWindow, static_cast<int>( std::ceil( size / std::max( shrink, 1e-3 ) ) ) | 1 ); };
+      lsm.windowWidth = std::max( lsm.windowWidth, grown( lsm.windowWidth ) );
+      lsm.windowHeight = std::max( lsm.windowHeight, grown( lsm.windowHeight ) );
+      lsm.referenceBlurPx = std::max( lsm.referenceBlurPx, std::sqrt( ( 1.0 / ( shrink * shrink ) - 1.0 ) / 12.0 ) );
+      return lsm;
+    }
+
     //! Why a converged least-squares solution is still not a match ("" if it is one).
-    std::string implausible( const LsmResult &lsm, double contrast, const AreaMatchOptions &options )
+    std::string implausible( const LsmResult &lsm, double contrast, const Eigen::Matrix2d &expectedShape, const AreaMatchOptions &options )
     {
       if ( contrast > 0 && lsm.sigma0 > options.maxSigma0Ratio * contrast )
         return "least squares fits poorly (sigma0 " + std::to_string( lsm.sigma0 ).substr( 0, 5 ) + " grey values for a window contrast of " +
                std::to_string( contrast ).substr( 0, 5 ) + ")";
-      const Eigen::JacobiSVD<Eigen::Matrix2d> svd( lsm.affine );
+      const Eigen::JacobiSVD<Eigen::Matrix2d> svd( expectedShape.inverse() * lsm.affine );
       const Eigen::Vector2d scales = svd.singularValues();
       if ( scales.maxCoeff() > options.maxAffineScale || scales.minCoeff() < 1.0 / options.maxAffineScale )
         return "least squares found an implausible shape (scales " + std::to_string( scales.minCoeff() ).substr( 0, 4 ) + " and " +
@@ -83,16 +150,22 @@ namespace geostation
       return std::string();
     }
 
+    //! A correlation template and the shape it stands for.
+    struct WindowShape
+    {
+      const CorrelationTemplate *target = nullptr;
+      Eigen::Matrix2d searchFromReference = Eigen::Matrix2d::Identity(); //!< least squares' starting shape
+      Eigen::Vector2d offset = Eigen::Vector2d::Zero(); //!< the reference point's offset from the template's centre, carried to the peak
+    };
+
     //! Parabola refinement around an integer peak, then LSM from several starts and its checks; fills the result.
-    void refine( const MatchImage &reference, const Eigen::Vector2d &pixelInReference, const MatchImage &search, const CorrelationTemplate &target,
+    void refine( const MatchImage &reference, const Eigen::Vector2d &pixelInReference, const MatchImage &search, const WindowShape &shape,
                  int col, int row, const std::optional<Eigen::Vector2d> &approximate, double radiusPx, const AreaMatchOptions &options, AreaMatch &result )
     {
-      const auto scoreAt = [&]( int c, int r ) { return target.score( search, c, r ).value_or( result.score ); };
+      const auto scoreAt = [&]( int c, int r ) { return shape.target->score( search, c, r ).value_or( result.score ); };
       const double dx = parabolaPeakOffset( scoreAt( col - 1, row ), result.score, scoreAt( col + 1, row ) );
       const double dy = parabolaPeakOffset( scoreAt( col, row - 1 ), result.score, scoreAt( col, row + 1 ) );
-      // the template is centred on the reference pixel's centre; carry the reference point's offset from it over
-      const Eigen::Vector2d offset = pixelInReference - Eigen::Vector2d( std::floor( pixelInReference.x() ) + 0.5, std::floor( pixelInReference.y() ) + 0.5 );
-      result.correlationPixel = Eigen::Vector2d( col + 0.5 + dx, row + 0.5 + dy ) + offset;
+      result.correlationPixel = Eigen::Vector2d( col + 0.5 + dx, row + 0.5 + dy ) + shape.offset;
       result.pixelInImage = result.correlationPixel;
       const bool weakPeak = result.score < options.minScore;
       const std::string weakReason = "best correlation " + std::to_string( result.score ).substr( 0, 5 ) + " is below the threshold " + std::to_string( options.minScore ).substr( 0, 4 );
@@ -136,53 +209,68 @@ namespace geostation
         starts.push_back( result.peaks[k].first );
       starts.resize( std::min<size_t>( starts.size(), std::max( 1, options.lsmStarts ) ) );
       const double contrast = windowContrast( reference, pixelInReference, options.lsmOptions.windowWidth, options.lsmOptions.windowHeight );
+      // least squares from the winning window's shape, then (a point off the predicted surface, or a patch
+      // that is part surface and part object) from the other one
+      std::vector<std::optional<Eigen::Matrix2d>> shapes { result.shapedWindow ? options.predictedShape : std::nullopt };
+      if ( options.predictedShape )
+        shapes.push_back( result.shapedWindow ? std::nullopt : options.predictedShape );
       std::optional<LsmResult> best;
-      bool degenerate = true;
+      bool degenerate = true, usedPredicted = false;
       std::string why;
-      for ( const Eigen::Vector2d &start : starts )
-      {
-        const LsmResult lsm = leastSquaresMatch( reference, pixelInReference, search, start, options.lsmOptions );
-        degenerate = degenerate && lsm.degenerate;
-        if ( !lsm.converged )
-        {
-          why = lsm.reason;
-          continue;
-        }
-        if ( const std::string bad = implausible( lsm, contrast, options ); !bad.empty() )
-        {
-          why = bad;
-          continue;
-        }
-        // the point is within the search radius of its approximate position: a solution beyond it is another point
-        if ( approximate && ( lsm.pixelInImage - *approximate ).norm() > radiusPx + 0.5 )
-        {
-          why = "least squares moved " + std::to_string( ( lsm.pixelInImage - *approximate ).norm() ).substr( 0, 4 ) +
-                " px from the approximate position, beyond the search radius";
-          continue;
-        }
-        if ( !best || lsm.sigma0 < best->sigma0 )
-          best = lsm;
-        // a close fit needs no other start
-        if ( contrast > 0 && best->sigma0 <= options.goodFitRatio * contrast )
-          break;
-      }
-      // strong scale differences: least squares from the approximate position (or the peak) with the window
-      // scaled, when no start gave a plausible match
-      for ( const double scale : options.fallbackScales )
+      for ( const std::optional<Eigen::Matrix2d> &predicted : shapes )
       {
         if ( best )
           break;
-        LsmOptions scaled = options.lsmOptions;
-        scaled.initialAffine = scale * Eigen::Matrix2d::Identity();
-        const LsmResult lsm = leastSquaresMatch( reference, pixelInReference, search, approximate ? *approximate : result.correlationPixel, scaled );
-        if ( !lsm.converged )
-          continue;
-        if ( const std::string bad = implausible( lsm, contrast, options ); !bad.empty() )
-          continue;
-        if ( approximate && ( lsm.pixelInImage - *approximate ).norm() > radiusPx + 0.5 )
-          continue;
-        best = lsm;
+        const LsmOptions lsmOptions = predicted ? adaptedToShape( options.lsmOptions, *predicted ) : options.lsmOptions;
+        const Eigen::Matrix2d &expectedShape = lsmOptions.initialAffine;
+        for ( const Eigen::Vector2d &start : starts )
+        {
+          const LsmResult lsm = leastSquaresMatch( reference, pixelInReference, search, start, lsmOptions );
+          degenerate = degenerate && lsm.degenerate;
+          if ( !lsm.converged )
+          {
+            why = lsm.reason;
+            continue;
+          }
+          if ( const std::string bad = implausible( lsm, contrast, expectedShape, options ); !bad.empty() )
+          {
+            why = bad;
+            continue;
+          }
+          // the point is within the search radius of its approximate position: a solution beyond it is another point
+          if ( approximate && ( lsm.pixelInImage - *approximate ).norm() > radiusPx + 0.5 )
+          {
+            why = "least squares moved " + std::to_string( ( lsm.pixelInImage - *approximate ).norm() ).substr( 0, 4 ) +
+                  " px from the approximate position, beyond the search radius";
+            continue;
+          }
+          if ( !best || lsm.sigma0 < best->sigma0 )
+            best = lsm;
+          // a close fit needs no other start
+          if ( contrast > 0 && best->sigma0 <= options.goodFitRatio * contrast )
+            break;
+        }
+        // strong scale differences: least squares from the approximate position (or the peak) with the window
+        // scaled, when no start gave a plausible match
+        for ( const double scale : options.fallbackScales )
+        {
+          if ( best )
+            break;
+          LsmOptions scaled = lsmOptions;
+          scaled.initialAffine = scale * expectedShape;
+          const LsmResult lsm = leastSquaresMatch( reference, pixelInReference, search, approximate ? *approximate : result.correlationPixel, scaled );
+          if ( !lsm.converged )
+            continue;
+          if ( const std::string bad = implausible( lsm, contrast, expectedShape, options ); !bad.empty() )
+            continue;
+          if ( approximate && ( lsm.pixelInImage - *approximate ).norm() > radiusPx + 0.5 )
+            continue;
+          best = lsm;
+        }
+        usedPredicted = best && predicted;
       }
+      // matching back lands in the reference within a fraction of a search pixel
+      const double consistencyPx = options.consistencyPx / std::min( 1.0, usedPredicted ? smallestScale( *options.predictedShape ) : 1.0 );
       if ( !best && weakPeak )
       {
         result.status = MatchStatus::NoPeak;
@@ -210,10 +298,10 @@ namespace geostation
       if ( options.backMatch )
       {
         // back from the found point to the reference: a right match returns to where it came from
-        LsmOptions back = options.lsmOptions;
+        LsmOptions back = usedPredicted ? adaptedToShape( options.lsmOptions, best->affine.inverse() ) : options.lsmOptions;
         back.initialAffine = best->affine.inverse();
         const LsmResult returned = leastSquaresMatch( search, best->pixelInImage, reference, pixelInReference, back );
-        if ( !returned.converged || ( returned.pixelInImage - pixelInReference ).norm() > options.consistencyPx )
+        if ( !returned.converged || ( returned.pixelInImage - pixelInReference ).norm() > consistencyPx )
         {
           result.status = MatchStatus::Inconsistent;
           result.reason = returned.converged ? "matching back returns " + std::to_string( ( returned.pixelInImage - pixelInReference ).norm() ).substr( 0, 4 ) +
@@ -237,11 +325,11 @@ namespace geostation
         return result;
       }
       const int centreCol = static_cast<int>( std::floor( pixelInReference.x() ) ), centreRow = static_cast<int>( std::floor( pixelInReference.y() ) );
-      const CorrelationTemplate target( reference, centreCol, centreRow, options.windowWidth, options.windowHeight, options.measure );
-      if ( !target.valid() )
+      const CorrelationTemplate square( reference, centreCol, centreRow, options.windowWidth, options.windowHeight, options.measure );
+      if ( !square.valid() )
       {
-        result.status = target.reason().find( "flat" ) != std::string::npos ? MatchStatus::NoPeak : MatchStatus::Outside;
-        result.reason = target.reason();
+        result.status = square.reason().find( "flat" ) != std::string::npos ? MatchStatus::NoPeak : MatchStatus::Outside;
+        result.reason = square.reason();
         return result;
       }
       if ( candidates.empty() )
@@ -250,26 +338,41 @@ namespace geostation
         result.reason = "no search position in the search image";
         return result;
       }
+      // the square window (the template is centred on the reference pixel's centre: the point's offset from it is
+      // carried over) and, when the geometry predicts one, the reference patch in the search image's shape
+      std::vector<WindowShape> shapes { { &square, Eigen::Matrix2d::Identity(), pixelInReference - Eigen::Vector2d( centreCol + 0.5, centreRow + 0.5 ) } };
+      std::optional<CorrelationTemplate> shaped;
+      if ( options.predictedShape && std::abs( options.predictedShape->determinant() ) > 1e-9 )
+      {
+        shaped.emplace( reference, pixelInReference, options.predictedShape->inverse(), options.windowWidth, options.windowHeight, options.measure );
+        if ( shaped->valid() )
+          shapes.push_back( { &*shaped, *options.predictedShape, Eigen::Vector2d::Zero() } );
+      }
       double best = -2.0;
       const Candidate *bestCandidate = nullptr;
-      std::vector<std::pair<double, const Candidate *>> scored;
-      int skipUntil = -1;
-      for ( const Candidate &candidate : candidates )
+      size_t bestShape = 0;
+      std::vector<std::vector<std::pair<double, const Candidate *>>> scored( shapes.size() );
+      for ( size_t k = 0; k < shapes.size(); ++k )
       {
-        if ( jumps && candidate.along < skipUntil )
-          continue;
-        const std::optional<double> score = target.score( search, candidate.col, candidate.row );
-        ++result.candidates;
-        if ( !score )
-          continue;
-        scored.emplace_back( *score, &candidate );
-        if ( *score > best )
+        int skipUntil = -1;
+        for ( const Candidate &candidate : candidates )
         {
-          best = *score;
-          bestCandidate = &candidate;
+          if ( jumps && candidate.along < skipUntil )
+            continue;
+          const std::optional<double> score = shapes[k].target->score( search, candidate.col, candidate.row );
+          ++result.candidates;
+          if ( !score )
+            continue;
+          scored[k].emplace_back( *score, &candidate );
+          if ( *score > best )
+          {
+            best = *score;
+            bestCandidate = &candidate;
+            bestShape = k;
+          }
+          if ( jumps )
+            skipUntil = candidate.along + ( *score < 0.2 ? 4 : *score < 0.4 ? 3 : *score < 0.6 ? 2 : 0 );
         }
-        if ( jumps )
-          skipUntil = candidate.along + ( *score < 0.2 ? 4 : *score < 0.4 ? 3 : *score < 0.6 ? 2 : 0 );
       }
       if ( !bestCandidate )
       {
@@ -277,28 +380,41 @@ namespace geostation
         result.reason = "every search window leaves the search image or is flat";
         return result;
       }
+      const WindowShape &shape = shapes[bestShape];
+      result.shapedWindow = bestShape > 0;
       result.score = best;
       // the best score of a separate peak: more than 2 px from the best
-      for ( const auto &[score, candidate] : scored )
+      std::vector<std::pair<double, const Candidate *>> &winner = scored[bestShape];
+      for ( const auto &[score, candidate] : winner )
         if ( std::hypot( candidate->col - bestCandidate->col, candidate->row - bestCandidate->row ) > 2.5 )
           result.secondScore = std::max( result.secondScore, score );
       // the separate peaks, best first (greedy: a candidate joins when no better one is within 2.5 px)
-      std::sort( scored.begin(), scored.end(), []( const auto &a, const auto &b ) { return a.first > b.first; } );
-      const Eigen::Vector2d offset = pixelInReference - Eigen::Vector2d( centreCol + 0.5, centreRow + 0.5 );
-      for ( const auto &[score, candidate] : scored )
+      std::sort( winner.begin(), winner.end(), []( const auto &a, const auto &b ) { return a.first > b.first; } );
+      for ( const auto &[score, candidate] : winner )
       {
         const Eigen::Vector2d at( candidate->col + 0.5, candidate->row + 0.5 );
         bool separate = true;
         for ( const auto &peak : result.peaks )
-          separate = separate && ( peak.first - offset - at ).norm() > 2.5;
+          separate = separate && ( peak.first - shape.offset - at ).norm() > 2.5;
         if ( separate )
-          result.peaks.emplace_back( at + offset, score );
+          result.peaks.emplace_back( at + shape.offset, score );
         if ( result.peaks.size() >= 8 )
           break;
       }
-      refine( reference, pixelInReference, search, target, bestCandidate->col, bestCandidate->row, approximate, radiusPx, options, result );
+      refine( reference, pixelInReference, search, shape, bestCandidate->col, bestCandidate->row, approximate, radiusPx, options, result );
       return result;
     }
+  }
+
+  void AreaMatchOptions::check() const
+  {
+    const auto odd = []( int w, int h ) { return w >= 1 && h >= 1 && w % 2 == 1 && h % 2 == 1 && w <= 101 && h <= 101; };
+    if ( !odd( windowWidth, windowHeight ) || ( lsm && !odd( lsmOptions.windowWidth, lsmOptions.windowHeight ) ) )
+      throw std::invalid_argument( "The window sizes must be odd (the point sits in the centre pixel) and at most 101 pixels." );
+    if ( !( minScore >= -1.0 && minScore <= 1.0 ) )
+      throw std::invalid_argument( "The minimum correlation must lie between -1 and 1." );
+    if ( bandHalfWidthPx < 0 )
+      throw std::invalid_argument( "The epipolar band cannot have a negative width." );
   }
 
   std::string matchStatusName( MatchStatus status )
@@ -326,7 +442,8 @@ namespace geostation
   AreaMatch matchAlongEpipolarBand( const MatchImage &reference, const Eigen::Vector2d &pixelInReference, const MatchImage &search,
                                     const std::vector<Eigen::Vector2d> &curve, const AreaMatchOptions &options )
   {
-    return searchCandidates( reference, pixelInReference, search, bandCandidates( curve, std::max( 0, options.bandHalfWidthPx ) ), std::nullopt, 0.0, options, options.jumpRule );
+    return searchCandidates( reference, pixelInReference, search, bandCandidates( curve, std::max( 0, options.bandHalfWidthPx ), search.width(), search.height() ),
+                             std::nullopt, 0.0, options, options.jumpRule );
   }
 
   AreaMatch matchAroundPosition( const MatchImage &reference, const Eigen::Vector2d &pixelInReference, const MatchImage &search,

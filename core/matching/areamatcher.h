@@ -17,6 +17,7 @@
 #ifndef GEOSTATION_MATCHING_AREAMATCHER_H
 #define GEOSTATION_MATCHING_AREAMATCHER_H
 
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -78,6 +79,20 @@ namespace geostation
     std::vector<double> fallbackScales { 2.0, 0.5 };
     //! A correlation-only match whose second peak scores within this of the best: ambiguous.
     double ambiguityMargin = 0.05;
+    /**
+     * The window's shape in the search image predicted from the geometry
+     * (predictWindowShape(): search pixels per reference pixel), for
+     * oblique and close-range pairs. Correlation then compares the search
+     * windows both with the square reference window and with the reference
+     * patch resampled into the predicted shape, and keeps the template that
+     * correlates better (a point off the predicted surface - a pole above the
+     * road - keeps the square one); least squares starts from the winning
+     * shape, and the shape check is made relative to it.
+     */
+    std::optional<Eigen::Matrix2d> predictedShape;
+
+    //! Throws std::invalid_argument with one sentence for even or oversized windows, a threshold outside [-1, 1] or a negative band.
+    void check() const;
   };
 
   struct AreaMatch
@@ -94,6 +109,7 @@ namespace geostation
     //! The best separate peaks (more than 2.5 px apart), best first, as conjugate-point pixels (integer precision)
     std::vector<std::pair<Eigen::Vector2d, double>> peaks;
     LsmResult lsm;
+    bool shapedWindow = false;                             //!< the predicted shape's template correlated better than the square one
   };
 
   /**

@@ -35,10 +35,30 @@ namespace geostation
       result.reason = "the window leaves the reference image";
       return result;
     }
+    // the optional smoothing kernel (clipped at the image border)
+    const int blurRadius = options.referenceBlurPx > 0.0 ? static_cast<int>( std::ceil( 3.0 * options.referenceBlurPx ) ) : 0;
+    std::vector<double> kernel( 2 * blurRadius + 1, 1.0 );
+    for ( int i = -blurRadius; i <= blurRadius && blurRadius > 0; ++i )
+      kernel[i + blurRadius] = std::exp( -0.5 * i * i / ( options.referenceBlurPx * options.referenceBlurPx ) );
+    const auto referenceValue = [&]( int row, int col ) -> double
+    {
+      if ( blurRadius == 0 )
+        return reference.value().at<float>( row, col );
+      double sum = 0.0, weights = 0.0;
+      for ( int i = -blurRadius; i <= blurRadius; ++i )
+        for ( int j = -blurRadius; j <= blurRadius; ++j )
+          if ( row + i >= 0 && col + j >= 0 && row + i < reference.height() && col + j < reference.width() )
+          {
+            const double w = kernel[i + blurRadius] * kernel[j + blurRadius];
+            sum += w * reference.value().at<float>( row + i, col + j );
+            weights += w;
+          }
+      return sum / weights;
+    };
     for ( int r = -hh, k = 0; r <= hh; ++r )
       for ( int c = -hw; c <= hw; ++c, ++k )
       {
-        target[k] = reference.value().at<float>( centreRow + r, centreCol + c );
+        target[k] = referenceValue( centreRow + r, centreCol + c );
         dx[k] = centreCol + c + 0.5 - pixelInReference.x();
         dy[k] = centreRow + r + 0.5 - pixelInReference.y();
       }
@@ -48,6 +68,12 @@ namespace geostation
     Eigen::Matrix<double, 8, 1> p;
     p << approximateInSearch.x(), options.initialAffine( 0, 0 ), options.initialAffine( 0, 1 ), approximateInSearch.y(), options.initialAffine( 1, 0 ),
       options.initialAffine( 1, 1 ), 0, 1;
+    const double initialDet = options.initialAffine.determinant();
+    if ( !( std::abs( initialDet ) > 1e-9 ) )
+    {
+      result.reason = "the starting shape is degenerate";
+      return result;
+    }
     Eigen::Matrix<double, 8, 8> normal;
     double sumSq = 0.0;
     double gradientEnergy = 0.0;
@@ -123,8 +149,9 @@ namespace geostation
         return result;
       }
       p += dp;
+      // the area change against the starting shape (a predicted shape may itself scale the window strongly)
       const Eigen::Matrix2d affine = ( Eigen::Matrix2d() << p[1], p[2], p[4], p[5] ).finished();
-      const double det = affine.determinant();
+      const double det = affine.determinant() / initialDet;
       if ( !( det > 0.2 && det < 5.0 ) || !( p[7] > 0.1 && p[7] < 10.0 ) )
       {
         result.reason = "the solution diverged (degenerate shape or contrast)";

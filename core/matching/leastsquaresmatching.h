@@ -47,6 +47,13 @@ namespace geostation
       Bilinear,
     };
     Resampling resampling = Resampling::CubicBSpline;
+    /**
+     * Gaussian smoothing (sigma, reference pixels) of the reference window
+     * before matching: where the search image shows the patch at a coarser
+     * scale, the reference's finer detail has no counterpart there and only
+     * spoils the fit. 0: none.
+     */
+    double referenceBlurPx = 0.0;
   };
 
   struct LsmResult

@@ -51,12 +51,21 @@ namespace geostation
     return 2.0 + 3.0 * ( 1.0 - r ) * ( 1.0 - r );
   }
 
+  namespace
+  {
+    bool oddWindow( int width, int height )
+    {
+      return width >= 1 && height >= 1 && width % 2 == 1 && height % 2 == 1 && width * height <= 101 * 101;
+    }
+    const char *const kBadWindow = "the window must have odd sizes, at most 101 x 101 pixels";
+  }
+
   CorrelationTemplate::CorrelationTemplate( const MatchImage &image, int centreCol, int centreRow, int width, int height, SimilarityMeasure measure )
     : mWidth( width ), mHeight( height ), mMeasure( measure )
   {
-    if ( width < 1 || height < 1 || width % 2 == 0 || height % 2 == 0 || width * height > 101 * 101 )
+    if ( !oddWindow( width, height ) )
     {
-      mReason = "the window must have odd sizes, at most 101 x 101 pixels";
+      mReason = kBadWindow;
       return;
     }
     const int c0 = centreCol - width / 2, r0 = centreRow - height / 2;
@@ -65,22 +74,65 @@ namespace geostation
       mReason = "the window leaves the reference image";
       return;
     }
+    std::vector<int> values( static_cast<size_t>( width ) * height );
+    for ( int r = 0; r < height; ++r )
+      std::copy( image.grey().ptr<uint8_t>( r0 + r ) + c0, image.grey().ptr<uint8_t>( r0 + r ) + c0 + width, values.begin() + static_cast<size_t>( r ) * width );
+    setValues( std::move( values ) );
+  }
+
+  CorrelationTemplate::CorrelationTemplate( const MatchImage &image, const Eigen::Vector2d &pixelInImage, const Eigen::Matrix2d &imageFromWindow,
+      int width, int height, SimilarityMeasure measure )
+    : mWidth( width ), mHeight( height ), mMeasure( measure )
+  {
+    if ( !oddWindow( width, height ) )
+    {
+      mReason = kBadWindow;
+      return;
+    }
+    // each template pixel integrates its footprint in the image (n x n samples), as a sensor pixel does:
+    // a template that shrinks the image's patch does not alias its detail
+    const double footprint = std::max( imageFromWindow.col( 0 ).norm(), imageFromWindow.col( 1 ).norm() );
+    const int n = std::clamp( static_cast<int>( std::ceil( footprint ) ), 1, 4 );
+    std::vector<int> values( static_cast<size_t>( width ) * height );
+    for ( int r = 0; r < height; ++r )
+      for ( int c = 0; c < width; ++c )
+      {
+        double sum = 0.0;
+        for ( int i = 0; i < n; ++i )
+          for ( int j = 0; j < n; ++j )
+          {
+            const Eigen::Vector2d offset( c - width / 2 + ( i + 0.5 ) / n - 0.5, r - height / 2 + ( j + 0.5 ) / n - 0.5 );
+            const Eigen::Vector2d at = pixelInImage + imageFromWindow * offset;
+            if ( !image.canSampleCubic( at.x(), at.y() ) )
+            {
+              mReason = "the window leaves the reference image";
+              return;
+            }
+            sum += image.sampleBilinear( at.x(), at.y() );
+          }
+        values[static_cast<size_t>( r ) * width + c] = std::clamp( static_cast<int>( std::lround( sum / ( n * n ) ) ), 0, 255 );
+      }
+    setValues( std::move( values ) );
+  }
+
+  void CorrelationTemplate::setValues( std::vector<int> values )
+  {
+    const int width = mWidth, height = mHeight;
+    const SimilarityMeasure measure = mMeasure;
     const bool weighted = measure == SimilarityMeasure::WCC || measure == SimilarityMeasure::WNCC;
     mPaddedWidth = ( width + 15 ) / 16 * 16;
     mPadded.assign( static_cast<size_t>( mPaddedWidth ) * height, 0 );
     mMask.assign( mPaddedWidth, 0 );
     std::fill( mMask.begin(), mMask.begin() + width, static_cast<int16_t>( -1 ) );
-    mValues.resize( static_cast<size_t>( width ) * height );
+    mValues = std::move( values );
     int64_t plainSum = 0, plainSq = 0;
     for ( int r = 0; r < height; ++r )
     {
-      const uint8_t *row = image.grey().ptr<uint8_t>( r0 + r ) + c0;
-      int *values = mValues.data() + static_cast<size_t>( r ) * width;
+      const int *row = mValues.data() + static_cast<size_t>( r ) * width;
       int16_t *padded = mPadded.data() + static_cast<size_t>( r ) * mPaddedWidth;
       for ( int c = 0; c < width; ++c )
       {
         const int v = row[c];
-        values[c] = v;
         padded[c] = static_cast<int16_t>( v );
         plainSum += v;
         plainSq += v * v;

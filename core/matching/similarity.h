@@ -20,6 +20,8 @@
 #include <string>
 #include <vector>
 
+#include <Eigen/Core>
+
 #include "matching/matchimage.h"
 
 namespace geostation
@@ -50,6 +52,17 @@ namespace geostation
     public:
       CorrelationTemplate( const MatchImage &image, int centreCol, int centreRow, int width, int height, SimilarityMeasure measure );
 
+      /**
+       * A window of another shape: the w x h grid of offsets (u, v) from the
+       * centre, mapped into `image` as pixelInImage + imageFromWindow (u, v)
+       * and sampled bilinearly. With imageFromWindow the inverse of a
+       * predicted search-from-reference shape, the template shows the
+       * reference patch as the search image is expected to show it, centred
+       * exactly on pixelInImage (not on a pixel centre).
+       */
+      CorrelationTemplate( const MatchImage &image, const Eigen::Vector2d &pixelInImage, const Eigen::Matrix2d &imageFromWindow, int width, int height,
+                           SimilarityMeasure measure );
+
       bool valid() const { return mReason.empty(); }
       const std::string &reason() const { return mReason; }
       int width() const { return mWidth; }
@@ -77,6 +90,8 @@ namespace geostation
       cv::Mat scoreArea( const MatchImage &search, const cv::Rect &centres ) const;
 
     private:
+      //! Takes the grey values (row by row) and prepares sums, padding and weights.
+      void setValues( std::vector<int> values );
       //! cc / ncc from the integer sums of a window: cross term, sum and sum of squares.
       std::optional<double> integerScore( int64_t st, int64_t s, int64_t ss ) const;
 

@@ -95,17 +95,6 @@ namespace geostation
     }
   }
 
-  std::optional<Eigen::Vector3d> roadPlanePoint( const OrientedImage &image, const Eigen::Vector2d &pixelInImage, double heightM )
-  {
-    const std::optional<Ray> ray = image.worldRayFromPixel( pixelInImage );
-    if ( !ray || ray->direction.z() > -1e-3 )
-      return std::nullopt;
-    const double t = ( heightM - ray->origin.z() ) / ray->direction.z();
-    if ( t <= 0 )
-      return std::nullopt;
-    return Eigen::Vector3d( ray->origin + t * ray->direction );
-  }
-
   StartMatch matchStartInPartner( const StereoImage &reference, const Eigen::Vector2d &pixelInReference, const Eigen::Vector2d &directionInReference,
                                   const StereoImage &partner, const GroundOfPixel &groundOfPixel, const LineProfile &profile,
                                   const StartMatchOptions &options )

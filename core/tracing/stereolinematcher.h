@@ -27,16 +27,11 @@
 #include <opencv2/core.hpp>
 
 #include "geometry/projection.h"
+#include "geometry/windowshape.h"
 #include "tracing/linetrace.h"
 
 namespace geostation
 {
-
-  //! The ground point of a pixel of an image (road plane or DEM); nothing where the ray misses.
-  using GroundOfPixel = std::function<std::optional<Eigen::Vector3d>( const OrientedImage &, const Eigen::Vector2d & )>;
-
-  //! Ray / horizontal plane Z = heightM; nothing behind the camera or for rays nearly parallel to it.
-  std::optional<Eigen::Vector3d> roadPlanePoint( const OrientedImage &image, const Eigen::Vector2d &pixelInImage, double heightM );
 
   struct StereoImage
   {

@@ -18,6 +18,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "matching/areamatcher.h"
+#include "matchscore.h"
 
 using namespace geostation;
 
@@ -47,21 +48,12 @@ namespace
     return shift * m * shift.inverse();
   }
 
-  struct RealScore
-  {
-    int attempted = 0, returned = 0, within1 = 0, wrongReturned = 0;
-    double median = 0.0;
-    std::map<std::string, int> statuses;
-    double within1Fraction() const { return attempted ? static_cast<double>( within1 ) / attempted : 0.0; }
-    double wrongFraction() const { return returned ? static_cast<double>( wrongReturned ) / returned : 0.0; }
-  };
-
   /**
    * Matches corners of `reference` (Shi-Tomasi, as an operator picks
    * well-defined points) in `search`, whose truth is `searchFromReference`,
    * from approximate positions within +-2 px.
    */
-  RealScore matchWithTruth( const cv::Mat &reference, const cv::Mat &search, const Eigen::Matrix3d &searchFromReference, const AreaMatchOptions &options,
+  MatchScore matchWithTruth( const cv::Mat &reference, const cv::Mat &search, const Eigen::Matrix3d &searchFromReference, const AreaMatchOptions &options,
                             unsigned seed = 5 )
   {
     const MatchImage a( reference ), b( search );
@@ -69,8 +61,7 @@ namespace
     cv::goodFeaturesToTrack( a.grey(), corners, 500, 0.01, 10 );
     std::mt19937 random( seed );
     std::uniform_real_distribution<double> within2( -2.0, 2.0 );
-    RealScore score;
-    std::vector<double> errors;
+    MatchScore score;
     for ( const cv::Point2f &corner : corners )
     {
       const Eigen::Vector2d p( corner.x + 0.5, corner.y + 0.5 );
@@ -78,31 +69,12 @@ namespace
       if ( p.x() < 30 || p.y() < 30 || p.x() > a.width() - 30 || p.y() > a.height() - 30 || truth.x() < 30 || truth.y() < 30 || truth.x() > b.width() - 30 ||
            truth.y() > b.height() - 30 )
         continue;
-      ++score.attempted;
       const Eigen::Vector2d approximate = truth + Eigen::Vector2d( within2( random ), within2( random ) );
       const AreaMatch m = matchAroundPosition( a, p, b, approximate, 3.0, options );
-      ++score.statuses[matchStatusName( m.status )];
       EXPECT_EQ( m.matched, m.status == MatchStatus::Lsm || m.status == MatchStatus::Correlation );
-      if ( !m.matched )
-        continue;
-      const double error = ( m.pixelInImage - truth ).norm();
-      ++score.returned;
-      errors.push_back( error );
-      score.within1 += error <= 1.0;
-      score.wrongReturned += error > 2.0;
+      score.add( matchStatusName( m.status ), m.matched, ( m.pixelInImage - truth ).norm() );
     }
-    std::sort( errors.begin(), errors.end() );
-    score.median = errors.empty() ? 0.0 : errors[errors.size() / 2];
     return score;
-  }
-
-  void print( const std::string &name, const RealScore &s )
-  {
-    std::printf( "%-34s attempted %3d returned %3d  within 1 px %5.1f %%  median %.2f px  returned > 2 px off %4.1f %%  (", name.c_str(), s.attempted, s.returned,
-                 100.0 * s.within1Fraction(), s.median, 100.0 * s.wrongFraction() );
-    for ( const auto &[status, n] : s.statuses )
-      std::printf( " %s %d", status.c_str(), n );
-    std::printf( " )\n" );
   }
 
   AreaMatchOptions userOptions()
@@ -153,8 +125,8 @@ TEST( RealMatching, GraffitiPairWithItsPublishedHomography )
   cv::Mat h;
   storage["H13"] >> h;
   ASSERT_EQ( h.rows, 3 );
-  const RealScore s = matchWithTruth( one, three, inOurPixels( h ), userOptions() );
-  print( "graf1 -> graf3 (published H)", s );
+  const MatchScore s = matchWithTruth( one, three, inOurPixels( h ), userOptions() );
+  s.print( "graf1 -> graf3 (published H)" );
   EXPECT_GE( s.attempted, 300 );
   EXPECT_GE( s.within1Fraction(), 0.65 );
   EXPECT_LE( s.median, 0.4 );
@@ -193,8 +165,8 @@ TEST( RealMatching, PhotographsUnderKnownWarps )
     char name[96];
     std::snprintf( name, sizeof name, "%s rot %.0f scale %.1f/%.1f tilt %.0f", c.image, c.rotationDeg, c.scaleX, c.scaleY, c.tiltDeg );
     SCOPED_TRACE( name );
-    const RealScore s = matchWithTruth( photo, warped, ours, userOptions() );
-    print( name, s );
+    const MatchScore s = matchWithTruth( photo, warped, ours, userOptions() );
+    s.print( name );
     EXPECT_GE( s.attempted, 40 );
     EXPECT_GE( s.within1Fraction(), 0.65 );
     EXPECT_LE( s.median, 0.4 );
