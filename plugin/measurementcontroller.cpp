@@ -12,6 +12,7 @@
 #include <qgsrasterlayer.h>
 
 #include "dem/dem.h"
+#include "dem/demintersection.h"
 #include "dem/monoplotter.h"
 #include "geometry/crs.h"
 #include "multiviewsession.h"
@@ -107,7 +108,17 @@ void GeoStationMeasurementController::pick( int view, const QPointF &pixelInImag
       pixels[i] = mCache->get( path.toStdString() ).image;
     views[i].pixels = pixels[i].get();
   }
-  const std::vector<geostation::ConjugateProposal> proposals = geostation::proposeConjugates( views, view, Eigen::Vector2d( pixelInImage.x(), pixelInImage.y() ), mOptions );
+  // the correlation window's shape predicted from the surface the point lies on: the DEM layer, or the road plane
+  geostation::ProposalOptions options = mOptions;
+  QString demProblem;
+  if ( loadDem( &demProblem ) )
+    options.groundOfPixel = geostation::demGroundOfPixel( *mDem, *mBlockToDem );
+  else
+  {
+    const double roadZ = mSession->orientedImage( referenceId )->exterior().projectionCentre.z() - mSession->cameraHeightAboveRoadM();
+    options.groundOfPixel = [roadZ]( const geostation::OrientedImage & image, const Eigen::Vector2d & pixel ) { return geostation::roadPlanePoint( image, pixel, roadZ ); };
+  }
+  const std::vector<geostation::ConjugateProposal> proposals = geostation::proposeConjugates( views, view, Eigen::Vector2d( pixelInImage.x(), pixelInImage.y() ), options );
   for ( int i = 0; i < mViews.size(); ++i )
   {
     ViewState &s = mViews[i];
@@ -140,32 +151,50 @@ void GeoStationMeasurementController::pick( int view, const QPointF &pixelInImag
   emit viewStatesChanged();
 }
 
-geostation::MeasuredVertex GeoStationMeasurementController::singleRayVertex( const geostation::VertexObservation &observation, QString *why )
+bool GeoStationMeasurementController::loadDem( QString *why )
 {
   QgsRasterLayer *demLayer = qobject_cast<QgsRasterLayer *>( QgsProject::instance()->mapLayer( mSession->demLayerId() ) );
-  if ( demLayer )
+  if ( !demLayer )
+    return false;
+  try
+  {
+    const QString path = demLayer->source();
+    if ( path != mDemPath || !mDem )
+    {
+      mDem.reset();
+      mBlockToDem.reset();
+      mDem = std::make_unique<geostation::Dem>( path.toStdString() );
+      mBlockToDem = std::make_unique<geostation::CrsTransform>( mSession->block()->crs, mDem->crsWkt() );
+      mDemPath = path;
+    }
+    return true;
+  }
+  catch ( const std::exception &e )
+  {
+    mDem.reset();
+    mBlockToDem.reset();
+    *why = tr( "The DEM %1 cannot be used: %2" ).arg( demLayer->name(), QString::fromStdString( e.what() ) );
+    return false;
+  }
+}
+
+geostation::MeasuredVertex GeoStationMeasurementController::singleRayVertex( const geostation::VertexObservation &observation, QString *why )
+{
+  if ( loadDem( why ) )
   {
     try
     {
-      const QString path = demLayer->source();
-      if ( path != mDemPath || !mDem )
-      {
-        mDem.reset();
-        mBlockToDem.reset();
-        mDem = std::make_unique<geostation::Dem>( path.toStdString() );
-        mBlockToDem = std::make_unique<geostation::CrsTransform>( mSession->block()->crs, mDem->crsWkt() );
-        mDemPath = path;
-      }
       const geostation::Monoplotter monoplotter( *observation.image, *mDem, *mBlockToDem );
       return geostation::demVertex( observation, monoplotter );
     }
     catch ( const std::exception &e )
     {
-      mDem.reset();
-      *why = tr( "The DEM %1 cannot be used: %2" ).arg( demLayer->name(), QString::fromStdString( e.what() ) );
+      *why = tr( "The DEM cannot be used: %1" ).arg( QString::fromStdString( e.what() ) );
       return geostation::MeasuredVertex();
     }
   }
+  if ( !why->isEmpty() )
+    return geostation::MeasuredVertex();
   const double roadZ = observation.image->exterior().projectionCentre.z() - mSession->cameraHeightAboveRoadM();
   return geostation::roadPlaneVertex( observation, roadZ, mSession->roadPlaneSigmaM() );
 }

@@ -93,6 +93,8 @@ class GeoStationMeasurementController : public QObject
 
   private:
     geostation::MeasuredVertex singleRayVertex( const geostation::VertexObservation &observation, QString *why );
+    //! The session's DEM layer, loaded once per source: false without one, or with `why` set when it cannot be used.
+    bool loadDem( QString *why );
     void resetViews();
 
     GeoStationSession *mSession;

@@ -22,6 +22,22 @@ namespace geostation
           pixels.push_back( v.pixelInImage );
       return pixels;
     }
+
+    //! The matching options for one view: the window's shape predicted from the surface, where it is known and the point is in the frame.
+    AreaMatchOptions viewAreaOptions( const MeasurementView &reference, const Eigen::Vector2d &pixelInReference, const MeasurementView &view,
+                                      const ProposalOptions &options )
+    {
+      AreaMatchOptions area = options.area;
+      if ( !options.groundOfPixel )
+        return area;
+      // differences over a quarter of the window follow a curved DEM within the window
+      const double step = std::max( 1.0, std::max( area.windowWidth, area.windowHeight ) / 4.0 );
+      const std::optional<PredictedWindow> predicted = predictWindowShape( *reference.image, pixelInReference, *view.image, options.groundOfPixel, step );
+      if ( predicted && view.pixels->canSample( predicted->pixelInSearch.x(), predicted->pixelInSearch.y() ) )
+        area.predictedShape = predicted->searchFromReference;
+      return area;
+    }
+
   }
 
   std::vector<ConjugateProposal> proposeConjugates( const std::vector<MeasurementView> &views, size_t reference, const Eigen::Vector2d &pixelInReference,
@@ -89,9 +105,10 @@ namespace geostation
       if ( together && !p.matched )
         continue;
       const std::vector<Eigen::Vector2d> curve = curvePixels( p.curve );
+      const AreaMatchOptions area = viewAreaOptions( views[reference], pixelInReference, views[i], options );
       const AreaMatch m = together
-                          ? matchAroundPosition( *views[reference].pixels, pixelInReference, *views[i].pixels, p.pixelInImage, 1.5, options.area )
-                          : matchAlongEpipolarBand( *views[reference].pixels, pixelInReference, *views[i].pixels, curve, options.area );
+                          ? matchAroundPosition( *views[reference].pixels, pixelInReference, *views[i].pixels, p.pixelInImage, 1.5, area )
+                          : matchAlongEpipolarBand( *views[reference].pixels, pixelInReference, *views[i].pixels, curve, area );
       if ( m.matched )
       {
         p.matched = true;
@@ -115,7 +132,61 @@ namespace geostation
           p.reason = "the match lies " + std::to_string( off ).substr( 0, 4 ) + " px from the epipolar curve";
         }
     }
+    flagInconsistentProposals( views, reference, pixelInReference, options, proposals );
     return proposals;
+  }
+
+  void flagInconsistentProposals( const std::vector<MeasurementView> &views, size_t reference, const Eigen::Vector2d &pixelInReference,
+                                  const ProposalOptions &options, std::vector<ConjugateProposal> &proposals )
+  {
+    while ( true )
+    {
+      // the operator's click defines the ray: held (nearly) fixed, so the disagreement shows in the proposals checked
+      std::vector<RayObservation> rays { { views[reference].image, pixelInReference, 0.01 } };
+      std::vector<size_t> of { reference };
+      for ( size_t i = 0; i < proposals.size(); ++i )
+        if ( i != reference && proposals[i].matched )
+        {
+          rays.push_back( { views[i].image, proposals[i].pixelInImage, std::max( 0.1, proposals[i].sigmaPx ) } );
+          of.push_back( i );
+        }
+      if ( rays.size() < 3 )
+        return;
+      const IntersectionSummary s = intersectRays( rays );
+      if ( !s.ok() )
+        return;
+      size_t worst = 0;
+      double worstPx = 0.0;
+      for ( size_t k = 1; k < rays.size(); ++k )
+      {
+        const double px = s.residuals[k].residualPx.norm();
+        if ( px > std::max( options.maxIntersectionResidualPx, 3.0 * rays[k].sigmaPx ) && px > worstPx )
+        {
+          worst = k;
+          worstPx = px;
+        }
+      }
+      if ( worst == 0 )
+        return;
+      const std::string px = std::to_string( worstPx ).substr( 0, 4 );
+      if ( rays.size() == 3 )
+      {
+        // two proposals that disagree both lie on the reference ray's epipolar curves: which one is wrong
+        // cannot be told, so neither is taken
+        for ( size_t k = 1; k < 3; ++k )
+        {
+          ConjugateProposal &p = proposals[of[k]];
+          p.matched = false;
+          p.status = matchStatusName( MatchStatus::Inconsistent );
+          p.reason = "the proposals of two images disagree (" + px + " px in the intersection): confirm one by hand";
+        }
+        return;
+      }
+      ConjugateProposal &p = proposals[of[worst]];
+      p.matched = false;
+      p.status = matchStatusName( MatchStatus::Inconsistent );
+      p.reason = "the other images' rays meet " + px + " px from the match";
+    }
   }
 
   std::string vertexMethodName( VertexMethod method )

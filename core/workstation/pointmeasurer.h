@@ -25,6 +25,7 @@
 
 #include "adjustment/intersection.h"
 #include "geometry/epipolar.h"
+#include "geometry/windowshape.h"
 #include "matching/multiimagematcher.h"
 
 namespace geostation
@@ -46,6 +47,21 @@ namespace geostation
     bool multiImage = true;      //!< confirm candidates in all views that see the curve
     //! A match farther from the reference pixel's epipolar curve than this (px) is inconsistent with the orientation.
     double maxEpipolarDistancePx = 3.0;
+    /**
+     * With three or more rays, the proposals are intersected with the
+     * reference ray; a residual beyond this (px, and beyond 3 of its
+     * sigmas) makes a proposal inconsistent (flagInconsistentProposals();
+     * thesis §5.4: the other images' geometry confirms a match).
+     */
+    double maxIntersectionResidualPx = 2.0;
+    /**
+     * The surface the measured points lie on, if known (road plane, DEM).
+     * The correlation window's shape in each view is then predicted from it
+     * (predictWindowShape()), so oblique and close-range views correlate on
+     * like-shaped patches; points off the surface keep the square window
+     * (AreaMatchOptions::predictedShape).
+     */
+    GroundOfPixel groundOfPixel;
   };
 
   struct ConjugateProposal
@@ -75,6 +91,20 @@ namespace geostation
    */
   std::vector<ConjugateProposal> proposeConjugates( const std::vector<MeasurementView> &views, size_t reference, const Eigen::Vector2d &pixelInReference,
       const ProposalOptions &options = ProposalOptions() );
+
+  /**
+   * With three or more rays (the reference and the matched proposals), the
+   * proposals are intersected with the reference ray. A residual above
+   * ProposalOptions::maxIntersectionResidualPx and 3 of its sigmas means a
+   * wrong proposal: with four or more rays the one with the largest such
+   * residual is marked inconsistent (not matched) and the rest intersected
+   * again; with three rays the two proposals contradict each other and
+   * which one is wrong cannot be told (both lie on epipolar curves of the
+   * reference pixel), so both are marked inconsistent for the operator to
+   * decide. proposeConjugates() calls it last.
+   */
+  void flagInconsistentProposals( const std::vector<MeasurementView> &views, size_t reference, const Eigen::Vector2d &pixelInReference,
+                                  const ProposalOptions &options, std::vector<ConjugateProposal> &proposals );
 
   enum class VertexMethod
   {

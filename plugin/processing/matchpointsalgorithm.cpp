@@ -18,8 +18,11 @@
 #include <qgsprocessingfeedback.h>
 #include <qgsprocessingoutputs.h>
 #include <qgsprocessingparameters.h>
+#include <qgsrasterlayer.h>
 
+#include "dem/demintersection.h"
 #include "geometry/epipolar.h"
+#include "geometry/windowshape.h"
 #include "io/rasterfile.h"
 #include "matching/areamatcher.h"
 #include "processingblock.h"
@@ -61,7 +64,9 @@ QString MatchPointsAlgorithm::shortHelpString() const
                       "WINDOW_W x WINDOW_H window (15 x 15; 15 x 3 for road lines); the best score above MIN_SCORE is refined "
                       "by a parabola and, with LSM, by least-squares matching started from the peak, the approximate position "
                       "and the next peaks; a least-squares match must fit well, keep a plausible shape, stay within the search "
-                      "radius and match back to the reference point within half a pixel.\n\n"
+                      "radius and match back to the reference point within half a pixel. With a DEM and oriented images, the "
+                      "window's shape in the target image is predicted on the terrain (oblique and close-range pairs), and the "
+                      "square and the predicted window compete: the one that correlates better is refined.\n\n"
                       "OUTPUT holds the reference rows (status reference) and one row per point and target image with status: "
                       "lsm (least squares converged and passed its checks), correlation (peak only: LSM off, or a line or edge "
                       "LSM cannot fix), or why there is no match (no_peak, ambiguous, diverged, inconsistent, outside; no col/row, "
@@ -89,6 +94,7 @@ void MatchPointsAlgorithm::initAlgorithm( const QVariantMap & )
   addParameter( new QgsProcessingParameterNumber( QStringLiteral( "MAX_DEPTH_M" ), QObject::tr( "Epipolar search: farthest depth (m)" ), QgsProcessingParameterNumber::Double, 50.0, false, 0.02 ) );
   addParameter( new QgsProcessingParameterNumber( QStringLiteral( "BAND_PX" ), QObject::tr( "Epipolar search: parallels on each side (px)" ), QgsProcessingParameterNumber::Integer, 1, false, 0, 20 ) );
   addParameter( new QgsProcessingParameterNumber( QStringLiteral( "SEARCH_RADIUS" ), QObject::tr( "2-D search radius, unoriented images (px)" ), QgsProcessingParameterNumber::Double, 20.0, false, 1.0, 500.0 ) );
+  addParameter( new QgsProcessingParameterRasterLayer( QStringLiteral( "DEM" ), QObject::tr( "DEM (oriented images: the window's shape predicted on the terrain)" ), QVariant(), true ) );
   addParameter( new QgsProcessingParameterNumber( QStringLiteral( "REFERENCE_SIGMA_PX" ), QObject::tr( "sigma_px of the reference measurements" ), QgsProcessingParameterNumber::Double, 0.5, false, 0.001 ) );
   addParameter( new QgsProcessingParameterFeatureSink( QStringLiteral( "OUTPUT" ), QObject::tr( "Observations" ), QgsProcessing::TypeVector ) );
   addOutput( new QgsProcessingOutputNumber( QStringLiteral( "MATCHED_COUNT" ), QObject::tr( "Matches" ) ) );
@@ -108,11 +114,21 @@ QVariantMap MatchPointsAlgorithm::processAlgorithm( const QVariantMap &parameter
   options.measure = *geostation::similarityMeasureFromName( parameterAsEnumString( parameters, QStringLiteral( "METHOD" ), context ).toStdString() );
   options.windowWidth = parameterAsInt( parameters, QStringLiteral( "WINDOW_W" ), context );
   options.windowHeight = parameterAsInt( parameters, QStringLiteral( "WINDOW_H" ), context );
-  if ( options.windowWidth % 2 == 0 || options.windowHeight % 2 == 0 )
-    throw QgsProcessingException( QObject::tr( "The window sizes must be odd (the point sits in the centre pixel)." ) );
   options.lsm = parameterAsBool( parameters, QStringLiteral( "LSM" ), context );
   options.minScore = parameterAsDouble( parameters, QStringLiteral( "MIN_SCORE" ), context );
   options.bandHalfWidthPx = parameterAsInt( parameters, QStringLiteral( "BAND_PX" ), context );
+  try
+  {
+    options.check();
+  }
+  catch ( const std::invalid_argument &e )
+  {
+    throw QgsProcessingException( QString::fromStdString( e.what() ) );
+  }
+  GeoStationProcessing::LoadedDem dem;
+  if ( QgsRasterLayer *demLayer = parameterAsRasterLayer( parameters, QStringLiteral( "DEM" ), context ) )
+    dem = GeoStationProcessing::loadDem( demLayer->source(), block );
+  const geostation::GroundOfPixel terrain = dem.dem ? geostation::demGroundOfPixel( *dem.dem, *dem.blockToDem ) : geostation::GroundOfPixel();
   geostation::EpipolarOptions epipolar;
   epipolar.minDistanceM = parameterAsDouble( parameters, QStringLiteral( "MIN_DEPTH_M" ), context );
   epipolar.maxDistanceM = parameterAsDouble( parameters, QStringLiteral( "MAX_DEPTH_M" ), context );
@@ -200,11 +216,17 @@ QVariantMap MatchPointsAlgorithm::processAlgorithm( const QVariantMap &parameter
         m.reason = "the image " + ( from ? target.id : reference.id ) + " cannot be read: " + unreadable[from ? target.id : reference.id];
       else if ( reference.exterior && target.exterior )
       {
+        const geostation::OrientedImage referenceImage = block.orientedImage( reference ), targetImage = block.orientedImage( target );
         std::vector<Eigen::Vector2d> curve;
-        for ( const auto &piece : geostation::epipolarCurve( block.orientedImage( reference ), r.pixel, block.orientedImage( target ), epipolar ).pieces )
+        for ( const auto &piece : geostation::epipolarCurve( referenceImage, r.pixel, targetImage, epipolar ).pieces )
           for ( const geostation::EpipolarVertex &v : piece )
             curve.push_back( v.pixelInImage );
-        m = geostation::matchAlongEpipolarBand( *from, r.pixel, *to, curve, options );
+        geostation::AreaMatchOptions pointOptions = options;
+        if ( terrain )
+          if ( const std::optional<geostation::PredictedWindow> w = geostation::predictWindowShape( referenceImage, r.pixel, targetImage, terrain,
+               std::max( 1.0, std::max( options.windowWidth, options.windowHeight ) / 4.0 ) ) )
+            pointOptions.predictedShape = w->searchFromReference;
+        m = geostation::matchAlongEpipolarBand( *from, r.pixel, *to, curve, pointOptions );
       }
       else if ( approxCol >= 0 && approxRow >= 0 )
       {

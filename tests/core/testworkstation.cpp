@@ -13,6 +13,7 @@
 #include "workstation/stationsequence.h"
 #include "workstation/viewcone.h"
 #include "simulationtruth.h"
+#include "texturedground.h"
 
 using namespace geostation;
 
@@ -121,7 +122,7 @@ TEST( PointMeasurer, ProposalsAndIntersectionAgreeWithTheTruth )
   const TruthTable truth = readTruth( highwayRun() / "truth.gpkg" );
   const StationSequence run( block );
   MatchImageCache cache;
-  int tried = 0, matchedCount = 0, lsmCount = 0, proposedWithinPixel = 0, within3Sigma = 0, intersected = 0;
+  int tried = 0, matchedCount = 0, lsmCount = 0, proposedWithinPixel = 0, within3Sigma = 0, intersected = 0, shapedWithinPixel = 0;
   double sumSquaredErrorPx = 0;
   for ( const SequenceStation &station : run.stations() )
   {
@@ -151,6 +152,14 @@ TEST( PointMeasurer, ProposalsAndIntersectionAgreeWithTheTruth )
       ++tried;
       const std::vector<ConjugateProposal> proposals = proposeConjugates( views, 0, left->second );
       ASSERT_EQ( proposals.size(), 3u );
+      // with the window's shape predicted from the road plane (as the Multiview does): a pole's foot is on the
+      // road, its shaft above it; the square window competes and the proposal stays right
+      ProposalOptions onRoad;
+      const double roadZ = oriented[0].exterior().projectionCentre.z() - 2.65;
+      onRoad.groundOfPixel = [roadZ]( const OrientedImage &image, const Eigen::Vector2d &pixel ) { return roadPlanePoint( image, pixel, roadZ ); };
+      const ConjugateProposal shaped = proposeConjugates( views, 0, left->second, onRoad )[1];
+      shapedWithinPixel += shaped.matched && ( shaped.pixelInImage - right->second ).norm() < 1.0;
+      EXPECT_TRUE( !shaped.matched || ( shaped.pixelInImage - right->second ).norm() < 2.0 ) << id;
       EXPECT_TRUE( proposals[1].curveInFrame );
       // the true conjugate lies on the epipolar curve (the orientation is exact)
       EXPECT_LT( proposals[1].curve.distanceToCurvePx( right->second ), 0.05 ) << id;
@@ -191,10 +200,73 @@ TEST( PointMeasurer, ProposalsAndIntersectionAgreeWithTheTruth )
   std::cout << "pole feet: " << tried << " clicked, " << matchedCount << " matched, " << proposedWithinPixel << " proposals within 1 px (RMS "
             << std::sqrt( sumSquaredErrorPx / std::max( 1, matchedCount ) ) << " px), " << within3Sigma << " of " << intersected
             << " intersections within 3 sigma\n";
+  std::cout << "with the road plane's window shapes: " << shapedWithinPixel << " proposals within 1 px\n";
   ASSERT_GE( tried, 6 );
   EXPECT_GE( proposedWithinPixel, 0.8 * tried ) << proposedWithinPixel << " of " << tried;
+  EXPECT_GE( shapedWithinPixel, 0.8 * tried ) << shapedWithinPixel << " of " << tried;
   EXPECT_GE( lsmCount, 0.8 * matchedCount ) << "least squares confirms the proposals on these images";
   EXPECT_GE( within3Sigma, 0.8 * intersected ) << within3Sigma << " of " << intersected;
+}
+
+TEST( PointMeasurer, ThirdRayFlagsProposalsAtAnotherDepth )
+{
+  // three forward cameras 1 m apart across a van, and a point 15 m ahead on the road; one proposal is
+  // then moved along the reference pixel's epipolar curve (the point at another depth), where the
+  // epipolar check cannot see it: the third ray does
+  const Camera camera = texturedground::frameCamera( 1024, 768, 900.0 );
+  std::vector<OrientedImage> oriented;
+  for ( const double x : { -1.0, 0.0, 1.0 } )
+    oriented.push_back( texturedground::lookingAt( camera, Eigen::Vector3d( x, 0.0, 2.5 ), 0.0, 10.0 ) );
+  std::vector<MeasurementView> views;
+  for ( size_t i = 0; i < 3; ++i )
+    views.push_back( MeasurementView { "view" + std::to_string( i ), &oriented[i], nullptr } );
+  const Eigen::Vector3d point( 0.3, 15.0, 0.0 );
+  std::vector<ConjugateProposal> proposals( 3 );
+  for ( size_t i = 1; i < 3; ++i )
+  {
+    ASSERT_TRUE( oriented[i].projectGroundToPixel( point ).inFrame );
+    proposals[i].matched = true;
+    proposals[i].status = "lsm";
+    proposals[i].sigmaPx = 0.1;
+    proposals[i].pixelInImage = oriented[i].projectGroundToPixel( point ).pixelInImage;
+  }
+  const Eigen::Vector2d reference = oriented[0].projectGroundToPixel( point ).pixelInImage;
+  ProposalOptions options;
+  std::vector<ConjugateProposal> right = proposals;
+  flagInconsistentProposals( views, 0, reference, options, right );
+  EXPECT_TRUE( right[1].matched && right[2].matched );
+  // the same pixel at another depth, in view 2: on its epipolar curve, but not where view 1 says
+  const Eigen::Vector3d deeper = point + 0.3 * ( point - oriented[0].exterior().projectionCentre );
+  std::vector<ConjugateProposal> wrong = proposals;
+  wrong[2].pixelInImage = oriented[2].projectGroundToPixel( deeper ).pixelInImage;
+  ASSERT_GT( ( wrong[2].pixelInImage - proposals[2].pixelInImage ).norm(), 3.0 );
+  flagInconsistentProposals( views, 0, reference, options, wrong );
+  // with three rays the two proposals contradict each other, and either may be the wrong one: neither is taken
+  EXPECT_FALSE( wrong[1].matched );
+  EXPECT_FALSE( wrong[2].matched );
+  EXPECT_EQ( wrong[2].status, "inconsistent" );
+  EXPECT_NE( wrong[2].reason.find( "disagree" ), std::string::npos ) << wrong[2].reason;
+  // a fourth view that agrees with view 1 singles out the wrong one
+  oriented.push_back( texturedground::lookingAt( camera, Eigen::Vector3d( 0.5, -3.0, 2.5 ), 0.0, 10.0 ) );
+  views.clear();
+  for ( size_t i = 0; i < 4; ++i )
+    views.push_back( MeasurementView { "view" + std::to_string( i ), &oriented[i], nullptr } );
+  std::vector<ConjugateProposal> four = proposals;
+  four[2] = wrong[2];
+  four[2].matched = true;
+  four.push_back( proposals[1] );
+  four[3].pixelInImage = oriented[3].projectGroundToPixel( point ).pixelInImage;
+  flagInconsistentProposals( views, 0, reference, options, four );
+  EXPECT_TRUE( four[1].matched );
+  EXPECT_FALSE( four[2].matched );
+  EXPECT_TRUE( four[3].matched );
+  // two rays only: nothing to compare (the epipolar check is the test there)
+  std::vector<ConjugateProposal> pair = { proposals[0], proposals[1], wrong[2] };
+  pair[1].matched = false;
+  pair[2].matched = true;
+  views.resize( 3 );
+  flagInconsistentProposals( views, 0, reference, options, pair );
+  EXPECT_TRUE( pair[2].matched );
 }
 
 TEST( PointMeasurer, SingleRayVerticesOnTheRoadPlane )
