@@ -30,6 +30,7 @@
 #include "matching/matchimage.h"
 #include "io/rasterfile.h"
 #include "linescoring.h"
+#include "networktopology.h"
 #include "simulation/surveysimulator.h"
 
 using namespace geostation;
@@ -297,6 +298,7 @@ namespace
     BufferScore a, b, verifiedAll, unverifiedAll, onGround;
     int junctions = 0, junctionsFound = 0, vertices = 0, within2Sigma = 0;
     size_t intersectionsA = 0;
+    TopologyScore topology; //!< image A against the truth centre lines seen in both images
   };
 
   //! Runs the coincident extraction and the 3-D lines on a pair and scores them against the truth.
@@ -393,6 +395,11 @@ namespace
   }
   e.junctions = static_cast<int>( junctions.size() );
   e.junctionsFound = junctionsFound;
+  // topology: truth centre lines end up to the junction reach from the road they join (0.5 m pixels);
+  // extracted lines are joined where compilation placed the intersection (within 2 px); control points every 10 m, found within 2 m
+  e.topology = averagePathLengthSimilarity( truthA, 2.0 * junctionReachM, asLines( verified.linesA ), 2.0, 20.0, 4.0 );
+  std::printf( "topology (average path-length similarity): %.3f (truth -> extracted %.3f, extracted -> truth %.3f; %d pairs)\n", e.topology.apls,
+               e.topology.truthToResult, e.topology.resultToTruth, e.topology.pairs );
   e.intersectionsA = verified.intersectionsA.size();
   drawDebug( name + "A", pair.left, verified.linesA, truthA );
   if ( std::getenv( "GEOSTATION_EXTRACTION_DEBUG" ) )
@@ -690,4 +697,31 @@ TEST( RoadExtraction, FiveMorePairs )
   EXPECT_GT( worstCorrectness, 0.95 );
   // below the aim of 90 %: where a side road's last stretch is in shadow, its end is bridged short of the true junction
   EXPECT_GE( found, junctions / 2 );
+}
+
+TEST( RoadExtraction, TopologyMeasureSeesGapsAndFalseLinks )
+{
+  // a T junction: a 400 px main road and a 200 px side road ending 8 px short of it (as truth centre lines do)
+  const std::vector<std::vector<Eigen::Vector3d>> truth { { { 0, 100, 0 }, { 400, 100, 0 } }, { { 200, 108, 0 }, { 200, 308, 0 } } };
+  const auto score = [&]( const std::vector<std::vector<Eigen::Vector3d>> &result ) { return averagePathLengthSimilarity( truth, 10.0, result, 2.0, 20.0, 4.0 ); };
+  // the same network, joined at the junction: 1
+  const TopologyScore same = score( { { { 0, 100, 0 }, { 200, 100, 0 } }, { { 200, 100, 0 }, { 400, 100, 0 } }, { { 200, 100, 0 }, { 200, 308, 0 } } } );
+  EXPECT_NEAR( same.apls, 1.0, 1e-9 );
+  EXPECT_GT( same.pairs, 100 );
+  // the side road found but not joined (a junction lost): every path into it is broken
+  const TopologyScore lostJunction = score( { { { 0, 100, 0 }, { 400, 100, 0 } }, { { 200, 130, 0 }, { 200, 308, 0 } } } );
+  EXPECT_LT( lostJunction.truthToResult, 0.75 );
+  EXPECT_GT( lostJunction.resultToTruth, lostJunction.truthToResult );
+  // a gap of 20 px in the main road: paths across it are lost, those on either side kept
+  const TopologyScore gap = score( { { { 0, 100, 0 }, { 140, 100, 0 } }, { { 160, 100, 0 }, { 400, 100, 0 } }, { { 200, 100, 0 }, { 200, 308, 0 } } } );
+  EXPECT_LT( gap.truthToResult, 0.8 );
+  EXPECT_GT( gap.truthToResult, lostJunction.truthToResult - 0.3 );
+  // a false road joined to the network (a field track taken for a road): extracted -> truth falls, truth -> extracted stays 1;
+  // (an isolated false piece costs less: only its own pairs count, as in APLS)
+  const TopologyScore falseRoad = score( { { { 0, 100, 0 }, { 400, 100, 0 } }, { { 200, 100, 0 }, { 200, 308, 0 } }, { { 300, 100, 0 }, { 300, 250, 0 } } } );
+  EXPECT_NEAR( falseRoad.truthToResult, 1.0, 1e-9 );
+  EXPECT_LT( falseRoad.resultToTruth, 0.8 );
+  // a false short cut between two roads makes paths too short
+  const TopologyScore shortCut = score( { { { 0, 100, 0 }, { 400, 100, 0 } }, { { 200, 100, 0 }, { 200, 308, 0 } }, { { 0, 100, 0 }, { 200, 308, 0 } } } );
+  EXPECT_LT( shortCut.resultToTruth, 0.9 );
 }
