@@ -156,16 +156,23 @@ bool GeoStationMeasurementController::loadDem( QString *why )
   QgsRasterLayer *demLayer = qobject_cast<QgsRasterLayer *>( QgsProject::instance()->mapLayer( mSession->demLayerId() ) );
   if ( !demLayer )
     return false;
+  const QString path = demLayer->source();
+  // a DEM that could not be opened is not read again on every click
+  if ( path == mDemPath && !mDemError.isEmpty() )
+  {
+    *why = mDemError;
+    return false;
+  }
   try
   {
-    const QString path = demLayer->source();
     if ( path != mDemPath || !mDem )
     {
+      mDemError.clear();
       mDem.reset();
       mBlockToDem.reset();
+      mDemPath = path;
       mDem = std::make_unique<geostation::Dem>( path.toStdString() );
       mBlockToDem = std::make_unique<geostation::CrsTransform>( mSession->block()->crs, mDem->crsWkt() );
-      mDemPath = path;
     }
     return true;
   }
@@ -173,7 +180,8 @@ bool GeoStationMeasurementController::loadDem( QString *why )
   {
     mDem.reset();
     mBlockToDem.reset();
-    *why = tr( "The DEM %1 cannot be used: %2" ).arg( demLayer->name(), QString::fromStdString( e.what() ) );
+    mDemError = tr( "The DEM %1 cannot be used: %2" ).arg( demLayer->name(), QString::fromStdString( e.what() ) );
+    *why = mDemError;
     return false;
   }
 }

@@ -107,6 +107,7 @@ class GeoStationMeasurementController : public QObject
     double mLastProposalMs = 0.0;
     GeoStationMeasuredFeature mFeature;
     QString mDemPath;
+    QString mDemError; //!< why the DEM at mDemPath cannot be used (empty: it can)
     std::unique_ptr<geostation::Dem> mDem;
     std::unique_ptr<geostation::CrsTransform> mBlockToDem;
 };

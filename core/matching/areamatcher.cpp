@@ -208,7 +208,6 @@ namespace geostation
       for ( size_t k = 1; k < result.peaks.size() && static_cast<int>( starts.size() ) < std::max( 1, options.lsmStarts ); ++k )
         starts.push_back( result.peaks[k].first );
       starts.resize( std::min<size_t>( starts.size(), std::max( 1, options.lsmStarts ) ) );
-      const double contrast = windowContrast( reference, pixelInReference, options.lsmOptions.windowWidth, options.lsmOptions.windowHeight );
       // least squares from the winning window's shape, then (a point off the predicted surface, or a patch
       // that is part surface and part object) from the other one
       std::vector<std::optional<Eigen::Matrix2d>> shapes { result.shapedWindow ? options.predictedShape : std::nullopt };
@@ -222,32 +221,37 @@ namespace geostation
         if ( best )
           break;
         const LsmOptions lsmOptions = predicted ? adaptedToShape( options.lsmOptions, *predicted ) : options.lsmOptions;
-        const Eigen::Matrix2d &expectedShape = lsmOptions.initialAffine;
+        // the grey-value spread of the window least squares actually matches
+        const double contrast = windowContrast( reference, pixelInReference, lsmOptions.windowWidth, lsmOptions.windowHeight );
+        // a solution, or why it is no match: not converged, an implausible fit or shape, or another point beyond the search radius
+        // (only the regular starts decide whether the window is a line or an edge least squares cannot fix)
+        const auto attempt = [&]( const Eigen::Vector2d &start, const LsmOptions &lsm, bool regularStart ) -> std::optional<LsmResult>
+        {
+          const LsmResult r = leastSquaresMatch( reference, pixelInReference, search, start, lsm );
+          std::string rejected;
+          if ( !r.converged )
+            rejected = r.reason;
+          else if ( const std::string bad = implausible( r, contrast, lsmOptions.initialAffine, options ); !bad.empty() )
+            rejected = bad;
+          else if ( approximate && ( r.pixelInImage - *approximate ).norm() > radiusPx + 0.5 )
+            rejected = "least squares moved " + std::to_string( ( r.pixelInImage - *approximate ).norm() ).substr( 0, 4 ) +
+                       " px from the approximate position, beyond the search radius";
+          else
+            return r;
+          if ( regularStart )
+          {
+            degenerate = degenerate && r.degenerate;
+            why = rejected;
+          }
+          return std::nullopt;
+        };
         for ( const Eigen::Vector2d &start : starts )
         {
-          const LsmResult lsm = leastSquaresMatch( reference, pixelInReference, search, start, lsmOptions );
-          degenerate = degenerate && lsm.degenerate;
-          if ( !lsm.converged )
-          {
-            why = lsm.reason;
-            continue;
-          }
-          if ( const std::string bad = implausible( lsm, contrast, expectedShape, options ); !bad.empty() )
-          {
-            why = bad;
-            continue;
-          }
-          // the point is within the search radius of its approximate position: a solution beyond it is another point
-          if ( approximate && ( lsm.pixelInImage - *approximate ).norm() > radiusPx + 0.5 )
-          {
-            why = "least squares moved " + std::to_string( ( lsm.pixelInImage - *approximate ).norm() ).substr( 0, 4 ) +
-                  " px from the approximate position, beyond the search radius";
-            continue;
-          }
-          if ( !best || lsm.sigma0 < best->sigma0 )
+          const std::optional<LsmResult> lsm = attempt( start, lsmOptions, true );
+          if ( lsm && ( !best || lsm->sigma0 < best->sigma0 ) )
             best = lsm;
           // a close fit needs no other start
-          if ( contrast > 0 && best->sigma0 <= options.goodFitRatio * contrast )
+          if ( best && contrast > 0 && best->sigma0 <= options.goodFitRatio * contrast )
             break;
         }
         // strong scale differences: least squares from the approximate position (or the peak) with the window
@@ -257,15 +261,8 @@ namespace geostation
           if ( best )
             break;
           LsmOptions scaled = lsmOptions;
-          scaled.initialAffine = scale * expectedShape;
-          const LsmResult lsm = leastSquaresMatch( reference, pixelInReference, search, approximate ? *approximate : result.correlationPixel, scaled );
-          if ( !lsm.converged )
-            continue;
-          if ( const std::string bad = implausible( lsm, contrast, expectedShape, options ); !bad.empty() )
-            continue;
-          if ( approximate && ( lsm.pixelInImage - *approximate ).norm() > radiusPx + 0.5 )
-            continue;
-          best = lsm;
+          scaled.initialAffine = scale * lsmOptions.initialAffine;
+          best = attempt( approximate ? *approximate : result.correlationPixel, scaled, false );
         }
         usedPredicted = best && predicted;
       }

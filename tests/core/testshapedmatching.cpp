@@ -78,6 +78,17 @@ namespace
     EXPECT_LE( shaped.wrongFraction(), 0.05 );
     EXPECT_GT( shaped.within1Fraction(), square.within1Fraction() + 0.1 );
   }
+
+  //! Proposals on one pair with square windows and with the predicted shape, printed and held to the bar.
+  void compareWindows( const std::string &name, const OrientedImage &reference, const cv::Mat &referencePixels, const OrientedImage &search,
+                       const cv::Mat &searchPixels, const GroundTexture &t, const GroundOfPixel &surface )
+  {
+    const MatchScore square = proposeWithTruth( reference, referencePixels, search, searchPixels, t, surface, false );
+    const MatchScore shaped = proposeWithTruth( reference, referencePixels, search, searchPixels, t, surface, true );
+    square.print( name + ", square windows" );
+    shaped.print( name + ", predicted shape" );
+    expectShapedMeetsTheBar( square, shaped );
+  }
 }
 
 TEST( WindowShape, PredictedShapeIsThePlaneInducedMapping )
@@ -130,11 +141,7 @@ TEST( WindowShape, RoadSurfaceFromTwoStationsOfARun )
     const OrientedImage &reference = nearIsReference ? nearStation : farStation, &search = nearIsReference ? farStation : nearStation;
     const cv::Mat &referencePixels = nearIsReference ? nearPixels : farPixels, &searchPixels = nearIsReference ? farPixels : nearPixels;
     const std::string name = nearIsReference ? "road, near station -> far" : "road, far station -> near";
-    const MatchScore square = proposeWithTruth( reference, referencePixels, search, searchPixels, t, plane, false );
-    const MatchScore shaped = proposeWithTruth( reference, referencePixels, search, searchPixels, t, plane, true );
-    square.print( name + ", square windows" );
-    shaped.print( name + ", predicted shape" );
-    expectShapedMeetsTheBar( square, shaped );
+    compareWindows( name, reference, referencePixels, search, searchPixels, t, plane );
   }
 }
 
@@ -154,11 +161,7 @@ TEST( WindowShape, ObliquePairSixtyDegreesApart )
   };
   const OrientedImage left = fromAzimuth( -30.0 ), right = fromAzimuth( 30.0 );
   const cv::Mat leftPixels = render( left, t, plane, 3 ), rightPixels = render( right, t, plane, 4 );
-  const MatchScore square = proposeWithTruth( left, leftPixels, right, rightPixels, t, plane, false );
-  const MatchScore shaped = proposeWithTruth( left, leftPixels, right, rightPixels, t, plane, true );
-  square.print( "graffiti, 60 deg apart, square windows" );
-  shaped.print( "graffiti, 60 deg apart, predicted shape" );
-  expectShapedMeetsTheBar( square, shaped );
+  compareWindows( "graffiti, 60 deg apart", left, leftPixels, right, rightPixels, t, plane );
 }
 
 TEST( WindowShape, HillyTerrainThroughTheDem )
@@ -179,10 +182,6 @@ TEST( WindowShape, HillyTerrainThroughTheDem )
   const OrientedImage south = lookingAt( camera, Eigen::Vector3d( centre.x(), centre.y() - 60.0, groundZ + 45.0 ), 0.0, 37.0 );
   const OrientedImage west = lookingAt( camera, Eigen::Vector3d( centre.x() - 60.0, centre.y(), groundZ + 45.0 ), 90.0, 37.0 );
   const cv::Mat southPixels = render( south, t, surface, 5 ), westPixels = render( west, t, surface, 6 );
-  const MatchScore square = proposeWithTruth( south, southPixels, west, westPixels, t, surface, false );
-  const MatchScore shaped = proposeWithTruth( south, southPixels, west, westPixels, t, surface, true );
-  square.print( "hills, 90 deg apart, square windows" );
-  shaped.print( "hills, 90 deg apart, predicted shape (DEM)" );
+  compareWindows( "hills (DEM), 90 deg apart", south, southPixels, west, westPixels, t, surface );
   std::remove( path.c_str() );
-  expectShapedMeetsTheBar( square, shaped );
 }
