@@ -117,24 +117,6 @@ namespace geostation
    */
   std::vector<Eigen::Vector3d> clipRingToImageField( const OrientedImage &image, const std::vector<Eigen::Vector3d> &ring, double nearM = 0.01 );
 
-  //! A ground point's pixel, or nothing where it cannot be projected (behind the camera, outside the lens field).
-  using GroundToPixel = std::function<std::optional<Eigen::Vector2d>( const Eigen::Vector3d & )>;
-
-  struct ProjectedPolylineParts
-  {
-    std::vector<std::vector<Eigen::Vector2d>> parts; //!< runs of at least two pixels, in the polyline's order
-    int longest = -1;                                 //!< index of the longest part (in pixels), -1 when none
-  };
-
-  /**
-   * An open map polyline (block CRS, densified) projected by `project` and
-   * cut where it leaves the projectable field: the boundary on each ground
-   * segment that crosses it is found by bisection (40 halvings) and ends the
-   * part, so no piece of line is drawn through the region that cannot be
-   * shown.
-   */
-  ProjectedPolylineParts projectPolylineCut( const std::vector<Eigen::Vector3d> &dense, const GroundToPixel &project );
-
 } // namespace geostation
 
 #endif // GEOSTATION_GEOMETRY_PROJECTION_H

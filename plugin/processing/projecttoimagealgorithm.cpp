@@ -15,7 +15,6 @@
 #include <qgsgeometry.h>
 #include <qgslinestring.h>
 #include <qgspoint.h>
-#include <qgsexception.h>
 #include <qgsprocessingfeedback.h>
 #include <qgsprocessingoutputs.h>
 #include <qgsprocessingparameters.h>
@@ -23,7 +22,7 @@
 #include <qgsrasterlayer.h>
 
 #include "dem/monoplotter.h"
-#include "geometry/projection.h"
+#include "geometry/lineprojection.h"
 #include "geometrymapper.h"
 #include "processingblock.h"
 
@@ -180,112 +179,68 @@ QVariantMap ProjectToImageAlgorithm::processAlgorithm( const QVariantMap &parame
     }
     return { x, y, z };
   };
-  // A ground point in the image (x = col, y = -row); nothing when it cannot be projected.
-  const auto projectVertex = [&]( const Eigen::Vector3d & ground, Conversion & c ) -> std::optional<QgsPoint>
+  // A ground point seen from the image: with a DEM, the terrain may hide it.
+  const geostation::GroundPointViewer view = [&]( const Eigen::Vector3d & ground )
   {
-    geostation::GroundProjection p;
     if ( monoplotter )
     {
       const geostation::MapPointInImage seen = monoplotter->groundToImage( ground );
-      p = seen.projection;
-      c.allVisible &= seen.visible;
+      return geostation::GroundPointView { seen.projection, seen.visible };
     }
-    else
-      p = orientedImage.projectGroundToPixel( ground );
-    c.minDepth = std::min( c.minDepth, p.depthM );
-    c.allInFrame &= p.inFrame;
-    if ( !p.ok() )
+    return geostation::GroundPointView { orientedImage.projectGroundToPixel( ground ), true };
+  };
+  // A point feature in the image (x = col, y = -row); nothing when it cannot be projected.
+  const auto projectPoint = [&]( const Eigen::Vector3d & ground, Conversion & c ) -> std::optional<QgsPoint>
+  {
+    const geostation::GroundPointView v = view( ground );
+    c.allVisible &= v.visible;
+    c.minDepth = std::min( c.minDepth, v.projection.depthM );
+    c.allInFrame &= v.projection.inFrame;
+    if ( !v.projection.ok() )
     {
-      c.behind |= p.status == geostation::PixelProjection::Status::BehindCamera;
+      c.behind |= v.projection.status == geostation::PixelProjection::Status::BehindCamera;
       return std::nullopt;
     }
-    return QgsPoint( p.pixelInImage.x(), -p.pixelInImage.y() );
+    return QgsPoint( v.projection.pixelInImage.x(), -v.projection.pixelInImage.y() );
   };
-  // Lines are densified so straight map segments follow their curves in the photo.
-  // `otherParts`: where the other parts of a line cut into several go (a multi-line keeps them all)
+  geostation::GroundLineOptions lineOptions;
+  lineOptions.densifyPx = densifyPx;
+  // heights of inserted line points come from the DEM when the layer's came from it
+  if ( drapeLines )
+    lineOptions.heightAt = [&]( const Eigen::Vector3d & p ) { return monoplotter->demHeightAt( p ); };
+  const auto toImageLine = []( const std::vector<Eigen::Vector2d> &part )
+  {
+    QVector<QgsPoint> points;
+    for ( const Eigen::Vector2d &v : part )
+      points << QgsPoint( v.x(), -v.y() );
+    return std::make_unique<QgsLineString>( points );
+  };
+  // A line or ring (core: densified, cut or clipped where it leaves the projectable space). `otherParts`:
+  // where the other parts of a line cut into several go (a multi-line keeps them all; a single line its longest)
   const auto projectLine = [&]( const QgsLineString & line, QgsFeatureId id, Conversion & c, bool closed,
                                 std::vector<std::unique_ptr<QgsLineString>> *otherParts = nullptr ) -> std::unique_ptr<QgsLineString>
   {
     std::vector<Eigen::Vector3d> ground;
     for ( int i = 0; i < line.numPoints(); ++i )
       ground.push_back( groundOf( line.pointN( i ), id ) );
-    const double minDepthBefore = c.minDepth;
-    const auto demHeight = [&]( const Eigen::Vector3d & p ) { return monoplotter->demHeightAt( p ); };
-    const auto densify = [&]( const std::vector<Eigen::Vector3d> &vertices )
-    {
-      return geostation::densifyForImage( orientedImage, vertices, densifyPx,
-                                          drapeLines ? std::function<std::optional<double>( const Eigen::Vector3d & )>( demHeight ) : nullptr );
-    };
-    std::vector<Eigen::Vector3d> dense = densify( ground );
-    std::vector<std::optional<QgsPoint>> projected;
-    for ( const Eigen::Vector3d &g : dense )
-      projected.push_back( projectVertex( g, c ) );
-    bool all = true;
-    for ( const std::optional<QgsPoint> &p : projected )
-      all = all && p.has_value();
-    QVector<QgsPoint> pixels;
-    if ( all )
-    {
-      for ( const std::optional<QgsPoint> &p : projected )
-        pixels << *p;
-    }
-    else if ( closed )
-    {
-      // a ring is clipped in 3D to the part of space the photo can show, then densified and projected
-      std::vector<Eigen::Vector3d> ring( ground.begin(), ground.end() - ( ground.size() > 1 && ground.front() == ground.back() ? 1 : 0 ) );
-      ring = geostation::clipRingToImageField( orientedImage, ring );
-      if ( ring.empty() )
-        return nullptr;
-      ring.push_back( ring.front() );
-      Conversion clippedRing;
-      for ( const Eigen::Vector3d &g : densify( ring ) )
-      {
-        const std::optional<QgsPoint> p = projectVertex( g, clippedRing );
-        if ( !p )
-          return nullptr;
-        pixels << *p;
-      }
-      c.allInFrame = c.allInFrame && clippedRing.allInFrame;
-      c.allVisible = c.allVisible && clippedRing.allVisible;
-      c.minDepth = std::min( minDepthBefore, clippedRing.minDepth ); // of what is drawn
-      c.clipped = true;
-    }
-    else
-    {
-      // A line leaving the projectable field (behind the camera, or far outside the lens field) is cut
-      // where it leaves it; the longest part is the feature (the others kept for a multi-line)
-      Conversion probe;
-      const geostation::ProjectedPolylineParts cut = geostation::projectPolylineCut( dense, [&]( const Eigen::Vector3d & g ) -> std::optional<Eigen::Vector2d>
-      {
-        const std::optional<QgsPoint> p = projectVertex( g, probe );
-        return p ? std::optional<Eigen::Vector2d>( Eigen::Vector2d( p->x(), p->y() ) ) : std::nullopt;
-      } );
-      if ( cut.longest < 0 )
-        return nullptr;
-      const auto toLine = []( const std::vector<Eigen::Vector2d> &part )
-      {
-        QVector<QgsPoint> points;
-        for ( const Eigen::Vector2d &v : part )
-          points << QgsPoint( v.x(), v.y() );
-        return points;
-      };
-      pixels = toLine( cut.parts[cut.longest] );
-      if ( otherParts )
-        for ( int k = 0; k < static_cast<int>( cut.parts.size() ); ++k )
-          if ( k != cut.longest )
-            otherParts->push_back( std::make_unique<QgsLineString>( toLine( cut.parts[k] ) ) );
-      const size_t parts = cut.parts.size();
-      c.clipped = true;
-      c.behind = c.behind || ( parts > 1 && !otherParts );
-    }
-    if ( closed && !pixels.isEmpty() )
-      pixels.last() = pixels.first();
-    return std::make_unique<QgsLineString>( pixels );
+    lineOptions.closed = closed;
+    const geostation::ProjectedGroundLine projected = geostation::projectGroundLine( orientedImage, ground, view, lineOptions );
+    c.minDepth = std::min( c.minDepth, projected.minDepthM );
+    c.allInFrame &= projected.allInFrame;
+    c.allVisible &= projected.allVisible;
+    c.clipped |= projected.clipped;
+    c.behind |= projected.behind || ( projected.parts.size() > 1 && !otherParts );
+    if ( projected.parts.empty() )
+      return nullptr;
+    if ( otherParts )
+      for ( size_t k = 1; k < projected.parts.size(); ++k )
+        otherParts->push_back( toImageLine( projected.parts[k] ) );
+    return toImageLine( projected.parts.front() );
   };
   const auto convert = [&]( const QgsAbstractGeometry * g, QgsFeatureId id, Conversion & c )
   {
     GeoStationProcessing::GeometryMapper mapper;
-    mapper.point = [&]( const QgsPoint & p ) { return projectVertex( groundOf( p, id ), c ); };
+    mapper.point = [&]( const QgsPoint & p ) { return projectPoint( groundOf( p, id ), c ); };
     mapper.line = [&]( const QgsLineString & line, bool closed ) { return projectLine( line, id, c, closed ); };
     mapper.lineParts = [&]( const QgsLineString & line )
     {

@@ -4,6 +4,7 @@
 #include <Eigen/Geometry>
 #include <gtest/gtest.h>
 
+#include "geometry/lineprojection.h"
 #include "geometry/projection.h"
 
 using namespace geostation;
@@ -192,4 +193,69 @@ TEST( Projection, PolylineCutWhereItLeavesTheProjectableField )
   EXPECT_NEAR( cut.parts[1].back().x(), 41.0, 1e-12 );
   // nothing in the field: no part
   EXPECT_EQ( projectPolylineCut( { Eigen::Vector3d( 11, 0, 0 ), Eigen::Vector3d( 13, 0, 0 ) }, project ).longest, -1 );
+}
+
+TEST( Projection, GroundLinesAndRingsInTheImage )
+{
+  const OrientedImage image( vanCamera(), lookingNorth() );
+  const Eigen::Vector3d c = image.exterior().projectionCentre;
+  const double groundZ = c.z() - 2.5;
+  int looks = 0;
+  const GroundPointViewer plain = [&]( const Eigen::Vector3d &g )
+  {
+    ++looks;
+    return GroundPointView { image.projectGroundToPixel( g ), true };
+  };
+  GroundLineOptions options;
+  options.densifyPx = 5.0;
+
+  // a kerb line ahead: one part, densified, every pixel the projection of its ground point, nothing clipped
+  const std::vector<Eigen::Vector3d> kerb { { c.x() + 2, c.y() + 6, groundZ }, { c.x() + 2, c.y() + 40, groundZ } };
+  const ProjectedGroundLine ahead = projectGroundLine( image, kerb, plain, options );
+  ASSERT_EQ( ahead.parts.size(), 1u );
+  EXPECT_FALSE( ahead.clipped );
+  EXPECT_FALSE( ahead.behind );
+  EXPECT_GT( ahead.parts[0].size(), 2u );
+  EXPECT_LT( ( ahead.parts[0].front() - image.projectGroundToPixel( kerb.front() ).pixelInImage ).norm(), 1e-9 );
+  EXPECT_LT( ( ahead.parts[0].back() - image.projectGroundToPixel( kerb.back() ).pixelInImage ).norm(), 1e-9 );
+  for ( size_t i = 1; i < ahead.parts[0].size(); ++i )
+    EXPECT_LE( ( ahead.parts[0][i] - ahead.parts[0][i - 1] ).norm(), 5.0 + 1e-9 );
+  EXPECT_NEAR( ahead.minDepthM, image.projectGroundToPixel( kerb.front() ).depthM, 1e-9 );
+
+  // the same kerb from 15 m behind the van: cut where it leaves the projectable space, the part ahead kept
+  const std::vector<Eigen::Vector3d> through { { c.x() + 2, c.y() - 15, groundZ }, { c.x() + 2, c.y() + 40, groundZ } };
+  const ProjectedGroundLine cut = projectGroundLine( image, through, plain, options );
+  ASSERT_EQ( cut.parts.size(), 1u );
+  EXPECT_TRUE( cut.clipped );
+  EXPECT_TRUE( cut.behind );
+  EXPECT_FALSE( cut.allInFrame );
+  EXPECT_LT( ( cut.parts[0].back() - ahead.parts[0].back() ).norm(), 1e-9 );
+
+  // a ring around the van: clipped in 3-D, closed, every vertex projected
+  options.closed = true;
+  const std::vector<Eigen::Vector3d> around { { c.x() - 20, c.y() - 15, groundZ }, { c.x() + 20, c.y() - 15, groundZ },
+    { c.x() + 20, c.y() + 40, groundZ }, { c.x() - 20, c.y() + 40, groundZ } };
+  const ProjectedGroundLine ring = projectGroundLine( image, around, plain, options );
+  ASSERT_EQ( ring.parts.size(), 1u );
+  EXPECT_TRUE( ring.clipped );
+  EXPECT_EQ( ring.parts[0].front(), ring.parts[0].back() );
+  EXPECT_GT( ring.minDepthM, 0.0 ); // of the clipped ring, which lies in front
+  // and one wholly behind shows nothing
+  std::vector<Eigen::Vector3d> behindRing { { c.x() - 2, c.y() - 5, groundZ }, { c.x() + 2, c.y() - 5, groundZ }, { c.x(), c.y() - 9, groundZ } };
+  const ProjectedGroundLine gone = projectGroundLine( image, behindRing, plain, options );
+  EXPECT_TRUE( gone.parts.empty() );
+  EXPECT_FALSE( gone.clipped );
+  EXPECT_TRUE( gone.behind );
+
+  // the viewer's occlusion is carried: a terrain that hides everything beyond 20 m
+  options.closed = false;
+  const GroundPointViewer hiddenFar = [&]( const Eigen::Vector3d &g )
+  {
+    return GroundPointView { image.projectGroundToPixel( g ), g.y() < c.y() + 20 };
+  };
+  EXPECT_FALSE( projectGroundLine( image, kerb, hiddenFar, options ).allVisible );
+  EXPECT_TRUE( projectGroundLine( image, { kerb.front(), { c.x() + 2, c.y() + 15, groundZ } }, hiddenFar, options ).allVisible );
+  options.densifyPx = 0.0;
+  EXPECT_THROW( projectGroundLine( image, kerb, plain, options ), std::invalid_argument );
+  EXPECT_GT( looks, 0 );
 }
