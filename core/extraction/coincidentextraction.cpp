@@ -142,6 +142,7 @@ namespace geostation
       if ( used[i] )
         continue;
       std::optional<size_t> best;
+      std::vector<Eigen::Vector2d> bestPath; //!< the join along the band's centre
       double bestDistance = maxDistancePx;
       for ( size_t k = 0; k < ends.size(); ++k )
       {
@@ -153,36 +154,57 @@ namespace geostation
           continue;
         if ( ends[i].state.direction.dot( d ) < cosLimit * distance || ends[k].state.direction.dot( -d ) < cosLimit * distance )
           continue;
-        // nothing extracted in between (the join would cross another line), and the image between them a band of the road's
-        // width along most of the way, one side allowed to be lost in shadow
-        const Eigen::Vector2d axis = d / distance;
+        // nothing extracted along the line between them (the join would cross another line)
+        const Eigen::Vector2d p0 = ends[i].state.pixelInImage, axis = d / distance, normal = normalOf( axis );
         bool crosses = false;
         for ( double t = 3.0; t < distance - 3.0 && !crosses; t += 1.0 )
-          crosses = matrix.nearestSymbol( ends[i].state.pixelInImage + t * axis, 1.0 ).has_value();
+          crosses = matrix.nearestSymbol( p0 + t * axis, 1.0 ).has_value();
         if ( crosses )
           continue;
-        const std::optional<CrossSection> atEnd = refineAcross( grey, ends[i].state.pixelInImage - 4.0 * axis, axis, 0.5 * ( object.minWidthPx + object.maxWidthPx ), object, 3.0 );
+        const std::optional<CrossSection> atEnd = refineAcross( grey, p0 - 4.0 * axis, axis, 0.5 * ( object.minWidthPx + object.maxWidthPx ), object, 3.0 );
         const double width = atEnd ? atEnd->widthPx : 0.5 * ( object.minWidthPx + object.maxWidthPx );
         const int half = static_cast<int>( std::ceil( width ) ) + 6;
-        int samples = 0, supported = 0;
-        for ( double t = 2.0; t < distance - 1.0; t += 2.0, ++samples )
+        // the band, followed from this end: its centre's offset across the line between the ends is tracked (a
+        // curved road leaves the chord), within what the ends' courses allow
+        const double maxOffset = std::max( 2.5, 0.15 * distance );
+        constexpr double kStepPx = 2.0;
+        int samples = 0, supported = 0, gap = 0, longestGap = 0;
+        double offset = 0.0;
+        std::vector<Eigen::Vector2d> centres { p0 };
+        for ( double t = kStepPx; t < distance - 1.0; t += kStepPx, ++samples )
         {
-          const std::vector<double> profile = sampleCrossProfile( grey, ends[i].state.pixelInImage + t * axis, axis, half, object.polarity, 1.0, 3 );
+          const Eigen::Vector2d at = p0 + t * axis + offset * normal;
+          const std::vector<double> profile = sampleCrossProfile( grey, at, axis, half, object.polarity, 1.0, 3 );
+          std::optional<double> shift;
           for ( const CrossSection &c : findCrossSections( profile, 0.8 * width, 1.2 * width, 0.5 * object.minContrast, 2.0 * object.maxVariation, true ) )
-            if ( std::abs( c.offsetPx ) <= 2.5 )
-            {
-              ++supported;
-              break;
-            }
+            if ( std::abs( c.offsetPx ) <= 2.5 && std::abs( offset + c.offsetPx ) <= maxOffset && ( !shift || std::abs( c.offsetPx ) < std::abs( *shift ) ) )
+              shift = c.offsetPx;
+          if ( shift )
+          {
+            offset += *shift;
+            centres.push_back( at + *shift * normal );
+          }
+          supported += shift.has_value();
+          gap = shift ? 0 : gap + 1;
+          longestGap = std::max( longestGap, gap );
         }
-        if ( samples == 0 || supported < 0.7 * samples )
+        // the band along 70 % of the way (a long stretch with one side in shadow), or along most of it with only
+        // short interruptions - a tree's shadow across the road, a junction's mouth: at most three widths - where a
+        // false join across a field finds the band rarely and loses it for long stretches
+        const bool mostly = supported >= 0.7 * samples, brieflyInterrupted = supported >= 0.55 * samples && longestGap * kStepPx <= 3.0 * width;
+        // and the band followed from this end arrives at the other one (not beside it: a shadow strip or a verge
+        // alongside a road that is already there)
+        const bool arrives = std::abs( offset ) <= 0.5 * width;
+        if ( samples == 0 || !( mostly || brieflyInterrupted ) || !arrives )
           continue;
+        centres.push_back( ends[k].state.pixelInImage );
         bestDistance = distance;
         best = k;
+        bestPath = centres;
       }
       if ( best )
       {
-        matrix.drawPolyline( { ends[i].state.pixelInImage, ends[*best].state.pixelInImage }, symbol );
+        matrix.drawPolyline( bestPath, symbol );
         used[i] = used[*best] = true;
         ++joins;
       }

@@ -84,11 +84,17 @@ namespace geostation
   int bridgeOpenEnds( ResultMatrix &matrix, const std::string &symbols, uint8_t symbol, double kiteLengthPx, double kiteWidthPx );
 
   /**
-   * Closes long gaps (a stretch of road in shadow): two open ends within
-   * `maxDistancePx` that face each other (within 25 degrees of the line
-   * between them) are joined with `symbol` when no line lies between them
-   * and the image shows a band of the road's width along at least 70 % of
-   * the way (one side may be lost in shadow). Returns the number of joins.
+   * Closes long gaps (a stretch of road in shadow, a junction's mouth): two
+   * open ends within `maxDistancePx` that face each other (within 25
+   * degrees of the line between them) are joined with `symbol` when no line
+   * lies between them and the image shows a band of the road's width,
+   * followed from one end (its offset from the line between the ends
+   * tracked, for a curved road), along at least 70 % of the way (one side
+   * may be lost in shadow) or along 55 % with no interruption longer than
+   * three road widths (a tree's shadow across the road, a junction's mouth),
+   * and arriving within half a road width of the other end (not a strip
+   * beside it). The join is drawn along the band's centre. Returns the
+   * number of joins.
    */
   int bridgeFacingEnds( ResultMatrix &matrix, const cv::Mat &grey, const std::string &symbols, uint8_t symbol, const LineObjectOptions &object, double maxDistancePx );
 

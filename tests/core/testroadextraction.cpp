@@ -485,6 +485,8 @@ TEST( RoadExtraction, CoincidentExtractionVerifiesInThePartner )
   EXPECT_GT( e.verifiedAll.correctness, e.unverifiedAll.correctness );
   EXPECT_EQ( e.junctions, 2 );
   EXPECT_EQ( e.junctionsFound, 2 );
+  // the network's topology against the truth graph (average path-length similarity)
+  EXPECT_GT( e.topology.apls, 0.93 );
   // on the ground, 0.5 m (one pixel): below the aims of 0.85 / 0.95
   EXPECT_GT( e.onGround.completeness, 0.75 );
   EXPECT_GT( e.onGround.correctness, 0.85 );
@@ -504,6 +506,7 @@ TEST( RoadExtraction, ANetworkBuiltDifferently )
   EXPECT_GT( e.b.correctness, 0.90 );
   EXPECT_EQ( e.junctions, 3 );
   EXPECT_EQ( e.junctionsFound, 3 );
+  EXPECT_GT( e.topology.apls, 0.88 );
   EXPECT_GE( e.within2Sigma, 0.8 * e.vertices );
 }
 
@@ -677,6 +680,7 @@ TEST( RoadExtraction, FiveMorePairs )
   // the preset's layout with other terrain, trees, shadows, cars and noise (seeds): the spread of the numbers
   double completeness = 0, correctness = 0, worstCompleteness = 1, worstCorrectness = 1;
   int junctions = 0, found = 0;
+  double topology = 0.0;
   const std::vector<uint32_t> seeds { 1, 2, 4, 5, 6 };
   for ( const uint32_t seed : seeds )
   {
@@ -688,15 +692,18 @@ TEST( RoadExtraction, FiveMorePairs )
     worstCorrectness = std::min( worstCorrectness, e.a.correctness );
     junctions += e.junctions;
     found += e.junctionsFound;
+    topology += e.topology.apls;
   }
-  std::printf( "five pairs: completeness %.3f (worst %.3f), correctness %.3f (worst %.3f), junctions %d of %d within 3 m\n", completeness, worstCompleteness,
-               correctness, worstCorrectness, found, junctions );
+  std::printf( "five pairs: completeness %.3f (worst %.3f), correctness %.3f (worst %.3f), junctions %d of %d within 3 m, topology %.3f on average\n",
+               completeness, worstCompleteness, correctness, worstCorrectness, found, junctions, topology / seeds.size() );
   EXPECT_GT( completeness, 0.90 );
   EXPECT_GT( correctness, 0.95 );
   EXPECT_GT( worstCompleteness, 0.80 );
   EXPECT_GT( worstCorrectness, 0.95 );
-  // below the aim of 90 %: where a side road's last stretch is in shadow, its end is bridged short of the true junction
-  EXPECT_GE( found, junctions / 2 );
+  // the aim: 90 % of the junctions within 3 m (a road's stretch into a junction in a tree's shadow is joined along
+  // the band the image shows; one of ten is still missed)
+  EXPECT_GE( found, 0.9 * junctions );
+  EXPECT_GT( topology / seeds.size(), 0.85 );
 }
 
 TEST( RoadExtraction, TopologyMeasureSeesGapsAndFalseLinks )
