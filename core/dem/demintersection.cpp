@@ -482,6 +482,22 @@ namespace geostation
     return intersectAlongChords( ray, d, dem, blockToDem, options );
   }
 
+  std::string demIntersectionStatusName( DemIntersection::Status status )
+  {
+    switch ( status )
+    {
+      case DemIntersection::Status::Hit:
+        return "ok";
+      case DemIntersection::Status::Miss:
+        return "misses_dem";
+      case DemIntersection::Status::BelowSurface:
+        return "below_dem";
+      case DemIntersection::Status::Hole:
+        return "dem_hole";
+    }
+    return "misses_dem";
+  }
+
   GroundOfPixel demGroundOfPixel( const Dem &dem, const CrsTransform &blockToDem, const DemIntersectionOptions &options )
   {
     return [&dem, &blockToDem, options]( const OrientedImage &image, const Eigen::Vector2d &pixel ) -> std::optional<Eigen::Vector3d>

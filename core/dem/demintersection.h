@@ -57,6 +57,14 @@ namespace geostation
   };
 
   /**
+   * A per-feature status name for batch outputs (issue-free runs report
+   * "ok"): "ok" (Hit), "misses_dem" (the ray leaves the DEM or runs out of
+   * range), "below_dem" (it starts below the terrain), "dem_hole" (a hole
+   * too large to fill).
+   */
+  std::string demIntersectionStatusName( DemIntersection::Status status );
+
+  /**
    * Intersects a ray given in the block CRS with the DEM. `blockToDem` maps
    * block coordinates to the DEM's CRS (identity when they agree).
    */

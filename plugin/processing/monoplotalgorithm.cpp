@@ -14,13 +14,14 @@
 #include <qgsprocessingutils.h>
 #include <qgsrasterlayer.h>
 
+#include "dem/demintersection.h"
 #include "dem/monoplotter.h"
 #include "geometrymapper.h"
 #include "processingblock.h"
 
 namespace
 {
-  //! Monoplots one geometry; fills `worst` with the largest vertex sigmas and `problem` on failure.
+  //! Monoplots one geometry; fills `worst` with the largest vertex sigmas, and `problem` and `status` on failure.
   struct Monoplotting
   {
     const geostation::Monoplotter &monoplotter;
@@ -29,6 +30,13 @@ namespace
     Eigen::Vector3d worst = Eigen::Vector3d::Zero();
     int vertices = 0;
     QString problem;
+    QString status; //!< why not: outside_image, misses_dem, below_dem, dem_hole
+
+    void fail( const QString &why, const QString &statusName )
+    {
+      problem = why;
+      status = statusName;
+    }
 
     bool inFrame( const QgsPoint &p ) const
     {
@@ -40,7 +48,8 @@ namespace
       const geostation::MonoplotPoint g = monoplotter.imageToGround( pixel );
       if ( !g.ok() )
       {
-        problem = QObject::tr( "pixel (%1, %2): %3" ).arg( pixel.x(), 0, 'f', 1 ).arg( pixel.y(), 0, 'f', 1 ).arg( QString::fromStdString( g.message ) );
+        fail( QObject::tr( "pixel (%1, %2): %3" ).arg( pixel.x(), 0, 'f', 1 ).arg( pixel.y(), 0, 'f', 1 ).arg( QString::fromStdString( g.message ) ),
+              QString::fromStdString( geostation::demIntersectionStatusName( g.status ) ) );
         return std::nullopt;
       }
       worst = worst.cwiseMax( g.sigmaM );
@@ -55,7 +64,7 @@ namespace
       {
         if ( !inFrame( in.pointN( i ) ) )
         {
-          problem = QObject::tr( "vertex (%1, %2) lies outside the image frame" ).arg( in.xAt( i ) ).arg( in.yAt( i ) );
+          fail( QObject::tr( "vertex (%1, %2) lies outside the image frame" ).arg( in.xAt( i ) ).arg( in.yAt( i ) ), QStringLiteral( "outside_image" ) );
           return nullptr;
         }
         pixels.emplace_back( in.xAt( i ), -in.yAt( i ) );
@@ -65,7 +74,8 @@ namespace
       {
         if ( !g.ok() )
         {
-          problem = QObject::tr( "pixel (%1, %2): %3" ).arg( g.pixelInImage.x(), 0, 'f', 1 ).arg( g.pixelInImage.y(), 0, 'f', 1 ).arg( QString::fromStdString( g.message ) );
+          fail( QObject::tr( "pixel (%1, %2): %3" ).arg( g.pixelInImage.x(), 0, 'f', 1 ).arg( g.pixelInImage.y(), 0, 'f', 1 ).arg( QString::fromStdString( g.message ) ),
+                QString::fromStdString( geostation::demIntersectionStatusName( g.status ) ) );
           return nullptr;
         }
         worst = worst.cwiseMax( g.sigmaM );
@@ -84,7 +94,7 @@ namespace
       {
         if ( !inFrame( p ) )
         {
-          problem = QObject::tr( "point (%1, %2) lies outside the image frame" ).arg( p.x() ).arg( p.y() );
+          fail( QObject::tr( "point (%1, %2) lies outside the image frame" ).arg( p.x() ).arg( p.y() ), QStringLiteral( "outside_image" ) );
           return std::nullopt;
         }
         return point( { p.x(), -p.y() } );
@@ -131,7 +141,11 @@ QString MonoplotAlgorithm::shortHelpString() const
                       "filled from their neighbours.\n\n"
                       "The output is in the block CRS with Z; input attributes are kept, and sigma_x, sigma_y, sigma_z "
                       "(metres, worst vertex) propagate PIXEL_SIGMA_PX, DEM_SIGMA_M and the image's exterior-orientation "
-                      "sigmas: grazing rays far from the camera are weak, and the numbers show it." );
+                      "sigmas: grazing rays far from the camera are weak, and the numbers show it.\n\n"
+                      "Every feature gets a status: ok, or why it cannot be monoplotted - outside_image (a vertex outside "
+                      "the frame), misses_dem (a ray above the horizon or past the DEM), below_dem, dem_hole (a nodata hole "
+                      "too large to fill) - with the sentence in message; such a feature keeps its attributes with an empty "
+                      "geometry. The run fails only when no feature can be monoplotted." );
 }
 
 MonoplotAlgorithm *MonoplotAlgorithm::createInstance() const
@@ -151,6 +165,8 @@ void MonoplotAlgorithm::initAlgorithm( const QVariantMap & )
   addParameter( new QgsProcessingParameterNumber( QStringLiteral( "DEM_SIGMA_M" ), QObject::tr( "DEM height precision (m)" ), QgsProcessingParameterNumber::Double, 0.0, false, 0.0 ) );
   addParameter( new QgsProcessingParameterFeatureSink( QStringLiteral( "OUTPUT" ), QObject::tr( "Monoplotted features" ) ) );
   addOutput( new QgsProcessingOutputNumber( QStringLiteral( "FILLED_DEM_CELLS" ), QObject::tr( "DEM cells filled in holes" ) ) );
+  addOutput( new QgsProcessingOutputNumber( QStringLiteral( "MONOPLOTTED_COUNT" ), QObject::tr( "Features monoplotted" ) ) );
+  addOutput( new QgsProcessingOutputNumber( QStringLiteral( "FAILED_COUNT" ), QObject::tr( "Features that cannot be monoplotted" ) ) );
 }
 
 QVariantMap MonoplotAlgorithm::processAlgorithm( const QVariantMap &parameters, QgsProcessingContext &context, QgsProcessingFeedback *feedback )
@@ -197,10 +213,18 @@ QVariantMap MonoplotAlgorithm::processAlgorithm( const QVariantMap &parameters, 
     newFields.append( QgsField( QString::fromLatin1( name ), QVariant::Double ) );
   newFields.append( QgsField( QStringLiteral( "n_vertices" ), QVariant::Int ) );
   newFields.append( QgsField( QStringLiteral( "method" ), QVariant::String ) );
+  newFields.append( QgsField( QStringLiteral( "status" ), QVariant::String ) );
+  newFields.append( QgsField( QStringLiteral( "message" ), QVariant::String ) );
   const QgsFields fields = QgsProcessingUtils::combineFields( source->fields(), newFields );
 
-  // Everything is computed before the output is created: a bad feature leaves no file.
+  // Everything is computed before the output is created. A feature that cannot be monoplotted (a ray into a
+  // large DEM hole, above the horizon, a vertex outside the frame) is kept with an empty geometry and its
+  // status; the run fails only when no feature at all can be monoplotted, and then leaves no file.
   QVector<QgsFeature> features;
+  QMap<QString, long> statusCounts;
+  long resolved = 0, failed = 0;
+  QString firstProblem;
+  constexpr int kWarningsShown = 20;
   const double step = source->featureCount() > 0 ? 90.0 / source->featureCount() : 0.0;
   QgsFeatureIterator it = source->getFeatures();
   QgsFeature f;
@@ -212,18 +236,43 @@ QVariantMap MonoplotAlgorithm::processAlgorithm( const QVariantMap &parameters, 
     QgsAttributes attributes = f.attributes();
     mono.worst.setZero();
     mono.vertices = 0;
+    QString status = QStringLiteral( "ok" ), message;
     if ( f.hasGeometry() )
     {
-      std::unique_ptr<QgsAbstractGeometry> g = mono.geometry( f.geometry().constGet() );
-      if ( !g )
-        throw QgsProcessingException( QObject::tr( "Feature %1 cannot be monoplotted: %2" ).arg( f.id() ).arg( mono.problem ) );
-      out.setGeometry( QgsGeometry( std::move( g ) ) );
+      mono.fail( QObject::tr( "its geometry cannot be monoplotted" ), QStringLiteral( "no_solution" ) );
+      if ( std::unique_ptr<QgsAbstractGeometry> g = mono.geometry( f.geometry().constGet() ) )
+      {
+        out.setGeometry( QgsGeometry( std::move( g ) ) );
+        ++resolved;
+      }
+      else
+      {
+        status = mono.status;
+        message = QObject::tr( "Feature %1 cannot be monoplotted: %2" ).arg( f.id() ).arg( mono.problem );
+        if ( firstProblem.isEmpty() )
+          firstProblem = message;
+        if ( ++failed <= kWarningsShown )
+          feedback->pushWarning( message );
+      }
     }
-    attributes << mono.worst.x() << mono.worst.y() << mono.worst.z() << mono.vertices << QStringLiteral( "monoplot-DEM" );
+    ++statusCounts[status];
+    const bool ok = status == QLatin1String( "ok" );
+    const QVariant none;
+    attributes << ( ok ? QVariant( mono.worst.x() ) : none ) << ( ok ? QVariant( mono.worst.y() ) : none ) << ( ok ? QVariant( mono.worst.z() ) : none )
+               << mono.vertices << QStringLiteral( "monoplot-DEM" ) << status << ( message.isEmpty() ? none : QVariant( message ) );
     out.setAttributes( attributes );
     features << out;
     feedback->setProgress( step * features.size() );
   }
+
+  if ( failed > 0 && resolved == 0 )
+    throw QgsProcessingException( failed == 1 ? firstProblem : QObject::tr( "None of the %1 features can be monoplotted; the first: %2" ).arg( failed ).arg( firstProblem ) );
+  if ( failed > kWarningsShown )
+    feedback->pushWarning( QObject::tr( "… and %1 more features that cannot be monoplotted (see their status and message)." ).arg( failed - kWarningsShown ) );
+  QStringList counts;
+  for ( auto c = statusCounts.constBegin(); c != statusCounts.constEnd(); ++c )
+    counts << QStringLiteral( "%1 %2" ).arg( c.key() ).arg( c.value() );
+  feedback->pushInfo( QObject::tr( "%1 of %2 features monoplotted (%3)." ).arg( resolved ).arg( features.size() ).arg( counts.join( QLatin1String( ", " ) ) ) );
 
   QString destination;
   std::unique_ptr<QgsFeatureSink> sink( parameterAsSink( parameters, QStringLiteral( "OUTPUT" ), context, destination, fields,
@@ -241,5 +290,7 @@ QVariantMap MonoplotAlgorithm::processAlgorithm( const QVariantMap &parameters, 
   QVariantMap outputs;
   outputs.insert( QStringLiteral( "OUTPUT" ), destination );
   outputs.insert( QStringLiteral( "FILLED_DEM_CELLS" ), static_cast<double>( dem->filledCellCount() ) );
+  outputs.insert( QStringLiteral( "MONOPLOTTED_COUNT" ), static_cast<double>( resolved ) );
+  outputs.insert( QStringLiteral( "FAILED_COUNT" ), static_cast<double>( failed ) );
   return outputs;
 }

@@ -243,6 +243,11 @@ TEST( Dem, SmallHolesAreFilledLargeOnesReported )
   EXPECT_FALSE( dem.heightAt( kX0 + 660.0, kY0 - 660.0 ).has_value() );
   const DemIntersection hole = intersectRayWithDem( { { kX0 + 660.0, kY0 - 660.0, 900.0 }, { 0, 0, -1 } }, dem, same );
   EXPECT_EQ( hole.status, DemIntersection::Status::Hole ) << hole.message;
+  // batch outputs name each outcome
+  EXPECT_EQ( demIntersectionStatusName( hole.status ), "dem_hole" );
+  EXPECT_EQ( demIntersectionStatusName( DemIntersection::Status::Hit ), "ok" );
+  EXPECT_EQ( demIntersectionStatusName( DemIntersection::Status::Miss ), "misses_dem" );
+  EXPECT_EQ( demIntersectionStatusName( DemIntersection::Status::BelowSurface ), "below_dem" );
   // Filling does not depend on the tiling: small tiles give the same heights
   // everywhere around the large hole, tile borders included.
   DemOptions small;

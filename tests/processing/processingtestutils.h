@@ -23,7 +23,12 @@ class RecordingFeedback : public QgsProcessingFeedback
       warnings << warning;
       QgsProcessingFeedback::pushWarning( warning );
     }
-    QStringList errors, warnings;
+    void pushInfo( const QString &info ) override
+    {
+      infos << info;
+      QgsProcessingFeedback::pushInfo( info );
+    }
+    QStringList errors, warnings, infos;
 };
 
 //! Runs the tests of T with QGIS initialised (no GUI).

@@ -49,6 +49,7 @@ class TestMonoplotAlgorithm : public QObject
     void projectToImageKeepsEveryPartOfAMultiLine();
     void badInput_data();
     void badInput();
+    void keepsGoingPastFeaturesItCannotResolve();
 
   private:
     QString pixelLayer( const QString &name, const QList<QPair<QString, std::vector<Eigen::Vector2d>>> &features, bool line, const char *crs = nullptr );
@@ -446,3 +447,61 @@ int main( int argc, char **argv )
 }
 
 #include "testmonoplotalgorithm.moc"
+
+void TestMonoplotAlgorithm::keepsGoingPastFeaturesItCannotResolve()
+{
+  // a batch of four: two good points, one outside the frame, one above the horizon (its ray leaves the DEM);
+  // the good ones come out, the others with their status and an empty geometry
+  const Eigen::Vector3d ground( kX0 + 480.0, kY0 - 780.0, terrain( kX0 + 480.0, kY0 - 780.0 ) );
+  const Eigen::Vector2d good = mImage->projectGroundToPixel( ground ).pixelInImage;
+  QList<QPair<QString, std::vector<Eigen::Vector2d>>> points { qMakePair( QStringLiteral( "good1" ), std::vector<Eigen::Vector2d> { good } ),
+    qMakePair( QStringLiteral( "outside" ), std::vector<Eigen::Vector2d> { { 1500.0, 700.0 } } ),
+    qMakePair( QStringLiteral( "sky" ), std::vector<Eigen::Vector2d> { { 640.0, 5.0 } } ),
+    qMakePair( QStringLiteral( "good2" ), std::vector<Eigen::Vector2d> { good + Eigen::Vector2d( 30.0, 20.0 ) } ) };
+  bool ok = false;
+  RecordingFeedback feedback;
+  const QString output = mDir.filePath( "mixed-monoplotted.gpkg" );
+  const QVariantMap result = run( { { "BLOCK", mBlock }, { "IMAGE", "P1" }, { "DEM", mDir.filePath( "dem.tif" ) }, { "INPUT", pixelLayer( "mixed", points, false ) },
+    { "OUTPUT", output } }, &ok, &feedback );
+  QVERIFY2( ok, qPrintable( feedback.errors.join( '\n' ) ) );
+  QCOMPARE( result.value( "MONOPLOTTED_COUNT" ).toInt(), 2 );
+  QCOMPARE( result.value( "FAILED_COUNT" ).toInt(), 2 );
+  QgsVectorLayer layer( output, QStringLiteral( "mixed" ), QStringLiteral( "ogr" ) );
+  QVERIFY( layer.isValid() );
+  QMap<QString, QgsFeature> byName;
+  QgsFeature f;
+  QgsFeatureIterator it = layer.getFeatures();
+  while ( it.nextFeature( f ) )
+    byName[f.attribute( "name" ).toString()] = f;
+  QCOMPARE( byName.size(), 4 );
+  for ( const QString &name : { QStringLiteral( "good1" ), QStringLiteral( "good2" ) } )
+  {
+    QCOMPARE( byName[name].attribute( "status" ).toString(), QStringLiteral( "ok" ) );
+    QVERIFY( byName[name].hasGeometry() );
+    QVERIFY( byName[name].attribute( "message" ).isNull() );
+  }
+  const QgsPoint p = *byName["good1"].geometry().vertices_begin();
+  QGSCOMPARENEAR( p.x(), ground.x(), 0.3 );
+  QGSCOMPARENEAR( p.y(), ground.y(), 0.8 );
+  QCOMPARE( byName["outside"].attribute( "status" ).toString(), QStringLiteral( "outside_image" ) );
+  QCOMPARE( byName["sky"].attribute( "status" ).toString(), QStringLiteral( "misses_dem" ) );
+  for ( const QString &name : { QStringLiteral( "outside" ), QStringLiteral( "sky" ) } )
+  {
+    QVERIFY( !byName[name].hasGeometry() || byName[name].geometry().isEmpty() );
+    QVERIFY( byName[name].attribute( "sigma_z" ).isNull() );
+    QVERIFY( byName[name].attribute( "message" ).toString().contains( "cannot be monoplotted" ) );
+  }
+  // a warning per failed feature and the counts in the log, not an error
+  QVERIFY( feedback.errors.isEmpty() );
+  QCOMPARE( feedback.warnings.size(), 2 );
+  QVERIFY2( feedback.infos.join( ' ' ).contains( "2 of 4 features monoplotted" ), qPrintable( feedback.infos.join( '\n' ) ) );
+
+  // all of them failing: one sentence, no file
+  const QString never = mDir.filePath( "never-all-failing.gpkg" );
+  RecordingFeedback failing;
+  run( { { "BLOCK", mBlock }, { "IMAGE", "P1" }, { "DEM", mDir.filePath( "dem.tif" ) },
+    { "INPUT", pixelLayer( "all-failing", { points[1], points[2] }, false ) }, { "OUTPUT", never } }, &ok, &failing );
+  QVERIFY( !ok );
+  QVERIFY2( failing.errors.join( ' ' ).contains( "None of the 2 features" ), qPrintable( failing.errors.join( '\n' ) ) );
+  QVERIFY( !QFile::exists( never ) );
+}
