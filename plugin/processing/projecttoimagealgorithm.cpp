@@ -3,6 +3,7 @@
  ***************************************************************************/
 #include "projecttoimagealgorithm.h"
 
+#include <algorithm>
 #include <cmath>
 #include <functional>
 #include <limits>
@@ -47,6 +48,14 @@ namespace
     bool inFrame = false;
     bool visible = false;
     QVariant col, row, depthM;
+    QString status = QStringLiteral( "ok" ); //!< or why not: behind_camera, outside_field, no_height, outside_dem, transform_failed
+    QString message;
+  };
+
+  //! Why one feature cannot be projected (the others go on).
+  struct FeatureProblem
+  {
+    QString status, message;
   };
 } // namespace
 
@@ -92,7 +101,10 @@ QString ProjectToImageAlgorithm::shortHelpString() const
                       "counted in CLIPPED_COUNT. A line cut into several parts keeps its longest part, a part of a "
                       "multi-line keeps all of them.\n\n"
                       "With a DEM, points without Z take the DEM's height, and visible tells whether the terrain hides "
-                      "the point from the camera. Without a DEM no occlusion test is possible, so visible = in_frame." );
+                      "the point from the camera. Without a DEM no occlusion test is possible, so visible = in_frame.\n\n"
+                      "Every feature gets a status - ok, behind_camera, outside_field, or, for a feature that cannot be "
+                      "placed at all, no_height, outside_dem or transform_failed with the sentence in message - and the "
+                      "others go on. The run fails only when no feature is projected because of such problems." );
 }
 
 ProjectToImageAlgorithm *ProjectToImageAlgorithm::createInstance() const
@@ -113,6 +125,7 @@ void ProjectToImageAlgorithm::initAlgorithm( const QVariantMap & )
   addOutput( new QgsProcessingOutputNumber( QStringLiteral( "IN_FRAME_COUNT" ), QObject::tr( "Features in the frame" ) ) );
   addOutput( new QgsProcessingOutputNumber( QStringLiteral( "BEHIND_CAMERA_COUNT" ), QObject::tr( "Features behind the camera" ) ) );
   addOutput( new QgsProcessingOutputNumber( QStringLiteral( "CLIPPED_COUNT" ), QObject::tr( "Lines and polygons cut at the camera plane" ) ) );
+  addOutput( new QgsProcessingOutputNumber( QStringLiteral( "UNRESOLVED_COUNT" ), QObject::tr( "Features without a height, outside the DEM or not transformable" ) ) );
 }
 
 QVariantMap ProjectToImageAlgorithm::processAlgorithm( const QVariantMap &parameters, QgsProcessingContext &context, QgsProcessingFeedback *feedback )
@@ -158,7 +171,7 @@ QVariantMap ProjectToImageAlgorithm::processAlgorithm( const QVariantMap &parame
     double x = vertex.x(), y = vertex.y(), z = vertex.z();
     const bool drape = std::isnan( z );
     if ( drape && !dem )
-      throw QgsProcessingException( QObject::tr( "Feature %1 has no Z value; without a DEM every vertex needs a height." ).arg( id ) );
+      throw FeatureProblem { QStringLiteral( "no_height" ), QObject::tr( "Feature %1 has no Z value; without a DEM every vertex needs a height." ).arg( id ) };
     try
     {
       if ( drape )
@@ -167,14 +180,14 @@ QVariantMap ProjectToImageAlgorithm::processAlgorithm( const QVariantMap &parame
     }
     catch ( const QgsCsException & )
     {
-      throw QgsProcessingException( QObject::tr( "Feature %1 cannot be transformed from %2 to the block CRS %3." )
-                                    .arg( id ).arg( sourceCrs.userFriendlyIdentifier(), blockCrs.userFriendlyIdentifier() ) );
+      throw FeatureProblem { QStringLiteral( "transform_failed" ), QObject::tr( "Feature %1 cannot be transformed from %2 to the block CRS %3." )
+                             .arg( id ).arg( sourceCrs.userFriendlyIdentifier(), blockCrs.userFriendlyIdentifier() ) };
     }
     if ( drape )
     {
       const std::optional<double> h = monoplotter->demHeightAt( Eigen::Vector3d( x, y, 0.0 ) );
       if ( !h )
-        throw QgsProcessingException( QObject::tr( "Feature %1 has no Z value and lies outside the DEM." ).arg( id ) );
+        throw FeatureProblem { QStringLiteral( "outside_dem" ), QObject::tr( "Feature %1 has no Z value and lies outside the DEM." ).arg( id ) };
       z = *h;
     }
     return { x, y, z };
@@ -260,7 +273,8 @@ QVariantMap ProjectToImageAlgorithm::processAlgorithm( const QVariantMap &parame
   const double step = source->featureCount() > 0 ? 90.0 / source->featureCount() : 0;
   QgsFeatureIterator it = source->getFeatures( QgsFeatureRequest(), QgsProcessingFeatureSource::FlagSkipGeometryValidityChecks );
   QgsFeature feature;
-  long long behindCount = 0, outsideFieldCount = 0, clippedCount = 0;
+  long long behindCount = 0, outsideFieldCount = 0, clippedCount = 0, unresolvedCount = 0;
+  QString firstProblem;
   while ( it.nextFeature( feature ) )
   {
     if ( feedback->isCanceled() )
@@ -270,14 +284,27 @@ QVariantMap ProjectToImageAlgorithm::processAlgorithm( const QVariantMap &parame
     if ( feature.hasGeometry() )
     {
       Conversion c;
-      std::unique_ptr<QgsAbstractGeometry> inImage = convert( feature.geometry().constGet(), feature.id(), c );
-      out.depthM = std::isfinite( c.minDepth ) ? QVariant( c.minDepth ) : QVariant();
-      if ( !inImage )
+      std::unique_ptr<QgsAbstractGeometry> inImage;
+      try
       {
-        behindCount += c.behind ? 1 : 0;
-        outsideFieldCount += !c.behind ? 1 : 0;
+        inImage = convert( feature.geometry().constGet(), feature.id(), c );
+        out.depthM = std::isfinite( c.minDepth ) ? QVariant( c.minDepth ) : QVariant();
+        if ( !inImage )
+        {
+          behindCount += c.behind ? 1 : 0;
+          outsideFieldCount += !c.behind ? 1 : 0;
+          out.status = c.behind ? QStringLiteral( "behind_camera" ) : QStringLiteral( "outside_field" );
+        }
       }
-      else
+      catch ( const FeatureProblem &problem )
+      {
+        out.status = problem.status;
+        out.message = problem.message;
+        if ( ++unresolvedCount <= 20 )
+          feedback->pushWarning( problem.message );
+        firstProblem = firstProblem.isEmpty() ? problem.message : firstProblem;
+      }
+      if ( inImage )
       {
         clippedCount += c.clipped ? 1 : 0;
         out.projected = true;
@@ -296,12 +323,21 @@ QVariantMap ProjectToImageAlgorithm::processAlgorithm( const QVariantMap &parame
     feedback->setProgress( step * static_cast<double>( results.size() ) );
   }
 
+  // a feature that cannot be projected is kept with its status; with no feature projected because of such
+  // problems (no height, outside the DEM, a failed transform), the input is wrong: one sentence, no file
+  if ( unresolvedCount > 0 && std::none_of( results.begin(), results.end(), []( const ProjectedFeature & r ) { return r.projected; } ) )
+    throw QgsProcessingException( unresolvedCount == 1 ? firstProblem : QObject::tr( "None of the %1 features can be projected; the first: %2" ).arg( unresolvedCount ).arg( firstProblem ) );
+  if ( unresolvedCount > 20 )
+    feedback->pushWarning( QObject::tr( "… and %1 more features that cannot be projected (see their status and message)." ).arg( unresolvedCount - 20 ) );
+
   QgsFields newFields;
   newFields.append( QgsField( QStringLiteral( "col" ), QVariant::Double ) );
   newFields.append( QgsField( QStringLiteral( "row" ), QVariant::Double ) );
   newFields.append( QgsField( QStringLiteral( "depth_m" ), QVariant::Double ) );
   newFields.append( QgsField( QStringLiteral( "in_frame" ), QVariant::Bool ) );
   newFields.append( QgsField( QStringLiteral( "visible" ), QVariant::Bool ) );
+  newFields.append( QgsField( QStringLiteral( "status" ), QVariant::String ) );
+  newFields.append( QgsField( QStringLiteral( "message" ), QVariant::String ) );
   const QgsFields outFields = QgsProcessingUtils::combineFields( source->fields(), newFields );
   const QgsWkbTypes::Type outType = QgsWkbTypes::flatType( source->wkbType() );
 
@@ -314,7 +350,7 @@ QVariantMap ProjectToImageAlgorithm::processAlgorithm( const QVariantMap &parame
   for ( ProjectedFeature &r : results )
   {
     QgsAttributes attributes = r.feature.attributes();
-    attributes << r.col << r.row << r.depthM << QVariant( r.inFrame ) << QVariant( r.visible );
+    attributes << r.col << r.row << r.depthM << QVariant( r.inFrame ) << QVariant( r.visible ) << r.status << ( r.message.isEmpty() ? QVariant() : QVariant( r.message ) );
     QgsFeature outFeature( outFields );
     outFeature.setAttributes( attributes );
     if ( r.projected )
@@ -343,5 +379,6 @@ QVariantMap ProjectToImageAlgorithm::processAlgorithm( const QVariantMap &parame
   outputs.insert( QStringLiteral( "IN_FRAME_COUNT" ), inFrameCount );
   outputs.insert( QStringLiteral( "BEHIND_CAMERA_COUNT" ), behindCount );
   outputs.insert( QStringLiteral( "CLIPPED_COUNT" ), clippedCount );
+  outputs.insert( QStringLiteral( "UNRESOLVED_COUNT" ), unresolvedCount );
   return outputs;
 }

@@ -207,6 +207,11 @@ void TestMonoplotAlgorithm::projectToImageDrapesAndTestsOcclusion()
       layer->dataProvider()->addFeature( f );
       truth.insert( QStringLiteral( "m%1" ).arg( k ), expected.groundToImage( { x, y, *dem.heightAt( x, y ) } ) );
     }
+  // and one off the DEM's west edge: no height for it, the others go on (issue: batches keep going)
+  QgsFeature offDem( layer->fields() );
+  offDem.setGeometry( QgsGeometry( new QgsPoint( kX0 - 50.0, kY0 - 500.0 ) ) );
+  offDem.setAttribute( 0, QStringLiteral( "off the DEM" ) );
+  layer->dataProvider()->addFeature( offDem );
   QgsProject::instance()->addMapLayer( layer );
   bool ok = false;
   RecordingFeedback feedback;
@@ -221,7 +226,15 @@ void TestMonoplotAlgorithm::projectToImageDrapesAndTestsOcclusion()
   QgsFeatureIterator it = out->getFeatures();
   while ( it.nextFeature( f ) )
   {
+    if ( f.attribute( "name" ).toString() == QLatin1String( "off the DEM" ) )
+    {
+      QCOMPARE( f.attribute( "status" ).toString(), QStringLiteral( "outside_dem" ) );
+      QVERIFY( f.attribute( "message" ).toString().contains( "outside the DEM" ) );
+      QVERIFY( !f.hasGeometry() );
+      continue;
+    }
     const geostation::MapPointInImage &t = truth[f.attribute( "name" ).toString()];
+    QVERIFY( f.attribute( "status" ).toString() != QLatin1String( "outside_dem" ) );
     QCOMPARE( f.attribute( "in_frame" ).toBool(), t.projection.inFrame );
     QCOMPARE( f.attribute( "visible" ).toBool(), t.visible );
     if ( t.projection.ok() )
@@ -231,6 +244,8 @@ void TestMonoplotAlgorithm::projectToImageDrapesAndTestsOcclusion()
   }
   QVERIFY( visible > 10 );
   QVERIFY( hidden > 3 );
+  QCOMPARE( result.value( "UNRESOLVED_COUNT" ).toInt(), 1 );
+  QCOMPARE( feedback.warnings.filter( "outside the DEM" ).size(), 1 );
 }
 
 void TestMonoplotAlgorithm::projectToImageDensifiesLinesAndPolygons()

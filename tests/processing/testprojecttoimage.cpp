@@ -153,7 +153,7 @@ void TestProjectToImage::projectsHandComputedPixels()
   QgsVectorLayer *out = qobject_cast<QgsVectorLayer *>( QgsProcessingUtils::mapLayerFromString( result.value( "OUTPUT" ).toString(), mContext ) );
   QVERIFY( out );
   QCOMPARE( out->wkbType(), QgsWkbTypes::Point );
-  QCOMPARE( out->fields().names(), QStringList( { "name", "col", "row", "depth_m", "in_frame", "visible" } ) );
+  QCOMPARE( out->fields().names(), QStringList( { "name", "col", "row", "depth_m", "in_frame", "visible", "status", "message" } ) );
 
   QMap<QString, QgsFeature> byName;
   QgsFeature f;
@@ -185,7 +185,10 @@ void TestProjectToImage::projectsHandComputedPixels()
   QVERIFY( !byName["outside"].attribute( "in_frame" ).toBool() );
   QVERIFY( !byName["outside"].attribute( "visible" ).toBool() );
 
+  QCOMPARE( byName["pole"].attribute( "status" ).toString(), QStringLiteral( "ok" ) );
+  QCOMPARE( byName["outside"].attribute( "status" ).toString(), QStringLiteral( "ok" ) ); // projected, out of the frame
   // above the camera: behind it, never projected
+  QCOMPARE( byName["above camera"].attribute( "status" ).toString(), QStringLiteral( "behind_camera" ) );
   QVERIFY( !byName["above camera"].hasGeometry() );
   QVERIFY( !byName["above camera"].attribute( "in_frame" ).toBool() );
   QVERIFY( byName["above camera"].attribute( "col" ).isNull() );
