@@ -44,6 +44,26 @@ namespace geostation
     }
   } // namespace
 
+  std::string intersectionStatusName( IntersectionSummary::Status status )
+  {
+    switch ( status )
+    {
+      case IntersectionSummary::Status::Ok:
+        return "ok";
+      case IntersectionSummary::Status::TooFewRays:
+        return "too_few_rays";
+      case IntersectionSummary::Status::RayUndefined:
+        return "ray_undefined";
+      case IntersectionSummary::Status::ParallelRays:
+        return "parallel_rays";
+      case IntersectionSummary::Status::BehindCamera:
+        return "behind_camera";
+      case IntersectionSummary::Status::NotConverged:
+        return "no_solution";
+    }
+    return "no_solution";
+  }
+
   IntersectionSummary intersectRays( const std::vector<RayObservation> &observations, const IntersectionOptions &options )
   {
     for ( const RayObservation &o : observations )

@@ -85,6 +85,13 @@ namespace geostation
    */
   IntersectionSummary intersectRays( const std::vector<RayObservation> &observations, const IntersectionOptions &options = IntersectionOptions() );
 
+  /**
+   * A per-point status name for batch outputs: "ok", "too_few_rays",
+   * "ray_undefined", "parallel_rays", "behind_camera", "no_solution" (not
+   * converged).
+   */
+  std::string intersectionStatusName( IntersectionSummary::Status status );
+
   //! A plane n . X = offset (n need not be unit length).
   struct Plane
   {

@@ -52,8 +52,10 @@ QString IntersectAlgorithm::shortHelpString() const
                       "The output (PointZ, block CRS) has point_id, n_images, sigma_x, sigma_y, sigma_z (metres, from the "
                       "pixel sigmas), rms_px and max_resid_px (image residuals), ray_angle_deg (the largest angle between two "
                       "rays: small angles mean weak depth), sigma0, gross_error (a normalised residual above 4) and suspect_image "
-                      "(the image most likely wrong, when three or more rays allow telling). Points seen in one image only, "
-                      "or whose rays are parallel or meet behind a camera, are skipped with a warning." );
+                      "(the image most likely wrong, when three or more rays allow telling), and status: ok, or why the point "
+                      "cannot be intersected - too_few_rays (seen in one image), parallel_rays, behind_camera, ray_undefined, "
+                      "no_solution - with the sentence in message; such a point is kept without geometry, with a warning. "
+                      "The run fails only when no point can be intersected." );
 }
 
 IntersectAlgorithm *IntersectAlgorithm::createInstance() const
@@ -109,6 +111,8 @@ QVariantMap IntersectAlgorithm::processAlgorithm( const QVariantMap &parameters,
     fields.append( QgsField( QString::fromLatin1( name ), QVariant::Double ) );
   fields.append( QgsField( QStringLiteral( "gross_error" ), QVariant::Bool ) );
   fields.append( QgsField( QStringLiteral( "suspect_image" ), QVariant::String ) );
+  fields.append( QgsField( QStringLiteral( "status" ), QVariant::String ) );
+  fields.append( QgsField( QStringLiteral( "message" ), QVariant::String ) );
   // The observation table's other fields, except those whose names the output already uses.
   QVector<int> carried;
   for ( int e = 0; e < table.extraFields.count(); ++e )
@@ -120,6 +124,8 @@ QVariantMap IntersectAlgorithm::processAlgorithm( const QVariantMap &parameters,
 
   QVector<QgsFeature> features;
   QStringList skipped;
+  long intersected = 0;
+  QMap<QString, long> statusCounts;
   for ( int k = 0; k < order.size(); ++k )
   {
     if ( feedback->isCanceled() )
@@ -133,20 +139,29 @@ QVariantMap IntersectAlgorithm::processAlgorithm( const QVariantMap &parameters,
       observations.push_back( { images[r.imageId].get(), r.pixel, r.sigmaPx > 0.0 ? r.sigmaPx : defaultSigma } );
     }
     const geostation::IntersectionSummary s = geostation::intersectRays( observations );
+    const QString status = QString::fromStdString( geostation::intersectionStatusName( s.status ) );
+    ++statusCounts[status];
+    QgsFeature f( fields );
+    QgsAttributes attributes;
+    const QVariant none;
     if ( !s.ok() )
     {
+      // kept with an empty geometry and why (one point that cannot be intersected does not stop the others)
       skipped << QStringLiteral( "%1 (%2)" ).arg( pointId, QString::fromStdString( s.message ) );
-      continue;
+      attributes << pointId << static_cast<int>( observations.size() ) << none << none << none << none << none << none << none << none << none << status
+                 << QString::fromStdString( s.message );
     }
-    QString suspect;
-    for ( size_t i = 0; i < s.residuals.size(); ++i )
-      if ( s.residuals[i].suspect )
-        suspect = table.rows[rows[static_cast<int>( i )]].imageId;
-    QgsFeature f( fields );
-    f.setGeometry( QgsGeometry( new QgsPoint( s.point.x(), s.point.y(), s.point.z() ) ) );
-    QgsAttributes attributes;
-    attributes << pointId << static_cast<int>( observations.size() ) << s.sigmaM.x() << s.sigmaM.y() << s.sigmaM.z() << s.rmsPx << s.maxResidualPx
-               << s.maxRayAngleDeg << s.sigma0 << s.grossError << ( suspect.isEmpty() ? QVariant() : QVariant( suspect ) );
+    else
+    {
+      ++intersected;
+      QString suspect;
+      for ( size_t i = 0; i < s.residuals.size(); ++i )
+        if ( s.residuals[i].suspect )
+          suspect = table.rows[rows[static_cast<int>( i )]].imageId;
+      f.setGeometry( QgsGeometry( new QgsPoint( s.point.x(), s.point.y(), s.point.z() ) ) );
+      attributes << pointId << static_cast<int>( observations.size() ) << s.sigmaM.x() << s.sigmaM.y() << s.sigmaM.z() << s.rmsPx << s.maxResidualPx
+                 << s.maxRayAngleDeg << s.sigma0 << s.grossError << ( suspect.isEmpty() ? none : QVariant( suspect ) ) << status << none;
+    }
     const GeoStationProcessing::ObservationRecord &first = table.rows[rows.first()];
     for ( int e : carried )
       attributes << first.extra.value( e );
@@ -154,7 +169,7 @@ QVariantMap IntersectAlgorithm::processAlgorithm( const QVariantMap &parameters,
     features << f;
     feedback->setProgress( 90.0 * ( k + 1 ) / order.size() );
   }
-  if ( features.isEmpty() )
+  if ( intersected == 0 )
     throw QgsProcessingException( order.isEmpty() ? QObject::tr( "The observations table is empty." )
                                   : QObject::tr( "No point could be intersected: %1" ).arg( skipped.mid( 0, 5 ).join( QLatin1String( "; " ) ) ) );
 
@@ -171,15 +186,19 @@ QVariantMap IntersectAlgorithm::processAlgorithm( const QVariantMap &parameters,
   int grossErrors = 0;
   for ( const QgsFeature &f : features )
     grossErrors += f.attribute( QStringLiteral( "gross_error" ) ).toBool() ? 1 : 0;
-  feedback->pushInfo( QObject::tr( "%1 points intersected from %2 observations." ).arg( features.size() ).arg( table.rows.size() ) );
+  QStringList counts;
+  for ( auto c = statusCounts.constBegin(); c != statusCounts.constEnd(); ++c )
+    counts << QStringLiteral( "%1 %2" ).arg( c.key() ).arg( c.value() );
+  feedback->pushInfo( QObject::tr( "%1 of %2 points intersected from %3 observations (%4)." ).arg( intersected ).arg( features.size() ).arg( table.rows.size() )
+                      .arg( counts.join( QLatin1String( ", " ) ) ) );
   if ( grossErrors )
     feedback->pushWarning( QObject::tr( "%1 points show a gross error (see gross_error and suspect_image)." ).arg( grossErrors ) );
   if ( !skipped.isEmpty() )
-    feedback->pushWarning( QObject::tr( "%1 points skipped: %2" ).arg( skipped.size() ).arg( skipped.mid( 0, 10 ).join( QLatin1String( "; " ) ) ) );
+    feedback->pushWarning( QObject::tr( "%1 points cannot be intersected (kept with their status and message, without geometry): %2" ).arg( skipped.size() ).arg( skipped.mid( 0, 10 ).join( QLatin1String( "; " ) ) ) );
 
   QVariantMap outputs;
   outputs.insert( QStringLiteral( "OUTPUT" ), destination );
-  outputs.insert( QStringLiteral( "POINT_COUNT" ), features.size() );
+  outputs.insert( QStringLiteral( "POINT_COUNT" ), static_cast<qlonglong>( intersected ) );
   outputs.insert( QStringLiteral( "SKIPPED_COUNT" ), skipped.size() );
   return outputs;
 }
