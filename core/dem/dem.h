@@ -58,6 +58,8 @@ namespace geostation
       std::optional<double> heightAt( double x, double y ) const;
 
       int tileSize() const { return mOptions.tileSize; }
+      //! Holes up to about twice this many cells across are filled from their neighbours.
+      int holeFillHalo() const { return mOptions.holeFillHalo; }
 
       //! Cells per side of the blocks whose maximum heights a tile keeps.
       static constexpr int kBlockSize = 8;

@@ -3,6 +3,8 @@
  ***************************************************************************/
 #include "dem/demintersection.h"
 
+#include <sstream>
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -315,10 +317,17 @@ namespace geostation
       return "the ray does not meet the DEM within " + std::to_string( static_cast<long>( options.maxRangeM ) ) + " m";
     }
 
-    void setHole( DemIntersection &result )
+    //! The fill limit in cells and in the DEM's ground units, for the message.
+    void setHole( DemIntersection &result, const Dem &dem )
     {
       result.status = DemIntersection::Status::Hole;
-      result.message = "the ray meets a hole in the DEM too large to fill";
+      const int cells = 2 * dem.holeFillHalo();
+      const double across = cells * std::abs( dem.geoTransform()[1] );
+      std::ostringstream limit;
+      limit.precision( dem.isGeographic() ? 3 : 0 );
+      limit << std::fixed << ( dem.isGeographic() ? across * 3600.0 : across ) << ( dem.isGeographic() ? " arc seconds" : " m" );
+      result.message = "the ray meets a nodata hole in the DEM too large to fill (holes up to about " + std::to_string( cells ) + " cells, " + limit.str() +
+                       ", across are filled from their neighbours)";
     }
 
     Eigen::Vector2d gridPoint( const Dem &dem, const Eigen::Vector3d &inDem )
@@ -355,7 +364,7 @@ namespace geostation
       else if ( walk.hit )
         setHit( result, ray, d, *walk.hit );
       else if ( walk.hole )
-        setHole( result );
+        setHole( result, dem );
       else
         result.message = exits ? "the ray leaves the DEM without meeting it" : outOfRange( options );
       return result;
@@ -447,7 +456,7 @@ namespace geostation
           }
           if ( walk.hole )
           {
-            setHole( result );
+            setHole( result, dem );
             return result;
           }
           if ( exits )

@@ -243,6 +243,8 @@ TEST( Dem, SmallHolesAreFilledLargeOnesReported )
   EXPECT_FALSE( dem.heightAt( kX0 + 660.0, kY0 - 660.0 ).has_value() );
   const DemIntersection hole = intersectRayWithDem( { { kX0 + 660.0, kY0 - 660.0, 900.0 }, { 0, 0, -1 } }, dem, same );
   EXPECT_EQ( hole.status, DemIntersection::Status::Hole ) << hole.message;
+  // the message states the fill limit: 2 x 16 cells of 2 m
+  EXPECT_NE( hole.message.find( "32 cells, 64 m" ), std::string::npos ) << hole.message;
   // batch outputs name each outcome
   EXPECT_EQ( demIntersectionStatusName( hole.status ), "dem_hole" );
   EXPECT_EQ( demIntersectionStatusName( DemIntersection::Status::Hit ), "ok" );
