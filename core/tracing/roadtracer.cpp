@@ -5,7 +5,9 @@
 #include "tracing/dynamiclink.h"
 #include "tracing/trackgeometry.h"
 
+#include <algorithm>
 #include <cmath>
+#include <deque>
 #include <limits>
 #include <set>
 #include <stdexcept>
@@ -20,6 +22,23 @@ namespace geostation
   namespace
   {
     double horizontalDistance( const Eigen::Vector3d &a, const Eigen::Vector3d &b ) { return ( a - b ).head<2>().norm(); }
+
+    //! A station traced before, kept so that the next stations' vertices can be observed in its images.
+    struct StationBehind
+    {
+      std::string stationId;
+      std::vector<std::string> imageIds;
+      std::vector<OrientedImage> images;
+      std::vector<std::shared_ptr<const cv::Mat>> greys;
+
+      StationView view() const
+      {
+        StationView v { stationId, {} };
+        for ( size_t i = 0; i < images.size(); ++i )
+          v.images.push_back( { imageIds[i], &images[i], greys[i].get() } );
+        return v;
+      }
+    };
 
     //! The image of a station taken by a camera; nullptr if none.
     const BlockImage *stationImage( const Block &block, const SequenceStation &station, const std::string &cameraId )
@@ -55,6 +74,31 @@ namespace geostation
         }
       }
       return best;
+    }
+
+    /**
+     * `forward` preceded by `backward` (followed the other way from the same
+     * start) reversed: one line in forward order.
+     */
+    void joinBackward( const FollowResult &backward, FollowResult &forward )
+    {
+      if ( backward.points.size() < 2 )
+        return;
+      std::vector<Eigen::Vector2d> both( backward.points.rbegin(), backward.points.rend() );
+      std::vector<double> bothSigma( backward.sigmaPx.rbegin(), backward.sigmaPx.rend() );
+      const size_t skip = !forward.points.empty() && ( forward.points.front() - both.back() ).norm() < 1.0 ? 1 : 0;
+      both.insert( both.end(), forward.points.begin() + std::min( skip, forward.points.size() ), forward.points.end() );
+      bothSigma.insert( bothSigma.end(), forward.sigmaPx.begin() + std::min( skip, forward.sigmaPx.size() ), forward.sigmaPx.end() );
+      // bridged flags: reversed, the flag of the segment ending at point i + 1 is the original's of point n - 1 - i
+      const size_t n = backward.points.size();
+      std::vector<bool> bothBridged( n, false );
+      for ( size_t i = 0; i + 1 < n; ++i )
+        bothBridged[i + 1] = n - 1 - i < backward.bridged.size() && backward.bridged[n - 1 - i];
+      for ( size_t i = std::min( skip, forward.points.size() ); i < forward.points.size(); ++i )
+        bothBridged.push_back( i > 0 && i < forward.bridged.size() && forward.bridged[i] );
+      forward.points = both;
+      forward.sigmaPx = bothSigma;
+      forward.bridged = bothBridged;
     }
 
     //! The pixel polyline's length on the ground, or 0.
@@ -139,6 +183,7 @@ namespace geostation
     Eigen::Vector3d lineDirection = Eigen::Vector3d::Zero();
     std::optional<Eigen::Vector3d> previousCentre; // the last station's reference camera
     int consecutiveLost = 0;
+    std::deque<StationBehind> behind; // the stations traced before, nearest first
 
     if ( !referenceGrey )
     {
@@ -261,6 +306,20 @@ namespace geostation
           }
         }
       }
+      // a gap between the line so far and this station's start (the last station lost the line early): followed
+      // back from the start too, towards the camera, where this station sees the line best
+      if ( startGround && keep > 0 && keep <= out.vertices.size() && followed.line.points.size() >= 2 &&
+           horizontalDistance( *startGround, out.vertices[keep - 1].point ) > options.backfillGapM )
+      {
+        FollowRequest backwardRequest = request;
+        backwardRequest.direction = -request.direction;
+        if ( profile.kind == LineKind::Edge )
+          backwardRequest.profile.polarity = -profile.polarity;
+        // (auto: polynomial strips, the most precise; the skeleton's end pixels stray)
+        const LineFollowResult backward = followLine( *referenceGrey, backwardRequest, options.method == TraceMethod::Auto ? TraceMethod::Polynomial : method, follow );
+        followed.line.pixelsFollowed += backward.line.pixelsFollowed;
+        joinBackward( backward.line, followed.line );
+      }
       TracedStation record;
       record.stationId = station.id;
       record.referenceImageId = referenceImage->id;
@@ -330,28 +389,49 @@ namespace geostation
       if ( profile.kind == LineKind::Edge )
         backwardRequest.profile.polarity = -profile.polarity;
       const LineFollowResult backward = followLine( *partnerGrey, backwardRequest, method, partnerFollow );
-      if ( backward.line.points.size() >= 2 )
-      {
-        std::vector<Eigen::Vector2d> both( backward.line.points.rbegin(), backward.line.points.rend() );
-        std::vector<double> bothSigma( backward.line.sigmaPx.rbegin(), backward.line.sigmaPx.rend() );
-        const size_t skip = !partnerLine.line.points.empty() && ( partnerLine.line.points.front() - both.back() ).norm() < 1.0 ? 1 : 0;
-        both.insert( both.end(), partnerLine.line.points.begin() + std::min( skip, partnerLine.line.points.size() ), partnerLine.line.points.end() );
-        bothSigma.insert( bothSigma.end(), partnerLine.line.sigmaPx.begin() + std::min( skip, partnerLine.line.sigmaPx.size() ), partnerLine.line.sigmaPx.end() );
-        // bridged flags: reversed, the flag of the segment ending at point i + 1 is the original's of point n - 1 - i
-        const size_t n = backward.line.points.size();
-        std::vector<bool> bothBridged( n, false );
-        for ( size_t i = 0; i + 1 < n; ++i )
-          bothBridged[i + 1] = n - 1 - i < backward.line.bridged.size() && backward.line.bridged[n - 1 - i];
-        for ( size_t i = std::min( skip, partnerLine.line.points.size() ); i < partnerLine.line.points.size(); ++i )
-          bothBridged.push_back( i > 0 && i < partnerLine.line.bridged.size() && partnerLine.line.bridged[i] );
-        partnerLine.line.points = both;
-        partnerLine.line.sigmaPx = bothSigma;
-        partnerLine.line.bridged = bothBridged;
-      }
+      joinBackward( backward.line, partnerLine.line );
       VertexMatchOptions vertexOptions = options.vertices;
       if ( profile.kind != LineKind::Edge )
         vertexOptions.pixelSigmaFloorPx = std::max( vertexOptions.pixelSigmaFloorPx, options.stripeSigmaFloorPx );
       vertices = intersectLineVertices( ref, points, sigmas, par, partnerLine.line, ground, vertexOptions );
+      MultiStationOptions multi = options.multiStation;
+      multi.sigmaFloorPx = std::max( multi.sigmaFloorPx, vertexOptions.pixelSigmaFloorPx );
+      if ( vertices.size() < points.size() )
+      {
+        // where the partner's line does not reach: the line located across the prediction in the partner
+        std::vector<Eigen::Vector2d> missing;
+        std::vector<double> missingSigmas;
+        for ( size_t i = 0; i < points.size(); ++i )
+          if ( std::none_of( vertices.begin(), vertices.end(), [&]( const LineVertex3d &v ) { return v.pixelInReference == points[i]; } ) )
+          {
+            missing.push_back( points[i] );
+            missingSigmas.push_back( sigmas[i] );
+          }
+        const std::vector<LineVertex3d> located = verticesByLocatingInPartner( missing, missingSigmas, StationView { station.id, { ref, par } }, ground, profile, widthTimesRange,
+                                                                               vertexOptions.heightToleranceM, multi );
+        vertices.insert( vertices.end(), located.begin(), located.end() );
+        // back into the reference line's order
+        std::stable_sort( vertices.begin(), vertices.end(), [&]( const LineVertex3d &a, const LineVertex3d &b ) {
+          return std::find( points.begin(), points.end(), a.pixelInReference ) < std::find( points.begin(), points.end(), b.pixelInReference ); } );
+      }
+      if ( !behind.empty() )
+      {
+        // the stations before saw the line there too, with pose errors of their own
+        std::vector<StationView> others;
+        for ( const StationBehind &b : behind )
+          others.push_back( b.view() );
+        const MultiStationSummary m = refineFromOtherStations( vertices, StationView { station.id, { ref, par } }, others, profile, widthTimesRange, lineDirection, multi );
+        out.multiStation.vertices += m.vertices;
+        out.multiStation.observations += m.observations;
+        out.multiStation.rejected += m.rejected;
+        out.multiStation.dropped += m.dropped;
+      }
+      if ( options.stationsBehind > 0 )
+      {
+        behind.push_front( { station.id, { referenceImage->id, partnerImage->id }, { reference, partner }, { referenceGrey, partnerGrey } } );
+        if ( behind.size() > static_cast<size_t>( options.stationsBehind ) )
+          behind.pop_back();
+      }
       }
       else
         record.partnerMessage = partnerStart.message;
@@ -361,6 +441,7 @@ namespace geostation
 
       // into the run's line: the previous station's vertices beyond the handover point give way; this
       // station's go in order along the run, none behind the line so far
+      const std::vector<TracedVertex> givingWay( out.vertices.begin() + static_cast<std::ptrdiff_t>( std::min( keep, out.vertices.size() ) ), out.vertices.end() );
       out.vertices.resize( std::min( keep, out.vertices.size() ) );
       const size_t firstOfStation = out.vertices.size();
       const Eigen::Vector3d runAlong = previousCentre ? Eigen::Vector3d( centre - *previousCentre ) : Eigen::Vector3d( reference.cameraFromWorldRotation().row( 2 ).transpose() * -1.0 );
@@ -377,6 +458,17 @@ namespace geostation
         ordered.push_back( &v );
       }
       std::stable_sort( ordered.begin(), ordered.end(), [&]( const LineVertex3d *a, const LineVertex3d *b ) { return a->point.head<2>().dot( runAlong.head<2>() ) < b->point.head<2>().dot( runAlong.head<2>() ); } );
+      // the previous station's vertices beyond the handover give way only where this station has vertices of its own
+      // (within kGiveWayM along the run): where its partner line stopped short, the nearer station's gap keeps them
+      std::vector<const TracedVertex *> kept;
+      for ( const TracedVertex &g : givingWay )
+      {
+        const double at = g.point.head<2>().dot( runAlong.head<2>().normalized() );
+        const bool covered = std::any_of( ordered.begin(), ordered.end(), [&]( const LineVertex3d *v ) {
+          return std::abs( v->point.head<2>().dot( runAlong.head<2>().normalized() ) - at ) < options.giveWayM; } );
+        if ( !covered )
+          kept.push_back( &g );
+      }
       for ( const LineVertex3d *v : ordered )
       {
         TracedVertex t;
@@ -387,10 +479,23 @@ namespace geostation
         t.imageIds = { referenceImage->id, partnerImage->id };
         t.pixels = { v->pixelInReference, v->pixelInPartner };
         t.residualsPx = { v->residualReferencePx, v->residualPartnerPx };
+        for ( const LineVertex3d::OtherObservation &o : v->others )
+        {
+          t.imageIds.push_back( o.imageId );
+          t.pixels.push_back( o.pixelInImage );
+          t.residualsPx.push_back( o.residualPx );
+        }
         t.rangeM = v->rangeM;
         out.vertices.push_back( t );
       }
-      record.vertices = static_cast<int>( out.vertices.size() - firstOfStation );
+      if ( !kept.empty() )
+      {
+        for ( const TracedVertex *g : kept )
+          out.vertices.push_back( *g );
+        std::stable_sort( out.vertices.begin() + static_cast<std::ptrdiff_t>( firstOfStation ), out.vertices.end(), [&]( const TracedVertex &a, const TracedVertex &b ) {
+          return a.point.head<2>().dot( runAlong.head<2>() ) < b.point.head<2>().dot( runAlong.head<2>() ); } );
+      }
+      record.vertices = static_cast<int>( out.vertices.size() - firstOfStation - kept.size() );
       out.stations.push_back( record );
       if ( options.stationTraced )
         options.stationTraced( record, followed.line.points, partnerLine.line.points, out.vertices );

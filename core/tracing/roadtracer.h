@@ -30,6 +30,7 @@
 #include "tracing/lineprofile.h"
 #include "tracing/handovermatcher.h"
 #include "tracing/linefollower.h"
+#include "tracing/multistationvertices.h"
 #include "tracing/stereolinematcher.h"
 
 namespace geostation
@@ -71,9 +72,10 @@ namespace geostation
     Eigen::Vector3d sigmaM = Eigen::Vector3d::Zero();
     Eigen::Matrix3d covariance = Eigen::Matrix3d::Zero(); //!< m^2
     std::string stationId;
-    std::vector<std::string> imageIds;                //!< reference, partner
-    std::vector<Eigen::Vector2d> pixels;              //!< in those images
-    std::vector<Eigen::Vector2d> residualsPx;         //!< projected - observed
+    //! reference, partner, then the earlier stations' images that see the line there
+    std::vector<std::string> imageIds;
+    std::vector<Eigen::Vector2d> pixels;              //!< in those images (on the line, for the partner and the others)
+    std::vector<Eigen::Vector2d> residualsPx;         //!< projected - observed (across the line, for the partner and the others)
     double rangeM = 0.0;                              //!< from the reference camera
   };
 
@@ -96,6 +98,20 @@ namespace geostation
     double stripeSigmaFloorPx = 0.5; //!< stations in a row where the line cannot be followed before tracing stops
     //! Vertices whose surroundings are looked for by correlation in the next station's image at the handover.
     int handoverCorrelations = 3;
+    /**
+     * Earlier stations whose images observe each vertex too (multi-station
+     * intersection, refineFromOtherStations()); 0: the station's pair alone.
+     */
+    int stationsBehind = 2;
+    /**
+     * The previous station's vertices beyond the handover point give way to
+     * this station's only where it has a vertex within this distance (m)
+     * along the run; elsewhere (its partner line stopped short) they stay.
+     */
+    double giveWayM = 2.0;
+    //! A station whose start lies further than this (m) beyond the line so far follows the line back from its start too.
+    double backfillGapM = 3.0;
+    MultiStationOptions multiStation;
     HandoverOptions handover;
     LineFollowOptions follow;
     SeedOptions seed;
@@ -130,6 +146,7 @@ namespace geostation
     double lengthM = 0.0;
     double sigmaMaxM = 0.0;   //!< largest vertex sigma (any axis)
     int pixelsFollowed = 0;
+    MultiStationSummary multiStation; //!< vertices seen from earlier stations too
 
     bool ok() const { return vertices.size() >= 2; }
     //! The methods used, "directional" or e.g. "least_squares+polynomial".

@@ -75,24 +75,24 @@ namespace geostation
       u = ( q.x() * r.y() - q.y() * r.x() ) / den;
       return t >= 0 && t <= 1 && u >= 0 && u <= 1;
     }
+  }
 
-    //! Covariance of a ground point from the rig's pose sigmas (rigid shift and small rotations about the rig).
-    Eigen::Matrix3d poseCovariance( const ExteriorOrientation &exterior, const Eigen::Vector3d &point, const Eigen::Vector3d &rigCentre )
-    {
-      Eigen::Matrix3d c = Eigen::Matrix3d::Zero();
-      if ( !exterior.sigma )
-        return c;
-      const ExteriorSigma &s = *exterior.sigma;
-      c.diagonal() << s.x * s.x, s.y * s.y, s.z * s.z;
-      const Eigen::Vector3d r = point - rigCentre;
-      const double angles[3] = { s.omegaDeg, s.phiDeg, s.kappaDeg };
-      for ( int i = 0; i < 3; ++i )
-      {
-        const Eigen::Vector3d j = Eigen::Vector3d( Eigen::Vector3d::Unit( i ) ).cross( r ) * ( angles[i] * kPi / 180.0 );
-        c += j * j.transpose();
-      }
+  //! Covariance of a ground point from the rig's pose sigmas (rigid shift and small rotations about the rig).
+  Eigen::Matrix3d rigPoseCovariance( const ExteriorOrientation &exterior, const Eigen::Vector3d &point, const Eigen::Vector3d &rigCentre )
+  {
+    Eigen::Matrix3d c = Eigen::Matrix3d::Zero();
+    if ( !exterior.sigma )
       return c;
+    const ExteriorSigma &s = *exterior.sigma;
+    c.diagonal() << s.x * s.x, s.y * s.y, s.z * s.z;
+    const Eigen::Vector3d r = point - rigCentre;
+    const double angles[3] = { s.omegaDeg, s.phiDeg, s.kappaDeg };
+    for ( int i = 0; i < 3; ++i )
+    {
+      const Eigen::Vector3d j = Eigen::Vector3d( Eigen::Vector3d::Unit( i ) ).cross( r ) * ( angles[i] * kPi / 180.0 );
+      c += j * j.transpose();
     }
+    return c;
   }
 
   StartMatch matchStartInPartner( const StereoImage &reference, const Eigen::Vector2d &pixelInReference, const Eigen::Vector2d &directionInReference,
@@ -200,7 +200,8 @@ namespace geostation
       // the crossing of the curve and the partner's line nearest the prediction
       bool found = false;
       Eigen::Vector2d conjugate = Eigen::Vector2d::Zero();
-      double sigma = 0.0, bestDistance = 0.0;
+      double sigma = 0.0, bestDistance = 0.0, sigmaLine = 0.0;
+      Eigen::Vector2d partnerDirection( 0, -1 );
       for ( size_t a = 0; a + 1 < curve.size(); ++a )
         for ( size_t b = 0; b + 1 < partnerLine.size(); ++b )
         {
@@ -220,6 +221,8 @@ namespace geostation
           conjugate = c;
           const double lineSigma = ( 1 - u ) * partnerSigmaPx[b] + u * partnerSigmaPx[b + 1];
           sigma = std::min( options.maxPartnerSigmaPx, std::max( options.pixelSigmaFloorPx, lineSigma ) / sine );
+          sigmaLine = sigma * sine;
+          partnerDirection = dl;
         }
       if ( !found )
         continue;
@@ -231,13 +234,16 @@ namespace geostation
       v.point = s.point;
       v.covariance = s.covariance;
       if ( options.propagateExterior )
-        v.covariance += poseCovariance( reference.image->exterior(), s.point, rigCentre );
+        v.covariance += rigPoseCovariance( reference.image->exterior(), s.point, rigCentre );
       v.sigmaM = v.covariance.diagonal().cwiseMax( 0.0 ).cwiseSqrt();
       v.pixelInReference = p;
       v.pixelInPartner = conjugate;
       v.residualReferencePx = s.residuals[0].residualPx;
       v.residualPartnerPx = s.residuals[1].residualPx;
       v.rangeM = s.residuals[0].rangeM;
+      v.sigmaReferencePx = rays[0].sigmaPx;
+      v.sigmaPartnerLinePx = sigmaLine;
+      v.partnerLineDirection = partnerDirection;
       out.push_back( v );
     }
     return out;

@@ -76,6 +76,17 @@ namespace geostation
     Eigen::Vector2d pixelInPartner = Eigen::Vector2d::Zero();
     Eigen::Vector2d residualReferencePx = Eigen::Vector2d::Zero(), residualPartnerPx = Eigen::Vector2d::Zero();
     double rangeM = 0.0;                                      //!< from the reference camera
+    double sigmaReferencePx = 0.0;    //!< of the reference point (col and row)
+    double sigmaPartnerLinePx = 0.0;  //!< of the partner's line, across it
+    Eigen::Vector2d partnerLineDirection = Eigen::Vector2d( 0, -1 ); //!< the partner's line at the conjugate (unit)
+    //! The line seen at this vertex in other stations' images (refineFromOtherStations()).
+    struct OtherObservation
+    {
+      std::string imageId;
+      Eigen::Vector2d pixelInImage = Eigen::Vector2d::Zero(); //!< on the line
+      Eigen::Vector2d residualPx = Eigen::Vector2d::Zero();   //!< projected - observed, across the line
+    };
+    std::vector<OtherObservation> others;
   };
 
   struct VertexMatchOptions
@@ -94,6 +105,13 @@ namespace geostation
    */
   std::vector<LineVertex3d> intersectLineVertices( const StereoImage &reference, const std::vector<Eigen::Vector2d> &referencePoints, const std::vector<double> &referenceSigmaPx,
       const StereoImage &partner, const FollowResult &partnerLine, const GroundOfPixel &groundOfPixel, const VertexMatchOptions &options = VertexMatchOptions() );
+
+  /**
+   * Covariance (m^2) of a ground point from a rig's GNSS/INS sigmas: the
+   * rig shifted and turned by small angles about `rigCentre`, so every
+   * point the rig measures moves with it. Zero without sigmas.
+   */
+  Eigen::Matrix3d rigPoseCovariance( const ExteriorOrientation &exterior, const Eigen::Vector3d &point, const Eigen::Vector3d &rigCentre );
 
   /**
    * Points along a followed line every `spacingPx` (and its vertices), each

@@ -148,29 +148,33 @@ namespace
   {
     const char *name, *prefix;
     double minCompleteness, minCorrectness; // asserted on the run with GNSS/INS errors
+    double maxRms15;                        // m, likewise (measured 0.039, 0.034, 0.032, 0.024)
   };
   // the truth's "edge" is the asphalt / kerb face, "kerb" the kerb's outer edge to the verge
   const HighwayLine kHighwayLines[] = {
-    { "centre (solid)", "R1-centre1", 0.95, 0.98 },
-    { "lane (dashed)", "R1-separator3", 0.90, 0.97 },
-    { "edge line", "R1-edge_line5", 0.95, 0.98 },
-    { "kerb face", "R1-edge-right", 0.95, 0.98 },
+    { "centre (solid)", "R1-centre1", 0.95, 0.98, 0.045 },
+    { "lane (dashed)", "R1-separator3", 0.90, 0.97, 0.040 },
+    { "edge line", "R1-edge_line5", 0.95, 0.98, 0.040 },
+    { "kerb face", "R1-edge-right", 0.95, 0.98, 0.030 },
   };
 
-  RoadTraceSummary traceFromSeed( const HighwayRun &run, const Block &block, const std::string &prefix, const std::string &imageId, TraceMethod method, int maxStations = 0 )
+  RoadTraceSummary traceFromSeed( const HighwayRun &run, const Block &block, const std::string &prefix, const std::string &imageId, TraceMethod method, int maxStations = 0,
+                                  int stationsBehind = RoadTraceOptions().stationsBehind )
   {
     const TraceSeed seed = seedOn( run, prefix, imageId, 8.0, Eigen::Vector2d( 1.2, -0.8 ) );
     RoadTraceOptions options;
     options.method = method;
     options.maxStations = maxStations;
+    options.stationsBehind = stationsBehind;
     return traceRoadLine( block, seed, options, fileGreyImageSource( block ) );
   }
 
   void print( const std::string &name, const RoadTraceSummary &s, const LineScore &sc )
   {
-    std::printf( "%-16s %-28s stations %2zu vertices %3d length %6.1f m  completeness %.3f correctness %.3f  RMS(<=15 m) %.3f m (%d)  normalised sd %.2f  stop %s: %s\n",
+    std::printf( "%-16s %-28s stations %2zu vertices %3d length %6.1f m  completeness %.3f correctness %.3f  RMS(<=15 m) %.3f m (%d)  normalised sd %.2f  "
+                 "multi-station %d vertices, %d rays (%d not used)  stop %s: %s\n",
                  name.c_str(), s.methods().c_str(), s.stations.size(), sc.vertices, sc.lengthM, sc.buffer.completeness, sc.buffer.correctness, sc.rms15, sc.near,
-                 sc.normalisedSd, traceStopName( s.stop ).c_str(), s.message.c_str() );
+                 sc.normalisedSd, s.multiStation.vertices, s.multiStation.observations, s.multiStation.rejected, traceStopName( s.stop ).c_str(), s.message.c_str() );
   }
 }
 
@@ -194,15 +198,27 @@ TEST( Tracing, HighwayLinesFromOneSeedEach )
     EXPECT_EQ( s.stop, TraceStop::EndOfRun ) << s.message;
     EXPECT_GE( s.stations.size(), 20u );
     EXPECT_GE( s.lengthM, 300.0 );
-    // with a post-processed trajectory (2 cm, 3 cm in height) the line is only as good as the poses
-    EXPECT_LE( sc.rms15, 0.07 );
+    // with a post-processed trajectory (2 cm, 3 cm in height) a station's pair is only as good as its pose
+    // (3.7-5.7 cm); the stations before see the line too, with pose errors of their own
+    EXPECT_LE( sc.rms15, c.maxRms15 );
     EXPECT_GE( sc.normalisedSd, 0.7 );
-    EXPECT_LE( sc.normalisedSd, 1.6 );
+    EXPECT_LE( sc.normalisedSd, 1.4 );
+    int multiStation = 0;
     for ( const TracedVertex &v : s.vertices )
     {
-      ASSERT_EQ( v.imageIds.size(), 2u );
+      ASSERT_GE( v.imageIds.size(), 2u );
+      ASSERT_EQ( v.imageIds.size(), v.residualsPx.size() );
+      ASSERT_EQ( v.imageIds.size(), v.pixels.size() );
       EXPECT_GT( v.sigmaM.minCoeff(), 0.0 );
+      multiStation += v.imageIds.size() > 2 ? 1 : 0;
     }
+    EXPECT_GE( multiStation, 0.7 * s.vertices.size() ) << "most vertices are seen from the stations before too";
+    // multi-station intersection earns its keep: the same line from each station's pair alone
+    const RoadTraceSummary single = traceFromSeed( run, run.block, c.prefix, "S0001_FL", TraceMethod::Auto, 0, 0 );
+    const LineScore singleScore = score( single, truth, run, 0.10 );
+    print( std::string( c.name ) + ", pairs", single, singleScore );
+    EXPECT_EQ( single.multiStation.vertices, 0 );
+    EXPECT_LT( sc.rms15, 0.9 * singleScore.rms15 ) << "pairs alone " << singleScore.rms15 << " m";
   }
 }
 
@@ -219,9 +235,11 @@ TEST( Tracing, HighwayLinesWithExactOrientation )
     print( std::string( c.name ) + ", exact", s, sc );
     EXPECT_GE( sc.buffer.completeness, c.minCompleteness );
     EXPECT_GE( sc.buffer.correctness, c.minCorrectness );
-    EXPECT_LE( sc.rms15, 0.05 );
-    EXPECT_GE( sc.normalisedSd, 0.7 );
-    EXPECT_LE( sc.normalisedSd, 2.0 ); // stripes' pixel sigmas are still somewhat optimistic (edge line 1.7)
+    EXPECT_LE( sc.rms15, 0.035 );
+    // without pose sigmas the stripes' pixel sigma floor decides: pessimistic for the centre line seen from three
+    // stations (0.51), optimistic for the worn edge line (2.2)
+    EXPECT_GE( sc.normalisedSd, 0.45 );
+    EXPECT_LE( sc.normalisedSd, 2.5 );
   }
 }
 
