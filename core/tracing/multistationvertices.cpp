@@ -197,10 +197,17 @@ namespace geostation
       // the line must cross the epipolar curve, not run along it
       if ( std::abs( normal.dot( epipolar.normalized() ) ) < options.minCrossingSine )
         continue;
-      LineProfile there = profile;
+      LineProfile there = profile, here = profile;
       const double range = ( *ground - partner.exterior().projectionCentre ).head<2>().norm();
       if ( profile.kind != LineKind::Edge && widthTimesRange > 0 )
+      {
         there.widthPx = widthTimesRange / std::max( range, 1.0 );
+        here.widthPx = widthTimesRange / std::max( ( *ground - camera ).head<2>().norm(), 1.0 );
+      }
+      // the reference point must itself be on the line (a follower may have drifted off it where the partner's line stopped)
+      const Eigen::Vector2d referenceDirection = ( referencePoints[n] - p ).normalized() * ( n > i ? 1.0 : -1.0 );
+      if ( !locateLine( *own.images[0].grey, p, referenceDirection, here, locateOptionsFor( here, FollowOptions(), options.onLineTolerancePx ) ) )
+        continue;
       // where the road surface may lie along the reference ray: +- the height tolerance
       const double depression = std::max( 0.02, -ray.z() );
       const double sigmaPredicted = std::abs( normal.dot( epipolar ) ) * heightToleranceM / depression;

@@ -54,6 +54,7 @@ namespace geostation
     double gateW = 3.0;            //!< normalised offset or residual beyond which an observation is not used
     double minWidthPx = 1.5;       //!< a stripe narrower than this in another image is not located there
     double minCrossingSine = 0.1;  //!< locating in the partner: the line must cross the epipolar curve at least this steeply
+    double onLineTolerancePx = 1.5; //!< locating in the partner: the reference point must be this close to the line in its own image
   };
 
   struct MultiStationSummary

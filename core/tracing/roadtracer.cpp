@@ -396,7 +396,7 @@ namespace geostation
       vertices = intersectLineVertices( ref, points, sigmas, par, partnerLine.line, ground, vertexOptions );
       MultiStationOptions multi = options.multiStation;
       multi.sigmaFloorPx = std::max( multi.sigmaFloorPx, vertexOptions.pixelSigmaFloorPx );
-      if ( vertices.size() < points.size() )
+      if ( options.locateInPartner && vertices.size() < points.size() )
       {
         // where the partner's line does not reach: the line located across the prediction in the partner
         std::vector<Eigen::Vector2d> missing;

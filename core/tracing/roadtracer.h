@@ -109,6 +109,8 @@ namespace geostation
      * along the run; elsewhere (its partner line stopped short) they stay.
      */
     double giveWayM = 2.0;
+    //! Where the partner's followed line stops short, locate the line across each point's prediction in the partner.
+    bool locateInPartner = true;
     //! A station whose start lies further than this (m) beyond the line so far follows the line back from its start too.
     double backfillGapM = 3.0;
     MultiStationOptions multiStation;
