@@ -136,6 +136,21 @@ namespace
     state.SetLabel( std::to_string( r.traced.vertices.size() ) + " vertices" );
   }
 
+  //! Each station's pair alone (no multi-station vertices): what seeing the line from the stations before costs.
+  void BM_TraceInMemoryPairsAlone( benchmark::State &state )
+  {
+    Run &r = run();
+    RoadTraceOptions options;
+    options.stationsBehind = 0;
+    size_t stations = 0;
+    for ( auto _ : state )
+    {
+      const RoadTraceSummary s = traceRoadLine( r.block, r.seed, options, r.memorySource() );
+      stations += s.stations.size();
+    }
+    state.SetItemsProcessed( static_cast<int64_t>( stations ) );
+  }
+
   /**
    * The same vertices, each clicked in its reference image and measured by
    * proposal + intersection. Argument 0: each station's images read and
@@ -165,7 +180,7 @@ namespace
       {
         const TracedVertex &first = *vertices.front();
         std::vector<MeasurementView> views;
-        for ( const std::string &id : first.imageIds )
+        for ( const std::string &id : { first.imageIds[0], first.imageIds[1] } ) // the station's pair
           views.push_back( MeasurementView { id, &oriented.at( id ), cache.get( r.block.imageFilePath( r.block.image( id ) ).string() ).image.get() } );
         for ( const TracedVertex *v : vertices )
         {
@@ -186,6 +201,7 @@ namespace
 
 BENCHMARK( BM_TraceFromFiles )->Unit( benchmark::kMillisecond );
 BENCHMARK( BM_TraceInMemory )->Unit( benchmark::kMillisecond );
+BENCHMARK( BM_TraceInMemoryPairsAlone )->Unit( benchmark::kMillisecond );
 BENCHMARK( BM_BaselineVertexByVertex )->Arg( 0 )->Arg( 1 )->Unit( benchmark::kMillisecond );
 
 int main( int argc, char **argv )
@@ -201,8 +217,11 @@ int main( int argc, char **argv )
       printf( "  tracing, images read from the block's files: %.1f (target >= 20: %s)\n", files, files >= 20.0 ? "met" : "NOT met" );
     if ( baselineFiles > 0 )
       printf( "  baseline, the same vertices clicked one by one, images read:     %.1f (tracing x%.1f)\n", baselineFiles, files / baselineFiles );
+    const double pairsAlone = benchutils::rate( rates, "BM_TraceInMemoryPairsAlone" );
     if ( memory > 0 )
       printf( "  tracing, images already in memory:          %.1f\n", memory );
+    if ( pairsAlone > 0 && memory > 0 )
+      printf( "  the same, each station's pair alone:        %.1f (multi-station vertices cost x%.2f)\n", pairsAlone, pairsAlone / memory );
     if ( baselinePrepared > 0 )
       printf( "  baseline, the same vertices clicked one by one, images prepared: %.1f (tracing x%.1f)\n", baselinePrepared, memory / baselinePrepared );
     printf( "  (the baseline also needs one click per vertex; tracing one click per line)\n" );
