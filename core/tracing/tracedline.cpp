@@ -38,9 +38,10 @@ namespace geostation
   {
     if ( mVertices.empty() )
       return std::string();
-    const std::string station = mVertices.back().stationId;
-    while ( !mVertices.empty() && mVertices.back().stationId == station )
-      mVertices.pop_back();
+    // the station whose part starts last (a station's part may hold a few of the previous station's vertices where
+    // it had none of its own, and end before them)
+    const std::string station = stationIds().back();
+    mVertices.erase( std::remove_if( mVertices.begin(), mVertices.end(), [&]( const TracedVertex &v ) { return v.stationId == station; } ), mVertices.end() );
     return station;
   }
 
@@ -73,7 +74,7 @@ namespace geostation
   {
     std::vector<std::string> ids;
     for ( const TracedVertex &v : mVertices )
-      if ( ids.empty() || ids.back() != v.stationId )
+      if ( std::find( ids.begin(), ids.end(), v.stationId ) == ids.end() )
         ids.push_back( v.stationId );
     return ids;
   }

@@ -9,7 +9,9 @@
   - append(): a new trace's vertices join at the end; those that lie
     behind the line's end (along its last direction) are dropped, so a
     restart a little before where the line stopped does not fold it back.
-  - takeBackLastStation(): the vertices of the last station go.
+  - takeBackLastStation(): the vertices of the last station go (all of
+    them: a station's part may hold a few of the previous station's
+    vertices where it had none of its own).
   No Qt: the Multiview's Trace tool and tests use the same code.
  ***************************************************************************/
 #ifndef GEOSTATION_TRACING_TRACEDLINE_H
@@ -34,8 +36,9 @@ namespace geostation
       size_t append( const RoadTraceSummary &trace ) { return append( trace.vertices ); }
 
       /**
-       * Removes the vertices of the station the line ends in; returns that
-       * station's id ("" when the line is empty).
+       * Removes the vertices of the last station (the one whose part starts
+       * last along the line); returns that station's id ("" when the line
+       * is empty).
        */
       std::string takeBackLastStation();
 

@@ -450,6 +450,14 @@ TEST( Tracing, TracedLineJoinsPartsAlongTheLine )
   EXPECT_EQ( line.takeBackLastStation(), "D" );
   EXPECT_EQ( line.takeBackLastStation(), "C" );
   EXPECT_EQ( line.vertices().back().point.x(), 12.0 );
+  // a station's part holding two of the previous station's vertices where it had none, and ending before the last of them
+  TracedLine kept;
+  kept.append( { vertex( 0, "A" ), vertex( 4, "A" ), vertex( 8, "B" ), vertex( 10, "A" ), vertex( 12, "B" ), vertex( 14, "A" ) } );
+  EXPECT_EQ( kept.stationIds(), ( std::vector<std::string> { "A", "B" } ) );
+  EXPECT_EQ( kept.takeBackLastStation(), "B" );
+  ASSERT_EQ( kept.vertices().size(), 4u );
+  EXPECT_EQ( kept.vertices().back().point.x(), 14.0 );
+  EXPECT_EQ( kept.stationIds(), ( std::vector<std::string> { "A" } ) );
   // a line of one vertex takes the new trace's own direction
   TracedLine one;
   one.append( { vertex( 10, "A" ) } );
