@@ -70,23 +70,30 @@ namespace
     std::vector<ExteriorOrientation> truth; // left, right
     std::vector<cv::Mat> greys;
   };
+
+  //! The own station (y = 0), then 10 and 20 m behind, each pair rendered with its true orientation.
+  std::vector<Station> threeStations( const Camera &camera, std::mt19937 &rng )
+  {
+    std::vector<Station> stations;
+    for ( const double y : { 0.0, -10.0, -20.0 } )
+    {
+      Station s;
+      for ( const int side : { -1, 1 } )
+      {
+        s.truth.push_back( trueExterior( y, side ) );
+        s.greys.push_back( render( OrientedImage( camera, s.truth.back() ), rng ) );
+      }
+      stations.push_back( s );
+    }
+    return stations;
+  }
 }
 
 TEST( MultiStationVertices, PoseErrorsAveragedOverStationsWithHonestSigmas )
 {
   std::mt19937 rng( 11 );
   const Camera camera = pairCamera();
-  std::vector<Station> stations; // own (y = 0), then 10 and 20 m behind
-  for ( const double y : { 0.0, -10.0, -20.0 } )
-  {
-    Station s;
-    for ( const int side : { -1, 1 } )
-    {
-      s.truth.push_back( trueExterior( y, side ) );
-      s.greys.push_back( render( OrientedImage( camera, s.truth.back() ), rng ) );
-    }
-    stations.push_back( s );
-  }
+  const std::vector<Station> stations = threeStations( camera, rng );
   const ExteriorSigma sigma { 0.02, 0.02, 0.03, 0.004, 0.004, 0.01 };
   std::normal_distribution<double> gauss( 0.0, 1.0 );
   const double pixelSigma = 0.2;
@@ -177,21 +184,18 @@ TEST( MultiStationVertices, AWrongConjugateIsLeftOutOrPutRight )
   std::mt19937 rng( 5 );
   const Camera camera = pairCamera();
   const ExteriorSigma sigma { 0.02, 0.02, 0.03, 0.004, 0.004, 0.01 };
-  std::vector<std::vector<OrientedImage>> images;
-  std::vector<std::vector<cv::Mat>> greys;
-  for ( const double y : { 0.0, -10.0, -20.0 } )
+  const std::vector<Station> stations = threeStations( camera, rng );
+  std::vector<std::vector<OrientedImage>> images; // the true orientation, with GNSS/INS sigmas
+  for ( const Station &s : stations )
   {
     images.emplace_back();
-    greys.emplace_back();
-    for ( const int side : { -1, 1 } )
+    for ( ExteriorOrientation e : s.truth )
     {
-      ExteriorOrientation e = trueExterior( y, side );
-      greys.back().push_back( render( OrientedImage( camera, e ), rng ) );
       e.sigma = sigma;
       images.back().push_back( OrientedImage( camera, e ) );
     }
   }
-  const auto view = [&]( size_t s ) { return StationView { "S" + std::to_string( s ), { { "L", &images[s][0], &greys[s][0] }, { "R", &images[s][1], &greys[s][1] } } }; };
+  const auto view = [&]( size_t s ) { return StationView { "S" + std::to_string( s ), { { "L", &images[s][0], &stations[s].greys[0] }, { "R", &images[s][1], &stations[s].greys[1] } } }; };
   int dropped = 0, putRight = 0, cases = 0;
   for ( const double y : { 8.0, 10.0, 12.0, 14.0 } )
     for ( const double shift : { -2.0, 2.0 } )
