@@ -459,7 +459,7 @@ namespace geostation
       }
       std::stable_sort( ordered.begin(), ordered.end(), [&]( const LineVertex3d *a, const LineVertex3d *b ) { return a->point.head<2>().dot( runAlong.head<2>() ) < b->point.head<2>().dot( runAlong.head<2>() ); } );
       // the previous station's vertices beyond the handover give way only where this station has vertices of its own
-      // (within kGiveWayM along the run): where its partner line stopped short, the nearer station's gap keeps them
+      // (within giveWayM along the run): where this station's line stopped short, they fill its gap
       std::vector<const TracedVertex *> kept;
       for ( const TracedVertex &g : givingWay )
       {
