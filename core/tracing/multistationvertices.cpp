@@ -80,7 +80,6 @@ namespace geostation
         m += o.point ? 2 : 1;
       Eigen::VectorXd f( m );
       Eigen::MatrixXd a( m, 3 ), sigma( m, m );
-      Eigen::MatrixXd n;
       for ( int iteration = 0; iteration < 10; ++iteration )
       {
         sigma.setZero();
