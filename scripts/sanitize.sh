@@ -28,4 +28,10 @@ export ASAN_OPTIONS="detect_leaks=1:abort_on_error=1:strict_string_checks=1:dete
 export UBSAN_OPTIONS="print_stacktrace=1:halt_on_error=1"
 export TSAN_OPTIONS="halt_on_error=1:second_deadlock_stack=1"
 echo "Core tests under -fsanitize=$sanitizers:"
-"$build_dir/tests/core/geostation_core_tests" --gtest_filter="$filter" --gtest_brief=1
+if [ "$filter" = "*" ]; then
+  # every core test, through CTest, as many at a time as there are cores
+  cd "$build_dir"
+  ctest -L core -j"$(nproc)" --output-on-failure --timeout 1800
+else
+  "$build_dir/tests/core/geostation_core_tests" --gtest_filter="$filter" --gtest_brief=1
+fi

@@ -20,7 +20,7 @@ fi
 mkdir -p "$build_dir"
 "$source_dir/scripts/build.sh"
 cd "$build_dir"
-ctest --output-on-failure --timeout 900 "$@"
+ctest -j"$(nproc)" --output-on-failure --timeout 900 "$@"
 if [ "$sanitize" = 1 ]; then
   "$source_dir/scripts/sanitize.sh"
 fi

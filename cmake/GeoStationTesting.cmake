@@ -1,0 +1,17 @@
+# Helpers for the Qt-based tests (provider, GUI, benchmarks that need Qt).
+#
+# geostation_add_qt_test(<test name> <executable target> <label> [TIMEOUT <s>])
+#   Registers an offscreen QtTest executable. Every test gets a HOME of its
+#   own below the build folder, so QGIS' profile and settings files of two
+#   tests never meet when CTest runs them in parallel (ctest -j).
+function(geostation_add_qt_test name target label)
+  cmake_parse_arguments(ARG "" "TIMEOUT" "" ${ARGN})
+  set(home "${CMAKE_CURRENT_BINARY_DIR}/home-${name}")
+  file(MAKE_DIRECTORY "${home}")
+  add_test(NAME ${name} COMMAND ${target})
+  set_tests_properties(${name} PROPERTIES LABELS ${label}
+    ENVIRONMENT "QT_QPA_PLATFORM=offscreen;HOME=${home};XDG_RUNTIME_DIR=${home}")
+  if(ARG_TIMEOUT)
+    set_tests_properties(${name} PROPERTIES TIMEOUT ${ARG_TIMEOUT})
+  endif()
+endfunction()
