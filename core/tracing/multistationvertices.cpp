@@ -294,7 +294,9 @@ namespace geostation
           const std::optional<LineHit> hit = locateLine( grey, pixel, direction, there, locateOptionsFor( there, FollowOptions(), searchHalf ) );
           if ( !hit )
             continue;
-          const double sigmaHit = std::max( options.sigmaFloorPx, hit->sigmaPx );
+          double sigmaHit = std::max( options.sigmaFloorPx, hit->sigmaPx );
+          if ( options.lineSigmaM > 0 )
+            sigmaHit = std::max( sigmaHit, options.lineSigmaM * pixelsPerMetreAcross( *image.image, v.point, tangent ) );
           const double offset = normal.dot( pixel - hit->pixelInImage );
           if ( std::abs( offset ) > options.gateW * std::hypot( sigmaPredicted, sigmaHit ) )
           {

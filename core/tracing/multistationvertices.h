@@ -51,6 +51,7 @@ namespace geostation
     double minSearchHalfPx = 2.0;  //!< the line is looked for across it within 3 sigma of the prediction, at least this far
     double maxSearchHalfPx = 6.0;  //!< and at most this far
     double sigmaFloorPx = 0.15;    //!< across the line (the tracer raises it for painted stripes)
+    double lineSigmaM = 0.0;       //!< the line's own sigma across it on the road (m), in each image's pixels at least (VertexMatchOptions::lineSigmaM)
     double gateW = 3.0;            //!< normalised offset or residual beyond which an observation is not used
     double minWidthPx = 1.5;       //!< a stripe narrower than this in another image is not located there
     double minCrossingSine = 0.1;  //!< locating in the partner: the line must cross the epipolar curve at least this steeply

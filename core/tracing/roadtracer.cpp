@@ -354,6 +354,11 @@ namespace geostation
       std::vector<Eigen::Vector2d> points;
       std::vector<double> sigmas;
       intervalPoints( followed.line, options.vertexSpacingPx, points, sigmas );
+      LineRelocation relocation = options.relocation;
+      relocation.profile = profile;
+      relocation.widthTimesRange = widthTimesRange;
+      if ( options.relocate )
+        recentreOnLine( ref, points, sigmas, ground, relocation );
       partnerStart.message = "the line is not in view of " + partnerImage->id;
       for ( size_t i = 0, tries = 0; i < points.size() && tries < 6; ++i )
       {
@@ -392,10 +397,17 @@ namespace geostation
       joinBackward( backward.line, partnerLine.line );
       VertexMatchOptions vertexOptions = options.vertices;
       if ( profile.kind != LineKind::Edge )
-        vertexOptions.pixelSigmaFloorPx = std::max( vertexOptions.pixelSigmaFloorPx, options.stripeSigmaFloorPx );
-      vertices = intersectLineVertices( ref, points, sigmas, par, partnerLine.line, ground, vertexOptions );
+      {
+        // a painted stripe's centre: good to so much on the road when relocated over a length of line, else in pixels
+        if ( options.relocate )
+          vertexOptions.lineSigmaM = std::max( vertexOptions.lineSigmaM, options.stripeSigmaM );
+        else
+          vertexOptions.pixelSigmaFloorPx = std::max( vertexOptions.pixelSigmaFloorPx, options.stripeSigmaFloorPx );
+      }
+      vertices = intersectLineVertices( ref, points, sigmas, par, partnerLine.line, ground, vertexOptions, options.relocate ? &relocation : nullptr );
       MultiStationOptions multi = options.multiStation;
       multi.sigmaFloorPx = std::max( multi.sigmaFloorPx, vertexOptions.pixelSigmaFloorPx );
+      multi.lineSigmaM = std::max( multi.lineSigmaM, vertexOptions.lineSigmaM );
       if ( options.locateInPartner && vertices.size() < points.size() )
       {
         // where the partner's line does not reach: the line located across the prediction in the partner

@@ -30,6 +30,7 @@
 #include "tracing/lineprofile.h"
 #include "tracing/handovermatcher.h"
 #include "tracing/linefollower.h"
+#include "tracing/linerelocation.h"
 #include "tracing/multistationvertices.h"
 #include "tracing/stereolinematcher.h"
 
@@ -88,14 +89,23 @@ namespace geostation
     double cameraHeightM = 2.6;    //!< above the road: the road plane of eqs. 6.22-6.25, following the track's heights
     double surfaceToleranceM = 0.3; //!< a vertex further above or below the road surface is a wrong match and dropped
     double vertexSpacingPx = 25.0; //!< interval points matched in the partner
-    int maxStationsPassedOver = 2;
+    int maxStationsPassedOver = 2; //!< stations in a row where the line cannot be followed before tracing stops
     /**
-     * A painted stripe's centre is no better than this (px) in either image:
-     * worn paint and its ragged edges move it together over many pixels, so
-     * the per-profile sigma is too optimistic (measured on the simulator's
+     * A painted stripe's centre is no better than this (px) in either image
+     * when the points are used as followed (relocate false): worn paint and
+     * its ragged edges move it together over many pixels, so the
+     * per-profile sigma is too optimistic (measured on the simulator's
      * stripes with the exact orientation).
      */
-    double stripeSigmaFloorPx = 0.5; //!< stations in a row where the line cannot be followed before tracing stops
+    double stripeSigmaFloorPx = 0.5;
+    /**
+     * With relocate: a stripe's centre, located over a length of line, is
+     * good to this (m) across the line on the road, in every image whatever
+     * its range (VertexMatchOptions::lineSigmaM). Measured on the
+     * simulator's worn stripes: normalised errors with a standard deviation
+     * near 1 (0.7-1.0 on the highway run's lines with GNSS/INS errors).
+     */
+    double stripeSigmaM = 0.012;
     //! Vertices whose surroundings are looked for by correlation in the next station's image at the handover.
     int handoverCorrelations = 3;
     /**
@@ -109,6 +119,14 @@ namespace geostation
      * along the run; elsewhere (its partner line stopped short) they stay.
      */
     double giveWayM = 2.0;
+    /**
+     * The reference image's interval points and their conjugates in the
+     * partner are put back onto the line, located on profiles averaged
+     * over relocation.windowM of line on the ground (linerelocation.h);
+     * false: as followed. The profile and width come from the seed.
+     */
+    bool relocate = true;
+    LineRelocation relocation;
     //! Where the partner's followed line stops short, locate the line across each point's prediction in the partner.
     bool locateInPartner = true;
     //! A station whose start lies further than this (m) beyond the line so far follows the line back from its start too.

@@ -9,6 +9,7 @@
 
 #include "adjustment/intersection.h"
 #include "geometry/epipolar.h"
+#include "tracing/linerelocation.h"
 
 namespace geostation
 {
@@ -173,8 +174,26 @@ namespace geostation
     return out;
   }
 
+  double pixelsPerMetreAcross( const OrientedImage &image, const Eigen::Vector3d &ground, const Eigen::Vector3d &alongGround )
+  {
+    const Eigen::Vector3d along = Eigen::Vector3d( alongGround.x(), alongGround.y(), 0.0 ).normalized();
+    const Eigen::Vector3d across( -along.y(), along.x(), 0.0 );
+    if ( !along.allFinite() )
+      return 0.0;
+    const double h = 0.05; // m
+    const GroundProjection a0 = image.projectGroundToPixel( ground - h * along ), a1 = image.projectGroundToPixel( ground + h * along );
+    const GroundProjection c0 = image.projectGroundToPixel( ground - h * across ), c1 = image.projectGroundToPixel( ground + h * across );
+    if ( !a0.ok() || !a1.ok() || !c0.ok() || !c1.ok() )
+      return 0.0;
+    const Eigen::Vector2d lineInImage = a1.pixelInImage - a0.pixelInImage;
+    if ( lineInImage.norm() < 1e-9 )
+      return 0.0;
+    return std::abs( rightNormal( lineInImage.normalized() ).dot( c1.pixelInImage - c0.pixelInImage ) ) / ( 2 * h );
+  }
+
   std::vector<LineVertex3d> intersectLineVertices( const StereoImage &reference, const std::vector<Eigen::Vector2d> &referencePoints, const std::vector<double> &referenceSigmaPx,
-      const StereoImage &partner, const FollowResult &partnerFollowed, const GroundOfPixel &groundOfPixel, const VertexMatchOptions &options )
+      const StereoImage &partner, const FollowResult &partnerFollowed, const GroundOfPixel &groundOfPixel, const VertexMatchOptions &options,
+      const LineRelocation *partnerRelocation )
   {
     const std::vector<Eigen::Vector2d> &partnerLine = partnerFollowed.points;
     const std::vector<double> &partnerSigmaPx = partnerFollowed.sigmaPx;
@@ -201,7 +220,7 @@ namespace geostation
       bool found = false;
       Eigen::Vector2d conjugate = Eigen::Vector2d::Zero();
       double sigma = 0.0, bestDistance = 0.0, sigmaLine = 0.0;
-      Eigen::Vector2d partnerDirection( 0, -1 );
+      Eigen::Vector2d partnerDirection( 0, -1 ), curveDirection( 1, 0 );
       for ( size_t a = 0; a + 1 < curve.size(); ++a )
         for ( size_t b = 0; b + 1 < partnerLine.size(); ++b )
         {
@@ -223,10 +242,52 @@ namespace geostation
           sigma = std::min( options.maxPartnerSigmaPx, std::max( options.pixelSigmaFloorPx, lineSigma ) / sine );
           sigmaLine = sigma * sine;
           partnerDirection = dl;
+          curveDirection = dc;
         }
       if ( !found )
         continue;
-      std::vector<RayObservation> rays { { reference.image, p, std::max( options.pixelSigmaFloorPx, referenceSigmaPx[i] ) }, { partner.image, conjugate, sigma } };
+      if ( partnerRelocation && referencePoints.size() > 1 )
+      {
+        // the partner's line located again across the conjugate, over the same length of line on the ground
+        const size_t n = i + 1 < referencePoints.size() ? i + 1 : i - 1;
+        const std::optional<Eigen::Vector3d> neighbour = groundOfPixel( *reference.image, referencePoints[n] );
+        const GroundProjection a = partner.image->projectGroundToPixel( *ground );
+        const GroundProjection b = neighbour ? partner.image->projectGroundToPixel( *neighbour ) : GroundProjection();
+        const double metres = neighbour ? ( *neighbour - *ground ).norm() : 0.0;
+        if ( a.ok() && b.ok() && metres > 1e-3 )
+        {
+          const double pxPerM = ( b.pixelInImage - a.pixelInImage ).norm() / metres;
+          const double range = ( *ground - partner.image->exterior().projectionCentre ).head<2>().norm();
+          const Eigen::Vector2d normal = rightNormal( partnerDirection );
+          const double crossing = normal.dot( curveDirection );
+          if ( const std::optional<LineHit> hit = relocateOnLine( partner, conjugate, partnerDirection, pxPerM, range, *partnerRelocation ) )
+            if ( std::abs( crossing ) >= options.minCrossingSine )
+            {
+              conjugate += curveDirection * ( normal.dot( hit->pixelInImage - conjugate ) / crossing );
+              const double sine = std::abs( crossing );
+              sigma = std::min( options.maxPartnerSigmaPx, std::max( options.pixelSigmaFloorPx, hit->sigmaPx ) / sine );
+              sigmaLine = sigma * sine;
+            }
+        }
+      }
+      double referenceFloorPx = options.pixelSigmaFloorPx;
+      if ( options.lineSigmaM > 0 && referencePoints.size() > 1 )
+      {
+        // the line's own sigma on the road, in each image's pixels
+        const size_t n = i + 1 < referencePoints.size() ? i + 1 : i - 1;
+        if ( const std::optional<Eigen::Vector3d> neighbour = groundOfPixel( *reference.image, referencePoints[n] ) )
+        {
+          const Eigen::Vector3d along = *neighbour - *ground;
+          referenceFloorPx = std::max( referenceFloorPx, options.lineSigmaM * pixelsPerMetreAcross( *reference.image, *ground, along ) );
+          const double partnerFloorPx = options.lineSigmaM * pixelsPerMetreAcross( *partner.image, *ground, along );
+          if ( sigmaLine < partnerFloorPx )
+          {
+            sigma *= partnerFloorPx / sigmaLine;
+            sigmaLine = partnerFloorPx;
+          }
+        }
+      }
+      std::vector<RayObservation> rays { { reference.image, p, std::max( referenceFloorPx, referenceSigmaPx[i] ) }, { partner.image, conjugate, sigma } };
       const IntersectionSummary s = intersectRays( rays );
       if ( !s.ok() )
         continue;

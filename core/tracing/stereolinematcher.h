@@ -32,6 +32,7 @@
 
 namespace geostation
 {
+  struct LineRelocation;
 
   struct StereoImage
   {
@@ -95,16 +96,36 @@ namespace geostation
     double minCrossingSine = 0.1;    //!< epipolar curve and partner line closer to parallel: no vertex
     double maxPartnerSigmaPx = 2.0;
     double pixelSigmaFloorPx = 0.15;
+    /**
+     * The line's own uncertainty across it on the road (m; 0: none): paint
+     * worn unevenly or ragged edges put a stripe's centre off its line by
+     * about the same distance on the road whatever the range, so each
+     * image's observation gets at least this, in its own pixels
+     * (pixelsPerMetreAcross()).
+     */
+    double lineSigmaM = 0.0;
     bool propagateExterior = true;   //!< add the station's GNSS/INS sigmas (the reference image's)
   };
+
+  /**
+   * How far (px) the image of a road line moves across itself when the line
+   * moves one metre sideways on the road, at `ground` with the line running
+   * along `alongGround` there. 0 where either does not project.
+   */
+  double pixelsPerMetreAcross( const OrientedImage &image, const Eigen::Vector3d &ground, const Eigen::Vector3d &alongGround );
 
   /**
    * 3-D vertices of the reference line's interval points: each one's
    * epipolar curve crossed with the partner's line (pixels and sigmas), then
    * intersected. Points whose conjugate cannot be found are left out.
+   * With `partnerRelocation`, the partner's line is located again across
+   * each conjugate (relocateOnLine(), the same length of line on the
+   * ground as the reference points were put on) and the conjugate moves
+   * along its epipolar curve onto it.
    */
   std::vector<LineVertex3d> intersectLineVertices( const StereoImage &reference, const std::vector<Eigen::Vector2d> &referencePoints, const std::vector<double> &referenceSigmaPx,
-      const StereoImage &partner, const FollowResult &partnerLine, const GroundOfPixel &groundOfPixel, const VertexMatchOptions &options = VertexMatchOptions() );
+      const StereoImage &partner, const FollowResult &partnerLine, const GroundOfPixel &groundOfPixel, const VertexMatchOptions &options = VertexMatchOptions(),
+      const LineRelocation *partnerRelocation = nullptr );
 
   /**
    * Covariance (m^2) of a ground point from a rig's GNSS/INS sigmas: the
