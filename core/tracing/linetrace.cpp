@@ -3,6 +3,7 @@
  ***************************************************************************/
 #include "tracing/linetrace.h"
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 
@@ -92,6 +93,27 @@ namespace geostation
   double degreesFromDirection( const Eigen::Vector2d &direction )
   {
     return std::atan2( direction.x(), -direction.y() ) * 180.0 / kPi;
+  }
+
+  void joinBackward( const FollowResult &backward, FollowResult &forward )
+  {
+    if ( backward.points.size() < 2 )
+      return;
+    std::vector<Eigen::Vector2d> both( backward.points.rbegin(), backward.points.rend() );
+    std::vector<double> bothSigma( backward.sigmaPx.rbegin(), backward.sigmaPx.rend() );
+    const size_t skip = !forward.points.empty() && ( forward.points.front() - both.back() ).norm() < 1.0 ? 1 : 0;
+    both.insert( both.end(), forward.points.begin() + std::min( skip, forward.points.size() ), forward.points.end() );
+    bothSigma.insert( bothSigma.end(), forward.sigmaPx.begin() + std::min( skip, forward.sigmaPx.size() ), forward.sigmaPx.end() );
+    // bridged flags: reversed, the flag of the segment ending at point i + 1 is the original's of point n - 1 - i
+    const size_t n = backward.points.size();
+    std::vector<bool> bothBridged( n, false );
+    for ( size_t i = 0; i + 1 < n; ++i )
+      bothBridged[i + 1] = n - 1 - i < backward.bridged.size() && backward.bridged[n - 1 - i];
+    for ( size_t i = std::min( skip, forward.points.size() ); i < forward.points.size(); ++i )
+      bothBridged.push_back( i > 0 && i < forward.bridged.size() && forward.bridged[i] );
+    forward.points = both;
+    forward.sigmaPx = bothSigma;
+    forward.bridged = bothBridged;
   }
 
 } // namespace geostation

@@ -120,6 +120,13 @@ namespace geostation
     double minContrastGrey = 6.0;        //!< and at least this many grey levels
   };
 
+  /**
+   * `forward` preceded by `backward` (followed the other way from the same
+   * start) reversed: one line in forward order, sigmas and bridged flags
+   * carried along.
+   */
+  void joinBackward( const FollowResult &backward, FollowResult &forward );
+
 } // namespace geostation
 
 #endif // GEOSTATION_TRACING_LINETRACE_H

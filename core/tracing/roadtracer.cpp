@@ -3,6 +3,7 @@
  ***************************************************************************/
 #include "tracing/roadtracer.h"
 #include "tracing/dynamiclink.h"
+#include "tracing/stationstereo.h"
 #include "tracing/trackgeometry.h"
 
 #include <algorithm>
@@ -74,31 +75,6 @@ namespace geostation
         }
       }
       return best;
-    }
-
-    /**
-     * `forward` preceded by `backward` (followed the other way from the same
-     * start) reversed: one line in forward order.
-     */
-    void joinBackward( const FollowResult &backward, FollowResult &forward )
-    {
-      if ( backward.points.size() < 2 )
-        return;
-      std::vector<Eigen::Vector2d> both( backward.points.rbegin(), backward.points.rend() );
-      std::vector<double> bothSigma( backward.sigmaPx.rbegin(), backward.sigmaPx.rend() );
-      const size_t skip = !forward.points.empty() && ( forward.points.front() - both.back() ).norm() < 1.0 ? 1 : 0;
-      both.insert( both.end(), forward.points.begin() + std::min( skip, forward.points.size() ), forward.points.end() );
-      bothSigma.insert( bothSigma.end(), forward.sigmaPx.begin() + std::min( skip, forward.sigmaPx.size() ), forward.sigmaPx.end() );
-      // bridged flags: reversed, the flag of the segment ending at point i + 1 is the original's of point n - 1 - i
-      const size_t n = backward.points.size();
-      std::vector<bool> bothBridged( n, false );
-      for ( size_t i = 0; i + 1 < n; ++i )
-        bothBridged[i + 1] = n - 1 - i < backward.bridged.size() && backward.bridged[n - 1 - i];
-      for ( size_t i = std::min( skip, forward.points.size() ); i < forward.points.size(); ++i )
-        bothBridged.push_back( i > 0 && i < forward.bridged.size() && forward.bridged[i] );
-      forward.points = both;
-      forward.sigmaPx = bothSigma;
-      forward.bridged = bothBridged;
     }
 
     //! The pixel polyline's length on the ground, or 0.
@@ -347,106 +323,42 @@ namespace geostation
       StartMatch partnerStart;
       if ( !lost )
       {
-
-      // the partner: start by correlation along the epipolar curve, then the same method
-      const StereoImage ref { referenceImage->id, &reference, referenceGrey.get() }, par { partnerImage->id, &partner, partnerGrey.get() };
-      // the first points of the line that the partner sees, tried in turn
-      std::vector<Eigen::Vector2d> points;
-      std::vector<double> sigmas;
-      intervalPoints( followed.line, options.vertexSpacingPx, points, sigmas );
-      LineRelocation relocation = options.relocation;
-      relocation.profile = profile;
-      relocation.widthTimesRange = widthTimesRange;
-      if ( options.relocate )
-        recentreOnLine( ref, points, sigmas, ground, relocation );
-      partnerStart.message = "the line is not in view of " + partnerImage->id;
-      for ( size_t i = 0, tries = 0; i < points.size() && tries < 6; ++i )
-      {
-        const std::optional<Eigen::Vector3d> g = ground( reference, points[i] );
-        const GroundProjection p = g ? partner.projectGroundToPixel( *g ) : GroundProjection();
-        if ( !g || !p.ok() || p.pixelInImage.x() < 15 || p.pixelInImage.y() < 15 || p.pixelInImage.x() > partnerGrey->cols - 15 || p.pixelInImage.y() > partnerGrey->rows - 15 )
-          continue;
-        ++tries;
-        const Eigen::Vector2d along = ( points[std::min( i + 1, points.size() - 1 )] - points[i == 0 ? 0 : i - 1] ).normalized();
-        partnerStart = matchStartInPartner( ref, points[i], along, par, ground, followed.line.profile, options.start );
-        if ( partnerStart.ok )
-          break;
-      }
-      if ( partnerStart.ok )
-      {
-      record.partnerScore = partnerStart.score;
-      FollowRequest partnerRequest = request;
-      partnerRequest.start = partnerStart.pixelInImage;
-      partnerRequest.direction = partnerStart.direction;
-      partnerRequest.withinLimit = withinLimitOf( partner, rangeLimit + 3.0 );
-      LineFollowOptions partnerFollow = follow;
-      partnerFollow.groundDistanceM = [&]( const Eigen::Vector2d &a, const Eigen::Vector2d &b ) -> std::optional<double>
-      {
-        const std::optional<Eigen::Vector3d> ga = ground( partner, a ), gb = ground( partner, b );
-        return ga && gb ? std::optional<double>( ( *ga - *gb ).norm() ) : std::nullopt;
-      };
-      // the partner's line both ways from its start, so it covers all of the reference line
-      if ( const std::optional<LineHit> snapped = locateLine( *partnerGrey, partnerRequest.start, partnerRequest.direction, profile, locateOptionsFor( profile, options.follow.directional.follow, 4.0 ) ) )
-        partnerRequest.start = snapped->pixelInImage;
-      partnerLine = followLine( *partnerGrey, partnerRequest, method, partnerFollow );
-      FollowRequest backwardRequest = partnerRequest;
-      backwardRequest.direction = -partnerRequest.direction;
-      if ( profile.kind == LineKind::Edge )
-        backwardRequest.profile.polarity = -profile.polarity;
-      const LineFollowResult backward = followLine( *partnerGrey, backwardRequest, method, partnerFollow );
-      joinBackward( backward.line, partnerLine.line );
-      VertexMatchOptions vertexOptions = options.vertices;
-      if ( profile.kind != LineKind::Edge )
-      {
-        // a painted stripe's centre: good to so much on the road when relocated over a length of line, else in pixels
-        if ( options.relocate )
-          vertexOptions.lineSigmaM = std::max( vertexOptions.lineSigmaM, options.stripeSigmaM );
-        else
-          vertexOptions.pixelSigmaFloorPx = std::max( vertexOptions.pixelSigmaFloorPx, options.stripeSigmaFloorPx );
-      }
-      vertices = intersectLineVertices( ref, points, sigmas, par, partnerLine.line, ground, vertexOptions, options.relocate ? &relocation : nullptr );
-      MultiStationOptions multi = options.multiStation;
-      multi.sigmaFloorPx = std::max( multi.sigmaFloorPx, vertexOptions.pixelSigmaFloorPx );
-      multi.lineSigmaM = std::max( multi.lineSigmaM, vertexOptions.lineSigmaM );
-      if ( options.locateInPartner && vertices.size() < points.size() )
-      {
-        // where the partner's line does not reach: the line located across the prediction in the partner
-        std::vector<Eigen::Vector2d> missing;
-        std::vector<double> missingSigmas;
-        for ( size_t i = 0; i < points.size(); ++i )
-          if ( std::none_of( vertices.begin(), vertices.end(), [&]( const LineVertex3d &v ) { return v.pixelInReference == points[i]; } ) )
-          {
-            missing.push_back( points[i] );
-            missingSigmas.push_back( sigmas[i] );
-          }
-        const std::vector<LineVertex3d> located = verticesByLocatingInPartner( missing, missingSigmas, StationView { station.id, { ref, par } }, ground, profile, widthTimesRange,
-                                                                               vertexOptions.heightToleranceM, multi );
-        vertices.insert( vertices.end(), located.begin(), located.end() );
-        // back into the reference line's order
-        std::stable_sort( vertices.begin(), vertices.end(), [&]( const LineVertex3d &a, const LineVertex3d &b ) {
-          return std::find( points.begin(), points.end(), a.pixelInReference ) < std::find( points.begin(), points.end(), b.pixelInReference ); } );
-      }
-      if ( !behind.empty() )
-      {
-        // the stations before saw the line there too, with pose errors of their own
-        std::vector<StationView> others;
+        // the partner: start by correlation along the epipolar curve, then the same method; 3-D vertices
+        StationStereoInput input;
+        input.stationId = station.id;
+        input.reference = { referenceImage->id, &reference, referenceGrey.get() };
+        input.partner = { partnerImage->id, &partner, partnerGrey.get() };
+        input.ground = ground;
+        input.referenceLine = followed.line;
+        input.request = request;
+        input.method = method;
+        input.follow = follow;
+        input.partnerWithinLimit = withinLimitOf( partner, rangeLimit + 3.0 );
+        input.profile = profile;
+        input.widthTimesRange = widthTimesRange;
+        input.lineDirection = lineDirection;
         for ( const StationBehind &b : behind )
-          others.push_back( b.view() );
-        const MultiStationSummary m = refineFromOtherStations( vertices, StationView { station.id, { ref, par } }, others, profile, widthTimesRange, lineDirection, multi );
-        out.multiStation.vertices += m.vertices;
-        out.multiStation.observations += m.observations;
-        out.multiStation.rejected += m.rejected;
-        out.multiStation.dropped += m.dropped;
-      }
-      if ( options.stationsBehind > 0 )
-      {
-        behind.push_front( { station.id, { referenceImage->id, partnerImage->id }, { reference, partner }, { referenceGrey, partnerGrey } } );
-        if ( behind.size() > static_cast<size_t>( options.stationsBehind ) )
-          behind.pop_back();
-      }
-      }
-      else
-        record.partnerMessage = partnerStart.message;
+          input.behind.push_back( b.view() );
+        StationStereo stereo = traceStationStereo( input, options );
+        vertices = std::move( stereo.vertices );
+        partnerLine = std::move( stereo.partnerLine );
+        partnerStart = stereo.partnerStart;
+        out.multiStation.vertices += stereo.multiStation.vertices;
+        out.multiStation.observations += stereo.multiStation.observations;
+        out.multiStation.rejected += stereo.multiStation.rejected;
+        out.multiStation.dropped += stereo.multiStation.dropped;
+        if ( partnerStart.ok )
+        {
+          record.partnerScore = partnerStart.score;
+          if ( options.stationsBehind > 0 )
+          {
+            behind.push_front( { station.id, { referenceImage->id, partnerImage->id }, { reference, partner }, { referenceGrey, partnerGrey } } );
+            if ( behind.size() > static_cast<size_t>( options.stationsBehind ) )
+              behind.pop_back();
+          }
+        }
+        else
+          record.partnerMessage = partnerStart.message;
       }
       else
         record.partnerMessage = lostMessage;
