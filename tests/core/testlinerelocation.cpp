@@ -1,7 +1,8 @@
 // Putting traced points back onto the line (core/tracing/linerelocation) on a
-// scene built here: a painted stripe on a flat road, worn along one side or
-// the other in patches of a few decimetres, seen by a forward camera of a
-// van; and the scale across a line against a nadir camera's f / H.
+// scene built here (stripedroad.h): a painted stripe on a flat road, worn
+// along one side or the other in patches of a few decimetres, seen by a
+// forward camera of a van; and the scale across a line against a nadir
+// camera's f / H.
 #include <cmath>
 #include <random>
 
@@ -9,26 +10,14 @@
 #include <opencv2/core.hpp>
 
 #include "tracing/linerelocation.h"
+#include "stripedroad.h"
 #include "vanrig.h"
 
 using namespace geostation;
 
 namespace
 {
-  constexpr double kRoadZ = 100.0, kStripeX = 2.5, kStripeHalfWidth = 0.075;
-
-  Camera forwardCamera()
-  {
-    Camera c;
-    c.id = "forward";
-    c.width = 800;
-    c.height = 600;
-    c.f = 700.0;
-    c.cx = 400.0;
-    c.cy = 300.0;
-    c.pixelSizeMm = 0.0074;
-    return c;
-  }
+  using namespace stripedroad;
 
   //! Paint at ground x (stripe centre kStripeX): patches 0.3 m long where 40 % of the width is worn away on one side.
   bool paintAt( double x, double y )
@@ -45,39 +34,6 @@ namespace
     return true;
   }
 
-  cv::Mat render( const OrientedImage &image, std::mt19937 &rng )
-  {
-    std::normal_distribution<double> noise( 0.0, 1.5 );
-    cv::Mat grey( image.camera().height, image.camera().width, CV_8UC1 );
-    for ( int r = 0; r < grey.rows; ++r )
-      for ( int c = 0; c < grey.cols; ++c )
-      {
-        double sum = 0.0;
-        for ( const double dr : { 0.25, 0.75 } )
-          for ( const double dc : { 0.25, 0.75 } )
-          {
-            const std::optional<Ray> ray = image.worldRayFromPixel( Eigen::Vector2d( c + dc, r + dr ) );
-            double value = 90.0;
-            if ( ray && ray->direction.z() < -1e-6 )
-            {
-              const Eigen::Vector3d p = ray->origin + ( kRoadZ - ray->origin.z() ) / ray->direction.z() * ray->direction;
-              value = paintAt( p.x(), p.y() ) ? 200.0 : 60.0;
-            }
-            sum += 0.25 * value;
-          }
-        grey.at<uchar>( r, c ) = cv::saturate_cast<uchar>( sum + noise( rng ) );
-      }
-    return grey;
-  }
-
-  std::optional<Eigen::Vector3d> onRoad( const OrientedImage &image, const Eigen::Vector2d &pixel )
-  {
-    const std::optional<Ray> ray = image.worldRayFromPixel( pixel );
-    if ( !ray || ray->direction.z() > -1e-6 )
-      return std::nullopt;
-    return Eigen::Vector3d( ray->origin + ( kRoadZ - ray->origin.z() ) / ray->direction.z() * ray->direction );
-  }
-
   //! RMS (m) of the points' distance on the road from the stripe's centre line.
   double rmsOnRoad( const OrientedImage &image, const std::vector<Eigen::Vector2d> &points )
   {
@@ -90,7 +46,7 @@ namespace
 
 TEST( LineRelocation, ScaleAcrossALineIsFOverHeightFromNadir )
 {
-  const Camera camera = forwardCamera();
+  const Camera camera = vanCamera();
   const double height = 12.0;
   const Eigen::Vector3d centre( 0.0, 0.0, kRoadZ + height );
   const OrientedImage nadir( camera, vanrig::lookAt( centre, centre + Eigen::Vector3d( 0.0, 1e-4, -height ) ) );
@@ -109,10 +65,10 @@ TEST( LineRelocation, ScaleAcrossALineIsFOverHeightFromNadir )
 TEST( LineRelocation, WornStripeCentredOverALengthOfLine )
 {
   std::mt19937 rng( 5 );
-  const Camera camera = forwardCamera();
+  const Camera camera = vanCamera();
   const Eigen::Vector3d van( 1.0, 0.0, kRoadZ + 2.65 );
   const OrientedImage image( camera, vanrig::lookAt( van, van + Eigen::Vector3d( 0.0, 30.0, -3.7 ) ) );
-  const cv::Mat grey = render( image, rng );
+  const cv::Mat grey = render( image, paintAt, 1.5, rng );
   const StereoImage view { "forward", &image, &grey };
 
   // a follower's points 7-16 m ahead every 0.4 m, strayed 1.5 px to one side of the line

@@ -11,26 +11,14 @@
 
 #include "adjustment/intersection.h"
 #include "tracing/multistationvertices.h"
+#include "stripedroad.h"
 #include "vanrig.h"
 
 using namespace geostation;
 
 namespace
 {
-  constexpr double kRoadZ = 100.0, kStripeX = 2.5, kStripeHalfWidth = 0.075;
-
-  Camera pairCamera()
-  {
-    Camera c;
-    c.id = "pair";
-    c.width = 800;
-    c.height = 600;
-    c.f = 700.0;
-    c.cx = 400.0;
-    c.cy = 300.0;
-    c.pixelSizeMm = 0.0074;
-    return c;
-  }
+  using namespace stripedroad;
 
   //! The camera `side` (-1 left, +1 right) of the station at `y`, 2.65 m above the road, 7 degrees down.
   ExteriorOrientation trueExterior( double y, int side )
@@ -39,31 +27,8 @@ namespace
     return vanrig::lookAt( centre, centre + Eigen::Vector3d( 0.0, 30.0, -30.0 * std::tan( 7.0 * M_PI / 180.0 ) ) );
   }
 
-  //! A bright stripe at x = kStripeX on dark asphalt, 2 x 2 samples a pixel, grey noise 1.
-  cv::Mat render( const OrientedImage &image, std::mt19937 &rng )
-  {
-    std::normal_distribution<double> noise( 0.0, 1.0 );
-    cv::Mat grey( image.camera().height, image.camera().width, CV_8UC1 );
-    for ( int r = 0; r < grey.rows; ++r )
-      for ( int c = 0; c < grey.cols; ++c )
-      {
-        double sum = 0.0;
-        for ( const double dr : { 0.25, 0.75 } )
-          for ( const double dc : { 0.25, 0.75 } )
-          {
-            const std::optional<Ray> ray = image.worldRayFromPixel( Eigen::Vector2d( c + dc, r + dr ) );
-            double value = 90.0; // sky
-            if ( ray && ray->direction.z() < -1e-6 )
-            {
-              const Eigen::Vector3d p = ray->origin + ( kRoadZ - ray->origin.z() ) / ray->direction.z() * ray->direction;
-              value = std::abs( p.x() - kStripeX ) < kStripeHalfWidth ? 200.0 : 60.0;
-            }
-            sum += 0.25 * value;
-          }
-        grey.at<uchar>( r, c ) = cv::saturate_cast<uchar>( sum + noise( rng ) );
-      }
-    return grey;
-  }
+  //! A bright stripe at x = kStripeX on dark asphalt, grey noise 1.
+  cv::Mat render( const OrientedImage &image, std::mt19937 &rng ) { return stripedroad::render( image, fullStripe, 1.0, rng ); }
 
   struct Station
   {
@@ -92,7 +57,7 @@ namespace
 TEST( MultiStationVertices, PoseErrorsAveragedOverStationsWithHonestSigmas )
 {
   std::mt19937 rng( 11 );
-  const Camera camera = pairCamera();
+  const Camera camera = vanCamera();
   const std::vector<Station> stations = threeStations( camera, rng );
   const ExteriorSigma sigma { 0.02, 0.02, 0.03, 0.004, 0.004, 0.01 };
   std::normal_distribution<double> gauss( 0.0, 1.0 );
@@ -182,7 +147,7 @@ TEST( MultiStationVertices, PoseErrorsAveragedOverStationsWithHonestSigmas )
 TEST( MultiStationVertices, AWrongConjugateIsLeftOutOrPutRight )
 {
   std::mt19937 rng( 5 );
-  const Camera camera = pairCamera();
+  const Camera camera = vanCamera();
   const ExteriorSigma sigma { 0.02, 0.02, 0.03, 0.004, 0.004, 0.01 };
   const std::vector<Station> stations = threeStations( camera, rng );
   std::vector<std::vector<OrientedImage>> images; // the true orientation, with GNSS/INS sigmas
