@@ -214,9 +214,16 @@ namespace geostation
       const std::optional<LineHit> hit = locateLine( grey, pixel, direction, there, locateOptionsFor( there, FollowOptions(), searchHalf ) );
       if ( !hit )
         continue;
-      const double sigmaHit = std::max( options.sigmaFloorPx, hit->sigmaPx );
+      double sigmaHit = std::max( options.sigmaFloorPx, hit->sigmaPx ), sigmaReference = std::max( options.sigmaFloorPx, referenceSigmaPx[i] );
+      if ( options.lineSigmaM > 0 )
+      {
+        // the line's own sigma on the road, in each image's pixels (as for the partner's followed line)
+        const Eigen::Vector3d alongGround = *neighbour - *ground;
+        sigmaHit = std::max( sigmaHit, options.lineSigmaM * pixelsPerMetreAcross( partner, *ground, alongGround ) );
+        sigmaReference = std::max( sigmaReference, options.lineSigmaM * pixelsPerMetreAcross( reference, *ground, alongGround ) );
+      }
       const std::vector<Observation> observations {
-        { &reference, 0, true, p, Eigen::Vector2d::Zero(), std::max( options.sigmaFloorPx, referenceSigmaPx[i] ), own.images[0].imageId },
+        { &reference, 0, true, p, Eigen::Vector2d::Zero(), sigmaReference, own.images[0].imageId },
         { &partner, 0, false, hit->pixelInImage, normal, sigmaHit, own.images[1].imageId } };
       const Solution solution = adjust( observations, rigs, *ground );
       if ( !solution.ok || std::abs( solution.point.z() - ground->z() ) > heightToleranceM )

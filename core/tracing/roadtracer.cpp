@@ -77,6 +77,22 @@ namespace geostation
       return best;
     }
 
+    //! Drops the vertices from `first` on whose height leaves the line through their neighbours'; how many went.
+    int dropHeightOutliers( std::vector<TracedVertex> &vertices, size_t first, const HeightContinuityOptions &options )
+    {
+      std::vector<Eigen::Vector3d> points;
+      std::vector<double> sigmaZ;
+      for ( const TracedVertex &v : vertices )
+      {
+        points.push_back( v.point );
+        sigmaZ.push_back( std::sqrt( std::max( 0.0, v.covariance( 2, 2 ) ) ) );
+      }
+      const std::vector<size_t> outliers = heightOutliers( points, sigmaZ, first, options );
+      for ( auto it = outliers.rbegin(); it != outliers.rend(); ++it )
+        vertices.erase( vertices.begin() + static_cast<std::ptrdiff_t>( *it ) );
+      return static_cast<int>( outliers.size() );
+    }
+
     //! The pixel polyline's length on the ground, or 0.
     double groundLength( const OrientedImage &image, const std::vector<Eigen::Vector2d> &points, const GroundOfPixel &ground )
     {
@@ -419,7 +435,10 @@ namespace geostation
         std::stable_sort( out.vertices.begin() + static_cast<std::ptrdiff_t>( firstOfStation ), out.vertices.end(), [&]( const TracedVertex &a, const TracedVertex &b ) {
           return a.point.head<2>().dot( runAlong.head<2>() ) < b.point.head<2>().dot( runAlong.head<2>() ); } );
       }
-      record.vertices = static_cast<int>( out.vertices.size() - firstOfStation - kept.size() );
+      const size_t ownVertices = out.vertices.size() - firstOfStation - kept.size();
+      const int outliers = dropHeightOutliers( out.vertices, firstOfStation, options.heightContinuity );
+      out.heightOutliers += outliers;
+      record.vertices = std::max( 0, static_cast<int>( ownVertices ) - outliers );
       out.stations.push_back( record );
       if ( options.stationTraced )
         options.stationTraced( record, followed.line.points, partnerLine.line.points, out.vertices );

@@ -29,6 +29,7 @@
 #include "io/block.h"
 #include "tracing/lineprofile.h"
 #include "tracing/handovermatcher.h"
+#include "tracing/heightcontinuity.h"
 #include "tracing/linefollower.h"
 #include "tracing/linerelocation.h"
 #include "tracing/multistationvertices.h"
@@ -88,6 +89,7 @@ namespace geostation
     double handoverRangeM = 5.5;   //!< the next station takes the line over this far ahead of its camera
     double cameraHeightM = 2.6;    //!< above the road: the road plane of eqs. 6.22-6.25, following the track's heights
     double surfaceToleranceM = 0.3; //!< a vertex further above or below the road surface is a wrong match and dropped
+    HeightContinuityOptions heightContinuity; //!< a vertex whose height leaves the line through its neighbours' is dropped
     double vertexSpacingPx = 25.0; //!< interval points matched in the partner
     int maxStationsPassedOver = 2; //!< stations in a row where the line cannot be followed before tracing stops
     /**
@@ -167,6 +169,7 @@ namespace geostation
     double sigmaMaxM = 0.0;   //!< largest vertex sigma (any axis)
     int pixelsFollowed = 0;
     MultiStationSummary multiStation; //!< vertices seen from earlier stations too
+    int heightOutliers = 0;   //!< vertices dropped for leaving the line's height (heightcontinuity.h)
 
     bool ok() const { return vertices.size() >= 2; }
     //! The methods used, "directional" or e.g. "least_squares+polynomial".
