@@ -90,14 +90,20 @@ namespace geostation
       next.direction = endDirection( points, current.direction, 25.0 );
       const double legLength = last.points.empty() ? 0.0 : ( last.points.back() - last.points.front() ).norm();
       if ( legLength < 20.0 )
-        next.direction = ( ( 20.0 - legLength ) * current.direction + legLength * next.direction ).normalized();
+      {
+        const Eigen::Vector2d blended = ( 20.0 - legLength ) * current.direction.normalized() + legLength * next.direction;
+        // (a short leg that turned back on the direction given: the direction given)
+        next.direction = blended.norm() > 1.0 ? blended.normalized() : current.direction.normalized();
+      }
       bridge = next;
       const Eigen::Vector2d from = bridge->from, d = bridge->direction;
       LocateOptions locate = locateOptionsFor( last.profile, options.directional.follow, 2.0 );
       locate.minWidthRatio = 6.0; // a stripe narrows with distance across a long gap
       bool resumed = false;
       last.stop = TraceStop::EndOfLine;
-      for ( double s = 3.0;; s += 3.0 )
+      // (bounded also by the image: a bridge never scans further than the image's diagonal)
+      const double diagonal = std::hypot( grey.cols, grey.rows );
+      for ( double s = 3.0; s <= diagonal; s += 3.0 )
       {
         const Eigen::Vector2d q = from + s * d;
         if ( !sampleGrey( grey, q - 4.0 * rightNormal( d ) ) || !sampleGrey( grey, q + 4.0 * rightNormal( d ) ) )
