@@ -3,6 +3,7 @@
  ***************************************************************************/
 #include "tracing/roadtracer.h"
 #include "tracing/dynamiclink.h"
+#include "tracing/runline.h"
 #include "tracing/stationstereo.h"
 #include "tracing/trackgeometry.h"
 
@@ -75,22 +76,6 @@ namespace geostation
         }
       }
       return best;
-    }
-
-    //! Drops the vertices from `first` on whose height leaves the line through their neighbours'; how many went.
-    int dropHeightOutliers( std::vector<TracedVertex> &vertices, size_t first, const HeightContinuityOptions &options )
-    {
-      std::vector<Eigen::Vector3d> points;
-      std::vector<double> sigmaZ;
-      for ( const TracedVertex &v : vertices )
-      {
-        points.push_back( v.point );
-        sigmaZ.push_back( std::sqrt( std::max( 0.0, v.covariance( 2, 2 ) ) ) );
-      }
-      const std::vector<size_t> outliers = heightOutliers( points, sigmaZ, first, options );
-      for ( auto it = outliers.rbegin(); it != outliers.rend(); ++it )
-        vertices.erase( vertices.begin() + static_cast<std::ptrdiff_t>( *it ) );
-      return static_cast<int>( outliers.size() );
     }
 
     //! The pixel polyline's length on the ground, or 0.
@@ -379,66 +364,19 @@ namespace geostation
       else
         record.partnerMessage = lostMessage;
 
-      // into the run's line: the previous station's vertices beyond the handover point give way; this
-      // station's go in order along the run, none behind the line so far
-      const std::vector<TracedVertex> givingWay( out.vertices.begin() + static_cast<std::ptrdiff_t>( std::min( keep, out.vertices.size() ) ), out.vertices.end() );
-      out.vertices.resize( std::min( keep, out.vertices.size() ) );
-      const size_t firstOfStation = out.vertices.size();
-      const Eigen::Vector3d runAlong = previousCentre ? Eigen::Vector3d( centre - *previousCentre ) : Eigen::Vector3d( reference.cameraFromWorldRotation().row( 2 ).transpose() * -1.0 );
-      std::vector<const LineVertex3d *> ordered;
-      for ( const LineVertex3d &v : vertices )
-      {
-        // a road line lies on the road: a vertex far off the surface is a wrong conjugate
-        if ( !options.groundOfPixel )
-          if ( const std::optional<double> surface = surfaceHeight( v.point.head<2>(), centre.z(), centre.head<2>() );
-               surface && std::abs( v.point.z() - *surface ) > options.surfaceToleranceM )
-            continue;
-        if ( !out.vertices.empty() && ( v.point - out.vertices.back().point ).head<2>().dot( runAlong.head<2>() ) <= 0 )
-          continue;
-        ordered.push_back( &v );
-      }
-      std::stable_sort( ordered.begin(), ordered.end(), [&]( const LineVertex3d *a, const LineVertex3d *b ) { return a->point.head<2>().dot( runAlong.head<2>() ) < b->point.head<2>().dot( runAlong.head<2>() ); } );
-      // the previous station's vertices beyond the handover give way only where this station has vertices of its own
-      // (within giveWayM along the run): where this station's line stopped short, they fill its gap
-      std::vector<const TracedVertex *> kept;
-      for ( const TracedVertex &g : givingWay )
-      {
-        const double at = g.point.head<2>().dot( runAlong.head<2>().normalized() );
-        const bool covered = std::any_of( ordered.begin(), ordered.end(), [&]( const LineVertex3d *v ) {
-          return std::abs( v->point.head<2>().dot( runAlong.head<2>().normalized() ) - at ) < options.giveWayM; } );
-        if ( !covered )
-          kept.push_back( &g );
-      }
-      for ( const LineVertex3d *v : ordered )
-      {
-        TracedVertex t;
-        t.point = v->point;
-        t.sigmaM = v->sigmaM;
-        t.covariance = v->covariance;
-        t.stationId = station.id;
-        t.imageIds = { referenceImage->id, partnerImage->id };
-        t.pixels = { v->pixelInReference, v->pixelInPartner };
-        t.residualsPx = { v->residualReferencePx, v->residualPartnerPx };
-        for ( const LineVertex3d::OtherObservation &o : v->others )
-        {
-          t.imageIds.push_back( o.imageId );
-          t.pixels.push_back( o.pixelInImage );
-          t.residualsPx.push_back( o.residualPx );
-        }
-        t.rangeM = v->rangeM;
-        out.vertices.push_back( t );
-      }
-      if ( !kept.empty() )
-      {
-        for ( const TracedVertex *g : kept )
-          out.vertices.push_back( *g );
-        std::stable_sort( out.vertices.begin() + static_cast<std::ptrdiff_t>( firstOfStation ), out.vertices.end(), [&]( const TracedVertex &a, const TracedVertex &b ) {
-          return a.point.head<2>().dot( runAlong.head<2>() ) < b.point.head<2>().dot( runAlong.head<2>() ); } );
-      }
-      const size_t ownVertices = out.vertices.size() - firstOfStation - kept.size();
-      const int outliers = dropHeightOutliers( out.vertices, firstOfStation, options.heightContinuity );
-      out.heightOutliers += outliers;
-      record.vertices = std::max( 0, static_cast<int>( ownVertices ) - outliers );
+      // into the run's line
+      StationPart part;
+      part.stationId = station.id;
+      part.referenceImageId = referenceImage->id;
+      part.partnerImageId = partnerImage->id;
+      part.runAlong = previousCentre ? Eigen::Vector3d( centre - *previousCentre ) : Eigen::Vector3d( reference.cameraFromWorldRotation().row( 2 ).transpose() * -1.0 );
+      part.keep = keep;
+      if ( !options.groundOfPixel )
+        part.surfaceHeight = [&]( const Eigen::Vector3d &p ) { return surfaceHeight( p.head<2>(), centre.z(), centre.head<2>() ); };
+      const StationPartSummary joined = appendStationPart( out.vertices, vertices, part, options );
+      const size_t firstOfStation = joined.firstOfStation;
+      out.heightOutliers += joined.heightOutliers;
+      record.vertices = joined.ownVertices;
       out.stations.push_back( record );
       if ( options.stationTraced )
         options.stationTraced( record, followed.line.points, partnerLine.line.points, out.vertices );
