@@ -29,9 +29,6 @@ namespace geostation
       throw std::invalid_argument( "followLine needs a method, not auto" );
     }
 
-    //! A leg shorter than this after a bridged gap is not the line found again.
-    constexpr double kMinLegPx = 3.0;
-
     //! The direction of the last `reachPx` of a polyline.
     Eigen::Vector2d endDirection( const std::vector<Eigen::Vector2d> &points, const Eigen::Vector2d &fallback, double reachPx )
     {
@@ -56,14 +53,6 @@ namespace geostation
     std::vector<double> sigmas;
     std::vector<size_t> runStarts { 0 }; // the followed runs between bridged gaps
     FollowResult last;
-    // the bridge being scanned: where it starts, its direction, and how far it was looked along
-    struct Bridge
-    {
-      Eigen::Vector2d from, direction;
-      size_t pointsBefore = 0; //!< points before the leg that followed its hit
-      int partial = 0;         //!< cross-sections where the line was seen but not confirmed
-    };
-    std::optional<Bridge> bridge;
     for ( int leg = 0; leg < 64; ++leg )
     {
       last = runMethod( grey, current, method, options );
@@ -76,30 +65,21 @@ namespace geostation
       out.line.pixelsFollowed += last.pixelsFollowed;
       if ( last.stop != TraceStop::EndOfLine && last.stop != TraceStop::NoEdge )
         break;
-      // a hit the follower could not follow (a fleck of paint, a worn patch) is not the line found again:
-      // the line ends there (scanning on past it finds other lines too)
-      if ( bridge && ( points.size() <= bridge->pointsBefore || ( points.back() - current.start ).norm() < kMinLegPx ) )
-      {
-        last.stop = TraceStop::EndOfLine;
-        break;
-      }
       // bridge: straight ahead from the end (or from the start, when that lies in a gap), cross-sections every 3 px
-      Bridge next;
-      next.from = points.empty() ? current.start : points.back();
+      const Eigen::Vector2d from = points.empty() ? current.start : points.back();
       // the direction of the last 25 px; a short leg (a dash, a worn patch) keeps the direction it was given
-      next.direction = endDirection( points, current.direction, 25.0 );
+      Eigen::Vector2d d = endDirection( points, current.direction, 25.0 );
       const double legLength = last.points.empty() ? 0.0 : ( last.points.back() - last.points.front() ).norm();
       if ( legLength < 20.0 )
       {
-        const Eigen::Vector2d blended = ( 20.0 - legLength ) * current.direction.normalized() + legLength * next.direction;
+        const Eigen::Vector2d blended = ( 20.0 - legLength ) * current.direction.normalized() + legLength * d;
         // (a short leg that turned back on the direction given: the direction given)
-        next.direction = blended.norm() > 1.0 ? blended.normalized() : current.direction.normalized();
+        d = blended.norm() > 1.0 ? blended.normalized() : current.direction.normalized();
       }
-      bridge = next;
-      const Eigen::Vector2d from = bridge->from, d = bridge->direction;
       LocateOptions locate = locateOptionsFor( last.profile, options.directional.follow, 2.0 );
       locate.minWidthRatio = 6.0; // a stripe narrows with distance across a long gap
       bool resumed = false;
+      int partial = 0;
       last.stop = TraceStop::EndOfLine;
       // (bounded also by the image: a bridge never scans further than the image's diagonal)
       const double diagonal = std::hypot( grey.cols, grey.rows );
@@ -119,7 +99,7 @@ namespace geostation
         const std::optional<double> ground = options.groundDistanceM ? options.groundDistanceM( from, q ) : std::nullopt;
         if ( ground ? *ground > options.maxGapM : s > options.maxGapPx )
         {
-          last.stop = bridge->partial > 0 ? TraceStop::GapTooLarge : TraceStop::EndOfLine;
+          last.stop = partial > 0 ? TraceStop::GapTooLarge : TraceStop::EndOfLine;
           break;
         }
         // worn paint: the visible part of a stripe may lie to either side of the line, up to half its width
@@ -129,7 +109,7 @@ namespace geostation
         const std::optional<LineHit> hit = locateLine( grey, q, d, last.profile, locate );
         if ( !hit )
           continue;
-        ++bridge->partial;
+        ++partial;
         // confirmed a little further on (a far dash is only a few pixels long)
         LocateOptions confirm = locate;
         confirm.searchHalfPx = 2.0;
@@ -138,7 +118,6 @@ namespace geostation
           continue;
         current.start = hit->pixelInImage;
         current.direction = d;
-        bridge->pointsBefore = points.size();
         if ( !points.empty() )
           runStarts.push_back( points.size() );
         current.profile = last.profile;
