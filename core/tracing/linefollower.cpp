@@ -53,6 +53,13 @@ namespace geostation
     std::vector<double> sigmas;
     std::vector<size_t> runStarts { 0 }; // the followed runs between bridged gaps
     FollowResult last;
+    struct BridgeState
+    {
+      Eigen::Vector2d from, direction;
+      size_t points = 0;
+      LineProfile profile;
+    };
+    std::optional<BridgeState> lastBridge;
     for ( int leg = 0; leg < 64; ++leg )
     {
       last = runMethod( grey, current, method, options );
@@ -76,6 +83,17 @@ namespace geostation
         // (a short leg that turned back on the direction given: the direction given)
         d = blended.norm() > 1.0 ? blended.normalized() : current.direction.normalized();
       }
+      // the same bridge as the last one, which found a hit the follower could not follow: it would find the
+      // same hit and fail the same way again (while anything of it changes, it is tried again)
+      const bool sameBridge = lastBridge && lastBridge->from == from && lastBridge->direction == d && lastBridge->points == points.size() &&
+                              lastBridge->profile.widthPx == last.profile.widthPx && lastBridge->profile.contrast == last.profile.contrast &&
+                              lastBridge->profile.polarity == last.profile.polarity && lastBridge->profile.kind == last.profile.kind;
+      if ( sameBridge )
+      {
+        last.stop = TraceStop::EndOfLine;
+        break;
+      }
+      lastBridge = BridgeState { from, d, points.size(), last.profile };
       LocateOptions locate = locateOptionsFor( last.profile, options.directional.follow, 2.0 );
       locate.minWidthRatio = 6.0; // a stripe narrows with distance across a long gap
       bool resumed = false;

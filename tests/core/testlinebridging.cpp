@@ -1,5 +1,5 @@
 /***************************************************************************
-  testlinebridging.cpp - gaps bridged by followLine()
+  testlinebridging.cpp - gaps bridged by followLine(), and where they are not
  ***************************************************************************/
 #include <gtest/gtest.h>
 #include <opencv2/imgproc.hpp>
@@ -28,6 +28,23 @@ namespace
     request.profile.widthPx = 6.0;
     request.profile.contrast = 140.0;
     return request;
+  }
+}
+
+TEST( LineBridging, AnUnfollowableFleckIsNotBridgedAgainAndAgain )
+{
+  // the line ends at row 250; 20 px on, a fleck of paint 4 px long, then nothing
+  cv::Mat grey = stripe( 250 );
+  cv::rectangle( grey, cv::Point( 198, 226 ), cv::Point( 201, 229 ), cv::Scalar( 200 ), cv::FILLED );
+  for ( const TraceMethod method : { TraceMethod::Directional, TraceMethod::LeastSquares, TraceMethod::Polynomial } )
+  {
+    SCOPED_TRACE( traceMethodName( method ) );
+    const LineFollowResult r = followLine( grey, upFrom( Eigen::Vector2d( 200.0, 370.0 ) ), method );
+    ASSERT_GE( r.line.points.size(), 2u );
+    EXPECT_TRUE( r.line.stop == TraceStop::EndOfLine || r.line.stop == TraceStop::LeftImage ) << traceStopName( r.line.stop );
+    EXPECT_LE( r.bridgedGaps, 1 ); // the same bridge is not tried again and again (up to the 64 legs)
+    EXPECT_GE( r.line.points.back().y(), 224.0 ); // the line's end or the fleck, nothing beyond
+    EXPECT_NEAR( r.line.points.front().y(), 370.0, 3.0 );
   }
 }
 
