@@ -71,6 +71,8 @@ namespace geostation
       if ( static_cast<int>( ds.size() ) < options.minNeighbours )
         continue;
       std::optional<HeightFit> fit = fitHeights( ds, z );
+      if ( !fit )
+        continue;
       // a neighbour that stands out (another wrong vertex) is left out of the fit: beyond 4 robust sigmas
       // (1.4826 x the median absolute residual) of the others
       std::vector<double> residuals;
@@ -85,6 +87,8 @@ namespace geostation
         ds.erase( ds.begin() + static_cast<std::ptrdiff_t>( worst ) );
         z.erase( z.begin() + static_cast<std::ptrdiff_t>( worst ) );
         fit = fitHeights( ds, z );
+        if ( !fit )
+          continue;
       }
       const double offset = std::abs( points[i].z() - fit->a );
       const double sigma = std::hypot( sigmaZ[i], fit->rms );

@@ -70,6 +70,9 @@ TEST( HeightContinuity, TooFewNeighboursAndBadInput )
   std::vector<double> fewSigma( line.sigmaZ.begin(), line.sigmaZ.begin() + 4 );
   few[2].z() += 0.5;
   EXPECT_TRUE( heightOutliers( few, fewSigma, 0 ).empty() ); // 3 neighbours: not judged
+  HeightContinuityOptions one;
+  one.minNeighbours = 1; // a single neighbour gives no line: not judged, whatever the option says
+  EXPECT_TRUE( heightOutliers( std::vector<Eigen::Vector3d>( few.begin(), few.begin() + 2 ), std::vector<double>( 2, 0.03 ), 0, one ).empty() );
   fewSigma.pop_back();
   EXPECT_THROW( heightOutliers( few, fewSigma, 0 ), std::invalid_argument );
 }
