@@ -11,7 +11,7 @@ packages=(
   libqgis-dev qgis qgis-providers python3-qgis
   gdal-bin python3-gdal python3-numpy python3-jsonschema python3-pyqt5
   xvfb xauth
-  opencv-doc
+  opencv-doc colmap
 )
 
 missing=()

@@ -1,0 +1,53 @@
+/***************************************************************************
+  textfile.cpp - text outputs written whole or not at all, CSV fields
+ ***************************************************************************/
+#include "io/textfile.h"
+
+#include <fstream>
+#include <stdexcept>
+
+namespace geostation
+{
+
+  void writeTextFileAtomically( const std::filesystem::path &file, const std::string &text )
+  {
+    std::filesystem::path temporary = file;
+    temporary += ".tmp-write";
+    {
+      std::ofstream out( temporary, std::ios::binary | std::ios::trunc );
+      if ( !out )
+        throw std::runtime_error( "cannot write " + file.string() + ": the folder is missing or not writable" );
+      out << text;
+      out.flush();
+      if ( !out )
+      {
+        out.close();
+        std::error_code ignored;
+        std::filesystem::remove( temporary, ignored );
+        throw std::runtime_error( "writing " + file.string() + " failed (disk full?); the previous file is unchanged" );
+      }
+    }
+    std::error_code ec;
+    std::filesystem::rename( temporary, file, ec );
+    if ( ec )
+    {
+      std::filesystem::remove( temporary, ec );
+      throw std::runtime_error( "cannot replace " + file.string() + ": " + ec.message() );
+    }
+  }
+
+  std::string csvField( const std::string &value )
+  {
+    if ( value.find_first_of( ",\"\n\r" ) == std::string::npos )
+      return value;
+    std::string quoted = "\"";
+    for ( char c : value )
+    {
+      if ( c == '"' )
+        quoted += '"';
+      quoted += c;
+    }
+    return quoted + "\"";
+  }
+
+} // namespace geostation
