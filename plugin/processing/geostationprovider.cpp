@@ -19,6 +19,8 @@
 #include "simulatesurveyalgorithm.h"
 #include "traceroadlinesalgorithm.h"
 #include "extractroadsalgorithm.h"
+#include "exportblockalgorithm.h"
+#include "importblockalgorithm.h"
 #include "projecttoimagealgorithm.h"
 #include "resectionalgorithm.h"
 
@@ -75,6 +77,8 @@ void GeoStationProvider::loadAlgorithms()
   addAlgorithm( new ExportMeasurementsAlgorithm() );
   addAlgorithm( new TraceRoadLinesAlgorithm() );
   addAlgorithm( new ExtractRoadsAlgorithm() );
+  addAlgorithm( new ImportBlockAlgorithm() );
+  addAlgorithm( new ExportBlockAlgorithm() );
 }
 
 bool registerGeoStationProvider()

@@ -57,6 +57,37 @@ namespace GeoStationProcessing
     }
   } // namespace
 
+  KnownPositionTable readKnownPositions( QgsFeatureSource *source, const QString &what )
+  {
+    const QString expected = QObject::tr( "image, X, Y, Z (camera centres by the model's image name) or point_id, X, Y, Z (control points by the model's point id)" );
+    const QgsFields fields = source->fields();
+    KnownPositionTable table;
+    int nameField = fieldIndex( fields, QStringLiteral( "image" ) );
+    if ( nameField < 0 )
+    {
+      nameField = requireField( fields, QStringLiteral( "point_id" ), what, expected );
+      table.cameraCentres = false;
+    }
+    const int xyz[3] = { requireField( fields, QStringLiteral( "X" ), what, expected ), requireField( fields, QStringLiteral( "Y" ), what, expected ),
+                         requireField( fields, QStringLiteral( "Z" ), what, expected ) };
+    const char *names[3] = { "X", "Y", "Z" };
+    QgsFeature f;
+    QgsFeatureIterator it = source->getFeatures();
+    long row = 0;
+    while ( it.nextFeature( f ) )
+    {
+      ++row;
+      const QString name = text( f, nameField );
+      if ( name.isEmpty() )
+        throw QgsProcessingException( QObject::tr( "Row %1 of the %2 table has no value in \"%3\"." ).arg( row ).arg( what, fields.at( nameField ).name() ) );
+      Eigen::Vector3d p;
+      for ( int k = 0; k < 3; ++k )
+        p[k] = number( f, xyz[k], row, QString::fromLatin1( names[k] ), what );
+      table.rows.append( qMakePair( name, p ) );
+    }
+    return table;
+  }
+
   ObservationTable readObservations( QgsFeatureSource *source, const QString &what, QgsProcessingFeedback *feedback )
   {
     const QString expected = QObject::tr( "point_id, image_id, col, row and optionally sigma_px" );

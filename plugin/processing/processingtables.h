@@ -10,6 +10,7 @@
 #ifndef PROCESSINGTABLES_H
 #define PROCESSINGTABLES_H
 
+#include <QPair>
 #include <QString>
 #include <QVector>
 
@@ -54,6 +55,19 @@ namespace GeoStationProcessing
     QString fiducialId;
     Eigen::Vector2d pixel;
   };
+
+  //! Known positions for import_block's GEOREFERENCE: camera centres by image name, or control points by point id.
+  struct KnownPositionTable
+  {
+    bool cameraCentres = true;                //!< an "image" field: camera centres; else "point_id": control points
+    QVector<QPair<QString, Eigen::Vector3d>> rows; //!< name or id, X, Y, Z in the block CRS
+  };
+
+  /**
+   * Reads a GEOREFERENCE table: image, X, Y, Z (the source model's image
+   * names) or point_id, X, Y, Z (its point ids).
+   */
+  KnownPositionTable readKnownPositions( QgsFeatureSource *source, const QString &what );
 
   /**
    * Reads fiducial measurements (fiducial_id, col, row). When the table has an

@@ -1,0 +1,30 @@
+/***************************************************************************
+  exportblockalgorithm.h - geostation:export_block
+  -------------------------------------------------------------------------
+  A block handed back: a COLMAP text model (cameras, images and, when
+  given, tie points) or a CSV of the exterior orientations.
+ ***************************************************************************/
+#ifndef EXPORTBLOCKALGORITHM_H
+#define EXPORTBLOCKALGORITHM_H
+
+#include <qgsprocessingalgorithm.h>
+
+#include "geostation_processing_export.h"
+
+class GEOSTATION_PROCESSING_EXPORT ExportBlockAlgorithm : public QgsProcessingAlgorithm
+{
+  public:
+    QString name() const override;
+    QString displayName() const override;
+    QStringList tags() const override;
+    QString group() const override;
+    QString groupId() const override;
+    QString shortHelpString() const override;
+    ExportBlockAlgorithm *createInstance() const override;
+
+  protected:
+    void initAlgorithm( const QVariantMap &configuration = QVariantMap() ) override;
+    QVariantMap processAlgorithm( const QVariantMap &parameters, QgsProcessingContext &context, QgsProcessingFeedback *feedback ) override;
+};
+
+#endif // EXPORTBLOCKALGORITHM_H

@@ -1,0 +1,201 @@
+/***************************************************************************
+  importblockalgorithm.cpp - geostation:import_block
+ ***************************************************************************/
+#include "importblockalgorithm.h"
+
+#include <QFile>
+#include <QFileInfo>
+
+#include <qgsexception.h>
+#include <qgsprocessingfeedback.h>
+#include <qgsprocessingoutputs.h>
+#include <qgsprocessingparameters.h>
+
+#include "io/colmapimport.h"
+#include "io/textfile.h"
+#include "processingtables.h"
+
+namespace
+{
+  const QStringList sFormats { QStringLiteral( "auto" ), QStringLiteral( "colmap" ) };
+
+  //! The block CRS as core wants it: the authority id when QGIS has one, else WKT.
+  std::string crsDefinition( const QgsCoordinateReferenceSystem &crs )
+  {
+    return ( crs.authid().isEmpty() ? crs.toWkt( QgsCoordinateReferenceSystem::WKT_PREFERRED ) : crs.authid() ).toStdString();
+  }
+
+  /**
+   * INPUT: a file or a folder. A COLMAP model is a folder, which
+   * QgsProcessingParameterFile in file mode refuses; any existing path is
+   * accepted here and processAlgorithm() says what it is not.
+   */
+  class ModelPathParameter : public QgsProcessingParameterFile
+  {
+    public:
+      ModelPathParameter( const QString &name, const QString &description )
+        : QgsProcessingParameterFile( name, description ) {}
+
+      QgsProcessingParameterDefinition *clone() const override { return new ModelPathParameter( *this ); }
+
+      bool checkValueIsAcceptable( const QVariant &input, QgsProcessingContext * = nullptr ) const override
+      {
+        return input.isValid() && !input.toString().trimmed().isEmpty();
+      }
+  };
+
+  void removeIfWritten( const QString &path )
+  {
+    if ( !path.isEmpty() )
+      QFile::remove( path );
+  }
+} // namespace
+
+QString ImportBlockAlgorithm::name() const
+{
+  return QStringLiteral( "import_block" );
+}
+
+QString ImportBlockAlgorithm::displayName() const
+{
+  return QObject::tr( "Import block (COLMAP)" );
+}
+
+QStringList ImportBlockAlgorithm::tags() const
+{
+  return QObject::tr( "photogrammetry,import,colmap,structure from motion,sfm,block,orientation,georeference" ).split( ',' );
+}
+
+QString ImportBlockAlgorithm::group() const
+{
+  return QObject::tr( "Block" );
+}
+
+QString ImportBlockAlgorithm::groupId() const
+{
+  return QStringLiteral( "block" );
+}
+
+QString ImportBlockAlgorithm::shortHelpString() const
+{
+  return QObject::tr( "Turns a COLMAP sparse model (the folder with cameras, images and points3D, text or binary; "
+                      "INPUT may name the folder or any of its files) into a GeoStation block.\n\n"
+                      "Cameras SIMPLE_PINHOLE, PINHOLE, SIMPLE_RADIAL, RADIAL, OPENCV and FULL_OPENCV (without k4-k6) "
+                      "convert exactly; other models are refused by name and their images left out, as the report says. "
+                      "Every registered image becomes an oriented image and its own station.\n\n"
+                      "IMAGES is the folder COLMAP's image names are relative to (default: beside the model or an "
+                      "\"images\" folder above it); every image must be there, readable and of its camera's size.\n\n"
+                      "CRS is the block's CRS (projected, or a local engineering CRS, in metres). GEOREFERENCE brings "
+                      "a model in COLMAP's arbitrary frame into it by a similarity transform: a table image, X, Y, Z "
+                      "(known camera centres by COLMAP's image NAME) or point_id, X, Y, Z (control points by COLMAP's "
+                      "POINT3D_ID). The report lists the transform and the residual of every known position.\n\n"
+                      "OUTPUT_OBSERVATIONS (point_id, image_id, col, row) and OUTPUT_POINTS (point_id, X, Y, Z, error_px) "
+                      "are the model's 3-D points as tie points, ready for bundle_adjust and intersect." );
+}
+
+ImportBlockAlgorithm *ImportBlockAlgorithm::createInstance() const
+{
+  return new ImportBlockAlgorithm();
+}
+
+void ImportBlockAlgorithm::initAlgorithm( const QVariantMap & )
+{
+  addParameter( new ModelPathParameter( QStringLiteral( "INPUT" ), QObject::tr( "Model (COLMAP folder, or one of its files)" ) ) );
+  addParameter( new QgsProcessingParameterEnum( QStringLiteral( "FORMAT" ), QObject::tr( "Format" ), sFormats, false, QStringLiteral( "auto" ), false, true ) );
+  addParameter( new QgsProcessingParameterFile( QStringLiteral( "IMAGES" ), QObject::tr( "Image folder" ), QgsProcessingParameterFile::Folder, QString(), QVariant(), true ) );
+  addParameter( new QgsProcessingParameterCrs( QStringLiteral( "CRS" ), QObject::tr( "Block CRS" ) ) );
+  addParameter( new QgsProcessingParameterFeatureSource( QStringLiteral( "GEOREFERENCE" ), QObject::tr( "Known camera centres (image, X, Y, Z) or control points (point_id, X, Y, Z)" ),
+                QList<int>() << QgsProcessing::TypeVector, QVariant(), true ) );
+  addParameter( new QgsProcessingParameterFileDestination( QStringLiteral( "OUTPUT_BLOCK" ), QObject::tr( "Block" ), QObject::tr( "GeoStation block (*.geostation.json)" ) ) );
+  addParameter( new QgsProcessingParameterFileDestination( QStringLiteral( "REPORT" ), QObject::tr( "Report" ), QObject::tr( "JSON (*.json)" ), QVariant(), true ) );
+  addParameter( new QgsProcessingParameterFileDestination( QStringLiteral( "OUTPUT_OBSERVATIONS" ), QObject::tr( "Tie-point observations" ), QObject::tr( "CSV (*.csv)" ), QVariant(), true, false ) );
+  addParameter( new QgsProcessingParameterFileDestination( QStringLiteral( "OUTPUT_POINTS" ), QObject::tr( "Tie points" ), QObject::tr( "CSV (*.csv)" ), QVariant(), true, false ) );
+  addOutput( new QgsProcessingOutputNumber( QStringLiteral( "IMAGES_IMPORTED" ), QObject::tr( "Images imported" ) ) );
+  addOutput( new QgsProcessingOutputNumber( QStringLiteral( "GEOREFERENCE_RMS_M" ), QObject::tr( "Georeference RMS residual (m)" ) ) );
+}
+
+QVariantMap ImportBlockAlgorithm::processAlgorithm( const QVariantMap &parameters, QgsProcessingContext &context, QgsProcessingFeedback *feedback )
+{
+  const QString input = parameterAsString( parameters, QStringLiteral( "INPUT" ), context ).trimmed();
+  if ( input.isEmpty() )
+    throw QgsProcessingException( QObject::tr( "INPUT: give the COLMAP model folder (or one of its files)." ) );
+  const QString format = parameterAsEnumString( parameters, QStringLiteral( "FORMAT" ), context );
+  if ( ( format == QLatin1String( "auto" ) || format == QLatin1String( "colmap" ) ) && !geostation::ColmapModel::isModel( input.toStdString() ) )
+    throw QgsProcessingException( QObject::tr( "%1 is not a model GeoStation can import: a COLMAP model folder holds cameras.txt and images.txt "
+                                               "(or cameras.bin and images.bin)." ).arg( input ) );
+  const QgsCoordinateReferenceSystem crs = parameterAsCrs( parameters, QStringLiteral( "CRS" ), context );
+  if ( !crs.isValid() )
+    throw QgsProcessingException( QObject::tr( "CRS: give the CRS the block is to be in (projected, or a local engineering CRS, in metres)." ) );
+
+  geostation::ColmapImportOptions options;
+  options.crs = crsDefinition( crs );
+  options.imageFolder = parameterAsFile( parameters, QStringLiteral( "IMAGES" ), context ).toStdString();
+
+  geostation::KnownPositions known;
+  std::unique_ptr<QgsProcessingFeatureSource> georeference( parameterAsSource( parameters, QStringLiteral( "GEOREFERENCE" ), context ) );
+  if ( !georeference && parameters.value( QStringLiteral( "GEOREFERENCE" ) ).isValid() && !parameters.value( QStringLiteral( "GEOREFERENCE" ) ).toString().isEmpty() )
+    throw QgsProcessingException( invalidSourceError( parameters, QStringLiteral( "GEOREFERENCE" ) ) );
+  if ( georeference )
+  {
+    const GeoStationProcessing::KnownPositionTable table = GeoStationProcessing::readKnownPositions( georeference.get(), QObject::tr( "GEOREFERENCE" ) );
+    for ( const auto &row : table.rows )
+      ( table.cameraCentres ? known.cameraCentres : known.controlPoints )[row.first.toStdString()] = row.second;
+  }
+
+  feedback->pushInfo( QObject::tr( "Reading the COLMAP model %1" ).arg( input ) );
+  geostation::BlockImportSummary import;
+  try
+  {
+    const geostation::ColmapModel model = geostation::ColmapModel::read( input.toStdString() );
+    feedback->setProgress( 30 );
+    import = geostation::importColmapModel( model, geostation::ColmapModel::modelFolder( input.toStdString() ), options );
+    feedback->setProgress( 70 );
+    if ( !known.cameraCentres.empty() || !known.controlPoints.empty() )
+      geostation::georeferenceImport( import, known );
+  }
+  catch ( const std::exception &e )
+  {
+    throw QgsProcessingException( QString::fromStdString( e.what() ) );
+  }
+  if ( feedback->isCanceled() )
+    return {};
+  for ( const std::string &s : import.converted )
+    feedback->pushInfo( QString::fromStdString( s ) );
+  for ( const std::string &s : import.dropped )
+    feedback->reportError( QObject::tr( "Dropped: %1" ).arg( QString::fromStdString( s ) ) );
+  for ( const std::string &s : import.warnings )
+    feedback->pushWarning( QString::fromStdString( s ) );
+  if ( !import.georeference )
+    feedback->pushInfo( QObject::tr( "No GEOREFERENCE: the model's coordinates are taken as they are, in %1." ).arg( crs.userFriendlyIdentifier() ) );
+
+  // tables first, then the block and its report; on any failure nothing is left behind
+  const QString blockPath = parameterAsFileOutput( parameters, QStringLiteral( "OUTPUT_BLOCK" ), context );
+  const QString reportPath = parameterAsFileOutput( parameters, QStringLiteral( "REPORT" ), context );
+  const QString observationsPath = parameterAsFileOutput( parameters, QStringLiteral( "OUTPUT_OBSERVATIONS" ), context );
+  const QString pointsPath = parameterAsFileOutput( parameters, QStringLiteral( "OUTPUT_POINTS" ), context );
+  try
+  {
+    geostation::writeTiePointTables( import, observationsPath.toStdString(), pointsPath.toStdString() );
+    if ( !reportPath.isEmpty() )
+      geostation::writeTextFileAtomically( reportPath.toStdString(), geostation::importReportJsonText( import ) );
+    import.block.save( blockPath.toStdString() );
+  }
+  catch ( const std::exception &e )
+  {
+    removeIfWritten( observationsPath );
+    removeIfWritten( pointsPath );
+    removeIfWritten( reportPath );
+    throw QgsProcessingException( QString::fromStdString( e.what() ) );
+  }
+  feedback->setProgress( 100 );
+  feedback->pushInfo( QObject::tr( "%n image(s) imported", nullptr, static_cast<int>( import.block.images.size() ) ) );
+
+  QVariantMap outputs;
+  outputs.insert( QStringLiteral( "OUTPUT_BLOCK" ), blockPath );
+  outputs.insert( QStringLiteral( "REPORT" ), reportPath );
+  outputs.insert( QStringLiteral( "OUTPUT_OBSERVATIONS" ), observationsPath );
+  outputs.insert( QStringLiteral( "OUTPUT_POINTS" ), pointsPath );
+  outputs.insert( QStringLiteral( "IMAGES_IMPORTED" ), static_cast<int>( import.block.images.size() ) );
+  outputs.insert( QStringLiteral( "GEOREFERENCE_RMS_M" ), import.georeference ? QVariant( import.georeference->rmsM ) : QVariant() );
+  return outputs;
+}

@@ -1,0 +1,31 @@
+/***************************************************************************
+  importblockalgorithm.h - geostation:import_block
+  -------------------------------------------------------------------------
+  An oriented block from the photogrammetry ecosystem (a COLMAP sparse
+  model, text or binary) as a GeoStation block, optionally georeferenced
+  from known camera centres or control points; tie points as tables.
+ ***************************************************************************/
+#ifndef IMPORTBLOCKALGORITHM_H
+#define IMPORTBLOCKALGORITHM_H
+
+#include <qgsprocessingalgorithm.h>
+
+#include "geostation_processing_export.h"
+
+class GEOSTATION_PROCESSING_EXPORT ImportBlockAlgorithm : public QgsProcessingAlgorithm
+{
+  public:
+    QString name() const override;
+    QString displayName() const override;
+    QStringList tags() const override;
+    QString group() const override;
+    QString groupId() const override;
+    QString shortHelpString() const override;
+    ImportBlockAlgorithm *createInstance() const override;
+
+  protected:
+    void initAlgorithm( const QVariantMap &configuration = QVariantMap() ) override;
+    QVariantMap processAlgorithm( const QVariantMap &parameters, QgsProcessingContext &context, QgsProcessingFeedback *feedback ) override;
+};
+
+#endif // IMPORTBLOCKALGORITHM_H
