@@ -15,6 +15,7 @@
 #include <gdal.h>
 
 #include "geometry/crs.h"
+#include "io/textfile.h"
 #include "io/jsonnode.h"
 
 namespace geostation
@@ -414,30 +415,7 @@ namespace geostation
           if ( std::filesystem::path( image.path ).is_relative() )
             image.path = ( oldDir / image.path ).lexically_normal().lexically_relative( newDir.lexically_normal() ).generic_string();
     }
-    const std::string text = rebased.toJsonText();
-    std::filesystem::path temporary = file;
-    temporary += ".tmp-write";
-    {
-      std::ofstream out( temporary, std::ios::binary | std::ios::trunc );
-      if ( !out )
-        throw std::runtime_error( "cannot write the block file " + file.string() + ": the folder is missing or not writable" );
-      out << text;
-      out.flush();
-      if ( !out )
-      {
-        out.close();
-        std::error_code ignored;
-        std::filesystem::remove( temporary, ignored );
-        throw std::runtime_error( "writing the block file " + file.string() + " failed (disk full?); the previous file is unchanged" );
-      }
-    }
-    std::error_code ec;
-    std::filesystem::rename( temporary, file, ec );
-    if ( ec )
-    {
-      std::filesystem::remove( temporary, ec );
-      throw std::runtime_error( "cannot replace the block file " + file.string() + ": " + ec.message() );
-    }
+    writeTextFileAtomically( file, rebased.toJsonText(), "the block file" );
   }
 
   Eigen::Matrix<double, 2, 3> nominalFromScanAffine( const Camera &camera, const ImageInnerOrientation &innerOrientation )

@@ -9,14 +9,15 @@
 namespace geostation
 {
 
-  void writeTextFileAtomically( const std::filesystem::path &file, const std::string &text )
+  void writeTextFileAtomically( const std::filesystem::path &file, const std::string &text, const std::string &what )
   {
+    const std::string named = ( what.empty() ? std::string() : what + " " ) + file.string();
     std::filesystem::path temporary = file;
     temporary += ".tmp-write";
     {
       std::ofstream out( temporary, std::ios::binary | std::ios::trunc );
       if ( !out )
-        throw std::runtime_error( "cannot write " + file.string() + ": the folder is missing or not writable" );
+        throw std::runtime_error( "cannot write " + named + ": the folder is missing or not writable" );
       out << text;
       out.flush();
       if ( !out )
@@ -24,7 +25,7 @@ namespace geostation
         out.close();
         std::error_code ignored;
         std::filesystem::remove( temporary, ignored );
-        throw std::runtime_error( "writing " + file.string() + " failed (disk full?); the previous file is unchanged" );
+        throw std::runtime_error( "writing " + named + " failed (disk full?); the previous file is unchanged" );
       }
     }
     std::error_code ec;
@@ -32,7 +33,7 @@ namespace geostation
     if ( ec )
     {
       std::filesystem::remove( temporary, ec );
-      throw std::runtime_error( "cannot replace " + file.string() + ": " + ec.message() );
+      throw std::runtime_error( "cannot replace " + named + ": " + ec.message() );
     }
   }
 

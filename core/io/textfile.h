@@ -13,9 +13,10 @@ namespace geostation
   /**
    * Writes `text` to a temporary file beside `file` and renames it into
    * place, so a failure never leaves a half-written file (and the previous
-   * file is unchanged). Throws std::runtime_error with one sentence.
+   * file is unchanged). Throws std::runtime_error with one sentence, in
+   * which `what` names the file's kind (e.g. "the block file").
    */
-  void writeTextFileAtomically( const std::filesystem::path &file, const std::string &text );
+  void writeTextFileAtomically( const std::filesystem::path &file, const std::string &text, const std::string &what = "" );
 
   //! A CSV field, quoted (RFC 4180) when it holds a comma, a quote or a line break.
   std::string csvField( const std::string &value );
