@@ -104,6 +104,11 @@ void GeoStationPlugin::initGui()
 
   addAction( QStringLiteral( "mActionGeoStationOpenBlock" ), QStringLiteral( ":/geostation/icons/openblock.svg" ), tr( "Open Block…" ),
              tr( "Open a GeoStation block (*.geostation.json): cameras, stations and oriented images" ), &GeoStationPlugin::openBlock );
+  QAction *importBlock = new QAction( tr( "Import Block…" ), mIface->mainWindow() );
+  importBlock->setObjectName( QStringLiteral( "mActionGeoStationImportBlock" ) );
+  importBlock->setToolTip( tr( "Import a COLMAP reconstruction as a block, georeferenced, and open it" ) );
+  connect( importBlock, &QAction::triggered, this, &GeoStationPlugin::importBlock );
+  mMenu->addAction( importBlock );
   mBlockInfoAction = addAction( QStringLiteral( "mActionGeoStationBlockInfo" ), QStringLiteral( ":/geostation/icons/blockinfo.svg" ), tr( "Block Information…" ),
                                 tr( "Show the cameras (interior orientation), stations and images of the open block" ), &GeoStationPlugin::showBlockInfo );
   QAction *project = addAction( QStringLiteral( "mActionGeoStationProjectToImage" ), QStringLiteral( ":/geostation/icons/projecttoimage.svg" ), tr( "Project Map Points to Image…" ),
@@ -287,6 +292,23 @@ void GeoStationPlugin::openBlock()
     return;
   settings.setValue( sLastBlockDirKey, QFileInfo( path ).absolutePath() );
   openBlockFile( path );
+}
+
+void GeoStationPlugin::importBlock()
+{
+  // geostation:import_block in QGIS' algorithm dialog (Python processing
+  // plugin in 3.22); the block it writes is opened in the Multiview and the Overview
+  if ( !QgsPythonRunner::isValid()
+       || !QgsPythonRunner::run( QStringLiteral( "import processing\n_geostation_import = processing.execAlgorithmDialog('geostation:import_block') or {}" ) ) )
+  {
+    showAlgorithmDialog( QStringLiteral( "geostation:import_block" ) );
+    return;
+  }
+  QString path;
+  if ( !QgsPythonRunner::eval( QStringLiteral( "str(_geostation_import.get('OUTPUT_BLOCK') or '')" ), path ) || path.isEmpty() || !QFileInfo::exists( path ) )
+    return; // cancelled, or the import failed and said why in its log
+  if ( openBlockFile( path ) )
+    showMultiview();
 }
 
 void GeoStationPlugin::showBlockInfo()

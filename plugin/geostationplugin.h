@@ -59,6 +59,8 @@ class GeoStationPlugin : public QObject, public QgisPlugin
 
     //! Asks for a block file and opens it.
     void openBlock();
+    //! Runs geostation:import_block in its dialog and opens the block it writes.
+    void importBlock();
 
     //! Shows the cameras, stations and images of the open block.
     void showBlockInfo();

@@ -72,6 +72,7 @@ class DesktopSmokeTest(unittest.TestCase):
                                                          "geostation:match_points", "geostation:monoplot", "geostation:project_to_image", "geostation:resection",
                                                          "geostation:simulate_survey", "geostation:trace_road_lines"])
         self.assertIn("mActionGeoStationMonoplot", self.result.get("menu_actions", []))
+        self.assertIn("mActionGeoStationImportBlock", self.result.get("menu_actions", []))
         self.assertIn("mActionGeoStationExtractRoads", self.result.get("menu_actions", []))
         self.assertIn("mActionGeoStationReviewExtracted", self.result.get("menu_actions", []))
         self.assertTrue(self.result.get("provider"))
