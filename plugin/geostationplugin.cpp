@@ -106,7 +106,7 @@ void GeoStationPlugin::initGui()
              tr( "Open a GeoStation block (*.geostation.json): cameras, stations and oriented images" ), &GeoStationPlugin::openBlock );
   QAction *importBlock = new QAction( tr( "Import Block…" ), mIface->mainWindow() );
   importBlock->setObjectName( QStringLiteral( "mActionGeoStationImportBlock" ) );
-  importBlock->setToolTip( tr( "Import a COLMAP reconstruction as a block, georeferenced, and open it" ) );
+  importBlock->setToolTip( tr( "Import a COLMAP reconstruction, or a calibration with its trajectory, as a block and open it" ) );
   connect( importBlock, &QAction::triggered, this, &GeoStationPlugin::importBlock );
   mMenu->addAction( importBlock );
   mBlockInfoAction = addAction( QStringLiteral( "mActionGeoStationBlockInfo" ), QStringLiteral( ":/geostation/icons/blockinfo.svg" ), tr( "Block Information…" ),

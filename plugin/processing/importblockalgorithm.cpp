@@ -12,12 +12,16 @@
 #include <qgsprocessingparameters.h>
 
 #include "io/colmapimport.h"
+#include "io/metashapeimport.h"
+#include "io/opencvcalibration.h"
+#include "io/trajectoryimport.h"
 #include "io/textfile.h"
 #include "processingtables.h"
 
 namespace
 {
-  const QStringList sFormats { QStringLiteral( "auto" ), QStringLiteral( "colmap" ) };
+  const QStringList sFormats { QStringLiteral( "auto" ), QStringLiteral( "colmap" ), QStringLiteral( "metashape" ), QStringLiteral( "opencv_trajectory" ) };
+  const QStringList sAngleUnits { QStringLiteral( "degrees" ), QStringLiteral( "radians" ) };
 
   //! The block CRS as core wants it: the authority id when QGIS has one, else WKT.
   std::string crsDefinition( const QgsCoordinateReferenceSystem &crs )
@@ -58,12 +62,12 @@ QString ImportBlockAlgorithm::name() const
 
 QString ImportBlockAlgorithm::displayName() const
 {
-  return QObject::tr( "Import block (COLMAP)" );
+  return QObject::tr( "Import block (COLMAP, Metashape, calibration + trajectory)" );
 }
 
 QStringList ImportBlockAlgorithm::tags() const
 {
-  return QObject::tr( "photogrammetry,import,colmap,structure from motion,sfm,block,orientation,georeference" ).split( ',' );
+  return QObject::tr( "photogrammetry,import,colmap,structure from motion,sfm,block,orientation,georeference,opencv,calibration,trajectory,gnss,ins,mobile mapping" ).split( ',' );
 }
 
 QString ImportBlockAlgorithm::group() const
@@ -78,8 +82,9 @@ QString ImportBlockAlgorithm::groupId() const
 
 QString ImportBlockAlgorithm::shortHelpString() const
 {
-  return QObject::tr( "Turns a COLMAP sparse model (the folder with cameras, images and points3D, text or binary; "
-                      "INPUT may name the folder or any of its files) into a GeoStation block.\n\n"
+  return QObject::tr( "Turns a COLMAP sparse model, Metashape's camera XML, or a mapping van's OpenCV calibration with "
+                      "its trajectory, into a GeoStation block.\n\n"
+                      "COLMAP: INPUT is the model folder (cameras, images and points3D, text or binary) or any of its files.\n\n"
                       "Cameras SIMPLE_PINHOLE, PINHOLE, SIMPLE_RADIAL, RADIAL, OPENCV and FULL_OPENCV (without k4-k6) "
                       "convert exactly; other models are refused by name and their images left out, as the report says. "
                       "Every registered image becomes an oriented image and its own station.\n\n"
@@ -90,7 +95,19 @@ QString ImportBlockAlgorithm::shortHelpString() const
                       "(known camera centres by COLMAP's image NAME) or point_id, X, Y, Z (control points by COLMAP's "
                       "POINT3D_ID). The report lists the transform and the residual of every known position.\n\n"
                       "OUTPUT_OBSERVATIONS (point_id, image_id, col, row) and OUTPUT_POINTS (point_id, X, Y, Z, error_px) "
-                      "are the model's 3-D points as tie points, ready for bundle_adjust and intersect." );
+                      "are the model's 3-D points as tie points, ready for bundle_adjust and intersect.\n\n"
+                      "Metashape: INPUT is the XML of File > Export > Export Cameras. Frame sensors convert exactly (Metashape's "
+                      "P1, P2 are OpenCV's p2, p1; fx = f + b1); k4, p3, p4, skew b2 and other sensor types are refused by name. "
+                      "A referenced chunk's cameras are brought from geocentric coordinates into CRS; images are found by "
+                      "label in IMAGES (default: beside the XML).\n\n"
+                      "Calibration + trajectory: INPUT is an OpenCV calibration (YAML or XML: camera_matrix, "
+                      "distortion_coefficients, image_width, image_height; or a sequence \"cameras\" whose entries also "
+                      "have id, lever_arm [x, y, z] m in the body frame x forward, y right, z down, boresight [roll, pitch, "
+                      "heading] deg and image_pattern such as images/{station}_front.jpg). TRAJECTORY is a CSV with one row "
+                      "per station: time, station, X, Y, Z (block CRS) or latitude, longitude, height (WGS 84), and "
+                      "roll, pitch, heading (the vehicle, heading from true north) or omega, phi, kappa (one camera's own "
+                      "orientation), plus image or image_<camera id> columns where there is no pattern. ANGLES says "
+                      "whether the table's angles are degrees (default) or radians; radians read as degrees are refused." );
 }
 
 ImportBlockAlgorithm *ImportBlockAlgorithm::createInstance() const
@@ -100,8 +117,11 @@ ImportBlockAlgorithm *ImportBlockAlgorithm::createInstance() const
 
 void ImportBlockAlgorithm::initAlgorithm( const QVariantMap & )
 {
-  addParameter( new ModelPathParameter( QStringLiteral( "INPUT" ), QObject::tr( "Model (COLMAP folder, or one of its files)" ) ) );
+  addParameter( new ModelPathParameter( QStringLiteral( "INPUT" ), QObject::tr( "Model: COLMAP folder (or one of its files), Metashape cameras XML or OpenCV calibration" ) ) );
   addParameter( new QgsProcessingParameterEnum( QStringLiteral( "FORMAT" ), QObject::tr( "Format" ), sFormats, false, QStringLiteral( "auto" ), false, true ) );
+  addParameter( new QgsProcessingParameterFile( QStringLiteral( "TRAJECTORY" ), QObject::tr( "Trajectory table (calibration + trajectory)" ), QgsProcessingParameterFile::File,
+                QString(), QVariant(), true, QObject::tr( "CSV (*.csv *.txt)" ) ) );
+  addParameter( new QgsProcessingParameterEnum( QStringLiteral( "ANGLES" ), QObject::tr( "Angles of the trajectory table" ), sAngleUnits, false, QStringLiteral( "degrees" ), false, true ) );
   addParameter( new QgsProcessingParameterFile( QStringLiteral( "IMAGES" ), QObject::tr( "Image folder" ), QgsProcessingParameterFile::Folder, QString(), QVariant(), true ) );
   addParameter( new QgsProcessingParameterCrs( QStringLiteral( "CRS" ), QObject::tr( "Block CRS" ) ) );
   addParameter( new QgsProcessingParameterFeatureSource( QStringLiteral( "GEOREFERENCE" ), QObject::tr( "Known camera centres (image, X, Y, Z) or control points (point_id, X, Y, Z)" ),
@@ -119,17 +139,28 @@ QVariantMap ImportBlockAlgorithm::processAlgorithm( const QVariantMap &parameter
   const QString input = parameterAsString( parameters, QStringLiteral( "INPUT" ), context ).trimmed();
   if ( input.isEmpty() )
     throw QgsProcessingException( QObject::tr( "INPUT: give the COLMAP model folder (or one of its files)." ) );
-  const QString format = parameterAsEnumString( parameters, QStringLiteral( "FORMAT" ), context );
-  if ( ( format == QLatin1String( "auto" ) || format == QLatin1String( "colmap" ) ) && !geostation::ColmapModel::isModel( input.toStdString() ) )
-    throw QgsProcessingException( QObject::tr( "%1 is not a model GeoStation can import: a COLMAP model folder holds cameras.txt and images.txt "
-                                               "(or cameras.bin and images.bin)." ).arg( input ) );
+  QString format = parameterAsEnumString( parameters, QStringLiteral( "FORMAT" ), context );
+  if ( format == QLatin1String( "auto" ) )
+  {
+    if ( geostation::ColmapModel::isModel( input.toStdString() ) )
+      format = QStringLiteral( "colmap" );
+    else if ( geostation::isMetashapeCameras( input.toStdString() ) )
+      format = QStringLiteral( "metashape" );
+    else if ( geostation::isOpenCvCalibration( input.toStdString() ) )
+      format = QStringLiteral( "opencv_trajectory" );
+    else
+      throw QgsProcessingException( QObject::tr( "%1 is not a model GeoStation can import: a COLMAP model folder holds cameras.txt and images.txt "
+                                                 "(or cameras.bin and images.bin), Metashape's camera XML has a <chunk> with <sensors> and <cameras>, an OpenCV "
+                                                 "calibration is a YAML or XML file with camera_matrix." ).arg( input ) );
+  }
+  const QString trajectory = parameterAsFile( parameters, QStringLiteral( "TRAJECTORY" ), context );
+  if ( format == QLatin1String( "opencv_trajectory" ) && trajectory.isEmpty() )
+    throw QgsProcessingException( QObject::tr( "TRAJECTORY: a calibration needs its trajectory table (one row per station)." ) );
   const QgsCoordinateReferenceSystem crs = parameterAsCrs( parameters, QStringLiteral( "CRS" ), context );
   if ( !crs.isValid() )
     throw QgsProcessingException( QObject::tr( "CRS: give the CRS the block is to be in (projected, or a local engineering CRS, in metres)." ) );
 
-  geostation::ColmapImportOptions options;
-  options.crs = crsDefinition( crs );
-  options.imageFolder = parameterAsFile( parameters, QStringLiteral( "IMAGES" ), context ).toStdString();
+  const std::string imageFolder = parameterAsFile( parameters, QStringLiteral( "IMAGES" ), context ).toStdString();
 
   geostation::KnownPositions known;
   std::unique_ptr<QgsProcessingFeatureSource> georeference( parameterAsSource( parameters, QStringLiteral( "GEOREFERENCE" ), context ) );
@@ -142,13 +173,36 @@ QVariantMap ImportBlockAlgorithm::processAlgorithm( const QVariantMap &parameter
       ( table.cameraCentres ? known.cameraCentres : known.controlPoints )[row.first.toStdString()] = row.second;
   }
 
-  feedback->pushInfo( QObject::tr( "Reading the COLMAP model %1" ).arg( input ) );
   geostation::BlockImportSummary import;
   try
   {
-    const geostation::ColmapModel model = geostation::ColmapModel::read( input.toStdString() );
-    feedback->setProgress( 30 );
-    import = geostation::importColmapModel( model, geostation::ColmapModel::modelFolder( input.toStdString() ), options );
+    if ( format == QLatin1String( "colmap" ) )
+    {
+      feedback->pushInfo( QObject::tr( "Reading the COLMAP model %1" ).arg( input ) );
+      geostation::ColmapImportOptions options;
+      options.crs = crsDefinition( crs );
+      options.imageFolder = imageFolder;
+      const geostation::ColmapModel model = geostation::ColmapModel::read( input.toStdString() );
+      feedback->setProgress( 30 );
+      import = geostation::importColmapModel( model, geostation::ColmapModel::modelFolder( input.toStdString() ), options );
+    }
+    else if ( format == QLatin1String( "metashape" ) )
+    {
+      feedback->pushInfo( QObject::tr( "Reading Metashape's cameras %1" ).arg( input ) );
+      geostation::MetashapeImportOptions options;
+      options.crs = crsDefinition( crs );
+      options.imageFolder = imageFolder;
+      import = geostation::importMetashapeCameras( input.toStdString(), options );
+    }
+    else
+    {
+      feedback->pushInfo( QObject::tr( "Reading the calibration %1 and the trajectory %2" ).arg( input, trajectory ) );
+      geostation::TrajectoryImportOptions options;
+      options.crs = crsDefinition( crs );
+      options.imageFolder = imageFolder;
+      options.anglesInRadians = parameterAsEnumString( parameters, QStringLiteral( "ANGLES" ), context ) == QLatin1String( "radians" );
+      import = geostation::importTrajectory( geostation::readOpenCvCalibration( input.toStdString() ), trajectory.toStdString(), options );
+    }
     feedback->setProgress( 70 );
     if ( !known.cameraCentres.empty() || !known.controlPoints.empty() )
       geostation::georeferenceImport( import, known );

@@ -1,0 +1,316 @@
+/***************************************************************************
+  metashapeimport.cpp - Metashape's camera XML as a GeoStation block
+ ***************************************************************************/
+#include "io/metashapeimport.h"
+
+#include <cmath>
+#include <functional>
+#include <optional>
+#include <map>
+#include <memory>
+#include <sstream>
+#include <stdexcept>
+
+#include <cpl_error.h>
+#include <cpl_minixml.h>
+#include <Eigen/SVD>
+
+#include "geometry/crs.h"
+#include "geometry/rotation.h"
+
+namespace fs = std::filesystem;
+
+namespace geostation
+{
+  namespace
+  {
+    using XmlPtr = std::unique_ptr<CPLXMLNode, decltype( &CPLDestroyXMLNode )>;
+
+    XmlPtr parse( const fs::path &file )
+    {
+      CPLPushErrorHandler( CPLQuietErrorHandler );
+      CPLXMLNode *root = CPLParseXMLFile( file.string().c_str() );
+      CPLPopErrorHandler();
+      return XmlPtr( root, CPLDestroyXMLNode );
+    }
+
+    std::vector<double> numbers( const char *text, const fs::path &file, const std::string &what )
+    {
+      std::vector<double> values;
+      std::istringstream in( text ? text : "" );
+      double v;
+      while ( in >> v )
+        values.push_back( v );
+      if ( !in.eof() )
+        throw std::invalid_argument( "the Metashape file " + file.string() + ": " + what + " holds something that is not a number" );
+      return values;
+    }
+
+    double value( const CPLXMLNode *node, const char *name, const fs::path &file )
+    {
+      const char *text = CPLGetXMLValue( node, name, nullptr );
+      if ( !text )
+        return 0.0;
+      const std::vector<double> v = numbers( text, file, std::string( "<" ) + name + ">" );
+      if ( v.size() != 1 || !std::isfinite( v[0] ) )
+        throw std::invalid_argument( "the Metashape file " + file.string() + ": <" + name + "> is not one number" );
+      return v[0];
+    }
+
+    void forEachElement( const CPLXMLNode *node, const char *name, const std::function<void( const CPLXMLNode * )> &visit )
+    {
+      for ( const CPLXMLNode *child = node ? node->psChild : nullptr; child; child = child->psNext )
+        if ( child->eType == CXT_Element )
+        {
+          if ( EQUAL( child->pszValue, name ) )
+            visit( child );
+          else if ( EQUAL( child->pszValue, "group" ) )
+            forEachElement( child, name, visit ); // camera groups (folders)
+        }
+    }
+
+    //! The camera of a frame sensor, or nothing with `*whyNot`.
+    std::optional<Camera> cameraFromSensor( const CPLXMLNode *sensor, const std::string &id, const fs::path &file, std::string *whyNot )
+    {
+      const std::string label = CPLGetXMLValue( sensor, "label", id.c_str() );
+      const std::string type = CPLGetXMLValue( sensor, "type", "frame" );
+      const std::string name = "Metashape sensor " + id + " (" + label + ")";
+      if ( !EQUAL( type.c_str(), "frame" ) )
+      {
+        *whyNot = name + " is a " + type + " sensor, which GeoStation's frame cameras cannot represent";
+        return std::nullopt;
+      }
+      const CPLXMLNode *calibration = nullptr;
+      forEachElement( sensor, "calibration", [&]( const CPLXMLNode *c ) {
+        if ( !calibration || EQUAL( CPLGetXMLValue( c, "class", "" ), "adjusted" ) )
+          calibration = c;
+      } );
+      if ( !calibration )
+      {
+        *whyNot = name + " has no calibration";
+        return std::nullopt;
+      }
+      const CPLXMLNode *resolution = CPLGetXMLNode( const_cast<CPLXMLNode *>( calibration ), "resolution" );
+      if ( !resolution )
+        resolution = CPLGetXMLNode( const_cast<CPLXMLNode *>( sensor ), "resolution" );
+      const int width = resolution ? std::atoi( CPLGetXMLValue( resolution, "width", "0" ) ) : 0;
+      const int height = resolution ? std::atoi( CPLGetXMLValue( resolution, "height", "0" ) ) : 0;
+      if ( width <= 0 || height <= 0 )
+      {
+        *whyNot = name + " has no image size (<resolution width height>)";
+        return std::nullopt;
+      }
+      const double f = value( calibration, "f", file ), b1 = value( calibration, "b1", file ), b2 = value( calibration, "b2", file );
+      for ( const char *term : { "k4", "p3", "p4" } )
+        if ( value( calibration, term, file ) != 0.0 )
+        {
+          *whyNot = name + " uses " + term + ", which GeoStation's lens models cannot represent exactly";
+          return std::nullopt;
+        }
+      if ( b2 != 0.0 )
+      {
+        *whyNot = name + " has the skew b2, which GeoStation's cameras cannot represent";
+        return std::nullopt;
+      }
+      if ( !( f > 0.0 ) || !( f + b1 > 0.0 ) )
+      {
+        *whyNot = name + " has a focal length that is not positive";
+        return std::nullopt;
+      }
+      Camera camera;
+      camera.id = label.empty() ? "sensor" + id : label;
+      camera.width = width;
+      camera.height = height;
+      camera.f = f + b1;
+      camera.aspect = f / ( f + b1 );
+      camera.cx = 0.5 * width + value( calibration, "cx", file );
+      camera.cy = 0.5 * height + value( calibration, "cy", file );
+      // Metashape's P1 is OpenCV's p2 and its P2 OpenCV's p1
+      camera.distortion.coeffs = { value( calibration, "k1", file ), value( calibration, "k2", file ), value( calibration, "p2", file ),
+                                   value( calibration, "p1", file ), value( calibration, "k3", file ) };
+      camera.distortion.model = DistortionModel::OpenCV;
+      return camera;
+    }
+
+    //! The rotation part of the block CRS's derivative with respect to geocentric coordinates at a point.
+    Eigen::Matrix3d crsFromGeocentricRotation( const CrsTransform &toCrs, const Eigen::Vector3d &geocentric )
+    {
+      Eigen::Matrix3d jacobian;
+      const double h = 10.0;
+      for ( int i = 0; i < 3; ++i )
+      {
+        Eigen::Vector3d step = Eigen::Vector3d::Zero();
+        step[i] = h;
+        jacobian.col( i ) = ( toCrs.transform( geocentric + step ) - toCrs.transform( geocentric - step ) ) / ( 2.0 * h );
+      }
+      // a conformal projection scales east and north alike: the polar factor is the rotation
+      const Eigen::JacobiSVD<Eigen::Matrix3d> svd( jacobian, Eigen::ComputeFullU | Eigen::ComputeFullV );
+      return svd.matrixU() * svd.matrixV().transpose();
+    }
+
+    fs::path findImage( const fs::path &folder, const std::string &label )
+    {
+      std::error_code ec;
+      if ( fs::exists( folder / label, ec ) && fs::is_regular_file( folder / label, ec ) )
+        return label;
+      for ( const char *ext : { ".jpg", ".JPG", ".jpeg", ".JPEG", ".tif", ".TIF", ".tiff", ".TIFF", ".png", ".PNG" } )
+        if ( fs::exists( folder / ( label + ext ), ec ) )
+          return label + ext;
+      return {};
+    }
+
+    const Eigen::Matrix3d kFlipYZ = Eigen::Vector3d( 1.0, -1.0, -1.0 ).asDiagonal();
+  } // namespace
+
+  bool isMetashapeCameras( const fs::path &file )
+  {
+    std::error_code ec;
+    if ( !fs::is_regular_file( file, ec ) )
+      return false;
+    const XmlPtr root = parse( file );
+    const CPLXMLNode *chunk = root ? CPLSearchXMLNode( root.get(), "=chunk" ) : nullptr;
+    return chunk && ( CPLGetXMLNode( const_cast<CPLXMLNode *>( chunk ), "sensors" ) || CPLGetXMLNode( const_cast<CPLXMLNode *>( chunk ), "cameras" ) );
+  }
+
+  BlockImportSummary importMetashapeCameras( const fs::path &xmlFile, const MetashapeImportOptions &options )
+  {
+    if ( options.crs.empty() )
+      throw std::invalid_argument( "give the CRS the block is to be in" );
+    requireProjectedMetricCrs( options.crs );
+    std::error_code ec;
+    if ( !fs::is_regular_file( xmlFile, ec ) )
+      throw std::invalid_argument( "the Metashape file " + xmlFile.string() + " does not exist" );
+    const XmlPtr root = parse( xmlFile );
+    if ( !root )
+      throw std::invalid_argument( "the Metashape file " + xmlFile.string() + " is not well-formed XML" );
+    CPLXMLNode *chunk = CPLSearchXMLNode( root.get(), "=chunk" );
+    if ( !chunk )
+      throw std::invalid_argument( "the file " + xmlFile.string() + " is not Metashape's camera XML: it has no <chunk>" );
+
+    BlockImportSummary import;
+    import.format = "metashape";
+    Block &block = import.block;
+    block.crs = options.crs;
+
+    std::map<std::string, std::string> cameraIdOfSensor, droppedSensor;
+    forEachElement( CPLGetXMLNode( chunk, "sensors" ), "sensor", [&]( const CPLXMLNode *sensor ) {
+      const std::string id = CPLGetXMLValue( sensor, "id", "" );
+      std::string whyNot;
+      std::optional<Camera> camera = cameraFromSensor( sensor, id, xmlFile, &whyNot );
+      if ( !camera )
+      {
+        droppedSensor[id] = whyNot;
+        import.dropped.push_back( whyNot + "; its images were dropped" );
+        return;
+      }
+      if ( block.findCamera( camera->id ) )
+        camera->id += "_" + id;
+      cameraIdOfSensor[id] = camera->id;
+      import.converted.push_back( "Metashape sensor " + id + " became camera \"" + camera->id + "\" (lens model opencv; Metashape's P1, P2 are OpenCV's p2, p1)" );
+      block.cameras.push_back( *camera );
+    } );
+
+    // the chunk's frame: internal -> geocentric (referenced) or -> local
+    Eigen::Matrix3d chunkRotation = Eigen::Matrix3d::Identity();
+    Eigen::Vector3d chunkTranslation = Eigen::Vector3d::Zero();
+    double chunkScale = 1.0;
+    const CPLXMLNode *chunkTransform = CPLGetXMLNode( chunk, "transform" );
+    if ( chunkTransform )
+    {
+      const std::vector<double> r = numbers( CPLGetXMLValue( chunkTransform, "rotation", "1 0 0 0 1 0 0 0 1" ), xmlFile, "the chunk's <rotation>" );
+      const std::vector<double> t = numbers( CPLGetXMLValue( chunkTransform, "translation", "0 0 0" ), xmlFile, "the chunk's <translation>" );
+      if ( r.size() != 9 || t.size() != 3 )
+        throw std::invalid_argument( "the Metashape file " + xmlFile.string() + ": the chunk's <transform> needs 9 rotation and 3 translation values" );
+      chunkRotation = Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>( r.data() );
+      chunkTranslation = Eigen::Vector3d( t[0], t[1], t[2] );
+      if ( CPLGetXMLValue( chunkTransform, "scale", nullptr ) )
+        chunkScale = value( chunkTransform, "scale", xmlFile );
+    }
+    const std::string reference = CPLGetXMLValue( chunk, "reference", "" );
+    const bool geocentric = chunkTransform && !reference.empty() && reference.rfind( "LOCAL_CS", 0 ) != 0;
+    std::unique_ptr<CrsTransform> toCrs;
+    if ( geocentric )
+    {
+      toCrs = std::make_unique<CrsTransform>( "EPSG:4978", options.crs );
+      import.converted.push_back( "the chunk is referenced: cameras brought from geocentric coordinates into " + options.crs );
+    }
+    else
+      import.converted.push_back( chunkTransform ? "the chunk's transform (no geographic reference) gives the block coordinates as they are"
+                                                 : "the chunk is not referenced: its internal coordinates are taken as they are" );
+
+    const fs::path imageFolder = options.imageFolder.empty() ? fs::absolute( xmlFile ).parent_path() : fs::absolute( options.imageFolder );
+    int unaligned = 0;
+    forEachElement( CPLGetXMLNode( chunk, "cameras" ), "camera", [&]( const CPLXMLNode *node ) {
+      const std::string label = CPLGetXMLValue( node, "label", CPLGetXMLValue( node, "id", "" ) );
+      const std::string sensorId = CPLGetXMLValue( node, "sensor_id", "" );
+      if ( droppedSensor.count( sensorId ) )
+        return;
+      if ( !cameraIdOfSensor.count( sensorId ) )
+        throw std::invalid_argument( "the Metashape file " + xmlFile.string() + ": camera \"" + label + "\" names sensor " + sensorId + ", which the file does not have" );
+      const char *transformText = CPLGetXMLValue( node, "transform", nullptr );
+      if ( !transformText )
+      {
+        ++unaligned;
+        return;
+      }
+      const std::vector<double> m = numbers( transformText, xmlFile, "the <transform> of camera \"" + label + "\"" );
+      if ( m.size() != 16 )
+        throw std::invalid_argument( "the Metashape file " + xmlFile.string() + ": the <transform> of camera \"" + label + "\" needs 16 values" );
+      const Eigen::Matrix4d chunkFromCamera = Eigen::Map<const Eigen::Matrix<double, 4, 4, Eigen::RowMajor>>( m.data() );
+      Eigen::Matrix3d rotation = chunkFromCamera.topLeftCorner<3, 3>();
+      rotation.colwise().normalize();
+      Eigen::Vector3d centre = chunkScale * ( chunkRotation * chunkFromCamera.topRightCorner<3, 1>() ) + chunkTranslation;
+      rotation = chunkRotation * rotation; // camera (x right, y down, z forward) to geocentric or local
+      if ( geocentric )
+      {
+        rotation = crsFromGeocentricRotation( *toCrs, centre ) * rotation;
+        centre = toCrs->transform( centre );
+        if ( !centre.allFinite() )
+          throw std::invalid_argument( "camera \"" + label + "\" cannot be brought into " + options.crs );
+      }
+      BlockImage image;
+      image.id = label;
+      if ( block.findImage( image.id ) )
+        throw std::invalid_argument( "the Metashape file " + xmlFile.string() + " has the camera label \"" + label + "\" twice" );
+      image.cameraId = cameraIdOfSensor.at( sensorId );
+      image.stationId = label;
+      const fs::path found = findImage( imageFolder, label );
+      if ( found.empty() && options.requireImageFiles )
+        throw std::invalid_argument( "the image of camera \"" + label + "\" is not in " + imageFolder.string() + " (looked for the label with .jpg, .tif and .png); give the image folder" );
+      image.path = found.empty() ? label : found.generic_string();
+      ExteriorOrientation eo;
+      eo.projectionCentre = centre;
+      const Eigen::Vector3d opk = omegaPhiKappaDegFromRotation( rotation * kFlipYZ );
+      eo.omegaDeg = opk.x();
+      eo.phiDeg = opk.y();
+      eo.kappaDeg = opk.z();
+      image.exterior = eo;
+      Station station;
+      station.id = label;
+      block.stations.push_back( station );
+      block.images.push_back( image );
+      import.imageIdBySourceName[label] = label;
+    } );
+    if ( unaligned > 0 )
+      import.dropped.push_back( std::to_string( unaligned ) + " camera(s) without a <transform> (not aligned in Metashape) were dropped" );
+    if ( block.images.empty() )
+      throw std::invalid_argument( "no camera of the Metashape file " + xmlFile.string() + " can be imported" + ( import.dropped.empty() ? std::string() : ": " + import.dropped.front() ) );
+    import.converted.push_back( std::to_string( block.images.size() ) + " aligned camera(s) became oriented images, each its own station" );
+
+    block.sourceFile = imageFolder / "metashape-import.geostation.json";
+    if ( options.requireImageFiles )
+      for ( const BlockImage &image : block.images )
+      {
+        try
+        {
+          requireReadableImageFile( block, image );
+        }
+        catch ( const std::runtime_error &e )
+        {
+          throw std::invalid_argument( e.what() );
+        }
+      }
+    return import;
+  }
+
+} // namespace geostation
