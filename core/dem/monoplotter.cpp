@@ -152,4 +152,14 @@ namespace geostation
     return out;
   }
 
+  GroundPointViewer featureViewer( const OrientedImage &image, const Monoplotter *monoplotter )
+  {
+    if ( monoplotter )
+      return [monoplotter]( const Eigen::Vector3d &ground ) {
+        const MapPointInImage seen = monoplotter->groundToImage( ground );
+        return GroundPointView { seen.projection, seen.visible };
+      };
+    return [image]( const Eigen::Vector3d &ground ) { return GroundPointView { image.projectGroundToPixel( ground ), true }; };
+  }
+
 } // namespace geostation

@@ -16,6 +16,7 @@
 #include <Eigen/Core>
 
 #include "dem/demintersection.h"
+#include "geometry/lineprojection.h"
 #include "geometry/projection.h"
 
 namespace geostation
@@ -88,6 +89,13 @@ namespace geostation
       const CrsTransform &mBlockToDem;
       MonoplotOptions mOptions;
   };
+
+  /**
+   * How map features are seen from an image: through the terrain's
+   * occlusion test when a monoplotter is given (`monoplotter` must outlive
+   * the viewer), by plain collinearity (always visible) when it is null.
+   */
+  GroundPointViewer featureViewer( const OrientedImage &image, const Monoplotter *monoplotter );
 
 } // namespace geostation
 

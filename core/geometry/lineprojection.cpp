@@ -129,4 +129,21 @@ namespace geostation
     return out;
   }
 
+  void FeatureProjectionTally::add( const GroundPointView &view )
+  {
+    allVisible &= view.visible;
+    minDepthM = std::min( minDepthM, view.projection.depthM );
+    allInFrame &= view.projection.inFrame;
+    behind |= view.projection.status == PixelProjection::Status::BehindCamera;
+  }
+
+  void FeatureProjectionTally::add( const ProjectedGroundLine &line, bool partsDropped )
+  {
+    minDepthM = std::min( minDepthM, line.minDepthM );
+    allInFrame &= line.allInFrame;
+    allVisible &= line.allVisible;
+    clipped |= line.clipped;
+    behind |= line.behind || ( line.parts.size() > 1 && partsDropped );
+  }
+
 } // namespace geostation

@@ -81,6 +81,21 @@ namespace geostation
   ProjectedGroundLine projectGroundLine( const OrientedImage &image, const std::vector<Eigen::Vector3d> &vertices, const GroundPointViewer &view,
                                          const GroundLineOptions &options );
 
+  //! What projecting one map feature found out, over all its points and lines.
+  struct FeatureProjectionTally
+  {
+    bool behind = false;     //!< some vertex lies behind the camera
+    bool clipped = false;    //!< a line was cut where it leaves the projectable field
+    bool allInFrame = true;
+    bool allVisible = true;
+    double minDepthM = std::numeric_limits<double>::infinity();
+
+    //! Adds a projected point.
+    void add( const GroundPointView &view );
+    //! Adds a projected line; `partsDropped`: runs other than the first are not kept (they count as behind).
+    void add( const ProjectedGroundLine &line, bool partsDropped );
+  };
+
 } // namespace geostation
 
 #endif // GEOSTATION_GEOMETRY_LINEPROJECTION_H

@@ -29,16 +29,6 @@
 
 namespace
 {
-  //! What projecting one feature found out, over all its vertices.
-  struct Conversion
-  {
-    bool behind = false;       //!< some vertex lies behind the camera
-    bool clipped = false;      //!< a line was cut where it leaves the projectable field
-    bool allInFrame = true;
-    bool allVisible = true;
-    double minDepth = std::numeric_limits<double>::infinity();
-  };
-
   //! One input feature, projected, waiting to be written.
   struct ProjectedFeature
   {
@@ -130,8 +120,7 @@ void ProjectToImageAlgorithm::initAlgorithm( const QVariantMap & )
 
 QVariantMap ProjectToImageAlgorithm::processAlgorithm( const QVariantMap &parameters, QgsProcessingContext &context, QgsProcessingFeedback *feedback )
 {
-  // Everything that can fail is checked before the output is created, so bad
-  // input never leaves a partial output file behind.
+  // everything that can fail is checked before the output exists: bad input leaves no partial file
   const geostation::Block block = GeoStationProcessing::loadBlock( parameterAsFile( parameters, QStringLiteral( "BLOCK" ), context ) );
   const QString imageId = parameterAsString( parameters, QStringLiteral( "IMAGE" ), context ).trimmed();
   const geostation::BlockImage &image = GeoStationProcessing::blockImage( block, imageId );
@@ -139,21 +128,18 @@ QVariantMap ProjectToImageAlgorithm::processAlgorithm( const QVariantMap &parame
   GeoStationProcessing::requireImageFile( block, image );
   const QgsCoordinateReferenceSystem blockCrs = GeoStationProcessing::blockCrs( block );
 
-  std::unique_ptr<geostation::Dem> dem;
-  std::unique_ptr<geostation::CrsTransform> blockToDem;
-  std::unique_ptr<geostation::Monoplotter> monoplotter;
+  GeoStationProcessing::LoadedDem dem;
+  std::unique_ptr<geostation::Monoplotter> monoplotter; // with a DEM: heights for 2-D features, occlusion
   if ( QgsRasterLayer *demLayer = parameterAsRasterLayer( parameters, QStringLiteral( "DEM" ), context ) )
   {
-    GeoStationProcessing::LoadedDem loaded = GeoStationProcessing::loadDem( demLayer->source(), block );
-    dem = std::move( loaded.dem );
-    blockToDem = std::move( loaded.blockToDem );
-    monoplotter = std::make_unique<geostation::Monoplotter>( orientedImage, *dem, *blockToDem );
+    dem = GeoStationProcessing::loadDem( demLayer->source(), block );
+    monoplotter = std::make_unique<geostation::Monoplotter>( orientedImage, *dem.dem, *dem.blockToDem );
   }
 
   std::unique_ptr<QgsProcessingFeatureSource> source( parameterAsSource( parameters, QStringLiteral( "INPUT" ), context ) );
   if ( !source )
     throw QgsProcessingException( invalidSourceError( parameters, QStringLiteral( "INPUT" ) ) );
-  if ( !QgsWkbTypes::hasZ( source->wkbType() ) && !dem )
+  if ( !QgsWkbTypes::hasZ( source->wkbType() ) && !monoplotter )
     throw QgsProcessingException( QObject::tr( "The input layer has no Z values; without a DEM, points need heights (PointZ) to be projected into the image." ) );
 
   const QgsCoordinateReferenceSystem sourceCrs = source->sourceCrs().isValid() ? source->sourceCrs() : blockCrs;
@@ -161,16 +147,15 @@ QVariantMap ProjectToImageAlgorithm::processAlgorithm( const QVariantMap &parame
     feedback->pushWarning( QObject::tr( "The input layer has no CRS; its coordinates are taken to be in the block CRS %1." ).arg( blockCrs.userFriendlyIdentifier() ) );
   const QgsCoordinateTransform toBlock( sourceCrs, blockCrs, context.transformContext() );
 
-  const double densifyPx = parameterAsDouble( parameters, QStringLiteral( "DENSIFY_PX" ), context );
   // Heights of inserted line points come from the DEM when the layer's came from it.
-  const bool drapeLines = dem && !QgsWkbTypes::hasZ( source->wkbType() );
+  const bool drapeLines = monoplotter && !QgsWkbTypes::hasZ( source->wkbType() );
 
   // A vertex in the block CRS, with its height (from the DEM when it has none).
   const auto groundOf = [&]( const QgsPoint & vertex, QgsFeatureId id ) -> Eigen::Vector3d
   {
     double x = vertex.x(), y = vertex.y(), z = vertex.z();
     const bool drape = std::isnan( z );
-    if ( drape && !dem )
+    if ( drape && !monoplotter )
       throw FeatureProblem { QStringLiteral( "no_height" ), QObject::tr( "Feature %1 has no Z value; without a DEM every vertex needs a height." ).arg( id ) };
     try
     {
@@ -192,32 +177,17 @@ QVariantMap ProjectToImageAlgorithm::processAlgorithm( const QVariantMap &parame
     }
     return { x, y, z };
   };
-  // A ground point seen from the image: with a DEM, the terrain may hide it.
-  const geostation::GroundPointViewer view = [&]( const Eigen::Vector3d & ground )
-  {
-    if ( monoplotter )
-    {
-      const geostation::MapPointInImage seen = monoplotter->groundToImage( ground );
-      return geostation::GroundPointView { seen.projection, seen.visible };
-    }
-    return geostation::GroundPointView { orientedImage.projectGroundToPixel( ground ), true };
-  };
-  // A point feature in the image (x = col, y = -row); nothing when it cannot be projected.
-  const auto projectPoint = [&]( const Eigen::Vector3d & ground, Conversion & c ) -> std::optional<QgsPoint>
+  // a ground point seen from the image: with a DEM, the terrain may hide it
+  const geostation::GroundPointViewer view = geostation::featureViewer( orientedImage, monoplotter.get() );
+  // a point feature in the image (x = col, y = -row); nothing when it cannot be projected
+  const auto projectPoint = [&]( const Eigen::Vector3d & ground, geostation::FeatureProjectionTally & c ) -> std::optional<QgsPoint>
   {
     const geostation::GroundPointView v = view( ground );
-    c.allVisible &= v.visible;
-    c.minDepth = std::min( c.minDepth, v.projection.depthM );
-    c.allInFrame &= v.projection.inFrame;
-    if ( !v.projection.ok() )
-    {
-      c.behind |= v.projection.status == geostation::PixelProjection::Status::BehindCamera;
-      return std::nullopt;
-    }
-    return QgsPoint( v.projection.pixelInImage.x(), -v.projection.pixelInImage.y() );
+    c.add( v );
+    return v.projection.ok() ? std::optional<QgsPoint>( QgsPoint( v.projection.pixelInImage.x(), -v.projection.pixelInImage.y() ) ) : std::nullopt;
   };
   geostation::GroundLineOptions lineOptions;
-  lineOptions.densifyPx = densifyPx;
+  lineOptions.densifyPx = parameterAsDouble( parameters, QStringLiteral( "DENSIFY_PX" ), context );
   // heights of inserted line points come from the DEM when the layer's came from it
   if ( drapeLines )
     lineOptions.heightAt = [&]( const Eigen::Vector3d & p ) { return monoplotter->demHeightAt( p ); };
@@ -230,7 +200,7 @@ QVariantMap ProjectToImageAlgorithm::processAlgorithm( const QVariantMap &parame
   };
   // A line or ring (core: densified, cut or clipped where it leaves the projectable space). `otherParts`:
   // where the other parts of a line cut into several go (a multi-line keeps them all; a single line its longest)
-  const auto projectLine = [&]( const QgsLineString & line, QgsFeatureId id, Conversion & c, bool closed,
+  const auto projectLine = [&]( const QgsLineString & line, QgsFeatureId id, geostation::FeatureProjectionTally & c, bool closed,
                                 std::vector<std::unique_ptr<QgsLineString>> *otherParts = nullptr ) -> std::unique_ptr<QgsLineString>
   {
     std::vector<Eigen::Vector3d> ground;
@@ -238,11 +208,7 @@ QVariantMap ProjectToImageAlgorithm::processAlgorithm( const QVariantMap &parame
       ground.push_back( groundOf( line.pointN( i ), id ) );
     lineOptions.closed = closed;
     const geostation::ProjectedGroundLine projected = geostation::projectGroundLine( orientedImage, ground, view, lineOptions );
-    c.minDepth = std::min( c.minDepth, projected.minDepthM );
-    c.allInFrame &= projected.allInFrame;
-    c.allVisible &= projected.allVisible;
-    c.clipped |= projected.clipped;
-    c.behind |= projected.behind || ( projected.parts.size() > 1 && !otherParts );
+    c.add( projected, !otherParts );
     if ( projected.parts.empty() )
       return nullptr;
     if ( otherParts )
@@ -250,7 +216,7 @@ QVariantMap ProjectToImageAlgorithm::processAlgorithm( const QVariantMap &parame
         otherParts->push_back( toImageLine( projected.parts[k] ) );
     return toImageLine( projected.parts.front() );
   };
-  const auto convert = [&]( const QgsAbstractGeometry * g, QgsFeatureId id, Conversion & c )
+  const auto convert = [&]( const QgsAbstractGeometry * g, QgsFeatureId id, geostation::FeatureProjectionTally & c )
   {
     GeoStationProcessing::GeometryMapper mapper;
     mapper.point = [&]( const QgsPoint & p ) { return projectPoint( groundOf( p, id ), c ); };
@@ -283,12 +249,12 @@ QVariantMap ProjectToImageAlgorithm::processAlgorithm( const QVariantMap &parame
     out.feature = feature;
     if ( feature.hasGeometry() )
     {
-      Conversion c;
+      geostation::FeatureProjectionTally c;
       std::unique_ptr<QgsAbstractGeometry> inImage;
       try
       {
         inImage = convert( feature.geometry().constGet(), feature.id(), c );
-        out.depthM = std::isfinite( c.minDepth ) ? QVariant( c.minDepth ) : QVariant();
+        out.depthM = std::isfinite( c.minDepthM ) ? QVariant( c.minDepthM ) : QVariant();
         if ( !inImage )
         {
           behindCount += c.behind ? 1 : 0;
