@@ -31,6 +31,30 @@ namespace geostation
       BundlePointResult::Role role = BundlePointResult::Role::Tie;
     };
 
+    //! Hands every iteration to BundleOptions::onIteration; aborts the solve when it says stop.
+    class IterationCallbackAdapter : public ceres::IterationCallback
+    {
+      public:
+        explicit IterationCallbackAdapter( const std::function<bool( int, double )> &onIteration )
+          : mOnIteration( onIteration ) {}
+
+        ceres::CallbackReturnType operator()( const ceres::IterationSummary &iteration ) override
+        {
+          if ( mOnIteration && !mOnIteration( iteration.iteration, iteration.cost ) )
+          {
+            mStopped = true;
+            return ceres::SOLVER_ABORT;
+          }
+          return ceres::SOLVER_CONTINUE;
+        }
+
+        bool stopped() const { return mStopped; }
+
+      private:
+        const std::function<bool( int, double )> &mOnIteration;
+        bool mStopped = false;
+    };
+
     BundleSummary failure( BundleSummary::Status status, const std::string &message )
     {
       BundleSummary s;
@@ -219,8 +243,13 @@ namespace geostation
     solverOptions.gradient_tolerance = 1e-12;
     solverOptions.parameter_tolerance = 1e-12;
     solverOptions.num_threads = std::max( 1, options.threads );
+    IterationCallbackAdapter callback( options.onIteration );
+    if ( options.onIteration )
+      solverOptions.callbacks.push_back( &callback );
     ceres::Solver::Summary solverSummary;
     ceres::Solve( solverOptions, &problem, &solverSummary );
+    if ( callback.stopped() )
+      return failure( BundleSummary::Status::Cancelled, "the bundle adjustment was cancelled after " + std::to_string( solverSummary.iterations.size() ) + " iteration(s)" );
     summary.iterations = static_cast<int>( solverSummary.iterations.size() );
     summary.solveSeconds = solverSummary.total_time_in_seconds;
     summary.converged = solverSummary.termination_type == ceres::CONVERGENCE;

@@ -10,6 +10,7 @@
 #ifndef GEOSTATION_ADJUSTMENT_BUNDLEADJUSTMENT_H
 #define GEOSTATION_ADJUSTMENT_BUNDLEADJUSTMENT_H
 
+#include <functional>
 #include <map>
 #include <string>
 #include <vector>
@@ -49,6 +50,12 @@ namespace geostation
     int maxIterations = 100;
     int threads = 2;
     bool computeCovariance = true;
+    /**
+     * Called after every iteration of the solve with the iteration number
+     * (0 = the start) and the cost; returning false stops the adjustment,
+     * which then reports Status::Cancelled. Empty: never stops early.
+     */
+    std::function<bool( int iteration, double cost )> onIteration;
   };
 
   struct BundlePointResult
@@ -92,6 +99,7 @@ namespace geostation
       TooFewObservations,
       NotConverged,
       Failed,
+      Cancelled,         //!< onIteration asked to stop
     };
     Status status = Status::Ok;
     std::string message;

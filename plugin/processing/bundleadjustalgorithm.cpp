@@ -210,6 +210,11 @@ QVariantMap BundleAdjustAlgorithm::processAlgorithm( const QVariantMap &paramete
   feedback->pushInfo( QObject::tr( "Adjusting %1 images, %2 observations, %3 ground points…" ).arg( images.size() ).arg( observations.size() ).arg( ground.size() ) );
   feedback->setProgress( 5 );
 
+  // Cancel stops the solve between iterations; progress follows the iterations (5-75 %)
+  options.onIteration = [feedback, &options]( int iteration, double ) {
+    feedback->setProgress( 5.0 + 70.0 * std::min( 1.0, double( iteration ) / std::max( 1, options.maxIterations ) ) );
+    return !feedback->isCanceled();
+  };
   geostation::BundleSummary summary;
   try
   {
@@ -219,10 +224,10 @@ QVariantMap BundleAdjustAlgorithm::processAlgorithm( const QVariantMap &paramete
   {
     throw QgsProcessingException( QString::fromStdString( e.what() ) );
   }
+  if ( summary.status == geostation::BundleSummary::Status::Cancelled || feedback->isCanceled() )
+    return QVariantMap(); // nothing written
   if ( !summary.ok() )
     throw QgsProcessingException( QObject::tr( "Bundle adjustment failed: %1" ).arg( QString::fromStdString( summary.message ) ) );
-  if ( feedback->isCanceled() )
-    return QVariantMap();
   feedback->setProgress( 80 );
 
   // The adjusted block.

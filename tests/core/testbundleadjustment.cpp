@@ -228,3 +228,32 @@ TEST( BundleAdjustment, DatumAndInputProblemsAreReported )
   freeK1.freeInterior[kInteriorK1] = true;
   EXPECT_THROW( bundleAdjust( run.cameras, run.truth, {}, observations, freeK1 ), std::invalid_argument );
 }
+
+TEST( BundleAdjustment, CancelStopsTheSolveBetweenIterations )
+{
+  std::mt19937 rng( 4 );
+  const SurveyRun run = highwayRun( 4, 80, rng );
+  const std::vector<BundleImage> start = perturbed( run, rng, 0.5, 0.3 );
+  const std::vector<BundleObservation> observations = observe( run, rng, 0.3 );
+  // without cancel: several iterations, converged
+  std::vector<int> seen;
+  BundleOptions watched;
+  watched.onIteration = [&]( int iteration, double cost ) {
+    EXPECT_TRUE( std::isfinite( cost ) );
+    seen.push_back( iteration );
+    return true;
+  };
+  const BundleSummary full = bundleAdjust( run.cameras, start, {}, observations, watched );
+  ASSERT_TRUE( full.ok() ) << full.message;
+  ASSERT_GE( seen.size(), 3u );
+  EXPECT_EQ( seen.front(), 0 );
+  // cancelled after the first iteration: stopped there, nothing adjusted returned
+  int calls = 0;
+  BundleOptions cancelled;
+  cancelled.onIteration = [&]( int, double ) { return ++calls < 2; };
+  const BundleSummary stopped = bundleAdjust( run.cameras, start, {}, observations, cancelled );
+  EXPECT_EQ( stopped.status, BundleSummary::Status::Cancelled );
+  EXPECT_EQ( calls, 2 );
+  EXPECT_TRUE( stopped.images.empty() );
+  EXPECT_NE( stopped.message.find( "cancelled" ), std::string::npos );
+}
