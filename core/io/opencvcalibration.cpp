@@ -8,19 +8,14 @@
 
 #include <opencv2/core/persistence.hpp>
 
+#include "io/textfile.h"
+
 namespace fs = std::filesystem;
 
 namespace geostation
 {
   namespace
   {
-    std::string lower( std::string s )
-    {
-      for ( char &c : s )
-        c = static_cast<char>( std::tolower( static_cast<unsigned char>( c ) ) );
-      return s;
-    }
-
     [[noreturn]] void fail( const fs::path &file, const std::string &problem )
     {
       throw std::invalid_argument( "the calibration file " + file.string() + ": " + problem );
@@ -90,7 +85,7 @@ namespace geostation
       std::error_code ec;
       if ( !fs::is_regular_file( file, ec ) )
         throw std::invalid_argument( "the calibration file " + file.string() + " does not exist" );
-      const std::string ext = lower( file.extension().string() );
+      const std::string ext = asciiLower( file.extension().string() );
       if ( ext != ".yaml" && ext != ".yml" && ext != ".xml" )
         fail( file, "not an OpenCV calibration (expected a .yaml, .yml or .xml file)" );
       cv::FileStorage fsr;

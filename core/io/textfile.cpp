@@ -37,6 +37,14 @@ namespace geostation
     }
   }
 
+  std::string asciiLower( std::string text )
+  {
+    for ( char &c : text )
+      if ( c >= 'A' && c <= 'Z' )
+        c = static_cast<char>( c - 'A' + 'a' );
+    return text;
+  }
+
   std::string csvField( const std::string &value )
   {
     if ( value.find_first_of( ",\"\n\r" ) == std::string::npos )

@@ -18,6 +18,9 @@ namespace geostation
    */
   void writeTextFileAtomically( const std::filesystem::path &file, const std::string &text, const std::string &what = "" );
 
+  //! The text with ASCII letters in lower case (names matched case-insensitively).
+  std::string asciiLower( std::string text );
+
   //! A CSV field, quoted (RFC 4180) when it holds a comma, a quote or a line break.
   std::string csvField( const std::string &value );
 

@@ -12,6 +12,7 @@
 
 #include "geometry/crs.h"
 #include "geometry/rotation.h"
+#include "io/textfile.h"
 
 namespace fs = std::filesystem;
 
@@ -19,13 +20,6 @@ namespace geostation
 {
   namespace
   {
-    std::string lower( std::string s )
-    {
-      for ( char &c : s )
-        c = static_cast<char>( std::tolower( static_cast<unsigned char>( c ) ) );
-      return s;
-    }
-
     std::string trim( const std::string &s )
     {
       const size_t a = s.find_first_not_of( " \t\r\n" );
@@ -73,7 +67,7 @@ namespace geostation
       {
         for ( const char *name : names )
           for ( size_t i = 0; i < header.size(); ++i )
-            if ( lower( header[i] ) == name )
+            if ( asciiLower( header[i] ) == name )
               return i;
         return std::nullopt;
       }
@@ -244,7 +238,7 @@ namespace geostation
     {
       std::optional<size_t> column;
       for ( size_t i = 0; i < t.header.size(); ++i )
-        if ( lower( t.header[i] ) == lower( "image_" + c.camera.id ) || ( rig.size() == 1 && lower( t.header[i] ) == "image" ) )
+        if ( asciiLower( t.header[i] ) == asciiLower( "image_" + c.camera.id ) || ( rig.size() == 1 && asciiLower( t.header[i] ) == "image" ) )
           column = i;
       if ( !column && c.imagePattern.empty() )
         throw std::invalid_argument( "camera \"" + c.camera.id + "\" has no image names: give the table a column \"" + ( rig.size() == 1 ? std::string( "image" ) : "image_" + c.camera.id )

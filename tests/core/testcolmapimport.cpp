@@ -10,6 +10,8 @@
 
 #include <gtest/gtest.h>
 
+#include "testfiles.h"
+
 #include "geometry/projection.h"
 #include "geometry/rotation.h"
 #include "geometry/similaritytransform.h"
@@ -18,19 +20,13 @@
 #include "io/colmapimport.h"
 
 using namespace geostation;
+using geostation::testing::errorOf;
+using geostation::testing::freshTestFolder;
 namespace fs = std::filesystem;
 
 namespace
 {
   const char *kCrs = "EPSG:32617";
-
-  fs::path freshFolder( const std::string &name )
-  {
-    const fs::path dir = fs::temp_directory_path() / ( "geostation-colmap-" + name + "-" + std::to_string( ::getpid() ) );
-    fs::remove_all( dir );
-    fs::create_directories( dir );
-    return dir;
-  }
 
   /**
    * COLMAP's WorldToImage, written from COLMAP's camera_models.h: camFromWorld,
@@ -158,19 +154,6 @@ namespace
     }
   }
 
-  std::string errorOf( const std::function<void()> &f )
-  {
-    try
-    {
-      f();
-    }
-    catch ( const std::exception &e )
-    {
-      return e.what();
-    }
-    return "(no error)";
-  }
-
   ColmapImportOptions noFiles()
   {
     ColmapImportOptions o;
@@ -183,7 +166,7 @@ namespace
 TEST( ColmapModel, TextAndBinaryRoundTripExactly )
 {
   const ColmapModel model = sampleModel();
-  const fs::path dir = freshFolder( "roundtrip" );
+  const fs::path dir = freshTestFolder( "colmap-roundtrip" );
   model.writeText( dir / "text" );
   model.writeBinary( dir / "bin" );
   expectSameModel( model, ColmapModel::read( dir / "text" ) );
@@ -199,7 +182,7 @@ TEST( ColmapConversion, ImportedBlockProjectsLikeColmap )
   // imported block equals COLMAP's own equations
   const ColmapModel model = sampleModel();
   const BlockImportSummary import = importColmapModel( model, [&] {
-    const fs::path dir = freshFolder( "projection" );
+    const fs::path dir = freshTestFolder( "colmap-projection" );
     model.writeBinary( dir );
     return dir;
   }(), noFiles() );
@@ -266,7 +249,7 @@ TEST( ColmapImport, UnrepresentableCamerasAreDroppedByNameAndReported )
   // point 1000 is seen only by images 11 and 12, whose cameras go
   std::vector<ColmapTrackElement> &track = model.points3D[0].track;
   track.erase( std::remove_if( track.begin(), track.end(), []( const ColmapTrackElement &t ) { return t.imageId == 10 || t.imageId == 13; } ), track.end() );
-  const fs::path dir = freshFolder( "dropped" );
+  const fs::path dir = freshTestFolder( "colmap-dropped" );
   model.writeText( dir );
   const BlockImportSummary import = importColmapModel( ColmapModel::read( dir ), dir, noFiles() );
   EXPECT_EQ( import.block.cameras.size(), 1u );
@@ -296,7 +279,7 @@ TEST( ColmapImport, GeoreferencedByCameraCentresOrControlPoints )
   truthFromModel.scale = 3.7;
   truthFromModel.rotation = ( Eigen::AngleAxisd( 0.7, Eigen::Vector3d( 0.2, -0.3, 1.0 ).normalized() ) ).toRotationMatrix();
   truthFromModel.translation = { 500123.4, 4400456.7, 212.3 };
-  const fs::path dir = freshFolder( "georef" );
+  const fs::path dir = freshTestFolder( "colmap-georef" );
   model.writeText( dir );
   BlockImportSummary truthFrame = importColmapModel( model, dir, noFiles() );
 
@@ -413,7 +396,7 @@ TEST( ColmapExport, BlockRoundTripsThroughColmapText )
       image.exterior = eo;
     block.images.push_back( image );
   }
-  const fs::path dir = freshFolder( "export" );
+  const fs::path dir = freshTestFolder( "colmap-export" );
   block.sourceFile = dir / "block.geostation.json";
   const BlockExportSummary written = exportBlockAsColmap( block, dir / "colmap" );
   EXPECT_EQ( written.images, 4 );
@@ -460,7 +443,7 @@ TEST( ColmapExport, BlockRoundTripsThroughColmapText )
 
 TEST( ColmapImport, BadModelsAreRefusedWithOneSentence )
 {
-  const fs::path dir = freshFolder( "bad" );
+  const fs::path dir = freshTestFolder( "colmap-bad" );
   EXPECT_NE( errorOf( [&] { ColmapModel::read( dir / "nothing" ); } ).find( "does not exist" ), std::string::npos );
   EXPECT_NE( errorOf( [&] { ColmapModel::read( dir ); } ).find( "holds no COLMAP model" ), std::string::npos );
 

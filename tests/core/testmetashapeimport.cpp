@@ -8,6 +8,8 @@
 #include <random>
 
 #include <gtest/gtest.h>
+
+#include "testfiles.h"
 #include <opencv2/imgcodecs.hpp>
 
 #include "geometry/crs.h"
@@ -16,6 +18,8 @@
 #include "io/metashapeimport.h"
 
 using namespace geostation;
+using geostation::testing::errorOf;
+using geostation::testing::freshTestFolder;
 namespace fs = std::filesystem;
 
 namespace
@@ -59,31 +63,11 @@ namespace
     return s.str();
   }
 
-  std::string errorOf( const std::function<void()> &f )
-  {
-    try
-    {
-      f();
-    }
-    catch ( const std::exception &e )
-    {
-      return e.what();
-    }
-    return "(no error)";
-  }
-
-  fs::path freshFolder( const std::string &name )
-  {
-    const fs::path dir = fs::temp_directory_path() / ( "geostation-metashape-" + name + "-" + std::to_string( ::getpid() ) );
-    fs::remove_all( dir );
-    fs::create_directories( dir );
-    return dir;
-  }
 } // namespace
 
 TEST( MetashapeImport, LensModelProjectsLikeMetashape )
 {
-  const fs::path dir = freshFolder( "lens" );
+  const fs::path dir = freshTestFolder( "metashape-lens" );
   const Calibration c;
   const Eigen::Matrix3d rotation = Eigen::AngleAxisd( 0.3, Eigen::Vector3d( 0.2, 1.0, -0.4 ).normalized() ).toRotationMatrix(); // chunkFromCamera
   const Eigen::Vector3d centre( 12.5, -3.25, 40.0 );
@@ -141,7 +125,7 @@ TEST( MetashapeImport, ReferencedChunkLandsOnTheTruthInUtm )
   const Eigen::Vector3d internalCentre = chunkRotation.transpose() * ( geocentricCentre - chunkTranslation ) / s;
   const Eigen::Matrix3d internalFromCamera = chunkRotation.transpose() * geocentricFromCamera;
 
-  const fs::path dir = freshFolder( "referenced" );
+  const fs::path dir = freshTestFolder( "metashape-referenced" );
   std::ostringstream chunk;
   chunk << std::setprecision( 17 ) << "<transform><rotation>";
   for ( int r = 0; r < 3; ++r )

@@ -7,6 +7,8 @@
 #include <fstream>
 
 #include <gtest/gtest.h>
+
+#include "testfiles.h"
 #include <opencv2/core/persistence.hpp>
 #include <opencv2/imgcodecs.hpp>
 
@@ -16,31 +18,12 @@
 #include "io/trajectoryimport.h"
 
 using namespace geostation;
+using geostation::testing::errorOf;
+using geostation::testing::freshTestFolder;
 namespace fs = std::filesystem;
 
 namespace
 {
-  fs::path freshFolder( const std::string &name )
-  {
-    const fs::path dir = fs::temp_directory_path() / ( "geostation-trajectory-" + name + "-" + std::to_string( ::getpid() ) );
-    fs::remove_all( dir );
-    fs::create_directories( dir );
-    return dir;
-  }
-
-  std::string errorOf( const std::function<void()> &f )
-  {
-    try
-    {
-      f();
-    }
-    catch ( const std::exception &e )
-    {
-      return e.what();
-    }
-    return "(no error)";
-  }
-
   RigCamera forwardCamera()
   {
     RigCamera c;
@@ -65,7 +48,7 @@ namespace
 
 TEST( OpenCvCalibration, CameraMatrixAndDistortionConvertExactly )
 {
-  const fs::path dir = freshFolder( "calib" );
+  const fs::path dir = freshTestFolder( "trajectory-calib" );
   {
     cv::FileStorage out( ( dir / "front.yaml" ).string(), cv::FileStorage::WRITE );
     out << "image_width" << 1920 << "image_height" << 1080;
@@ -129,7 +112,7 @@ TEST( TrajectoryImport, CamerasLookWhereHeadingPitchRollAndBoresightSay )
 
 TEST( TrajectoryImport, RigAndTrajectoryBecomeABlockWithConvergence )
 {
-  const fs::path dir = freshFolder( "rig" );
+  const fs::path dir = freshTestFolder( "trajectory-rig" );
   std::ofstream( dir / "rig.yaml" ) << "%YAML:1.0\n"
                                        "cameras:\n"
                                        "  - id: front\n"
@@ -196,7 +179,7 @@ TEST( TrajectoryImport, RigAndTrajectoryBecomeABlockWithConvergence )
 
 TEST( TrajectoryImport, OneCameraWithItsOwnOrientationPerRow )
 {
-  const fs::path dir = freshFolder( "eo" );
+  const fs::path dir = freshTestFolder( "trajectory-eo" );
   std::ofstream( dir / "eo.csv" ) << "image;X;Y;Z;omega;phi;kappa\n"
                                      "a.png;500100.25;4400200.5;310.0;0.5;-0.25;91.0\n"
                                      "b.png;500150.25;4400200.5;311.0;0.25;0.5;-179.5\n";
@@ -217,7 +200,7 @@ TEST( TrajectoryImport, OneCameraWithItsOwnOrientationPerRow )
 
 TEST( TrajectoryImport, BadTablesAreRefusedWithOneSentence )
 {
-  const fs::path dir = freshFolder( "bad" );
+  const fs::path dir = freshTestFolder( "trajectory-bad" );
   TrajectoryImportOptions options;
   options.crs = "EPSG:32617";
   options.requireImageFiles = false;
