@@ -160,6 +160,7 @@ QVariantMap ImportBlockAlgorithm::processAlgorithm( const QVariantMap &parameter
   if ( !crs.isValid() )
     throw QgsProcessingException( QObject::tr( "CRS: give the CRS the block is to be in (projected, or a local engineering CRS, in metres)." ) );
 
+  const std::string blockCrs = crsDefinition( crs );
   const std::string imageFolder = parameterAsFile( parameters, QStringLiteral( "IMAGES" ), context ).toStdString();
 
   geostation::KnownPositions known;
@@ -180,7 +181,7 @@ QVariantMap ImportBlockAlgorithm::processAlgorithm( const QVariantMap &parameter
     {
       feedback->pushInfo( QObject::tr( "Reading the COLMAP model %1" ).arg( input ) );
       geostation::ColmapImportOptions options;
-      options.crs = crsDefinition( crs );
+      options.crs = blockCrs;
       options.imageFolder = imageFolder;
       const geostation::ColmapModel model = geostation::ColmapModel::read( input.toStdString() );
       feedback->setProgress( 30 );
@@ -190,7 +191,7 @@ QVariantMap ImportBlockAlgorithm::processAlgorithm( const QVariantMap &parameter
     {
       feedback->pushInfo( QObject::tr( "Reading Metashape's cameras %1" ).arg( input ) );
       geostation::MetashapeImportOptions options;
-      options.crs = crsDefinition( crs );
+      options.crs = blockCrs;
       options.imageFolder = imageFolder;
       import = geostation::importMetashapeCameras( input.toStdString(), options );
     }
@@ -198,7 +199,7 @@ QVariantMap ImportBlockAlgorithm::processAlgorithm( const QVariantMap &parameter
     {
       feedback->pushInfo( QObject::tr( "Reading the calibration %1 and the trajectory %2" ).arg( input, trajectory ) );
       geostation::TrajectoryImportOptions options;
-      options.crs = crsDefinition( crs );
+      options.crs = blockCrs;
       options.imageFolder = imageFolder;
       options.anglesInRadians = parameterAsEnumString( parameters, QStringLiteral( "ANGLES" ), context ) == QLatin1String( "radians" );
       import = geostation::importTrajectory( geostation::readOpenCvCalibration( input.toStdString() ), trajectory.toStdString(), options );
