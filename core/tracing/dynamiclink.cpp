@@ -36,7 +36,13 @@ namespace geostation
     // (past the next station's camera by the gap limit: a station whose vertices failed is bridged too)
     {
       const double reach = horizontalDistance( groundLine.back(), next.exterior().projectionCentre ) + options.follow.maxGapM + options.handoverRangeM;
-      for ( const Eigen::Vector3d &p : trajectoryContinuation( trajectory, groundLine.back(), step, reach, 0.5 ) )
+      // (a last vertex that strays from the line's offset from the track over its last 10 m - the follower
+      // slid onto a parallel edge at its far end - does not lead it astray: the recent offset is kept)
+      std::optional<double> offset = recentTrackOffset( trajectory, groundLine, 10.0 );
+      const std::optional<TrackCoordinates> own = trackCoordinates( trajectory, groundLine.back().head<2>() );
+      if ( offset && own && std::abs( *offset - own->leftOffsetM ) <= options.maxLateralStepM )
+        offset.reset();
+      for ( const Eigen::Vector3d &p : trajectoryContinuation( trajectory, groundLine.back(), step, reach, 0.5, offset ) )
         candidates.push_back( { p, vertices.size() } );
       for ( const Eigen::Vector3d &p : continuation( groundLine, lineDirection, reach, 0.5 ) )
         candidates.push_back( { p, vertices.size() } );

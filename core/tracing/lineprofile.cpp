@@ -264,9 +264,51 @@ namespace geostation
         return cStripe;
       return dc < db - 1e-9 || ( std::abs( dc - db ) <= 1e-9 && c.hit.contrast > chosen->hit.contrast );
     };
+    // a click inside a painted stripe means the stripe, not one of its sides (worn paint can put the
+    // stripe's centre further from the click than its side). Paint lies on one surface: the same grey
+    // either side. A kerb face, a bright band between the asphalt and the kerb top, does not: clicked at
+    // its foot, it means the edge.
+    const auto paintLike = [&]( const Candidate &stripe )
+    {
+      const Eigen::Vector2d n = rightNormal( direction );
+      const double reach = 0.5 * stripe.hit.widthPx + 2.0;
+      double left = 0.0, right = 0.0, centre = 0.0;
+      int count = 0;
+      for ( const double t : { -1.5, 0.0, 1.5 } ) // (short: a worn patch is short too)
+      {
+        const Eigen::Vector2d p = stripe.hit.pixelInImage + t * direction;
+        const std::optional<double> l = sampleGrey( grey, p - reach * n ), r = sampleGrey( grey, p + reach * n ), c = sampleGrey( grey, p );
+        if ( !l || !r || !c )
+          continue;
+        left += *l;
+        right += *r;
+        centre += *c;
+        ++count;
+      }
+      if ( count == 0 )
+        return false;
+      left /= count;
+      right /= count;
+      centre /= count;
+      return std::abs( left - right ) < 0.35 * std::abs( centre - 0.5 * ( left + right ) );
+    };
+    const auto sideOfStripeAroundClick = [&]( const Candidate &edge )
+    {
+      return edge.profile.kind == LineKind::Edge &&
+             std::any_of( candidates.begin(), candidates.end(), [&]( const Candidate &stripe )
+      {
+        if ( stripe.profile.kind == LineKind::Edge )
+          return false;
+        const double half = 0.5 * stripe.hit.widthPx;
+        return std::abs( stripe.hit.offsetPx ) <= half + 1.0 && std::abs( std::abs( edge.hit.offsetPx - stripe.hit.offsetPx ) - half ) <= std::max( 2.0, 0.3 * half ) &&
+               paintLike( stripe );
+      } );
+    };
     for ( const Candidate &c : candidates )
-      if ( !chosen || better( c ) )
+      if ( !sideOfStripeAroundClick( c ) && ( !chosen || better( c ) ) )
         chosen = &c;
+    if ( !chosen )
+      chosen = &candidates.front();
     out.profile = chosen->profile;
     out.pixelInImage = chosen->hit.pixelInImage;
 
@@ -274,9 +316,19 @@ namespace geostation
     LocateOptions along = locateOptionsFor( out.profile, FollowOptions(), 3.0 );
     along.maxWidthRatio = along.minWidthRatio = 2.0;
     std::vector<Eigen::Vector2d> points { out.pixelInImage };
+    std::vector<double> widths { out.profile.widthPx };
     for ( const double step : { -12.0, -6.0, 6.0, 12.0 } )
       if ( const std::optional<LineHit> h = locateLine( grey, out.pixelInImage + step * direction, direction, out.profile, along ) )
+      {
         points.push_back( h->pixelInImage );
+        widths.push_back( h->widthPx );
+      }
+    // a stripe's width from the profiles either side too: worn paint at the click narrows one profile
+    if ( out.profile.kind != LineKind::Edge && widths.size() >= 3 )
+    {
+      std::nth_element( widths.begin(), widths.begin() + widths.size() / 2, widths.end() );
+      out.profile.widthPx = widths[widths.size() / 2];
+    }
     if ( points.size() >= 3 )
     {
       Eigen::Vector2d mean = Eigen::Vector2d::Zero();

@@ -127,10 +127,16 @@ namespace geostation
       throw std::invalid_argument( "the seed image " + seedImage.id + " belongs to no station of the block" );
 
     // the reference camera's path through the run, in run order
+    // (a station out of order - behind the one before - is left out: it would fold the track back on itself)
     std::vector<Eigen::Vector3d> trajectory;
     for ( const SequenceStation &st : sequence.stations() )
       if ( const BlockImage *image = stationImage( block, st, seedImage.cameraId ); image && image->exterior )
-        trajectory.push_back( image->exterior->projectionCentre );
+      {
+        const Eigen::Vector3d &c = image->exterior->projectionCentre;
+        if ( trajectory.size() >= 2 && ( c - trajectory.back() ).head<2>().dot( ( trajectory.back() - trajectory[trajectory.size() - 2] ).head<2>() ) <= 0 )
+          continue;
+        trajectory.push_back( c );
+      }
     const std::vector<Eigen::Vector3d> smoothTrack = smoothedHeights( trajectory, 30.0 );
     // the road surface under a point, hung from a camera at `cameraZ` over `cameraXY`: the smoothed track's
     // shape, offset so that the surface is the camera's height below it there
@@ -268,14 +274,34 @@ namespace geostation
       // auto: polynomial strips first (they bridge dashes, wear and shadows and are the most precise in the
       // tests); where they cover less than half the way, the skeleton (stripes) or least squares (edges)
       TraceMethod method = options.method == TraceMethod::Auto ? TraceMethod::Polynomial : options.method;
-      LineFollowResult followed = followLine( *referenceGrey, request, method, follow );
+      // a road line runs with the road: what leaves the corridor through the start is cut off
+      const auto keepInCourse = [&]( LineFollowResult result )
+      {
+        if ( !startGround || options.courseHalfWidthM <= 0 )
+          return result;
+        std::vector<std::optional<Eigen::Vector3d>> onGround;
+        for ( const Eigen::Vector2d &p : result.line.points )
+          onGround.push_back( ground( reference, p ) );
+        const size_t n = pointsInCourse( trajectory, *startGround, onGround, options.courseHalfWidthM, options.courseSlope );
+        if ( n < result.line.points.size() )
+        {
+          result.line.points.resize( n );
+          result.line.sigmaPx.resize( std::min( n, result.line.sigmaPx.size() ) );
+          result.line.bridged.resize( std::min( n, result.line.bridged.size() ) );
+          result.line.stop = TraceStop::DirectionChange;
+          if ( n >= 2 )
+            result.line.direction = ( result.line.points[n - 1] - result.line.points[n - 2] ).normalized();
+        }
+        return result;
+      };
+      LineFollowResult followed = keepInCourse( followLine( *referenceGrey, request, method, follow ) );
       if ( options.method == TraceMethod::Auto && startGround )
       {
         const double wanted = rangeLimit - horizontalDistance( *startGround, centre );
         if ( groundLength( reference, followed.line.points, ground ) < 0.5 * wanted && followed.line.stop != TraceStop::LeftImage )
         {
           const TraceMethod other = profile.kind == LineKind::Edge ? TraceMethod::LeastSquares : TraceMethod::Directional;
-          LineFollowResult second = followLine( *referenceGrey, request, other, follow );
+          LineFollowResult second = keepInCourse( followLine( *referenceGrey, request, other, follow ) );
           if ( groundLength( reference, second.line.points, ground ) > groundLength( reference, followed.line.points, ground ) )
           {
             followed = second;
@@ -293,7 +319,7 @@ namespace geostation
         if ( profile.kind == LineKind::Edge )
           backwardRequest.profile.polarity = -profile.polarity;
         // (auto: polynomial strips, the most precise; the skeleton's end pixels stray)
-        const LineFollowResult backward = followLine( *referenceGrey, backwardRequest, options.method == TraceMethod::Auto ? TraceMethod::Polynomial : method, follow );
+        const LineFollowResult backward = keepInCourse( followLine( *referenceGrey, backwardRequest, options.method == TraceMethod::Auto ? TraceMethod::Polynomial : method, follow ) );
         followed.line.pixelsFollowed += backward.line.pixelsFollowed;
         joinBackward( backward.line, followed.line );
       }
@@ -371,11 +397,13 @@ namespace geostation
       part.partnerImageId = partnerImage->id;
       part.runAlong = previousCentre ? Eigen::Vector3d( centre - *previousCentre ) : Eigen::Vector3d( reference.cameraFromWorldRotation().row( 2 ).transpose() * -1.0 );
       part.keep = keep;
+      part.trajectory = &trajectory;
       if ( !options.groundOfPixel )
         part.surfaceHeight = [&]( const Eigen::Vector3d &p ) { return surfaceHeight( p.head<2>(), centre.z(), centre.head<2>() ); };
       const StationPartSummary joined = appendStationPart( out.vertices, vertices, part, options );
       const size_t firstOfStation = joined.firstOfStation;
       out.heightOutliers += joined.heightOutliers;
+      out.lateralOutliers += joined.lateralOutliers;
       record.vertices = joined.ownVertices;
       out.stations.push_back( record );
       if ( options.stationTraced )
@@ -462,31 +490,56 @@ namespace geostation
         break;
       }
       step = nextStep;
-      const OrientedImage next = block.orientedImage( *nextImage );
-      const Eigen::Vector3d nextCentre = next.exterior().projectionCentre;
-      DynamicLinkInput link;
-      link.reference = &reference;
-      link.referenceGrey = referenceGrey.get();
-      link.next = &next;
-      link.nextGrey = nextGrey.get();
-      link.nextGround = options.groundOfPixel ? options.groundOfPixel : roadPlaneOf( nextCentre.z(), nextCentre.head<2>() );
-      link.vertices = &out.vertices;
-      link.firstOfStation = firstOfStation;
-      link.groundLine = &groundLine;
-      link.lineDirection = lineDirection;
-      link.trajectory = &trajectory;
-      link.step = step;
-      link.profile = profile;
-      link.widthTimesRange = widthTimesRange;
-      const std::optional<DynamicLink> linked = linkToNextStation( link, options );
-      const bool handedOver = linked.has_value();
+      // the dynamic link; where the line is not found in the next station's image (hidden there by a car or a
+      // shadow's edge), the stations after it are tried, as many as may be passed over
+      const auto linkTo = [&]( const BlockImage &nextImage, const cv::Mat &nextGreyImage ) -> std::optional<DynamicLink>
+      {
+        const OrientedImage next = block.orientedImage( nextImage );
+        const Eigen::Vector3d nextCentre = next.exterior().projectionCentre;
+        DynamicLinkInput link;
+        link.reference = &reference;
+        link.referenceGrey = referenceGrey.get();
+        link.next = &next;
+        link.nextGrey = &nextGreyImage;
+        link.nextGround = options.groundOfPixel ? options.groundOfPixel : roadPlaneOf( nextCentre.z(), nextCentre.head<2>() );
+        link.vertices = &out.vertices;
+        link.firstOfStation = firstOfStation;
+        link.groundLine = &groundLine;
+        link.lineDirection = lineDirection;
+        link.trajectory = &trajectory;
+        link.step = step;
+        link.profile = profile;
+        link.widthTimesRange = widthTimesRange;
+        return linkToNextStation( link, options );
+      };
+      std::optional<DynamicLink> linked = linkTo( *nextImage, *nextGrey );
+      int skip = 1;
+      for ( int further = 2; !linked && further <= 1 + options.maxStationsPassedOver; ++further )
+      {
+        const int index = k + further * step;
+        if ( index < 0 || index >= sequence.size() )
+          break;
+        const BlockImage *laterImage = stationImage( block, sequence.at( index ), referenceCamera );
+        if ( !laterImage || !laterImage->exterior || ( laterImage->exterior->projectionCentre - centre ).dot( runDirection ) <= 0 )
+          break;
+        std::string laterError;
+        const std::shared_ptr<const cv::Mat> laterGrey = images( *laterImage, laterError );
+        if ( !laterGrey )
+          break;
+        if ( ( linked = linkTo( *laterImage, *laterGrey ) ) )
+        {
+          skip = further;
+          nextGrey = laterGrey;
+          out.stationsPassedOver += further - 1;
+        }
+      }
       if ( linked )
       {
         start = linked->start;
         direction = linked->direction;
         keep = linked->keep;
       }
-      if ( !handedOver )
+      else
       {
         const TraceStop why = followed.line.stop == TraceStop::GapTooLarge || followed.line.stop == TraceStop::DirectionChange ? followed.line.stop : TraceStop::EndOfLine;
         stopWith( why, "the line was not found in " + nextImage->id + " ahead of its last vertex (station " + station.id + "): " +
@@ -494,7 +547,7 @@ namespace geostation
         break;
       }
       previousCentre = centre;
-      k += step;
+      k += skip * step;
       referenceGrey = nextGrey;
     }
 

@@ -133,6 +133,22 @@ namespace geostation
     bool locateInPartner = true;
     //! A station whose start lies further than this (m) beyond the line so far follows the line back from its start too.
     double backfillGapM = 3.0;
+    /**
+     * The followed line is cut where it leaves the corridor of a road line
+     * through its start, parallel to the van's track: this half width (m)
+     * plus courseSlope times the distance along the track. Keeps a follower
+     * or a bridge that went astray (a shadow's edge, a jump across the road
+     * onto another line) out of the run; courseHalfWidthM 0 = no corridor.
+     */
+    double courseHalfWidthM = 0.6;
+    double courseSlope = 0.08;
+    /**
+     * A station's vertex whose offset from the van's track leaves the
+     * line's (the median over the 10 m before it) by more than this (m)
+     * and 4 sigmas is dropped, and the rest of the station's part with the
+     * second in a row (runline.h); 0 = not checked.
+     */
+    double maxLateralStepM = 0.12;
     MultiStationOptions multiStation;
     HandoverOptions handover;
     LineFollowOptions follow;
@@ -170,6 +186,8 @@ namespace geostation
     int pixelsFollowed = 0;
     MultiStationSummary multiStation; //!< vertices seen from earlier stations too
     int heightOutliers = 0;   //!< vertices dropped for leaving the line's height (heightcontinuity.h)
+    int lateralOutliers = 0;  //!< vertices dropped for leaving the line's course sideways (runline.h)
+    int stationsPassedOver = 0; //!< stations the dynamic link passed over (the line not found in their images)
 
     bool ok() const { return vertices.size() >= 2; }
     //! The methods used, "directional" or e.g. "least_squares+polynomial".

@@ -12,7 +12,13 @@
     one behind the line's end;
   - the station's vertices go in order along the run;
   - a vertex whose height leaves the line through its neighbours' is
-    dropped (heightcontinuity.h).
+    dropped (heightcontinuity.h);
+  - road lines run with the road: with the van's track given, a vertex
+    whose offset from the track leaves the line's over the last 10 m
+    before it by more than maxLateralStepM and 4 sigmas is dropped, and
+    at the second such vertex in a row the rest of the station's part
+    goes too (the follower slid onto a parallel edge: the paint beside a
+    kerb face, a shadow's edge).
  ***************************************************************************/
 #ifndef GEOSTATION_TRACING_RUNLINE_H
 #define GEOSTATION_TRACING_RUNLINE_H
@@ -35,6 +41,8 @@ namespace geostation
     size_t keep = 0;                                     //!< the line's vertices before the handover point
     //! The road surface's height under a point (m), or nothing where unknown (no surface test).
     std::function<std::optional<double>( const Eigen::Vector3d & )> surfaceHeight;
+    //! The reference camera's path through the run (block CRS), for the lateral check; none: not checked.
+    const std::vector<Eigen::Vector3d> *trajectory = nullptr;
   };
 
   struct StationPartSummary
@@ -42,6 +50,7 @@ namespace geostation
     size_t firstOfStation = 0; //!< index of the station's first vertex in the line
     int ownVertices = 0;       //!< this station's vertices kept (not counting the previous station's that stayed)
     int heightOutliers = 0;    //!< vertices dropped for leaving the line's height
+    int lateralOutliers = 0;   //!< vertices dropped for leaving the line's course sideways
   };
 
   /**

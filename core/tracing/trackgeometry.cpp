@@ -54,35 +54,17 @@ namespace geostation
     return out;
   }
 
-  std::vector<Eigen::Vector3d> trajectoryContinuation( const std::vector<Eigen::Vector3d> &trajectory, const Eigen::Vector3d &last, int stepSign, double length, double step )
+  std::vector<Eigen::Vector3d> trajectoryContinuation( const std::vector<Eigen::Vector3d> &trajectory, const Eigen::Vector3d &last, int stepSign, double length, double step,
+      std::optional<double> leftOffsetM )
   {
     std::vector<Eigen::Vector3d> out;
     if ( trajectory.size() < 2 )
       return out;
-    // arc length and signed offset of the last vertex along the trajectory (in plan)
     std::vector<double> arc { 0.0 };
     for ( size_t i = 1; i < trajectory.size(); ++i )
       arc.push_back( arc.back() + ( trajectory[i] - trajectory[i - 1] ).head<2>().norm() );
-    double bestDistance = std::numeric_limits<double>::infinity(), at = 0.0, offset = 0.0;
-    for ( size_t i = 0; i + 1 < trajectory.size(); ++i )
-    {
-      const Eigen::Vector2d a = trajectory[i].head<2>(), ab = trajectory[i + 1].head<2>() - a;
-      const double len2 = ab.squaredNorm();
-      if ( len2 <= 0 )
-        continue;
-      const double t = ( last.head<2>() - a ).dot( ab ) / len2; // unclamped at the ends: the trajectory extends straight
-      if ( ( t < 0 && i > 0 ) || ( t > 1 && i + 2 < trajectory.size() ) )
-        continue;
-      const Eigen::Vector2d foot = a + t * ab;
-      const double d = ( last.head<2>() - foot ).norm();
-      if ( d < bestDistance )
-      {
-        bestDistance = d;
-        at = arc[i] + t * std::sqrt( len2 );
-        const Eigen::Vector2d left( -ab.y(), ab.x() );
-        offset = ( last.head<2>() - foot ).dot( left.normalized() );
-      }
-    }
+    const TrackCoordinates lastOnTrack = *trackCoordinates( trajectory, last.head<2>() );
+    const double at = lastOnTrack.arcM, offset = leftOffsetM ? *leftOffsetM : lastOnTrack.leftOffsetM;
     const auto pointAt = [&]( double s, double &z ) -> Eigen::Vector2d
     {
       size_t i = 0;
@@ -104,6 +86,87 @@ namespace geostation
       out.push_back( Eigen::Vector3d( xy.x(), xy.y(), last.z() + ( z - z0 ) ) );
     }
     return out;
+  }
+
+  std::optional<TrackCoordinates> trackCoordinates( const std::vector<Eigen::Vector3d> &trajectory, const Eigen::Vector2d &xy )
+  {
+    if ( trajectory.size() < 2 )
+      return std::nullopt;
+    double arcSoFar = 0.0, bestDistance = std::numeric_limits<double>::infinity();
+    TrackCoordinates best;
+    for ( size_t i = 0; i + 1 < trajectory.size(); ++i )
+    {
+      const Eigen::Vector2d a = trajectory[i].head<2>(), ab = trajectory[i + 1].head<2>() - a;
+      const double len2 = ab.squaredNorm();
+      const double legStart = arcSoFar;
+      arcSoFar += std::sqrt( len2 );
+      if ( len2 <= 0 )
+        continue;
+      const double t = ( xy - a ).dot( ab ) / len2; // unclamped at the ends: the trajectory extends straight
+      if ( ( t < 0 && i > 0 ) || ( t > 1 && i + 2 < trajectory.size() ) )
+        continue;
+      const Eigen::Vector2d foot = a + t * ab;
+      const double d = ( xy - foot ).norm();
+      if ( d < bestDistance )
+      {
+        bestDistance = d;
+        best.arcM = legStart + t * std::sqrt( len2 );
+        const Eigen::Vector2d left( -ab.y(), ab.x() );
+        best.leftOffsetM = ( xy - foot ).dot( left.normalized() );
+      }
+    }
+    if ( !std::isfinite( bestDistance ) )
+    {
+      // a point in the wedge outside a bend, beyond every leg's ends: the nearest trajectory point
+      size_t nearest = 0;
+      for ( size_t i = 1; i < trajectory.size(); ++i )
+        if ( ( trajectory[i].head<2>() - xy ).squaredNorm() < ( trajectory[nearest].head<2>() - xy ).squaredNorm() )
+          nearest = i;
+      double arcAt = 0.0;
+      for ( size_t i = 1; i <= nearest; ++i )
+        arcAt += ( trajectory[i] - trajectory[i - 1] ).head<2>().norm();
+      const size_t i = std::min( nearest, trajectory.size() - 2 );
+      const Eigen::Vector2d ab = ( trajectory[i + 1] - trajectory[i] ).head<2>();
+      const Eigen::Vector2d left = Eigen::Vector2d( -ab.y(), ab.x() ).normalized();
+      best.arcM = arcAt;
+      best.leftOffsetM = ( xy - trajectory[nearest].head<2>() ).dot( left );
+    }
+    return best;
+  }
+
+  std::optional<double> recentTrackOffset( const std::vector<Eigen::Vector3d> &trajectory, const std::vector<Eigen::Vector3d> &line, double withinM, size_t minPoints )
+  {
+    if ( line.empty() || trajectory.size() < 2 )
+      return std::nullopt;
+    const double lastArc = trackCoordinates( trajectory, line.back().head<2>() )->arcM;
+    std::vector<double> offsets;
+    for ( const Eigen::Vector3d &p : line )
+    {
+      const TrackCoordinates c = *trackCoordinates( trajectory, p.head<2>() );
+      if ( std::abs( c.arcM - lastArc ) <= withinM )
+        offsets.push_back( c.leftOffsetM );
+    }
+    if ( offsets.size() < std::max<size_t>( minPoints, 1 ) )
+      return std::nullopt;
+    std::nth_element( offsets.begin(), offsets.begin() + offsets.size() / 2, offsets.end() );
+    return offsets[offsets.size() / 2];
+  }
+
+  size_t pointsInCourse( const std::vector<Eigen::Vector3d> &trajectory, const Eigen::Vector3d &anchor, const std::vector<std::optional<Eigen::Vector3d>> &points,
+                         double halfWidthM, double slope )
+  {
+    const std::optional<TrackCoordinates> origin = trackCoordinates( trajectory, anchor.head<2>() );
+    if ( !origin )
+      return points.size();
+    for ( size_t i = 0; i < points.size(); ++i )
+    {
+      if ( !points[i] )
+        continue;
+      const TrackCoordinates c = *trackCoordinates( trajectory, points[i]->head<2>() );
+      if ( std::abs( c.leftOffsetM - origin->leftOffsetM ) > halfWidthM + slope * std::abs( c.arcM - origin->arcM ) )
+        return i;
+    }
+    return points.size();
   }
 
   std::optional<double> trackSurfaceHeight( const std::vector<Eigen::Vector3d> &trajectory, const Eigen::Vector2d &xy, double cameraHeightM )

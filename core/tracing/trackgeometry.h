@@ -30,10 +30,48 @@ namespace geostation
    * The line continued parallel to the van's trajectory (the reference
    * camera's path through the run): the last vertex keeps its offset from
    * the trajectory and follows its curves and grade, every `step` metres up
-   * to `length`, in the run's direction `stepSign` (+1 / -1).
+   * to `length`, in the run's direction `stepSign` (+1 / -1). With
+   * `leftOffsetM`, the continuation keeps that offset instead of the last
+   * vertex's own (see recentTrackOffset()).
    */
   std::vector<Eigen::Vector3d> trajectoryContinuation( const std::vector<Eigen::Vector3d> &trajectory, const Eigen::Vector3d &last, int stepSign, double length,
-                                                       double step );
+                                                       double step, std::optional<double> leftOffsetM = std::nullopt );
+
+  //! A point's place beside the trajectory: arc length along it and signed offset to its left (plan, metres).
+  struct TrackCoordinates
+  {
+    double arcM = 0.0;
+    double leftOffsetM = 0.0;
+  };
+
+  /**
+   * Arc length and left offset of a point (in plan) on the trajectory; the
+   * first and last legs extend straight on. Nothing for fewer than two
+   * trajectory points.
+   */
+  std::optional<TrackCoordinates> trackCoordinates( const std::vector<Eigen::Vector3d> &trajectory, const Eigen::Vector2d &xy );
+
+  /**
+   * The median offset from the trajectory of the line's points within
+   * `withinM` along the track of its last one (at least `minPoints` of
+   * them, else nothing): where the line goes on, not moved by one stray
+   * vertex at its far end (a follower that slid onto the parallel edge
+   * beside it).
+   */
+  std::optional<double> recentTrackOffset( const std::vector<Eigen::Vector3d> &trajectory, const std::vector<Eigen::Vector3d> &line, double withinM, size_t minPoints = 3 );
+
+  /**
+   * How many of `points` (in order along a followed line; nothing where a
+   * pixel does not reach the ground) stay in the corridor of a road line
+   * through `anchor`: parallel to the trajectory, half as wide as
+   * `halfWidthM` plus `slope` times the distance along the track from the
+   * anchor (road lines run with the road; a merging or diverging line
+   * leaves it slowly). A line that jumps across the road - a follower or
+   * a bridge that went astray onto another line - is cut where it leaves.
+   * All of them without a trajectory.
+   */
+  size_t pointsInCourse( const std::vector<Eigen::Vector3d> &trajectory, const Eigen::Vector3d &anchor, const std::vector<std::optional<Eigen::Vector3d>> &points,
+                         double halfWidthM, double slope );
 
   /**
    * The road surface under the van's track: the height of the nearest

@@ -1,0 +1,203 @@
+/***************************************************************************
+  highwaytracing.h - road tracing on a simulated highway run, scored
+  -------------------------------------------------------------------------
+  The run the tracing tests share (simulated once per process and seed),
+  where an operator would click, and the buffer method's score of a traced
+  line against the simulator's truth.
+ ***************************************************************************/
+#ifndef GEOSTATION_TESTS_HIGHWAYTRACING_H
+#define GEOSTATION_TESTS_HIGHWAYTRACING_H
+
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <map>
+#include <string>
+#include <vector>
+#include <unistd.h>
+
+#include <Eigen/Core>
+
+#include "io/block.h"
+#include "linescoring.h"
+#include "simulation/surveysimulator.h"
+#include "tracing/roadtracer.h"
+
+namespace geostation::highwaytracing
+{
+  struct HighwayRun
+  {
+    std::filesystem::path dir;
+    Block block, truth;
+    std::vector<TruthRoadLine> roads;
+  };
+
+  //! Simulates a run into `dir` and reads its block, truth block and truth road lines.
+  inline HighwayRun simulateRun( SimulationOptions options, const std::filesystem::path &dir )
+  {
+    HighwayRun r;
+    r.dir = dir;
+    options.preset = SurveyPreset::Highway;
+    options.outputDir = dir;
+    simulateSurvey( options );
+    r.block = Block::load( dir / "block.geostation.json" );
+    r.truth = Block::load( dir / "truth.geostation.json" );
+    r.roads = readTruthRoadLines( dir / "truth.gpkg" );
+    return r;
+  }
+
+  /**
+   * 32 stations every 10 m (310 m, through the 220 m curve), two forward
+   * cameras at 1024 x 768, noise, blur, JPEG and a post-processed
+   * trajectory's errors; simulated once per process and seed.
+   */
+  inline const HighwayRun &highwayRun( uint32_t seed )
+  {
+    static std::map<uint32_t, HighwayRun> runs;
+    if ( auto it = runs.find( seed ); it != runs.end() )
+      return it->second;
+    SimulationOptions o;
+    o.stations = 32;
+    o.stationSpacingM = 10.0;
+    o.cameras = 2;
+    o.imageWidth = 1024;
+    o.imageHeight = 768;
+    o.seed = seed;
+    o.degradation.noiseSigma = 2.0;
+    o.degradation.blurSigmaPx = 0.6;
+    o.degradation.jpegQuality = 85;
+    o.poseNoiseScale = 0.2; // a post-processed trajectory: 2 cm, 3 cm in height
+    const std::filesystem::path dir = std::filesystem::temp_directory_path() / ( "geostation-tracing-" + std::to_string( ::getpid() ) + "-" + std::to_string( seed ) );
+    static bool cleanup = false;
+    if ( !cleanup )
+    {
+      cleanup = true;
+      std::atexit( [] {
+        for ( const auto &[s, run] : runs )
+        {
+          std::error_code ec;
+          std::filesystem::remove_all( run.dir, ec );
+        }
+      } );
+    }
+    return runs.emplace( seed, simulateRun( o, dir ) ).first->second;
+  }
+
+  //! The run every tracing test shares; GEOSTATION_TRACING_SEED simulates a fresh one (another scene, noise and pose errors).
+  inline const HighwayRun &highwayRun()
+  {
+    const char *seed = std::getenv( "GEOSTATION_TRACING_SEED" );
+    return highwayRun( seed ? static_cast<uint32_t>( std::strtoul( seed, nullptr, 10 ) ) : 7 );
+  }
+
+  //! Where an operator clicks: on the truth line (a dash of a dashed one) about `rangeM` ahead of the camera, projected by the true orientation.
+  inline TraceSeed seedOn( const HighwayRun &run, const std::string &prefix, const std::string &imageId, double rangeM, const Eigen::Vector2d &clickError )
+  {
+    const OrientedImage image = run.truth.orientedImage( run.truth.image( imageId ) );
+    const Eigen::Vector3d c = image.exterior().projectionCentre;
+    for ( const TruthRoadLine &part : run.roads )
+    {
+      if ( part.id.rfind( prefix + "-", 0 ) != 0 )
+        continue;
+      const std::vector<Eigen::Vector3d> &line = part.vertices;
+      for ( size_t i = 0; i + 1 < line.size(); ++i )
+        for ( int k = 0; k < 20; ++k )
+        {
+          const Eigen::Vector3d p = line[i] + k / 20.0 * ( line[i + 1] - line[i] );
+          const GroundProjection g = image.projectGroundToPixel( p );
+          if ( g.ok() && g.inFrame && ( p - c ).head<2>().norm() >= rangeM && ( i > 0 || k > 4 ) && ( i + 2 < line.size() || k < 15 ) )
+            return TraceSeed { "seed", imageId, g.pixelInImage + clickError, std::nullopt };
+        }
+    }
+    throw std::runtime_error( "the line is not in view of " + imageId );
+  }
+
+  struct LineScore
+  {
+    BufferScore buffer;
+    double rms15 = 0.0;        //!< 3-D distance to the truth line, vertices within 15 m of the camera
+    double normalisedSd = 0.0; //!< of cross-line and height errors over their sigmas
+    double lengthM = 0.0;
+    int vertices = 0, near = 0;
+  };
+
+  inline LineScore score( const RoadTraceSummary &s, const std::vector<Eigen::Vector3d> &truth, const HighwayRun &run, double bufferM )
+  {
+    LineScore out;
+    std::vector<Eigen::Vector3d> traced;
+    for ( const TracedVertex &v : s.vertices )
+      traced.push_back( v.point );
+    out.vertices = static_cast<int>( traced.size() );
+    if ( traced.size() < 2 )
+      return out;
+    // the truth from the first vertex to the reach of the last station (its camera + 12 m along the line)
+    const double from = projectOnto( truth, traced.front(), true ).station;
+    const Eigen::Vector3d lastCamera = run.block.image( s.stations.back().referenceImageId ).exterior->projectionCentre;
+    const double to = std::max( projectOnto( truth, lastCamera, true ).station + 12.0, projectOnto( truth, traced.back(), true ).station );
+    out.buffer = bufferScore( traced, polylineBetween( truth, from, to ), bufferM );
+    double sum = 0.0, sumN = 0.0, sumN2 = 0.0;
+    int n = 0;
+    for ( const TracedVertex &v : s.vertices )
+    {
+      const PolylineProjection p = projectOnto( truth, v.point, false );
+      if ( v.rangeM <= 15.0 )
+      {
+        sum += p.distance * p.distance;
+        ++out.near;
+      }
+      // cross-line (horizontal) and height errors against their sigmas
+      const Eigen::Vector3d e = v.point - p.point;
+      const Eigen::Vector3d across = Eigen::Vector3d( -p.tangent.y(), p.tangent.x(), 0.0 ).normalized();
+      for ( const Eigen::Vector3d &axis : { across, Eigen::Vector3d( Eigen::Vector3d::UnitZ() ) } )
+      {
+        const double z = e.dot( axis ) / std::sqrt( axis.dot( v.covariance * axis ) );
+        sumN += z;
+        sumN2 += z * z;
+        ++n;
+      }
+    }
+    out.rms15 = out.near ? std::sqrt( sum / out.near ) : 0.0;
+    out.normalisedSd = n > 1 ? std::sqrt( ( sumN2 - sumN * sumN / n ) / ( n - 1 ) ) : 0.0;
+    out.lengthM = s.lengthM;
+    return out;
+  }
+
+  struct HighwayLine
+  {
+    const char *name, *prefix;
+    double minCompleteness, minCorrectness; // asserted on the runs with GNSS/INS errors
+    double maxRms15;                        // m, likewise
+  };
+  // the truth's "edge" is the asphalt / kerb face, "kerb" the kerb's outer edge to the verge.
+  // RMS within 15 m measured on five runs (seeds 7, 11, 23, 31, 47): centre 2.1-3.0 cm, lane 2.9-4.1 cm,
+  // edge line 2.1-3.0 cm, kerb face 2.1-2.5 cm. The dashed lane line misses the 3 cm target on three of
+  // the five: where a vertex falls in a gap between dashes, the stations behind have no paint to see
+  // there, and the vertex keeps its own station's pose error.
+  inline const HighwayLine kHighwayLines[] = {
+    { "centre (solid)", "R1-centre1", 0.95, 0.98, 0.030 },
+    { "lane (dashed)", "R1-separator3", 0.90, 0.97, 0.045 },
+    { "edge line", "R1-edge_line5", 0.95, 0.98, 0.030 },
+    { "kerb face", "R1-edge-right", 0.95, 0.98, 0.030 },
+  };
+
+  inline RoadTraceSummary traceFromSeed( const HighwayRun &run, const Block &block, const std::string &prefix, const std::string &imageId, TraceMethod method, int maxStations = 0,
+                                  int stationsBehind = RoadTraceOptions().stationsBehind )
+  {
+    const TraceSeed seed = seedOn( run, prefix, imageId, 8.0, Eigen::Vector2d( 1.2, -0.8 ) );
+    RoadTraceOptions options;
+    options.method = method;
+    options.maxStations = maxStations;
+    options.stationsBehind = stationsBehind;
+    return traceRoadLine( block, seed, options, fileGreyImageSource( block ) );
+  }
+
+  inline void print( const std::string &name, const RoadTraceSummary &s, const LineScore &sc )
+  {
+    std::printf( "%-16s %-28s stations %2zu vertices %3d length %6.1f m  completeness %.3f correctness %.3f  RMS(<=15 m) %.3f m (%d)  normalised sd %.2f  "
+                 "multi-station %d vertices, %d rays (%d not used)  stop %s: %s\n",
+                 name.c_str(), s.methods().c_str(), s.stations.size(), sc.vertices, sc.lengthM, sc.buffer.completeness, sc.buffer.correctness, sc.rms15, sc.near,
+                 sc.normalisedSd, s.multiStation.vertices, s.multiStation.observations, s.multiStation.rejected, traceStopName( s.stop ).c_str(), s.message.c_str() );
+  }
+}
+
+#endif // GEOSTATION_TESTS_HIGHWAYTRACING_H

@@ -1,0 +1,180 @@
+/***************************************************************************
+  testtrackcourse.cpp - a road line keeps its course beside the van's track
+  -------------------------------------------------------------------------
+  The guards that keep a traced line on its own road line: track
+  coordinates on a curved trajectory, the corridor that cuts a follower's
+  jump across the road, the recent offset that a stray last vertex does
+  not move, the lateral check of a station's vertices as they join the
+  run's line, and the seed that picks a worn stripe, not its side.
+ ***************************************************************************/
+#include <cmath>
+#include <random>
+
+#include <gtest/gtest.h>
+#include <opencv2/imgproc.hpp>
+
+#include "tracing/lineprofile.h"
+#include "tracing/runline.h"
+#include "tracing/trackgeometry.h"
+
+using namespace geostation;
+
+namespace
+{
+  constexpr double kRadius = 220.0; // the highway preset's curve
+
+  //! Camera centres every 10 m on a 220 m radius left-hand curve, 2.6 m above the road.
+  std::vector<Eigen::Vector3d> curvedTrack( int stations = 20 )
+  {
+    std::vector<Eigen::Vector3d> track;
+    for ( int i = 0; i < stations; ++i )
+    {
+      const double a = i * 10.0 / kRadius;
+      track.emplace_back( kRadius * std::sin( a ), kRadius * ( 1.0 - std::cos( a ) ), 102.6 );
+    }
+    return track;
+  }
+
+  //! A point `leftM` to the left of the curve's centre line, `arcM` along it, on the road.
+  Eigen::Vector3d beside( double arcM, double leftM )
+  {
+    const double a = arcM / kRadius, r = kRadius - leftM;
+    return { r * std::sin( a ), kRadius - r * std::cos( a ), 100.0 };
+  }
+}
+
+TEST( TrackCourse, CoordinatesOnACurvedTrack )
+{
+  const std::vector<Eigen::Vector3d> track = curvedTrack();
+  for ( const double arc : { 3.0, 10.0, 47.5, 120.0, 185.0 } )
+    for ( const double left : { -4.0, 0.0, 3.5 } )
+    {
+      const std::optional<TrackCoordinates> c = trackCoordinates( track, beside( arc, left ).head<2>() );
+      ASSERT_TRUE( c );
+      // (the track is the arc's chords: 5.7 cm inside the arc between stations)
+      EXPECT_NEAR( c->arcM, arc, 0.1 ) << arc << " " << left;
+      EXPECT_NEAR( c->leftOffsetM, left, 0.07 ) << arc << " " << left;
+    }
+  // outside the bend at a station, beyond both legs' ends: still the right side and place, not the track's start
+  const std::optional<TrackCoordinates> wedge = trackCoordinates( track, beside( 50.0, -4.0 ).head<2>() );
+  ASSERT_TRUE( wedge );
+  EXPECT_NEAR( wedge->arcM, 50.0, 0.1 );
+  EXPECT_NEAR( wedge->leftOffsetM, -4.0, 0.07 );
+  EXPECT_FALSE( trackCoordinates( { Eigen::Vector3d::Zero() }, Eigen::Vector2d( 1, 1 ) ) );
+}
+
+TEST( TrackCourse, TheCorridorCutsAJumpAcrossTheRoadOnly )
+{
+  const std::vector<Eigen::Vector3d> track = curvedTrack();
+  std::mt19937 random( 5 );
+  std::normal_distribution<double> noise( 0.0, 0.03 );
+  // the edge line 3.5 m right of the track, followed 20 m through the curve
+  std::vector<std::optional<Eigen::Vector3d>> line;
+  for ( double s = 0.0; s <= 20.0; s += 0.5 )
+    line.push_back( beside( 60.0 + s, -3.5 + noise( random ) ) );
+  const Eigen::Vector3d anchor = *line.front();
+  EXPECT_EQ( pointsInCourse( track, anchor, line, 0.6, 0.08 ), line.size() );
+  // a line merging at 1:20 stays in the corridor too
+  std::vector<std::optional<Eigen::Vector3d>> merging;
+  for ( double s = 0.0; s <= 20.0; s += 0.5 )
+    merging.push_back( beside( 60.0 + s, -3.5 + 0.05 * s ) );
+  EXPECT_EQ( pointsInCourse( track, anchor, merging, 0.6, 0.08 ), merging.size() );
+  // a bridge that jumped onto the lane line 6.7 m to the left after 4 m: cut where it left; points that
+  // do not reach the ground are passed over
+  std::vector<std::optional<Eigen::Vector3d>> jumped( line.begin(), line.begin() + 9 );
+  jumped.push_back( std::nullopt );
+  for ( double s = 5.0; s <= 20.0; s += 0.5 )
+    jumped.push_back( beside( 60.0 + s, 3.2 ) );
+  EXPECT_EQ( pointsInCourse( track, anchor, jumped, 0.6, 0.08 ), 10u );
+  // no trajectory: nothing to compare with, everything kept
+  EXPECT_EQ( pointsInCourse( { track.front() }, anchor, jumped, 0.6, 0.08 ), jumped.size() );
+}
+
+TEST( TrackCourse, AStrayLastVertexDoesNotMoveTheRecentOffset )
+{
+  const std::vector<Eigen::Vector3d> track = curvedTrack();
+  std::vector<Eigen::Vector3d> line;
+  for ( double s = 0.0; s <= 12.0; s += 0.75 )
+    line.push_back( beside( 80.0 + s, -3.5 ) );
+  line.push_back( beside( 93.0, -3.8 ) ); // slid onto the kerb face beside the paint
+  const std::optional<double> recent = recentTrackOffset( track, line, 10.0 );
+  ASSERT_TRUE( recent );
+  EXPECT_NEAR( *recent, -3.5, 0.07 );
+  // continued at that offset, not at the stray vertex's
+  const std::vector<Eigen::Vector3d> ahead = trajectoryContinuation( track, line.back(), 1, 10.0, 1.0, recent );
+  ASSERT_EQ( ahead.size(), 10u );
+  EXPECT_NEAR( trackCoordinates( track, ahead.back().head<2>() )->leftOffsetM, -3.5, 0.07 );
+  EXPECT_NEAR( trackCoordinates( track, ahead.back().head<2>() )->arcM, 103.0, 0.1 );
+  EXPECT_FALSE( recentTrackOffset( track, { line.back() }, 10.0 ) );
+}
+
+TEST( TrackCourse, AStationThatSlidOntoTheParallelEdgeIsCut )
+{
+  const std::vector<Eigen::Vector3d> track = curvedTrack();
+  RoadTraceOptions options;
+  const auto vertex = [&]( double arc, double left )
+  {
+    LineVertex3d v;
+    v.point = beside( arc, left );
+    v.covariance = Eigen::Vector3d( 0.015 * 0.015, 0.015 * 0.015, 0.02 * 0.02 ).asDiagonal();
+    v.sigmaM = Eigen::Vector3d( 0.015, 0.015, 0.02 );
+    return v;
+  };
+  StationPart part;
+  part.stationId = "S0008";
+  part.referenceImageId = "S0008_FL";
+  part.partnerImageId = "S0008_FR";
+  part.runAlong = ( track[9] - track[8] ).normalized();
+  part.trajectory = &track;
+  // the run so far: the paint 3.5 m right of the track up to 88 m
+  std::vector<TracedVertex> line;
+  for ( double s = 75.0; s <= 88.0; s += 1.0 )
+  {
+    TracedVertex t;
+    t.point = beside( s, -3.5 );
+    t.covariance = Eigen::Vector3d( 0.015 * 0.015, 0.015 * 0.015, 0.02 * 0.02 ).asDiagonal();
+    line.push_back( t );
+  }
+  part.keep = line.size();
+  // this station: on the paint to 92 m, one stray vertex, back on the paint, then on the kerb face 0.3 m beside it
+  std::vector<LineVertex3d> station;
+  for ( double s = 89.0; s <= 92.0; s += 1.0 )
+    station.push_back( vertex( s, -3.5 ) );
+  station.push_back( vertex( 92.5, -3.75 ) );
+  station.push_back( vertex( 93.0, -3.5 ) );
+  for ( double s = 94.0; s <= 100.0; s += 1.0 )
+    station.push_back( vertex( s, -3.8 ) );
+  std::vector<TracedVertex> run = line;
+  const StationPartSummary summary = appendStationPart( run, station, part, options );
+  EXPECT_EQ( summary.ownVertices, 5 );        // 89-92 m and 93 m
+  EXPECT_EQ( summary.lateralOutliers, 8 );    // the stray one, and the kerb face from 94 m on
+  ASSERT_EQ( run.size(), line.size() + 5 );
+  EXPECT_NEAR( trackCoordinates( track, run.back().point.head<2>() )->arcM, 93.0, 0.1 );
+  // without the trajectory (or with the check off) every vertex joins
+  run = line;
+  options.maxLateralStepM = 0.0;
+  EXPECT_EQ( appendStationPart( run, station, part, options ).ownVertices, static_cast<int>( station.size() ) );
+}
+
+TEST( TrackCourse, AClickOnWornPaintPicksTheStripeNotItsSide )
+{
+  // a 10 px painted stripe running up the image on asphalt; at the click its left half is worn away, so
+  // the side of what is left (60) is nearer the click than its centre (62.5)
+  cv::Mat grey( 120, 120, CV_8UC1, cv::Scalar( 60 ) );
+  cv::rectangle( grey, cv::Point( 55, 0 ), cv::Point( 64, 119 ), cv::Scalar( 200 ), cv::FILLED );
+  cv::rectangle( grey, cv::Point( 55, 57 ), cv::Point( 59, 63 ), cv::Scalar( 60 ), cv::FILLED );
+  cv::GaussianBlur( grey, grey, cv::Size( 5, 5 ), 0.8 );
+  const SeedAnalysis worn = analyseSeed( grey, Eigen::Vector2d( 60.6, 60.0 ), 0.0 );
+  ASSERT_TRUE( worn.ok ) << worn.message;
+  EXPECT_EQ( worn.profile.kind, LineKind::BrightStripe );
+  EXPECT_NEAR( worn.profile.widthPx, 10.0, 1.5 ); // from the profiles either side, not the worn one
+  // a kerb face: a bright band 18 px wide beside the asphalt, clicked at its foot: the edge, not the band
+  cv::Mat kerb( 120, 120, CV_8UC1, cv::Scalar( 60 ) );
+  cv::rectangle( kerb, cv::Point( 60, 0 ), cv::Point( 77, 119 ), cv::Scalar( 150 ), cv::FILLED );
+  cv::rectangle( kerb, cv::Point( 78, 0 ), cv::Point( 119, 119 ), cv::Scalar( 110 ), cv::FILLED );
+  cv::GaussianBlur( kerb, kerb, cv::Size( 5, 5 ), 0.8 );
+  const SeedAnalysis foot = analyseSeed( kerb, Eigen::Vector2d( 60.8, 60.0 ), 0.0 );
+  ASSERT_TRUE( foot.ok ) << foot.message;
+  EXPECT_EQ( foot.profile.kind, LineKind::Edge );
+  EXPECT_NEAR( foot.pixelInImage.x(), 60.0, 1.0 );
+}
