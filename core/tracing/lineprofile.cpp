@@ -264,33 +264,22 @@ namespace geostation
         return cStripe;
       return dc < db - 1e-9 || ( std::abs( dc - db ) <= 1e-9 && c.hit.contrast > chosen->hit.contrast );
     };
-    // a click inside a painted stripe means the stripe, not one of its sides (worn paint can put the
-    // stripe's centre further from the click than its side). Paint lies on one surface: the same grey
-    // either side. A kerb face, a bright band between the asphalt and the kerb top, does not: clicked at
-    // its foot, it means the edge.
-    const auto paintLike = [&]( const Candidate &stripe )
+    // a click on worn paint means the stripe, not one of its sides: where the paint at the click is worn
+    // to a part of its width (narrower there than along the line either side), the side of what is left can
+    // lie nearer the click than its centre. (Elsewhere the nearest wins: a click at the foot of a kerb face,
+    // a bright band of its own, means the edge.)
+    const auto wornStripe = [&]( const Candidate &stripe )
     {
-      const Eigen::Vector2d n = rightNormal( direction );
-      const double reach = 0.5 * stripe.hit.widthPx + 2.0;
-      double left = 0.0, right = 0.0, centre = 0.0;
-      int count = 0;
-      for ( const double t : { -1.5, 0.0, 1.5 } ) // (short: a worn patch is short too)
-      {
-        const Eigen::Vector2d p = stripe.hit.pixelInImage + t * direction;
-        const std::optional<double> l = sampleGrey( grey, p - reach * n ), r = sampleGrey( grey, p + reach * n ), c = sampleGrey( grey, p );
-        if ( !l || !r || !c )
-          continue;
-        left += *l;
-        right += *r;
-        centre += *c;
-        ++count;
-      }
-      if ( count == 0 )
+      LocateOptions either = locateOptionsFor( stripe.profile, FollowOptions(), 3.0 );
+      either.maxWidthRatio = either.minWidthRatio = 2.5;
+      std::vector<double> widths;
+      for ( const double step : { -12.0, -6.0, 6.0, 12.0 } )
+        if ( const std::optional<LineHit> h = locateLine( grey, stripe.hit.pixelInImage + step * direction, direction, stripe.profile, either ) )
+          widths.push_back( h->widthPx );
+      if ( widths.size() < 2 )
         return false;
-      left /= count;
-      right /= count;
-      centre /= count;
-      return std::abs( left - right ) < 0.35 * std::abs( centre - 0.5 * ( left + right ) );
+      std::nth_element( widths.begin(), widths.begin() + widths.size() / 2, widths.end() );
+      return widths[widths.size() / 2] >= 1.4 * stripe.hit.widthPx;
     };
     const auto sideOfStripeAroundClick = [&]( const Candidate &edge )
     {
@@ -301,7 +290,7 @@ namespace geostation
           return false;
         const double half = 0.5 * stripe.hit.widthPx;
         return std::abs( stripe.hit.offsetPx ) <= half + 1.0 && std::abs( std::abs( edge.hit.offsetPx - stripe.hit.offsetPx ) - half ) <= std::max( 2.0, 0.3 * half ) &&
-               paintLike( stripe );
+               wornStripe( stripe );
       } );
     };
     for ( const Candidate &c : candidates )
