@@ -91,14 +91,19 @@ namespace geostation
     std::vector<double> region( static_cast<size_t>( rw ) * rh );
     if ( GDALRasterIO( GDALGetRasterBand( static_cast<GDALDatasetH>( mDataset ), 1 ), GF_Read, rx0, ry0, rw, rh, region.data(), rw, rh, GDT_Float64, 0, 0 ) != CE_None )
       throw std::runtime_error( std::string( "reading the DEM failed: " ) + CPLGetLastErrorMsg() );
+    long empty = 0;
     for ( double &v : region )
       if ( !std::isfinite( v ) || ( mNoData && v == *mNoData ) )
+      {
         v = kNaN;
+        ++empty;
+      }
 
     // The paper's filling: an empty cell takes the mean of its present
-    // neighbours in X and Y; repeated inward, one ring per pass.
+    // neighbours in X and Y; repeated inward, one ring per pass (none where
+    // nothing is empty: most tiles of most DEMs).
     long filledInTile = 0;
-    for ( int pass = 0; pass < H; ++pass )
+    for ( int pass = 0; pass < H && empty > 0; ++pass )
     {
       std::vector<double> next = region;
       bool changed = false;
@@ -127,6 +132,7 @@ namespace geostation
           {
             next[i] = sum / n;
             changed = true;
+            --empty;
             const int col = rx0 + c, row = ry0 + r;
             if ( col >= x0 && col < x0 + T && row >= y0 && row < y0 + T )
               ++filledInTile;
