@@ -88,7 +88,9 @@ namespace geostation
     const int rx0 = std::max( 0, x0 - H ), ry0 = std::max( 0, y0 - H );
     const int rx1 = std::min( mWidth, x0 + T + 1 + H ), ry1 = std::min( mHeight, y0 + T + 1 + H );
     const int rw = rx1 - rx0, rh = ry1 - ry0;
-    std::vector<double> region( static_cast<size_t>( rw ) * rh );
+    // (the region's buffer and an evicted tile's storage are reused: no allocation, no page faults per tile)
+    std::vector<double> &region = mRegion;
+    region.resize( static_cast<size_t>( rw ) * rh );
     if ( GDALRasterIO( GDALGetRasterBand( static_cast<GDALDatasetH>( mDataset ), 1 ), GF_Read, rx0, ry0, rw, rh, region.data(), rw, rh, GDT_Float64, 0, 0 ) != CE_None )
       throw std::runtime_error( std::string( "reading the DEM failed: " ) + CPLGetLastErrorMsg() );
     long empty = 0;
@@ -105,7 +107,8 @@ namespace geostation
     long filledInTile = 0;
     for ( int pass = 0; pass < H && empty > 0; ++pass )
     {
-      std::vector<double> next = region;
+      std::vector<double> &next = mFillScratch;
+      next = region;
       bool changed = false;
       for ( int r = 0; r < rh; ++r )
         for ( int c = 0; c < rw; ++c )
@@ -144,7 +147,17 @@ namespace geostation
     }
     mFilledCells += filledInTile;
 
-    auto t = std::make_unique<Tile>();
+    // the least recently used tile gives way when the cache is full
+    std::unique_ptr<Tile> t;
+    size_t slot = mCache.size();
+    if ( mCache.size() >= mOptions.cacheTiles )
+    {
+      slot = static_cast<size_t>( std::min_element( mCache.begin(), mCache.end(), []( const auto & a, const auto & b ) { return a->lastUse < b->lastUse; } ) - mCache.begin() );
+      mIndex[mCache[slot]->index] = nullptr;
+      t = std::move( mCache[slot] );
+    }
+    else
+      t = std::make_unique<Tile>();
     const int stride = T + 1;
     t->vertices.assign( static_cast<size_t>( stride ) * stride, std::numeric_limits<float>::quiet_NaN() );
     for ( int row = y0; row <= std::min( y0 + T, mHeight - 1 ); ++row )
@@ -189,13 +202,8 @@ namespace geostation
     t->index = static_cast<size_t>( tileY ) * mTilesX + tileX;
     t->lastUse = ++mClock;
     Tile *result = t.get();
-    if ( mCache.size() >= mOptions.cacheTiles )
-    {
-      // Replace the least recently used tile.
-      auto oldest = std::min_element( mCache.begin(), mCache.end(), []( const auto & a, const auto & b ) { return a->lastUse < b->lastUse; } );
-      mIndex[( *oldest )->index] = nullptr;
-      *oldest = std::move( t );
-    }
+    if ( slot < mCache.size() )
+      mCache[slot] = std::move( t );
     else
       mCache.push_back( std::move( t ) );
     mIndex[result->index] = result;

@@ -143,6 +143,8 @@ namespace geostation
       mutable std::vector<std::unique_ptr<Tile>> mCache; //!< at most cacheTiles; a new tile replaces the least recently used
       mutable unsigned long mClock = 0;
       mutable long mFilledCells = 0;
+      mutable std::vector<double> mRegion;      //!< a tile's region as read, reused
+      mutable std::vector<double> mFillScratch; //!< the hole fill's next pass, reused
   };
 
 } // namespace geostation
