@@ -2,6 +2,7 @@
   lineprofile.cpp - the road line across its direction
  ***************************************************************************/
 #include "tracing/lineprofile.h"
+#include "tracing/linetrace.h"
 
 #include <algorithm>
 #include <cmath>
@@ -191,6 +192,169 @@ namespace geostation
     return options;
   }
 
+  namespace
+  {
+    //! The direction of a set of points (their scatter's principal axis), unit length; none for fewer than two.
+    std::optional<Eigen::Vector2d> principalDirection( const std::vector<Eigen::Vector2d> &points )
+    {
+      if ( points.size() < 2 )
+        return std::nullopt;
+      Eigen::Vector2d mean = Eigen::Vector2d::Zero();
+      for ( const Eigen::Vector2d &p : points )
+        mean += p;
+      mean /= static_cast<double>( points.size() );
+      Eigen::Matrix2d scatter = Eigen::Matrix2d::Zero();
+      for ( const Eigen::Vector2d &p : points )
+        scatter += ( p - mean ) * ( p - mean ).transpose();
+      if ( scatter.trace() <= 0 )
+        return std::nullopt;
+      Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> eigen( scatter );
+      return Eigen::Vector2d( eigen.eigenvectors().col( 1 ).normalized() );
+    }
+
+    /**
+     * The line nearest the seed, looked for across `direction`; `support`
+     * counts where it is found again along the direction (at +-6, 12, 18
+     * and 24 px).
+     */
+    SeedAnalysis analyseAlong( const cv::Mat &grey, const Eigen::Vector2d &seedPixel, Eigen::Vector2d direction, const SeedOptions &options, int &support )
+    {
+      SeedAnalysis out;
+      support = 0;
+      LocateOptions locate;
+      locate.searchHalfPx = options.searchRadiusPx;
+      locate.minContrast = options.minContrast;
+      locate.alongSamples = 5;
+      struct Candidate
+      {
+        LineProfile profile;
+        LineHit hit;
+      };
+      std::vector<Candidate> candidates;
+      for ( const LineKind kind : { LineKind::BrightStripe, LineKind::DarkStripe } )
+      {
+        std::optional<Candidate> bestOfKind;
+        locate.maxWidthRatio = locate.minWidthRatio = 1.5;
+        for ( const double width : { 2.0, 3.0, 4.5, 6.5, 9.0, 13.0, 18.0, 25.0, 35.0, 50.0, 70.0 } )
+        {
+          if ( width > options.maxStripeWidthPx )
+            break;
+          LineProfile profile { kind, 1, width, 0.0 };
+          if ( const std::optional<LineHit> hit = locateLine( grey, seedPixel, direction, profile, locate ) )
+            if ( !bestOfKind || hit->contrast > bestOfKind->hit.contrast )
+            {
+              profile.widthPx = hit->widthPx;
+              profile.contrast = hit->contrast;
+              bestOfKind = Candidate { profile, *hit };
+            }
+        }
+        if ( bestOfKind )
+          candidates.push_back( *bestOfKind );
+      }
+      locate.maxWidthRatio = locate.minWidthRatio = 2.2;
+      for ( const int polarity : { 1, -1 } )
+      {
+        LineProfile profile { LineKind::Edge, polarity, 0.0, 0.0 };
+        if ( const std::optional<LineHit> hit = locateLine( grey, seedPixel, direction, profile, locate ) )
+        {
+          profile.contrast = hit->contrast;
+          candidates.push_back( { profile, *hit } );
+        }
+      }
+      if ( candidates.empty() )
+        {
+          out.message = "no edge or painted line within " + std::to_string( static_cast<int>( options.searchRadiusPx ) ) + " px of the seed";
+          return out;
+        }
+      // the line nearest the click (a stripe by its centre, an edge by its step); a stripe wins a near tie
+      const Candidate *chosen = nullptr;
+      const auto better = [&]( const Candidate &c )
+      {
+        const double dc = std::abs( c.hit.offsetPx ), db = std::abs( chosen->hit.offsetPx );
+        const bool cStripe = c.profile.kind != LineKind::Edge, bStripe = chosen->profile.kind != LineKind::Edge;
+        if ( cStripe != bStripe && std::abs( dc - db ) <= 1.0 )
+          return cStripe;
+        return dc < db - 1e-9 || ( std::abs( dc - db ) <= 1e-9 && c.hit.contrast > chosen->hit.contrast );
+      };
+      // a click on worn paint means the stripe, not one of its sides: where the paint at the click is worn
+      // to a part of its width (narrower there than along the line either side), the side of what is left can
+      // lie nearer the click than its centre. (Elsewhere the nearest wins: a click at the foot of a kerb face,
+      // a bright band of its own, means the edge.)
+      const auto wornStripe = [&]( const Candidate &stripe )
+      {
+        LocateOptions either = locateOptionsFor( stripe.profile, FollowOptions(), 3.0 );
+        either.maxWidthRatio = either.minWidthRatio = 2.5;
+        std::vector<double> widths;
+        for ( const double step : { -12.0, -6.0, 6.0, 12.0 } )
+          if ( const std::optional<LineHit> h = locateLine( grey, stripe.hit.pixelInImage + step * direction, direction, stripe.profile, either ) )
+            widths.push_back( h->widthPx );
+        if ( widths.size() < 2 )
+          return false;
+        std::nth_element( widths.begin(), widths.begin() + widths.size() / 2, widths.end() );
+        return widths[widths.size() / 2] >= 1.4 * stripe.hit.widthPx;
+      };
+      const auto sideOfStripeAroundClick = [&]( const Candidate &edge )
+      {
+        return edge.profile.kind == LineKind::Edge &&
+               std::any_of( candidates.begin(), candidates.end(), [&]( const Candidate &stripe )
+        {
+          if ( stripe.profile.kind == LineKind::Edge )
+            return false;
+          const double half = 0.5 * stripe.hit.widthPx;
+          return std::abs( stripe.hit.offsetPx ) <= half + 1.0 && std::abs( std::abs( edge.hit.offsetPx - stripe.hit.offsetPx ) - half ) <= std::max( 2.0, 0.3 * half ) &&
+                 wornStripe( stripe );
+        } );
+      };
+      for ( const Candidate &c : candidates )
+        if ( !sideOfStripeAroundClick( c ) && ( !chosen || better( c ) ) )
+          chosen = &c;
+      if ( !chosen )
+        chosen = &candidates.front();
+      out.profile = chosen->profile;
+      out.pixelInImage = chosen->hit.pixelInImage;
+
+      // the direction measured along the line: the line located either side of the seed
+      LocateOptions along = locateOptionsFor( out.profile, FollowOptions(), 3.0 );
+      along.maxWidthRatio = along.minWidthRatio = 2.0;
+      std::vector<Eigen::Vector2d> points { out.pixelInImage };
+      std::vector<double> widths { out.profile.widthPx };
+      for ( const double step : { -12.0, -6.0, 6.0, 12.0 } )
+        if ( const std::optional<LineHit> h = locateLine( grey, out.pixelInImage + step * direction, direction, out.profile, along ) )
+        {
+          points.push_back( h->pixelInImage );
+          widths.push_back( h->widthPx );
+        }
+      // a stripe's width from the profiles either side too: worn paint at the click narrows one profile
+      if ( out.profile.kind != LineKind::Edge && widths.size() >= 3 )
+      {
+        std::nth_element( widths.begin(), widths.begin() + widths.size() / 2, widths.end() );
+        out.profile.widthPx = widths[widths.size() / 2];
+      }
+      if ( points.size() >= 3 )
+        if ( const std::optional<Eigen::Vector2d> measured = principalDirection( points ); measured && std::abs( measured->dot( direction ) ) > std::cos( 25.0 * kPi / 180.0 ) )
+          direction = measured->dot( direction ) < 0 ? Eigen::Vector2d( -*measured ) : *measured; // (an edge's polarity is relative to the sense of travel, which is kept)
+
+      out.direction = direction;
+      out.ok = true;
+      // support: the line found again along the direction, on the course it sets; where it is found at
+      // three or more of these, the direction from all of them (a crack or a notch near the click bends the
+      // nearer ones)
+      LocateOptions again = locateOptionsFor( out.profile, FollowOptions(), 2.5 );
+      again.maxWidthRatio = again.minWidthRatio = 2.0;
+      std::vector<Eigen::Vector2d> found { out.pixelInImage };
+      for ( const double step : { -24.0, -18.0, -12.0, -6.0, 6.0, 12.0, 18.0, 24.0 } )
+        if ( const std::optional<LineHit> h = locateLine( grey, out.pixelInImage + step * direction, direction, out.profile, again ) )
+        {
+          ++support;
+          found.push_back( h->pixelInImage );
+        }
+      if ( support >= 3 )
+        if ( const std::optional<Eigen::Vector2d> d = principalDirection( found ); d && std::abs( d->dot( direction ) ) > std::cos( 25.0 * kPi / 180.0 ) )
+          out.direction = d->dot( direction ) < 0 ? Eigen::Vector2d( -*d ) : *d;
+      return out;
+    }
+  }
+
   SeedAnalysis analyseSeed( const cv::Mat &grey, const Eigen::Vector2d &seedPixel, std::optional<double> directionDeg, const SeedOptions &options )
   {
     if ( grey.empty() || grey.type() != CV_8UC1 )
@@ -212,133 +376,25 @@ namespace geostation
     else
       direction = Eigen::Vector2d( 0, -1 );
 
-    LocateOptions locate;
-    locate.searchHalfPx = options.searchRadiusPx;
-    locate.minContrast = options.minContrast;
-    locate.alongSamples = 5;
-    struct Candidate
-    {
-      LineProfile profile;
-      LineHit hit;
-    };
-    std::vector<Candidate> candidates;
-    for ( const LineKind kind : { LineKind::BrightStripe, LineKind::DarkStripe } )
-    {
-      std::optional<Candidate> bestOfKind;
-      locate.maxWidthRatio = locate.minWidthRatio = 1.5;
-      for ( const double width : { 2.0, 3.0, 4.5, 6.5, 9.0, 13.0, 18.0, 25.0, 35.0, 50.0, 70.0 } )
+    int support = 0;
+    out = analyseAlong( grey, seedPixel, direction, options, support );
+    if ( !out.ok )
+      return out;
+    // a line found across the direction measured at the click that is not found along it (a crack or a
+    // worn notch across a stripe turns the measured direction): the direction a line of at least 70 % of
+    // its contrast is found furthest along (not the texture of the road beside a short dash)
+    const double contrast = out.profile.contrast;
+    if ( !directionDeg && support < 6 )
+      for ( int degrees = 0; degrees < 180; degrees += 15 )
       {
-        if ( width > options.maxStripeWidthPx )
-          break;
-        LineProfile profile { kind, 1, width, 0.0 };
-        if ( const std::optional<LineHit> hit = locateLine( grey, seedPixel, direction, profile, locate ) )
-          if ( !bestOfKind || hit->contrast > bestOfKind->hit.contrast )
-          {
-            profile.widthPx = hit->widthPx;
-            profile.contrast = hit->contrast;
-            bestOfKind = Candidate { profile, *hit };
-          }
+        int other = 0;
+        const SeedAnalysis a = analyseAlong( grey, seedPixel, upOrRight( directionFromDegrees( degrees ) ), options, other );
+        if ( a.ok && other >= support + 2 && a.profile.contrast >= 0.7 * contrast )
+        {
+          out = a;
+          support = other;
+        }
       }
-      if ( bestOfKind )
-        candidates.push_back( *bestOfKind );
-    }
-    locate.maxWidthRatio = locate.minWidthRatio = 2.2;
-    for ( const int polarity : { 1, -1 } )
-    {
-      LineProfile profile { LineKind::Edge, polarity, 0.0, 0.0 };
-      if ( const std::optional<LineHit> hit = locateLine( grey, seedPixel, direction, profile, locate ) )
-      {
-        profile.contrast = hit->contrast;
-        candidates.push_back( { profile, *hit } );
-      }
-    }
-    if ( candidates.empty() )
-      return fail( "no edge or painted line within " + std::to_string( static_cast<int>( options.searchRadiusPx ) ) + " px of the seed" );
-    // the line nearest the click (a stripe by its centre, an edge by its step); a stripe wins a near tie
-    const Candidate *chosen = nullptr;
-    const auto better = [&]( const Candidate &c )
-    {
-      const double dc = std::abs( c.hit.offsetPx ), db = std::abs( chosen->hit.offsetPx );
-      const bool cStripe = c.profile.kind != LineKind::Edge, bStripe = chosen->profile.kind != LineKind::Edge;
-      if ( cStripe != bStripe && std::abs( dc - db ) <= 1.0 )
-        return cStripe;
-      return dc < db - 1e-9 || ( std::abs( dc - db ) <= 1e-9 && c.hit.contrast > chosen->hit.contrast );
-    };
-    // a click on worn paint means the stripe, not one of its sides: where the paint at the click is worn
-    // to a part of its width (narrower there than along the line either side), the side of what is left can
-    // lie nearer the click than its centre. (Elsewhere the nearest wins: a click at the foot of a kerb face,
-    // a bright band of its own, means the edge.)
-    const auto wornStripe = [&]( const Candidate &stripe )
-    {
-      LocateOptions either = locateOptionsFor( stripe.profile, FollowOptions(), 3.0 );
-      either.maxWidthRatio = either.minWidthRatio = 2.5;
-      std::vector<double> widths;
-      for ( const double step : { -12.0, -6.0, 6.0, 12.0 } )
-        if ( const std::optional<LineHit> h = locateLine( grey, stripe.hit.pixelInImage + step * direction, direction, stripe.profile, either ) )
-          widths.push_back( h->widthPx );
-      if ( widths.size() < 2 )
-        return false;
-      std::nth_element( widths.begin(), widths.begin() + widths.size() / 2, widths.end() );
-      return widths[widths.size() / 2] >= 1.4 * stripe.hit.widthPx;
-    };
-    const auto sideOfStripeAroundClick = [&]( const Candidate &edge )
-    {
-      return edge.profile.kind == LineKind::Edge &&
-             std::any_of( candidates.begin(), candidates.end(), [&]( const Candidate &stripe )
-      {
-        if ( stripe.profile.kind == LineKind::Edge )
-          return false;
-        const double half = 0.5 * stripe.hit.widthPx;
-        return std::abs( stripe.hit.offsetPx ) <= half + 1.0 && std::abs( std::abs( edge.hit.offsetPx - stripe.hit.offsetPx ) - half ) <= std::max( 2.0, 0.3 * half ) &&
-               wornStripe( stripe );
-      } );
-    };
-    for ( const Candidate &c : candidates )
-      if ( !sideOfStripeAroundClick( c ) && ( !chosen || better( c ) ) )
-        chosen = &c;
-    if ( !chosen )
-      chosen = &candidates.front();
-    out.profile = chosen->profile;
-    out.pixelInImage = chosen->hit.pixelInImage;
-
-    // the direction measured along the line: the line located either side of the seed
-    LocateOptions along = locateOptionsFor( out.profile, FollowOptions(), 3.0 );
-    along.maxWidthRatio = along.minWidthRatio = 2.0;
-    std::vector<Eigen::Vector2d> points { out.pixelInImage };
-    std::vector<double> widths { out.profile.widthPx };
-    for ( const double step : { -12.0, -6.0, 6.0, 12.0 } )
-      if ( const std::optional<LineHit> h = locateLine( grey, out.pixelInImage + step * direction, direction, out.profile, along ) )
-      {
-        points.push_back( h->pixelInImage );
-        widths.push_back( h->widthPx );
-      }
-    // a stripe's width from the profiles either side too: worn paint at the click narrows one profile
-    if ( out.profile.kind != LineKind::Edge && widths.size() >= 3 )
-    {
-      std::nth_element( widths.begin(), widths.begin() + widths.size() / 2, widths.end() );
-      out.profile.widthPx = widths[widths.size() / 2];
-    }
-    if ( points.size() >= 3 )
-    {
-      Eigen::Vector2d mean = Eigen::Vector2d::Zero();
-      for ( const Eigen::Vector2d &p : points )
-        mean += p;
-      mean /= static_cast<double>( points.size() );
-      Eigen::Matrix2d scatter = Eigen::Matrix2d::Zero();
-      for ( const Eigen::Vector2d &p : points )
-        scatter += ( p - mean ) * ( p - mean ).transpose();
-      Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> eigen( scatter );
-      Eigen::Vector2d measured = eigen.eigenvectors().col( 1 );
-      if ( measured.dot( direction ) < 0 )
-        measured = -measured;
-      if ( measured.dot( direction ) > std::cos( 25.0 * kPi / 180.0 ) )
-      {
-        // the edge polarity is relative to the direction of travel, which keeps its sense
-        direction = measured.normalized();
-      }
-    }
-    out.direction = direction;
-    out.ok = true;
     return out;
   }
 

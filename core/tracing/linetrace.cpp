@@ -101,7 +101,7 @@ namespace geostation
       return;
     std::vector<Eigen::Vector2d> both( backward.points.rbegin(), backward.points.rend() );
     std::vector<double> bothSigma( backward.sigmaPx.rbegin(), backward.sigmaPx.rend() );
-    const size_t skip = !forward.points.empty() && ( forward.points.front() - both.back() ).norm() < 1.0 ? 1 : 0;
+    const size_t skip = !forward.points.empty() && ( forward.points.front() - both.back() ).norm() < 3.0 ? 1 : 0;
     both.insert( both.end(), forward.points.begin() + std::min( skip, forward.points.size() ), forward.points.end() );
     bothSigma.insert( bothSigma.end(), forward.sigmaPx.begin() + std::min( skip, forward.sigmaPx.size() ), forward.sigmaPx.end() );
     // bridged flags: reversed, the flag of the segment ending at point i + 1 is the original's of point n - 1 - i
@@ -109,8 +109,9 @@ namespace geostation
     std::vector<bool> bothBridged( n, false );
     for ( size_t i = 0; i + 1 < n; ++i )
       bothBridged[i + 1] = n - 1 - i < backward.bridged.size() && backward.bridged[n - 1 - i];
+    // (where the two do not meet at the start, the start lay in a gap: the segment joining them is bridged)
     for ( size_t i = std::min( skip, forward.points.size() ); i < forward.points.size(); ++i )
-      bothBridged.push_back( i > 0 && i < forward.bridged.size() && forward.bridged[i] );
+      bothBridged.push_back( i > 0 ? i < forward.bridged.size() && forward.bridged[i] : skip == 0 );
     forward.points = both;
     forward.sigmaPx = bothSigma;
     forward.bridged = bothBridged;

@@ -123,7 +123,8 @@ namespace geostation
   /**
    * `forward` preceded by `backward` (followed the other way from the same
    * start) reversed: one line in forward order, sigmas and bridged flags
-   * carried along.
+   * carried along. Where the two do not meet (the start lay in a gap and
+   * both began at the line beyond it), the segment joining them is bridged.
    */
   void joinBackward( const FollowResult &backward, FollowResult &forward );
 

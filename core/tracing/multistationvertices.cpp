@@ -3,6 +3,7 @@
  ***************************************************************************/
 #include "tracing/multistationvertices.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include <Eigen/Cholesky>
@@ -66,6 +67,8 @@ namespace geostation
       Eigen::Vector3d point = Eigen::Vector3d::Zero();
       Eigen::Matrix3d covariance = Eigen::Matrix3d::Zero();
       std::vector<double> normalised; //!< per observation: largest |w| of its rows
+      double omega = 0.0;             //!< v^T Sigma^-1 v at the solution
+      int redundancy = 0;             //!< rows - 3
     };
 
     /**
@@ -146,6 +149,9 @@ namespace geostation
                 w = std::max( w, std::abs( f( r ) + a.row( r ).dot( delta ) ) / std::sqrt( qv( r, r ) ) );
             out.normalised.push_back( w );
           }
+          const Eigen::VectorXd v = f + a * delta;
+          out.omega = v.dot( llt.solve( v ) );
+          out.redundancy = m - 3;
           out.ok = true;
           out.point = point;
           return out;
@@ -255,7 +261,9 @@ namespace geostation
     for ( const StationView &view : others )
       rigs.push_back( view.images.empty() ? Rig() : rigOf( view ) );
 
-    std::vector<bool> drop( vertices.size(), false );
+    std::vector<bool> drop( vertices.size(), false ), confirmed( vertices.size(), false ), unconfirmed( vertices.size(), false );
+    std::vector<double> omega( vertices.size(), 0.0 );
+    std::vector<int> redundancy( vertices.size(), 0 );
     for ( size_t i = 0; i < vertices.size(); ++i )
     {
       LineVertex3d &v = vertices[i];
@@ -265,6 +273,7 @@ namespace geostation
       observations.push_back( { own.images[0].image, 0, true, v.pixelInReference, Eigen::Vector2d::Zero(), v.sigmaReferencePx, own.images[0].imageId } );
       observations.push_back( { own.images[1].image, 0, false, v.pixelInPartner, rightNormal( v.partnerLineDirection ), v.sigmaPartnerLinePx, own.images[1].imageId } );
       const Eigen::Vector3d tangent = tangentAt( vertices, i, lineDirection );
+      int looks = 0; // other images the vertex is in, where the line was looked for
 
       // the line where the vertex projects into the other stations' images
       for ( size_t s = 0; s < others.size(); ++s )
@@ -298,6 +307,7 @@ namespace geostation
           }
           const double sigmaPredicted = std::sqrt( std::max( 0.0, double( normal.transpose() * j * predicted * j.transpose() * normal ) ) );
           const double searchHalf = std::clamp( 3.0 * sigmaPredicted, options.minSearchHalfPx, options.maxSearchHalfPx );
+          ++looks;
           const std::optional<LineHit> hit = locateLine( grey, pixel, direction, there, locateOptionsFor( there, FollowOptions(), searchHalf ) );
           if ( !hit )
             continue;
@@ -313,6 +323,7 @@ namespace geostation
           observations.push_back( { image.image, s + 1, false, hit->pixelInImage, normal, sigmaHit, image.imageId } );
         }
       }
+      unconfirmed[i] = looks >= options.minLooksToConfirm;
       if ( observations.size() <= 2 )
         continue;
 
@@ -356,11 +367,34 @@ namespace geostation
       }
       ++summary.vertices;
       summary.observations += static_cast<int>( v.others.size() );
+      omega[i] = solution.omega;
+      redundancy[i] = solution.redundancy;
+      // confirmed where the line is found in at least half of the other images that see the vertex
+      confirmed[i] = 2 * static_cast<int>( v.others.size() ) >= looks;
+      unconfirmed[i] = !confirmed[i] && looks >= options.minLooksToConfirm;
     }
+    // a vertex the others looked for and did not find, where they found others of the station's vertices: not
+    // confirmed, left out (the line runs on between its confirmed neighbours)
+    if ( options.minLooksToConfirm > 0 && std::any_of( confirmed.begin(), confirmed.end(), []( bool c ) { return c; } ) )
+      for ( size_t i = 0; i < vertices.size(); ++i )
+        if ( unconfirmed[i] && !drop[i] )
+        {
+          drop[i] = true;
+          ++summary.unconfirmed;
+          if ( !vertices[i].others.empty() )
+          {
+            --summary.vertices;
+            summary.observations -= static_cast<int>( vertices[i].others.size() );
+          }
+        }
     size_t kept = 0;
     for ( size_t i = 0; i < vertices.size(); ++i )
       if ( !drop[i] )
+      {
+        summary.weightedSquares += omega[i];
+        summary.redundancy += redundancy[i];
         vertices[kept++] = vertices[i];
+      }
     vertices.resize( kept );
     return summary;
   }

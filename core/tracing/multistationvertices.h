@@ -14,6 +14,10 @@
     there is nothing to measure);
   - each other station: one observation across the line in each image.
 
+  A vertex that the others see but mostly do not find the line at, where
+  they confirm the station's other vertices, is left out (see
+  MultiStationOptions::minLooksToConfirm).
+
   Generalised least squares with the observations of one station
   correlated through that station's pose sigmas (the rig moves as a
   whole: rigPoseCovariance()), so the vertex's covariance is its marginal
@@ -56,6 +60,14 @@ namespace geostation
     double minWidthPx = 1.5;       //!< a stripe narrower than this in another image is not located there
     double minCrossingSine = 0.1;  //!< locating in the partner: the line must cross the epipolar curve at least this steeply
     double onLineTolerancePx = 1.5; //!< locating in the partner: the reference point must be this close to the line in its own image
+    /**
+     * A vertex that lies in at least this many of the other stations'
+     * images, where fewer than half of them find the line (within the
+     * gate), while they confirm other vertices of its station, is not
+     * confirmed and left out: a dash's ragged end, a worn patch, a wrong
+     * conjugate. The line runs on between its confirmed neighbours. 0: kept.
+     */
+    int minLooksToConfirm = 2;
   };
 
   struct MultiStationSummary
@@ -64,6 +76,11 @@ namespace geostation
     int observations = 0;    //!< other stations' observations used
     int rejected = 0;        //!< located but not used (gate or residual)
     int dropped = 0;         //!< vertices whose own pair the other stations contradict (left out)
+    int unconfirmed = 0;     //!< vertices the other stations see but do not find the line at (left out, MultiStationOptions::minLooksToConfirm)
+    double weightedSquares = 0.0; //!< sum of v^T Sigma^-1 v over the kept vertices' adjustments
+    int redundancy = 0;           //!< their observations (rows) less 3 unknowns each
+    //! A posteriori variance factor (sigma0 squared) of the adjustments; 1 without redundancy.
+    double varianceFactor() const { return redundancy > 0 ? weightedSquares / redundancy : 1.0; }
   };
 
   /**

@@ -5,6 +5,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
+#include <utility>
 
 #include <Eigen/Dense>
 
@@ -68,6 +70,40 @@ namespace geostation
     }
   }
 
+  namespace
+  {
+    /**
+     * Where a strip's inliers support the line: from the first to the last
+     * run of at least 4 inliers no more than 3 px apart (an isolated hit on
+     * noise or texture near the fitted curve, in a gap before or after a
+     * dash, does not extend the line); all inliers when there is no such run.
+     */
+    std::pair<double, double> supportedSpan( const std::vector<Candidate> &inliers )
+    {
+      std::vector<double> u;
+      for ( const Candidate &c : inliers )
+        u.push_back( c.u );
+      std::sort( u.begin(), u.end() );
+      if ( u.empty() )
+        return { 0.0, 0.0 };
+      constexpr size_t kRun = 4;
+      constexpr double kStepPx = 3.0;
+      std::optional<double> first, last;
+      for ( size_t i = 0, runStart = 0; i < u.size(); ++i )
+      {
+        if ( i > 0 && u[i] - u[i - 1] > kStepPx )
+          runStart = i;
+        if ( i + 1 - runStart >= kRun )
+        {
+          if ( !first )
+            first = u[runStart];
+          last = u[i];
+        }
+      }
+      return first ? std::make_pair( *first, *last ) : std::make_pair( u.front(), u.back() );
+    }
+  }
+
   FollowResult followPolynomial( const cv::Mat &grey, const FollowRequest &request, const PolynomialFollowOptions &options )
   {
     FollowResult out;
@@ -123,13 +159,10 @@ namespace geostation
           kept.push_back( c );
       if ( static_cast<double>( kept.size() ) < std::max( 5.0, options.minSupport * reach ) || !fit( kept, f.curved, f ) )
         break;
-      double uEnd = 0.0;
       std::vector<double> widths;
       for ( const Candidate &c : f.inliers )
-      {
-        uEnd = std::max( uEnd, c.u );
         widths.push_back( c.width );
-      }
+      const auto [uStart, uEnd] = supportedSpan( f.inliers );
       if ( out.profile.kind != LineKind::Edge && !widths.empty() )
       {
         std::nth_element( widths.begin(), widths.begin() + widths.size() / 2, widths.end() );
@@ -140,19 +173,22 @@ namespace geostation
       // the fit's sigma assumes independent candidates; worn paint and texture shift neighbouring
       // cross-sections together, so a point is no better than a few of them (measured: 0.45 sigma0)
       const auto pointSigma = [&]( double u ) { return std::max( { 0.05, f.sigmaAt( u ), options.correlatedFraction * f.sigma0 } ); };
+      // the first strip starts where its support does: a start in a gap (a dash ahead, a worn patch) is
+      // not on the line, and the polynomial is not extrapolated back to it
+      const double uFirst = strip == 0 && uStart > 0.5 * interval ? uStart : 0.0;
       if ( strip == 0 )
       {
-        out.points.push_back( pointAt( 0.0 ) );
-        out.sigmaPx.push_back( pointSigma( 0.0 ) );
+        out.points.push_back( pointAt( uFirst ) );
+        out.sigmaPx.push_back( pointSigma( uFirst ) );
       }
-      for ( double u = interval; u < uEnd - 0.5 * interval; u += interval )
+      for ( double u = uFirst + interval; u < uEnd - 0.5 * interval; u += interval )
       {
         out.points.push_back( pointAt( u ) );
         out.sigmaPx.push_back( pointSigma( u ) );
       }
       out.points.push_back( pointAt( uEnd ) );
       out.sigmaPx.push_back( pointSigma( uEnd ) );
-      out.pixelsFollowed += static_cast<int>( uEnd );
+      out.pixelsFollowed += static_cast<int>( uEnd - uFirst );
       // the next strip along the fitted tangent at the last supported point
       const Eigen::Vector2d tangent = ( direction + f.slope( uEnd ) * normal ).normalized();
       if ( std::acos( std::clamp( tangent.dot( direction ), -1.0, 1.0 ) ) * 180.0 / kPi > options.follow.maxDirectionChangeDeg )

@@ -98,6 +98,8 @@ namespace geostation
       throw std::invalid_argument( "the camera height above the road must be positive" );
     if ( !( vertexSpacingPx >= 2 ) )
       throw std::invalid_argument( "the vertex spacing must be at least 2 px" );
+    if ( minRedundancyToScaleSigma < 0 )
+      throw std::invalid_argument( "the redundancy for scaling the sigmas must be 0 (never scaled) or more" );
   }
 
   std::string RoadTraceSummary::methods() const
@@ -374,6 +376,9 @@ namespace geostation
         out.multiStation.observations += stereo.multiStation.observations;
         out.multiStation.rejected += stereo.multiStation.rejected;
         out.multiStation.dropped += stereo.multiStation.dropped;
+        out.multiStation.unconfirmed += stereo.multiStation.unconfirmed;
+        out.multiStation.weightedSquares += stereo.multiStation.weightedSquares;
+        out.multiStation.redundancy += stereo.multiStation.redundancy;
         if ( partnerStart.ok )
         {
           record.partnerScore = partnerStart.score;
@@ -551,6 +556,18 @@ namespace geostation
       referenceGrey = nextGrey;
     }
 
+    // the a posteriori variance factor of the multi-station adjustments (within a factor 4 either way)
+    out.sigma0 = std::sqrt( out.multiStation.varianceFactor() );
+    if ( options.minRedundancyToScaleSigma > 0 && out.multiStation.redundancy >= options.minRedundancyToScaleSigma )
+    {
+      const double factor = std::clamp( out.multiStation.varianceFactor(), 0.25, 4.0 );
+      for ( TracedVertex &v : out.vertices )
+      {
+        v.covariance *= factor;
+        v.sigmaM *= std::sqrt( factor );
+      }
+      out.sigmaScaled = true;
+    }
     for ( size_t i = 0; i < out.vertices.size(); ++i )
     {
       if ( i > 0 )

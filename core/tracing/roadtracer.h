@@ -11,7 +11,10 @@
   where the first point at least handoverRangeM ahead of the camera is
   found on the line; tracing continues from there, and the previous
   station's vertices beyond that point are replaced by the nearer, more
-  accurate ones. The result is one polyline for the run.
+  accurate ones. The result is one polyline for the run. The stations
+  before see each vertex too (multistationvertices.h); the residuals there
+  give the line's a posteriori sigma0, by which the finished line's sigmas
+  are scaled.
 
   Expected failures are stop reasons with one sentence; whatever was traced
   before them is kept. Precondition violations (unknown or unoriented seed
@@ -149,6 +152,14 @@ namespace geostation
      * second in a row (runline.h); 0 = not checked.
      */
     double maxLateralStepM = 0.12;
+    /**
+     * The finished line's sigmas scaled by the a posteriori variance factor
+     * of its multi-station adjustments (the residuals in the stations
+     * behind say how well the line was measured: a clean stripe better, a
+     * worn or ragged one worse than the a priori stripe sigma), once their
+     * redundancy reaches this; 0: a priori sigmas kept.
+     */
+    int minRedundancyToScaleSigma = 30;
     MultiStationOptions multiStation;
     HandoverOptions handover;
     LineFollowOptions follow;
@@ -188,6 +199,8 @@ namespace geostation
     int heightOutliers = 0;   //!< vertices dropped for leaving the line's height (heightcontinuity.h)
     int lateralOutliers = 0;  //!< vertices dropped for leaving the line's course sideways (runline.h)
     int stationsPassedOver = 0; //!< stations the dynamic link passed over (the line not found in their images)
+    double sigma0 = 1.0;      //!< a posteriori sigma0 of the multi-station adjustments
+    bool sigmaScaled = false; //!< the vertices' sigmas scaled by sigma0 squared (RoadTraceOptions::minRedundancyToScaleSigma)
 
     bool ok() const { return vertices.size() >= 2; }
     //! The methods used, "directional" or e.g. "least_squares+polynomial".

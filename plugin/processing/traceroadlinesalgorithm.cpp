@@ -198,6 +198,10 @@ QVariantMap TraceRoadLinesAlgorithm::processAlgorithm( const QVariantMap &parame
       feedback->pushInfo( QObject::tr( "Seed %1: %2 m over %3 stations (%4); stopped: %5." )
                           .arg( QString::fromStdString( seeds[i].seed.id ) ).arg( s.lengthM, 0, 'f', 1 ).arg( s.stations.size() )
                           .arg( QString::fromStdString( s.methods() ), QString::fromStdString( s.message ) ) );
+      if ( s.multiStation.redundancy > 0 )
+        feedback->pushInfo( QObject::tr( "Seed %1: sigma0 a posteriori %2 (redundancy %3)%4." )
+                            .arg( QString::fromStdString( seeds[i].seed.id ) ).arg( s.sigma0, 0, 'f', 2 ).arg( s.multiStation.redundancy )
+                            .arg( s.sigmaScaled ? QObject::tr( ", the vertices' sigmas scaled by it" ) : QString() ) );
     }
     else
       feedback->pushWarning( QObject::tr( "Seed %1 was not traced: %2." ).arg( QString::fromStdString( seeds[i].seed.id ), QString::fromStdString( s.message ) ) );

@@ -1,10 +1,12 @@
 /***************************************************************************
-  testlinebridging.cpp - gaps bridged by followLine(), and where they are not
+  testlinebridging.cpp - gaps bridged by followLine(), and where they are
+  not; a start in a gap; worn paint at a seed
  ***************************************************************************/
 #include <gtest/gtest.h>
 #include <opencv2/imgproc.hpp>
 
 #include "tracing/linefollower.h"
+#include "tracing/lineprofile.h"
 
 using namespace geostation;
 
@@ -65,4 +67,61 @@ TEST( LineBridging, AGapInTheLineIsBridged )
     for ( const Eigen::Vector2d &p : r.line.points )
       EXPECT_NEAR( p.x(), 200.0, 1.0 );
   }
+}
+
+TEST( LineBridging, AStartInAGapIsNotPartOfTheLine )
+{
+  // a dash from row 300 up to row 150; following starts 40 px below it, on bare asphalt
+  // (a station's start predicted into the gap before the next dash)
+  const cv::Mat grey = [] {
+    cv::Mat g( 400, 400, CV_8UC1, cv::Scalar( 60 ) );
+    cv::rectangle( g, cv::Point( 197, 150 ), cv::Point( 202, 300 ), cv::Scalar( 200 ), cv::FILLED );
+    cv::GaussianBlur( g, g, cv::Size( 5, 5 ), 1.0 );
+    return g;
+  }();
+  const LineFollowResult forward = followLine( grey, upFrom( Eigen::Vector2d( 200.0, 340.0 ) ), TraceMethod::Polynomial );
+  ASSERT_GE( forward.line.points.size(), 2u );
+  // the polynomial strip is not extrapolated back from the dash to the start
+  EXPECT_LE( forward.line.points.front().y(), 303.0 );
+  EXPECT_GE( forward.line.points.front().y(), 290.0 );
+
+  // followed both ways from a start in the gap between two dashes: the line joining them is bridged
+  cv::Mat two = grey.clone();
+  cv::rectangle( two, cv::Point( 197, 360 ), cv::Point( 202, 395 ), cv::Scalar( 200 ), cv::FILLED );
+  FollowResult up = followLine( two, upFrom( Eigen::Vector2d( 200.0, 330.0 ) ), TraceMethod::Polynomial ).line;
+  FollowRequest downRequest = upFrom( Eigen::Vector2d( 200.0, 330.0 ) );
+  downRequest.direction = Eigen::Vector2d( 0.0, 1.0 );
+  const FollowResult down = followLine( two, downRequest, TraceMethod::Polynomial ).line;
+  ASSERT_GE( down.points.size(), 2u );
+  joinBackward( down, up );
+  ASSERT_EQ( up.points.size(), up.bridged.size() );
+  size_t junction = 0;
+  for ( size_t i = 1; i < up.points.size(); ++i )
+    if ( up.points[i - 1].y() >= 355.0 && up.points[i].y() <= 305.0 )
+      junction = i;
+  ASSERT_GT( junction, 0u ) << "the two dashes are joined";
+  EXPECT_TRUE( up.bridged[junction] ) << "the segment across the gap is bridged, not followed";
+  for ( size_t i = 1; i < up.points.size(); ++i )
+    if ( i != junction )
+      EXPECT_FALSE( up.bridged[i] ) << i;
+}
+
+TEST( LineBridging, AWornCrackAtTheClickDoesNotTurnTheSeedDirection )
+{
+  // a stripe 10 px wide running up and to the left; just ahead of the click, worn paint: a crack 4 px wide
+  // across the stripe at 30 degrees to it, whose edges dominate the structure tensor at the click
+  const Eigen::Vector2d along = Eigen::Vector2d( -0.72, -0.70 ).normalized(), click( 200.0, 200.0 );
+  const double a = 30.0 * 3.14159265358979 / 180.0;
+  const Eigen::Vector2d crack( along.x() * std::cos( a ) - along.y() * std::sin( a ), along.x() * std::sin( a ) + along.y() * std::cos( a ) );
+  cv::Mat grey( 400, 400, CV_8UC1, cv::Scalar( 60 ) );
+  const auto pt = []( const Eigen::Vector2d &p ) { return cv::Point( static_cast<int>( std::lround( p.x() ) ), static_cast<int>( std::lround( p.y() ) ) ); };
+  cv::line( grey, pt( click - 180.0 * along ), pt( click + 180.0 * along ), cv::Scalar( 200 ), 10 );
+  const Eigen::Vector2d onCrack = click + 9.0 * along;
+  cv::line( grey, pt( onCrack - 14.0 * crack ), pt( onCrack + 14.0 * crack ), cv::Scalar( 60 ), 4 );
+  cv::GaussianBlur( grey, grey, cv::Size( 5, 5 ), 1.0 );
+  const SeedAnalysis seed = analyseSeed( grey, click, std::nullopt );
+  ASSERT_TRUE( seed.ok ) << seed.message;
+  EXPECT_EQ( seed.profile.kind, LineKind::BrightStripe );
+  EXPECT_GT( std::abs( seed.direction.dot( along ) ), std::cos( 8.0 * 3.14159265358979 / 180.0 ) ) << seed.direction.transpose();
+  EXPECT_NEAR( seed.profile.widthPx, 10.0, 2.5 );
 }

@@ -36,7 +36,7 @@ TEST( TracingFreshRun, HighwayLinesFromOneSeedEach )
     EXPECT_EQ( s.stop, TraceStop::EndOfRun ) << s.message;
     EXPECT_GE( s.lengthM, 300.0 );
     EXPECT_LE( sc.rms15, c.maxRms15 );
-    EXPECT_GE( sc.normalisedSd, 0.6 );
+    EXPECT_GE( sc.normalisedSd, 0.7 );
     EXPECT_LE( sc.normalisedSd, 1.4 );
   }
 }
