@@ -40,7 +40,8 @@ namespace geostation
       // slid onto a parallel edge at its far end - does not lead it astray: the recent offset is kept)
       std::optional<double> offset = recentTrackOffset( trajectory, groundLine, 10.0 );
       const std::optional<TrackCoordinates> own = trackCoordinates( trajectory, groundLine.back().head<2>() );
-      if ( offset && own && std::abs( *offset - own->leftOffsetM ) <= options.maxLateralStepM )
+      // (with the lateral check off, maxLateralStepM <= 0, the line's own last vertex leads)
+      if ( offset && ( options.maxLateralStepM <= 0 || ( own && std::abs( *offset - own->leftOffsetM ) <= options.maxLateralStepM ) ) )
         offset.reset();
       for ( const Eigen::Vector3d &p : trajectoryContinuation( trajectory, groundLine.back(), step, reach, 0.5, offset ) )
         candidates.push_back( { p, vertices.size() } );

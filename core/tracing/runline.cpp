@@ -29,59 +29,58 @@ namespace geostation
       return static_cast<int>( outliers.size() );
     }
 
-  std::vector<const LineVertex3d *> keepLateralCourse( const std::vector<TracedVertex> &line, const std::vector<const LineVertex3d *> &ordered,
-      const std::vector<Eigen::Vector3d> &trajectory, const Eigen::Vector3d &runAlong, const RoadTraceOptions &options, int &dropped )
-  {
-    struct Accepted
+    std::vector<const LineVertex3d *> keepLateralCourse( const std::vector<TracedVertex> &line, const std::vector<const LineVertex3d *> &ordered,
+        const std::vector<Eigen::Vector3d> &trajectory, const Eigen::Vector3d &runAlong, const RoadTraceOptions &options, int &dropped )
     {
-      double arc, offset, sigma;
-    };
-    const Eigen::Vector3d acrossRun = Eigen::Vector3d( -runAlong.y(), runAlong.x(), 0.0 ).normalized();
-    const auto sigmaAcross = [&acrossRun]( const Eigen::Matrix3d &covariance ) { return std::sqrt( std::max( 0.0, acrossRun.dot( covariance * acrossRun ) ) ); };
-    std::vector<Accepted> accepted;
-    for ( const TracedVertex &v : line )
-    {
-      const TrackCoordinates c = *trackCoordinates( trajectory, v.point.head<2>() );
-      accepted.push_back( { c.arcM, c.leftOffsetM, sigmaAcross( v.covariance ) } );
-    }
-    std::vector<const LineVertex3d *> out;
-    int inRow = 0;
-    for ( const LineVertex3d *v : ordered )
-    {
-      const TrackCoordinates c = *trackCoordinates( trajectory, v->point.head<2>() );
-      // the line's offset over the 10 m before this vertex: the median, with the median of the sigmas
-      std::vector<double> offsets, sigmas;
-      for ( const Accepted &a : accepted )
-        if ( std::abs( a.arc - c.arcM ) <= 10.0 )
-        {
-          offsets.push_back( a.offset );
-          sigmas.push_back( a.sigma );
-        }
-      if ( offsets.size() >= 3 )
+      struct Accepted
       {
-        std::nth_element( offsets.begin(), offsets.begin() + offsets.size() / 2, offsets.end() );
-        std::nth_element( sigmas.begin(), sigmas.begin() + sigmas.size() / 2, sigmas.end() );
-        const double step = std::abs( c.leftOffsetM - offsets[offsets.size() / 2] );
-        const double sigma = std::hypot( sigmaAcross( v->covariance ), sigmas[sigmas.size() / 2] );
-        if ( step > std::max( options.maxLateralStepM, options.heightContinuity.sigmaMultiple * sigma ) )
-        {
-          ++dropped;
-          if ( ++inRow >= 2 )
-          {
-            // the follower left the line: the rest of the station's part goes
-            dropped += static_cast<int>( ordered.end() - std::find( ordered.begin(), ordered.end(), v ) ) - 1;
-            break;
-          }
-          continue;
-        }
+        double arc, offset, sigma;
+      };
+      const Eigen::Vector3d acrossRun = Eigen::Vector3d( -runAlong.y(), runAlong.x(), 0.0 ).normalized();
+      const auto sigmaAcross = [&acrossRun]( const Eigen::Matrix3d &covariance ) { return std::sqrt( std::max( 0.0, acrossRun.dot( covariance * acrossRun ) ) ); };
+      std::vector<Accepted> accepted;
+      for ( const TracedVertex &v : line )
+      {
+        const TrackCoordinates c = *trackCoordinates( trajectory, v.point.head<2>() );
+        accepted.push_back( { c.arcM, c.leftOffsetM, sigmaAcross( v.covariance ) } );
       }
-      inRow = 0;
-      out.push_back( v );
-      accepted.push_back( { c.arcM, c.leftOffsetM, sigmaAcross( v->covariance ) } );
+      std::vector<const LineVertex3d *> out;
+      int inRow = 0;
+      for ( const LineVertex3d *v : ordered )
+      {
+        const TrackCoordinates c = *trackCoordinates( trajectory, v->point.head<2>() );
+        // the line's offset over the 10 m before this vertex: the median, with the median of the sigmas
+        std::vector<double> offsets, sigmas;
+        for ( const Accepted &a : accepted )
+          if ( std::abs( a.arc - c.arcM ) <= 10.0 )
+          {
+            offsets.push_back( a.offset );
+            sigmas.push_back( a.sigma );
+          }
+        if ( offsets.size() >= 3 )
+        {
+          std::nth_element( offsets.begin(), offsets.begin() + offsets.size() / 2, offsets.end() );
+          std::nth_element( sigmas.begin(), sigmas.begin() + sigmas.size() / 2, sigmas.end() );
+          const double step = std::abs( c.leftOffsetM - offsets[offsets.size() / 2] );
+          const double sigma = std::hypot( sigmaAcross( v->covariance ), sigmas[sigmas.size() / 2] );
+          if ( step > std::max( options.maxLateralStepM, options.heightContinuity.sigmaMultiple * sigma ) )
+          {
+            ++dropped;
+            if ( ++inRow >= 2 )
+            {
+              // the follower left the line: the rest of the station's part goes
+              dropped += static_cast<int>( ordered.end() - std::find( ordered.begin(), ordered.end(), v ) ) - 1;
+              break;
+            }
+            continue;
+          }
+        }
+        inRow = 0;
+        out.push_back( v );
+        accepted.push_back( { c.arcM, c.leftOffsetM, sigmaAcross( v->covariance ) } );
+      }
+      return out;
     }
-    return out;
-  }
-
   }
 
   StationPartSummary appendStationPart( std::vector<TracedVertex> &line, const std::vector<LineVertex3d> &vertices, const StationPart &part, const RoadTraceOptions &options )
