@@ -26,6 +26,8 @@ namespace geostation
   {
     if ( options.tileSize < kBlockSize || options.tileSize % kBlockSize != 0 || options.holeFillHalo < 0 || options.cacheTiles < 9 )
       throw std::invalid_argument( "DEM options: tiles of a multiple of 8 cells, a non-negative halo and at least 9 cached tiles" );
+    if ( options.bridgeHolesUpToCells < 0 || options.bridgeHolesUpToCells > 4096 || !( options.bridgeSigmaPerMetre >= 0.0 ) )
+      throw std::invalid_argument( "DEM options: holes are bridged up to 0 (none) to 4096 cells across, with a non-negative sigma per metre" );
     GDALAllRegister();
     CPLPushErrorHandler( CPLQuietErrorHandler );
     mDataset = GDALOpenEx( path.c_str(), GDAL_OF_RASTER | GDAL_OF_READONLY, nullptr, nullptr, nullptr );
@@ -85,65 +87,91 @@ namespace geostation
     // in one cell per pass, so cells at least H in from the border come out
     // as if the whole raster were filled: the tile and its extra last column
     // and row (the neighbours' first ones) agree with the neighbouring tiles.
-    const int rx0 = std::max( 0, x0 - H ), ry0 = std::max( 0, y0 - H );
-    const int rx1 = std::min( mWidth, x0 + T + 1 + H ), ry1 = std::min( mHeight, y0 + T + 1 + H );
-    const int rw = rx1 - rx0, rh = ry1 - ry0;
     // (the region's buffer and an evicted tile's storage are reused: no allocation, no page faults per tile)
     std::vector<double> &region = mRegion;
-    region.resize( static_cast<size_t>( rw ) * rh );
-    if ( GDALRasterIO( GDALGetRasterBand( static_cast<GDALDatasetH>( mDataset ), 1 ), GF_Read, rx0, ry0, rw, rh, region.data(), rw, rh, GDT_Float64, 0, 0 ) != CE_None )
-      throw std::runtime_error( std::string( "reading the DEM failed: " ) + CPLGetLastErrorMsg() );
-    long empty = 0;
-    for ( double &v : region )
-      if ( !std::isfinite( v ) || ( mNoData && v == *mNoData ) )
-      {
-        v = kNaN;
-        ++empty;
-      }
-
-    // The paper's filling: an empty cell takes the mean of its present
-    // neighbours in X and Y; repeated inward, one ring per pass (none where
-    // nothing is empty: most tiles of most DEMs).
+    int rx0 = 0, ry0 = 0, rw = 0, rh = 0;
     long filledInTile = 0;
-    for ( int pass = 0; pass < H && empty > 0; ++pass )
+    // reads the tile with `halo` cells around it and fills; the cells of the tile left empty
+    std::vector<double> original; // the region as read, where holes are bridged
+    const auto readAndFill = [&]( int halo, bool keepOriginal ) -> long
     {
-      std::vector<double> &next = mFillScratch;
-      next = region;
-      bool changed = false;
-      for ( int r = 0; r < rh; ++r )
-        for ( int c = 0; c < rw; ++c )
+      rx0 = std::max( 0, x0 - halo );
+      ry0 = std::max( 0, y0 - halo );
+      const int rx1 = std::min( mWidth, x0 + T + 1 + halo ), ry1 = std::min( mHeight, y0 + T + 1 + halo );
+      rw = rx1 - rx0;
+      rh = ry1 - ry0;
+      region.resize( static_cast<size_t>( rw ) * rh );
+      if ( GDALRasterIO( GDALGetRasterBand( static_cast<GDALDatasetH>( mDataset ), 1 ), GF_Read, rx0, ry0, rw, rh, region.data(), rw, rh, GDT_Float64, 0, 0 ) != CE_None )
+        throw std::runtime_error( std::string( "reading the DEM failed: " ) + CPLGetLastErrorMsg() );
+      long empty = 0;
+      for ( double &v : region )
+        if ( !std::isfinite( v ) || ( mNoData && v == *mNoData ) )
         {
-          const size_t i = static_cast<size_t>( r ) * rw + c;
-          if ( !std::isnan( region[i] ) )
-            continue;
-          double sum = 0.0;
-          int n = 0;
-          const int dc[4] = { -1, 1, 0, 0 }, dr[4] = { 0, 0, -1, 1 };
-          for ( int k = 0; k < 4; ++k )
+          v = kNaN;
+          ++empty;
+        }
+      if ( keepOriginal )
+        original = region;
+
+      // The paper's filling: an empty cell takes the mean of its present
+      // neighbours in X and Y; repeated inward, one ring per pass (none where
+      // nothing is empty: most tiles of most DEMs).
+      filledInTile = 0;
+      for ( int pass = 0; pass < H && empty > 0; ++pass )
+      {
+        std::vector<double> &next = mFillScratch;
+        next = region;
+        bool changed = false;
+        for ( int r = 0; r < rh; ++r )
+          for ( int c = 0; c < rw; ++c )
           {
-            const int cc = c + dc[k], rr = r + dr[k];
-            if ( cc < 0 || rr < 0 || cc >= rw || rr >= rh )
+            const size_t i = static_cast<size_t>( r ) * rw + c;
+            if ( !std::isnan( region[i] ) )
               continue;
-            const double v = region[static_cast<size_t>( rr ) * rw + cc];
-            if ( !std::isnan( v ) )
+            double sum = 0.0;
+            int n = 0;
+            const int dc[4] = { -1, 1, 0, 0 }, dr[4] = { 0, 0, -1, 1 };
+            for ( int k = 0; k < 4; ++k )
             {
-              sum += v;
-              ++n;
+              const int cc = c + dc[k], rr = r + dr[k];
+              if ( cc < 0 || rr < 0 || cc >= rw || rr >= rh )
+                continue;
+              const double v = region[static_cast<size_t>( rr ) * rw + cc];
+              if ( !std::isnan( v ) )
+              {
+                sum += v;
+                ++n;
+              }
+            }
+            if ( n > 0 )
+            {
+              next[i] = sum / n;
+              changed = true;
+              --empty;
+              const int col = rx0 + c, row = ry0 + r;
+              if ( col >= x0 && col < x0 + T && row >= y0 && row < y0 + T )
+                ++filledInTile;
             }
           }
-          if ( n > 0 )
-          {
-            next[i] = sum / n;
-            changed = true;
-            --empty;
-            const int col = rx0 + c, row = ry0 + r;
-            if ( col >= x0 && col < x0 + T && row >= y0 && row < y0 + T )
-              ++filledInTile;
-          }
-        }
-      region.swap( next );
-      if ( !changed )
-        break;
+        region.swap( next );
+        if ( !changed )
+          break;
+      }
+      long left = 0;
+      for ( int row = y0; row <= std::min( y0 + T, mHeight - 1 ); ++row )
+        for ( int col = x0; col <= std::min( x0 + T, mWidth - 1 ); ++col )
+          left += std::isnan( region[static_cast<size_t>( row - ry0 ) * rw + ( col - rx0 )] ) ? 1 : 0;
+      return left;
+    };
+    long leftEmpty = readAndFill( H, false );
+    // holes too large to fill: bridged where asked, from a region wide enough to hold their rims (the fill
+    // gives the same cells from it: its reach is the smaller halo)
+    const int bridge = mOptions.bridgeHolesUpToCells;
+    std::vector<float> bridgeSigma;
+    if ( bridge > 0 && leftEmpty > 0 )
+    {
+      leftEmpty = readAndFill( std::max( bridge, H ), true );
+      bridgeSigma = bridgeHoles( region, original, rx0, ry0, rw, rh, x0, y0 );
     }
     mFilledCells += filledInTile;
 
@@ -163,6 +191,7 @@ namespace geostation
     for ( int row = y0; row <= std::min( y0 + T, mHeight - 1 ); ++row )
       for ( int col = x0; col <= std::min( x0 + T, mWidth - 1 ); ++col )
         t->vertices[static_cast<size_t>( row - y0 ) * stride + ( col - x0 )] = static_cast<float>( region[static_cast<size_t>( row - ry0 ) * rw + ( col - rx0 )] );
+    t->bridgeSigma = std::move( bridgeSigma );
 
     // Block maxima over the corners of each block's cells; blocks with holes
     // take the tile's highest valid height (+inf if it has none).
@@ -210,6 +239,159 @@ namespace geostation
     return result;
   }
 
+  std::vector<float> Dem::bridgeHoles( std::vector<double> &region, const std::vector<double> &original, int rx0, int ry0, int rw, int rh, int x0, int y0 ) const
+  {
+    const int T = mOptions.tileSize, stride = T + 1, limit = mOptions.bridgeHolesUpToCells;
+    const int cols = std::min( x0 + T, mWidth - 1 ) - x0 + 1, rows = std::min( y0 + T, mHeight - 1 ) - y0 + 1;
+    // the cells' size on the ground at the tile's centre (m)
+    const double cx = x0 + 0.5 * cols, cy = y0 + 0.5 * rows;
+    const Eigen::Vector2d perUnit = metresPerUnit( mGeoTransform[0] + cx * mGeoTransform[1] + cy * mGeoTransform[2], mGeoTransform[3] + cx * mGeoTransform[4] + cy * mGeoTransform[5] );
+    const double cellX = std::hypot( mGeoTransform[1], mGeoTransform[4] ) * perUnit.x(), cellY = std::hypot( mGeoTransform[2], mGeoTransform[5] ) * perUnit.y();
+    const auto index = [&]( int col, int row ) { return static_cast<size_t>( row - ry0 ) * rw + ( col - rx0 ); };
+
+    // The large holes: the cells of every hole (as read) that the fill left partly empty, whole - the fill's
+    // rings included, which are the least sure part of it.
+    std::vector<char> large( region.size(), 0 );
+    std::vector<size_t> stack;
+    for ( size_t i = 0; i < region.size(); ++i )
+      if ( std::isnan( region[i] ) && !large[i] )
+      {
+        large[i] = 1;
+        stack.push_back( i );
+        while ( !stack.empty() )
+        {
+          const size_t k = stack.back();
+          stack.pop_back();
+          const int c = static_cast<int>( k % rw ), r = static_cast<int>( k / rw );
+          const int dc[4] = { -1, 1, 0, 0 }, dr[4] = { 0, 0, -1, 1 };
+          for ( int n = 0; n < 4; ++n )
+          {
+            const int cc = c + dc[n], rr = r + dr[n];
+            if ( cc < 0 || rr < 0 || cc >= rw || rr >= rh )
+              continue;
+            const size_t m = static_cast<size_t>( rr ) * rw + cc;
+            if ( !large[m] && std::isnan( original[m] ) )
+            {
+              large[m] = 1;
+              stack.push_back( m );
+            }
+          }
+        }
+      }
+
+    // Along rows, then along columns: each run of a large hole's cells no longer than the limit, between two
+    // cells of data, is interpolated linearly; its sigma is what the terrain's curvature just outside the
+    // rims (second differences over 3 cells) makes of a straight line across (kappa d1 d2 / 2), and at least
+    // bridgeSigmaPerMetre times the distance to the nearer rim.
+    const size_t n = static_cast<size_t>( stride ) * stride;
+    std::vector<double> height[2] = { std::vector<double>( n, kNaN ), std::vector<double>( n, kNaN ) };
+    std::vector<double> sigmaOf[2] = { std::vector<double>( n, 0.0 ), std::vector<double>( n, 0.0 ) };
+    const auto bridgeLine = [&]( int axis, int fixed )
+    {
+      const bool byRow = axis == 0;
+      const int from = byRow ? rx0 : ry0, to = byRow ? rx0 + rw : ry0 + rh;
+      const double cell = byRow ? cellX : cellY;
+      const auto cellOf = [&]( int k ) { return byRow ? index( k, fixed ) : index( fixed, k ); };
+      for ( int k = from; k < to; )
+      {
+        if ( !large[cellOf( k )] )
+        {
+          ++k;
+          continue;
+        }
+        int end = k;
+        while ( end < to && large[cellOf( end )] )
+          ++end;
+        // the hole from k to end - 1, its rims at k - 1 and end
+        if ( k > from && end < to && end - k <= limit && !std::isnan( original[cellOf( k - 1 )] ) && !std::isnan( original[cellOf( end )] ) )
+        {
+          const double a = original[cellOf( k - 1 )], b = original[cellOf( end )];
+          // curvature outside either rim (1/m)
+          double kappa = 0.0;
+          constexpr int s = 3;
+          for ( const int side : { -1, 1 } )
+          {
+            const int rim = side < 0 ? k - 1 : end;
+            const int p1 = rim + side * s, p2 = rim + 2 * side * s;
+            if ( p2 < from || p2 >= to )
+              continue;
+            const double h0 = original[cellOf( rim )], h1 = original[cellOf( p1 )], h2 = original[cellOf( p2 )];
+            if ( !std::isnan( h1 ) && !std::isnan( h2 ) )
+              kappa = std::max( kappa, std::abs( h0 - 2.0 * h1 + h2 ) / ( s * cell * s * cell ) );
+          }
+          for ( int m = k; m < end; ++m )
+          {
+            const int col = byRow ? m : fixed, row = byRow ? fixed : m;
+            if ( col < x0 || row < y0 || col >= x0 + cols || row >= y0 + rows )
+              continue;
+            const double d1 = ( m - ( k - 1 ) ) * cell, d2 = ( end - m ) * cell;
+            const size_t i = static_cast<size_t>( row - y0 ) * stride + ( col - x0 );
+            height[axis][i] = a + d1 / ( d1 + d2 ) * ( b - a );
+            sigmaOf[axis][i] = std::max( 0.5 * kappa * d1 * d2, mOptions.bridgeSigmaPerMetre * std::min( d1, d2 ) );
+          }
+        }
+        k = end;
+      }
+    };
+    for ( int row = y0; row < y0 + rows; ++row )
+      bridgeLine( 0, row );
+    for ( int col = x0; col < x0 + cols; ++col )
+      bridgeLine( 1, col );
+
+    std::vector<float> sigma;
+    for ( int row = y0; row < y0 + rows; ++row )
+      for ( int col = x0; col < x0 + cols; ++col )
+      {
+        const size_t i = static_cast<size_t>( row - y0 ) * stride + ( col - x0 );
+        const bool r = !std::isnan( height[0][i] ), c = !std::isnan( height[1][i] );
+        if ( !r && !c )
+          continue;
+        // (both: their mean, its sigma also half their difference)
+        const double h = r && c ? 0.5 * ( height[0][i] + height[1][i] ) : r ? height[0][i] : height[1][i];
+        const double s = r && c ? std::hypot( 0.5 * ( height[0][i] - height[1][i] ), 0.5 * ( sigmaOf[0][i] + sigmaOf[1][i] ) ) : r ? sigmaOf[0][i] : sigmaOf[1][i];
+        if ( sigma.empty() )
+          sigma.assign( n, 0.0f );
+        sigma[i] = static_cast<float>( std::max( s, 1e-6 ) );
+        region[index( col, row )] = h;
+        if ( col < x0 + T && row < y0 + T )
+          ++mBridgedCells;
+      }
+    return sigma;
+  }
+
+  bool Dem::cellAt( double px, double py, const Tile *&t, size_t &corner, double &fu, double &fv ) const
+  {
+    // Pixel coordinates (corner convention) to cell-centre coordinates.
+    const double u = px - 0.5, v = py - 0.5;
+    if ( !( u >= 0.0 && v >= 0.0 && u <= mWidth - 1 && v <= mHeight - 1 ) )
+      return false;
+    const int i = std::min( static_cast<int>( u ), mWidth - 2 ), j = std::min( static_cast<int>( v ), mHeight - 2 );
+    fu = u - i;
+    fv = v - j;
+    // The tile holding cell (i, j) also holds its right and lower corners.
+    const int T = mOptions.tileSize;
+    t = tile( i / T, j / T );
+    corner = static_cast<size_t>( j % T ) * ( T + 1 ) + ( i % T );
+    return t != nullptr;
+  }
+
+  std::optional<double> Dem::bridgeSigmaAt( double x, double y ) const
+  {
+    const Tile *t = nullptr;
+    size_t corner = 0;
+    double fu = 0.0, fv = 0.0;
+    if ( !cellAt( mInverse[0] + mInverse[1] * x + mInverse[2] * y, mInverse[3] + mInverse[4] * x + mInverse[5] * y, t, corner, fu, fv ) )
+      return std::nullopt;
+    const int T = mOptions.tileSize;
+    const float *h = t->vertices.data() + corner;
+    if ( std::isnan( h[0] ) || std::isnan( h[1] ) || std::isnan( h[T + 1] ) || std::isnan( h[T + 2] ) )
+      return std::nullopt;
+    if ( t->bridgeSigma.empty() )
+      return 0.0;
+    const float *s = t->bridgeSigma.data() + corner;
+    return static_cast<double>( std::max( { s[0], s[1], s[T + 1], s[T + 2] } ) );
+  }
+
   std::optional<double> Dem::heightAt( double x, double y ) const
   {
     return heightAtPixel( mInverse[0] + mInverse[1] * x + mInverse[2] * y, mInverse[3] + mInverse[4] * x + mInverse[5] * y );
@@ -217,17 +399,14 @@ namespace geostation
 
   std::optional<double> Dem::heightAtPixel( double px, double py ) const
   {
-    // Pixel coordinates (corner convention) to cell-centre coordinates.
-    const double u = px - 0.5, v = py - 0.5;
-    if ( !( u >= 0.0 && v >= 0.0 && u <= mWidth - 1 && v <= mHeight - 1 ) )
+    const Tile *t = nullptr;
+    size_t corner = 0;
+    double fu = 0.0, fv = 0.0;
+    if ( !cellAt( px, py, t, corner, fu, fv ) )
       return std::nullopt;
-    const int i = std::min( static_cast<int>( u ), mWidth - 2 ), j = std::min( static_cast<int>( v ), mHeight - 2 );
-    const double fu = u - i, fv = v - j;
-    // The tile holding cell (i, j) also holds its right and lower corners.
     const int T = mOptions.tileSize;
-    const Tile *t = tile( i / T, j / T );
-    const float *corner = t->vertices.data() + static_cast<size_t>( j % T ) * ( T + 1 ) + ( i % T );
-    const double h00 = corner[0], h10 = corner[1], h01 = corner[T + 1], h11 = corner[T + 2];
+    const float *c = t->vertices.data() + corner;
+    const double h00 = c[0], h10 = c[1], h01 = c[T + 1], h11 = c[T + 2];
     const double h = ( h00 * ( 1 - fu ) + h10 * fu ) * ( 1 - fv ) + ( h01 * ( 1 - fu ) + h11 * fu ) * fv;
     if ( std::isnan( h ) )
       return std::nullopt;

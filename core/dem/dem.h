@@ -8,7 +8,10 @@
   has to be in memory. Nodata holes are filled as the monoplotter paper does:
   each empty cell takes the mean of its present neighbours in X and Y,
   repeated inward, within a halo around each tile (as if the whole raster
-  were filled); filled cells are counted. Tiles also keep block maxima for
+  were filled); filled cells are counted. Larger holes can be bridged
+  (DemOptions::bridgeHolesUpToCells): linear interpolation across the hole
+  along rows and columns, each bridged cell with a height sigma
+  (bridgeSigmaAt()). Tiles also keep block maxima for
   the ray / DEM traversal. Not for concurrent use.
  ***************************************************************************/
 #ifndef GEOSTATION_DEM_DEM_H
@@ -30,6 +33,22 @@ namespace geostation
     int tileSize = 256;       //!< cells per tile side, a multiple of Dem::kBlockSize
     int holeFillHalo = 16;    //!< holes up to about twice this many cells across are filled
     size_t cacheTiles = 64;   //!< tiles kept in memory
+    /**
+     * Holes too large to fill but at most this many cells across (along a
+     * row or a column) are bridged: each of the hole's cells (the fill's
+     * rings included) takes the linear interpolation between the data at
+     * the hole's rims along its row and its column (their mean where both
+     * reach across). 0: not bridged.
+     */
+    int bridgeHolesUpToCells = 0;
+    /**
+     * A bridged height's sigma: what the terrain's curvature just outside
+     * the rims makes of a straight line across the hole (kappa d1 d2 / 2,
+     * d1 and d2 the distances to the rims), at least this many metres per
+     * metre from the nearer rim (an unseen change of slope); with both a
+     * row and a column across, also half their difference.
+     */
+    double bridgeSigmaPerMetre = 0.05;
   };
 
   class Dem
@@ -105,12 +124,24 @@ namespace geostation
 
       //! Cells filled so far (in tiles read so far).
       long filledCellCount() const { return mFilledCells; }
+      //! Cells bridged so far (in tiles read so far; DemOptions::bridgeHolesUpToCells).
+      long bridgedCellCount() const { return mBridgedCells; }
+      //! Holes up to this many cells across are bridged (0: none).
+      int bridgeHolesUpToCells() const { return mOptions.bridgeHolesUpToCells; }
+
+      /**
+       * Height sigma (m) of the bridged cells under (x, y) in the DEM's CRS:
+       * the largest of the four cells interpolated there, 0 where none of
+       * them is bridged; nothing where heightAt() has nothing.
+       */
+      std::optional<double> bridgeSigmaAt( double x, double y ) const;
 
     private:
       struct Tile
       {
         std::vector<float> vertices; //!< (tileSize + 1)^2, NaN where still empty
         std::vector<float> blockMax; //!< as TileView
+        std::vector<float> bridgeSigma; //!< as vertices: the bridged cells' height sigma (m), 0 elsewhere; empty if none
         float maxHeight = 0.0f;      //!< as TileView
         size_t index = 0;            //!< in mIndex
         unsigned long lastUse = 0;   //!< mClock at the last use
@@ -128,7 +159,16 @@ namespace geostation
       }
       //! Reads, fills and caches a tile of the DEM (in range).
       const Tile *readTile( int tileX, int tileY ) const;
+      /**
+       * Bridges the holes of `region` (filled; rw x rh cells from column rx0,
+       * row ry0; `original` as read) that the fill left partly empty, in the
+       * tile from (x0, y0), up to bridgeHolesUpToCells across; returns the
+       * tile's (T + 1)^2 cells' sigmas, empty if none was bridged.
+       */
+      std::vector<float> bridgeHoles( std::vector<double> &region, const std::vector<double> &original, int rx0, int ry0, int rw, int rh, int x0, int y0 ) const;
       std::optional<double> heightAtPixel( double px, double py ) const;
+      //! The tile's cell corner for pixel (px, py) and the bilinear weights; false outside the DEM.
+      bool cellAt( double px, double py, const Tile *&t, size_t &corner, double &fu, double &fv ) const;
 
       DemOptions mOptions;
       void *mDataset = nullptr;
@@ -143,6 +183,7 @@ namespace geostation
       mutable std::vector<std::unique_ptr<Tile>> mCache; //!< at most cacheTiles; a new tile replaces the least recently used
       mutable unsigned long mClock = 0;
       mutable long mFilledCells = 0;
+      mutable long mBridgedCells = 0;
       mutable std::vector<double> mRegion;      //!< a tile's region as read, reused
       mutable std::vector<double> mFillScratch; //!< the hole fill's next pass, reused
   };

@@ -321,13 +321,14 @@ namespace geostation
     void setHole( DemIntersection &result, const Dem &dem )
     {
       result.status = DemIntersection::Status::Hole;
-      const int cells = 2 * dem.holeFillHalo();
+      const bool bridged = dem.bridgeHolesUpToCells() > 2 * dem.holeFillHalo();
+      const int cells = bridged ? dem.bridgeHolesUpToCells() : 2 * dem.holeFillHalo();
       const double across = cells * std::abs( dem.geoTransform()[1] );
       std::ostringstream limit;
       limit.precision( dem.isGeographic() ? 3 : 0 );
       limit << std::fixed << ( dem.isGeographic() ? across * 3600.0 : across ) << ( dem.isGeographic() ? " arc seconds" : " m" );
       result.message = "the ray meets a nodata hole in the DEM too large to fill (holes up to about " + std::to_string( cells ) + " cells, " + limit.str() +
-                       ", across are filled from their neighbours)";
+                       ( bridged ? ", across are bridged)" : ", across are filled from their neighbours; larger ones can be bridged)" );
     }
 
     Eigen::Vector2d gridPoint( const Dem &dem, const Eigen::Vector3d &inDem )

@@ -53,6 +53,10 @@ namespace geostation
       return p;
     p.world = *point;
     p.rangeM = first.rangeM;
+    {
+      const Eigen::Vector3d q = mBlockToDem.transform( *point );
+      p.bridgeSigmaM = mDem.bridgeSigmaAt( q.x(), q.y() ).value_or( 0.0 );
+    }
     if ( !precision )
       return p;
 
@@ -78,7 +82,8 @@ namespace geostation
       complete &= add( hit( mImage, pixelInImage + delta, 0.0 ), hit( mImage, pixelInImage - delta, 0.0 ), pixelStep, mOptions.pixelSigmaPx );
     }
     const double demStep = 0.05;
-    complete &= add( hit( mImage, pixelInImage, demStep ), hit( mImage, pixelInImage, -demStep ), demStep, mOptions.demSigmaM );
+    // (the DEM's own sigma and, where holes were bridged, the bridged cells')
+    complete &= add( hit( mImage, pixelInImage, demStep ), hit( mImage, pixelInImage, -demStep ), demStep, std::hypot( mOptions.demSigmaM, p.bridgeSigmaM ) );
     const std::optional<ExteriorSigma> &sigma = mImage.exterior().sigma;
     if ( mOptions.propagateExterior && sigma )
     {

@@ -39,8 +39,11 @@ namespace geostation
     Eigen::Matrix3d covariance = Eigen::Matrix3d::Zero();
     Eigen::Vector3d sigmaM = Eigen::Vector3d::Zero();
     double rangeM = 0.0;
+    //! Height sigma of bridged DEM cells under the point (DemOptions::bridgeHolesUpToCells), in the precision; 0: none.
+    double bridgeSigmaM = 0.0;
 
     bool ok() const { return status == DemIntersection::Status::Hit; }
+    bool onBridgedCells() const { return bridgeSigmaM > 0.0; }
   };
 
   struct MapPointInImage

@@ -29,6 +29,7 @@ namespace
     int width, height;
     Eigen::Vector3d worst = Eigen::Vector3d::Zero();
     int vertices = 0;
+    int bridged = 0; //!< vertices on bridged DEM cells
     QString problem;
     QString status; //!< why not: outside_image, misses_dem, below_dem, dem_hole
 
@@ -54,6 +55,7 @@ namespace
       }
       worst = worst.cwiseMax( g.sigmaM );
       ++vertices;
+      bridged += g.onBridgedCells() ? 1 : 0;
       return QgsPoint( g.world.x(), g.world.y(), g.world.z() );
     }
 
@@ -80,6 +82,7 @@ namespace
         }
         worst = worst.cwiseMax( g.sigmaM );
         ++vertices;
+        bridged += g.onBridgedCells() ? 1 : 0;
         out << QgsPoint( g.world.x(), g.world.y(), g.world.z() );
       }
       if ( closed && !out.isEmpty() )
@@ -138,7 +141,10 @@ QString MonoplotAlgorithm::shortHelpString() const
                       "INPUT is an image-space layer (x = col, y = -row, no CRS), e.g. digitised over the raw image in QGIS. "
                       "Lines and polygon rings are densified so that no image segment exceeds DENSIFY_PX pixels, so they "
                       "drape over the terrain. The DEM may be in any CRS; it is read in tiles, and small nodata holes are "
-                      "filled from their neighbours.\n\n"
+                      "filled from their neighbours. BRIDGE_HOLES bridges larger holes, up to that many cells across, by "
+                      "linear interpolation between their rims along rows and columns; a vertex on bridged cells gets their "
+                      "height sigma (5 cm per metre from the rim, and half the rows' and columns' disagreement) in its "
+                      "precision, and n_bridged counts such vertices.\n\n"
                       "The output is in the block CRS with Z; input attributes are kept, and sigma_x, sigma_y, sigma_z "
                       "(metres, worst vertex) propagate PIXEL_SIGMA_PX, DEM_SIGMA_M and the image's exterior-orientation "
                       "sigmas: grazing rays far from the camera are weak, and the numbers show it.\n\n"
@@ -163,8 +169,12 @@ void MonoplotAlgorithm::initAlgorithm( const QVariantMap & )
   addParameter( new QgsProcessingParameterNumber( QStringLiteral( "DENSIFY_PX" ), QObject::tr( "Densify lines every (pixels)" ), QgsProcessingParameterNumber::Double, 5.0, false, 0.1 ) );
   addParameter( new QgsProcessingParameterNumber( QStringLiteral( "PIXEL_SIGMA_PX" ), QObject::tr( "Digitising precision (pixels)" ), QgsProcessingParameterNumber::Double, 0.5, false, 0.0 ) );
   addParameter( new QgsProcessingParameterNumber( QStringLiteral( "DEM_SIGMA_M" ), QObject::tr( "DEM height precision (m)" ), QgsProcessingParameterNumber::Double, 0.0, false, 0.0 ) );
+  addParameter( new QgsProcessingParameterNumber( QStringLiteral( "BRIDGE_HOLES" ), QObject::tr( "Bridge nodata holes up to (cells across; 0: only the small ones are filled)" ),
+                QgsProcessingParameterNumber::Integer, 0, true, 0, 4096 ) );
   addParameter( new QgsProcessingParameterFeatureSink( QStringLiteral( "OUTPUT" ), QObject::tr( "Monoplotted features" ) ) );
   addOutput( new QgsProcessingOutputNumber( QStringLiteral( "FILLED_DEM_CELLS" ), QObject::tr( "DEM cells filled in holes" ) ) );
+  addOutput( new QgsProcessingOutputNumber( QStringLiteral( "BRIDGED_DEM_CELLS" ), QObject::tr( "DEM cells bridged in larger holes" ) ) );
+  addOutput( new QgsProcessingOutputNumber( QStringLiteral( "BRIDGED_VERTICES" ), QObject::tr( "Vertices on bridged DEM cells" ) ) );
   addOutput( new QgsProcessingOutputNumber( QStringLiteral( "MONOPLOTTED_COUNT" ), QObject::tr( "Features monoplotted" ) ) );
   addOutput( new QgsProcessingOutputNumber( QStringLiteral( "FAILED_COUNT" ), QObject::tr( "Features that cannot be monoplotted" ) ) );
 }
@@ -182,7 +192,10 @@ QVariantMap MonoplotAlgorithm::processAlgorithm( const QVariantMap &parameters, 
     throw QgsProcessingException( invalidRasterError( parameters, QStringLiteral( "DEM" ) ) );
   std::unique_ptr<geostation::Dem> dem;
   std::unique_ptr<geostation::CrsTransform> blockToDem;
-  GeoStationProcessing::LoadedDem loaded = GeoStationProcessing::loadDem( demLayer->source(), block );
+  geostation::DemOptions demOptions;
+  if ( parameters.value( QStringLiteral( "BRIDGE_HOLES" ) ).isValid() )
+    demOptions.bridgeHolesUpToCells = parameterAsInt( parameters, QStringLiteral( "BRIDGE_HOLES" ), context );
+  GeoStationProcessing::LoadedDem loaded = GeoStationProcessing::loadDem( demLayer->source(), block, demOptions );
   dem = std::move( loaded.dem );
   blockToDem = std::move( loaded.blockToDem );
 
@@ -212,6 +225,7 @@ QVariantMap MonoplotAlgorithm::processAlgorithm( const QVariantMap &parameters, 
   for ( const char *name : { "sigma_x", "sigma_y", "sigma_z" } )
     newFields.append( QgsField( QString::fromLatin1( name ), QVariant::Double ) );
   newFields.append( QgsField( QStringLiteral( "n_vertices" ), QVariant::Int ) );
+  newFields.append( QgsField( QStringLiteral( "n_bridged" ), QVariant::Int ) );
   newFields.append( QgsField( QStringLiteral( "method" ), QVariant::String ) );
   newFields.append( QgsField( QStringLiteral( "status" ), QVariant::String ) );
   newFields.append( QgsField( QStringLiteral( "message" ), QVariant::String ) );
@@ -222,7 +236,7 @@ QVariantMap MonoplotAlgorithm::processAlgorithm( const QVariantMap &parameters, 
   // status; the run fails only when no feature at all can be monoplotted, and then leaves no file.
   QVector<QgsFeature> features;
   QMap<QString, long> statusCounts;
-  long resolved = 0, failed = 0;
+  long resolved = 0, failed = 0, bridgedVertices = 0;
   QString firstProblem;
   constexpr int kWarningsShown = 20;
   const double step = source->featureCount() > 0 ? 90.0 / source->featureCount() : 0.0;
@@ -236,6 +250,7 @@ QVariantMap MonoplotAlgorithm::processAlgorithm( const QVariantMap &parameters, 
     QgsAttributes attributes = f.attributes();
     mono.worst.setZero();
     mono.vertices = 0;
+    mono.bridged = 0;
     QString status = QStringLiteral( "ok" ), message;
     if ( f.hasGeometry() )
     {
@@ -259,7 +274,8 @@ QVariantMap MonoplotAlgorithm::processAlgorithm( const QVariantMap &parameters, 
     const bool ok = status == QLatin1String( "ok" );
     const QVariant none;
     attributes << ( ok ? QVariant( mono.worst.x() ) : none ) << ( ok ? QVariant( mono.worst.y() ) : none ) << ( ok ? QVariant( mono.worst.z() ) : none )
-               << mono.vertices << QStringLiteral( "monoplot-DEM" ) << status << ( message.isEmpty() ? none : QVariant( message ) );
+               << mono.vertices << ( ok ? QVariant( mono.bridged ) : none ) << QStringLiteral( "monoplot-DEM" ) << status << ( message.isEmpty() ? none : QVariant( message ) );
+    bridgedVertices += ok ? mono.bridged : 0;
     out.setAttributes( attributes );
     features << out;
     feedback->setProgress( step * features.size() );
@@ -286,10 +302,15 @@ QVariantMap MonoplotAlgorithm::processAlgorithm( const QVariantMap &parameters, 
   feedback->setProgress( 100 );
   if ( dem->filledCellCount() > 0 )
     feedback->pushInfo( QObject::tr( "%1 DEM cells in nodata holes were filled from their neighbours." ).arg( dem->filledCellCount() ) );
+  if ( dem->bridgedCellCount() > 0 )
+    feedback->pushInfo( QObject::tr( "%1 DEM cells in larger holes were bridged; %2 vertices lie on them, with the bridge's height sigma in their precision." )
+                        .arg( dem->bridgedCellCount() ).arg( bridgedVertices ) );
 
   QVariantMap outputs;
   outputs.insert( QStringLiteral( "OUTPUT" ), destination );
   outputs.insert( QStringLiteral( "FILLED_DEM_CELLS" ), static_cast<double>( dem->filledCellCount() ) );
+  outputs.insert( QStringLiteral( "BRIDGED_DEM_CELLS" ), static_cast<double>( dem->bridgedCellCount() ) );
+  outputs.insert( QStringLiteral( "BRIDGED_VERTICES" ), static_cast<double>( bridgedVertices ) );
   outputs.insert( QStringLiteral( "MONOPLOTTED_COUNT" ), static_cast<double>( resolved ) );
   outputs.insert( QStringLiteral( "FAILED_COUNT" ), static_cast<double>( failed ) );
   return outputs;

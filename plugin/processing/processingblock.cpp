@@ -127,12 +127,12 @@ namespace GeoStationProcessing
       throw QgsProcessingException( QObject::tr( "Cannot write the report %1." ).arg( reportPath ) );
   }
 
-  LoadedDem loadDem( const QString &path, const geostation::Block &block )
+  LoadedDem loadDem( const QString &path, const geostation::Block &block, const geostation::DemOptions &options )
   {
     LoadedDem out;
     try
     {
-      out.dem = std::make_unique<geostation::Dem>( path.toStdString() );
+      out.dem = std::make_unique<geostation::Dem>( path.toStdString(), options );
       out.blockToDem = std::make_unique<geostation::CrsTransform>( block.crs, out.dem->crsWkt() );
     }
     catch ( const std::exception &e )

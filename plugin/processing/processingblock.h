@@ -65,7 +65,7 @@ namespace GeoStationProcessing
   };
 
   //! Opens a DEM file for a block; throws QgsProcessingException with one sentence.
-  LoadedDem loadDem( const QString &path, const geostation::Block &block );
+  LoadedDem loadDem( const QString &path, const geostation::Block &block, const geostation::DemOptions &options = geostation::DemOptions() );
 }
 
 #endif // PROCESSINGBLOCK_H

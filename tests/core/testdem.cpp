@@ -398,3 +398,70 @@ TEST( Dem, ADemWithoutCrsIsRefused )
   }
   std::filesystem::remove( path );
 }
+
+TEST( Dem, LargerHolesAreBridgedWithASigma )
+{
+  // a 60-cell hole (too large to fill) and a 200-cell one (larger than the bridge, 100 cells); tiles of 64
+  // cells, so both span tile borders
+  const auto holes = []( int c, int r ) { return ( c >= 300 && c < 360 && r >= 300 && r < 360 ) || ( c >= 40 && c < 240 && r >= 40 && r < 240 ); };
+  const auto plane = []( double x, double y ) { return 200.0 + 0.05 * ( x - kX0 ) - 0.03 * ( kY0 - y ); };
+  const std::string planePath = writeDem( "bridge-plane", "EPSG:32633", { kX0, 2.0, 0.0, kY0, 0.0, -2.0 }, 500, 500, plane, holes );
+  DemOptions options;
+  options.tileSize = 64;
+  options.bridgeHolesUpToCells = 100;
+  const Dem dem( planePath, options );
+  const CrsTransform same( "EPSG:32633", "EPSG:32633" );
+  const double cx = kX0 + 660.0, cy = kY0 - 660.0; // the 60-cell hole's centre
+  // a plane is bridged exactly; the sigma grows from the rim, 5 cm per metre
+  ASSERT_TRUE( dem.heightAt( cx, cy ).has_value() );
+  EXPECT_NEAR( *dem.heightAt( cx, cy ), plane( cx, cy ), 1e-3 );
+  const std::optional<double> sigmaCentre = dem.bridgeSigmaAt( cx, cy );
+  ASSERT_TRUE( sigmaCentre.has_value() );
+  // (the whole hole is bridged from the data at its rims, the fill's rings too: the centre is 60 m from them)
+  EXPECT_GT( *sigmaCentre, 0.05 * 58.0 );
+  EXPECT_LT( *sigmaCentre, 0.05 * 62.0 );
+  EXPECT_EQ( dem.bridgeSigmaAt( kX0 + 900.0, kY0 - 400.0 ).value_or( -1.0 ), 0.0 ); // no hole there
+  EXPECT_GT( dem.bridgedCellCount(), 0 );
+  const DemIntersection down = intersectRayWithDem( { { cx, cy, 900.0 }, { 0, 0, -1 } }, dem, same );
+  ASSERT_EQ( down.status, DemIntersection::Status::Hit ) << down.message;
+  EXPECT_NEAR( down.point.z(), plane( cx, cy ), 1e-3 );
+  // the larger hole stays a hole, and the message says up to what it is bridged
+  EXPECT_FALSE( dem.heightAt( kX0 + 280.0, kY0 - 280.0 ).has_value() );
+  const DemIntersection hole = intersectRayWithDem( { { kX0 + 280.0, kY0 - 280.0, 900.0 }, { 0, 0, -1 } }, dem, same );
+  EXPECT_EQ( hole.status, DemIntersection::Status::Hole );
+  EXPECT_NE( hole.message.find( "100 cells, 200 m, across are bridged" ), std::string::npos ) << hole.message;
+  // without bridging the 60-cell hole's middle is empty
+  EXPECT_FALSE( Dem( planePath ).heightAt( cx, cy ).has_value() );
+
+  // terrain with relief: the bridged heights' errors against their sigmas, and the same with other tiles
+  const std::string terrainPath = writeDem( "bridge-terrain", "EPSG:32633", { kX0, 2.0, 0.0, kY0, 0.0, -2.0 }, 500, 500, terrain, holes );
+  const Dem rough( terrainPath, options );
+  DemOptions bigTiles = options;
+  bigTiles.tileSize = 256;
+  const Dem rough256( terrainPath, bigTiles );
+  int bridged = 0, within = 0;
+  double worst = 0.0, sumW2 = 0.0;
+  for ( int r = 300; r < 360; ++r )
+    for ( int c = 300; c < 360; ++c )
+    {
+      const double x = kX0 + 2.0 * c + 1.0, y = kY0 - 2.0 * r - 1.0;
+      const std::optional<double> h = rough.heightAt( x, y ), sigma = rough.bridgeSigmaAt( x, y );
+      ASSERT_TRUE( h && sigma ) << c << " " << r;
+      ASSERT_EQ( *h, *rough256.heightAt( x, y ) ) << "the bridge does not depend on the tiling, " << c << " " << r;
+      ASSERT_EQ( *sigma, *rough256.bridgeSigmaAt( x, y ) ) << c << " " << r;
+      if ( *sigma <= 0.0 )
+        continue; // filled, not bridged
+      ++bridged;
+      const double w = std::abs( *h - terrain( x, y ) ) / *sigma;
+      worst = std::max( worst, w );
+      within += w <= 2.0 ? 1 : 0;
+      sumW2 += w * w;
+    }
+  const double rmsW = std::sqrt( sumW2 / std::max( 1, bridged ) );
+  std::printf( "bridged cells %d, within 2 sigma %.1f %%, worst %.2f sigma, RMS %.2f sigma\n", bridged, 100.0 * within / std::max( 1, bridged ), worst, rmsW );
+  EXPECT_GT( bridged, 3000 );
+  EXPECT_GE( within, 0.9 * bridged ) << "the bridge's sigma is not optimistic";
+  EXPECT_GT( rmsW, 0.15 ) << "nor useless";
+  std::filesystem::remove( planePath );
+  std::filesystem::remove( terrainPath );
+}

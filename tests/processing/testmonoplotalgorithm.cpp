@@ -50,6 +50,7 @@ class TestMonoplotAlgorithm : public QObject
     void badInput_data();
     void badInput();
     void keepsGoingPastFeaturesItCannotResolve();
+    void bridgesLargerHolesWhenAsked();
 
   private:
     QString pixelLayer( const QString &name, const QList<QPair<QString, std::vector<Eigen::Vector2d>>> &features, bool line, const char *crs = nullptr );
@@ -519,4 +520,47 @@ void TestMonoplotAlgorithm::keepsGoingPastFeaturesItCannotResolve()
   QVERIFY( !ok );
   QVERIFY2( failing.errors.join( ' ' ).contains( "None of the 2 features" ), qPrintable( failing.errors.join( '\n' ) ) );
   QVERIFY( !QFile::exists( never ) );
+}
+
+void TestMonoplotAlgorithm::bridgesLargerHolesWhenAsked()
+{
+  // a nodata hole of 50 x 50 cells (100 m) around a digitised point: too large to fill; bridged when asked,
+  // with the bridge's height sigma in the point's precision
+  const Eigen::Vector3d ground( kX0 + 480.0, kY0 - 780.0, terrain( kX0 + 480.0, kY0 - 780.0 ) );
+  const QString dem = mDir.filePath( "dem-hole.tif" );
+  syntheticterrain::writeTerrain( dem.toStdString(), 500, kX0, "EPSG:32633", 0.05, []( int c, int r ) { return c >= 215 && c < 265 && r >= 365 && r < 415; } );
+  const Eigen::Vector2d pixel = mImage->projectGroundToPixel( ground ).pixelInImage;
+  const QString input = pixelLayer( "in-hole", { qMakePair( QStringLiteral( "hole" ), std::vector<Eigen::Vector2d> { pixel } ),
+                                                 qMakePair( QStringLiteral( "good" ), std::vector<Eigen::Vector2d> { { 640.0, 900.0 } } ) }, false );
+  bool ok = false;
+  RecordingFeedback plain;
+  QVariantMap result = run( { { "BLOCK", mBlock }, { "IMAGE", "P1" }, { "DEM", dem }, { "INPUT", input }, { "OUTPUT", mDir.filePath( "hole-plain.gpkg" ) } }, &ok, &plain );
+  QVERIFY2( ok, qPrintable( plain.errors.join( '\n' ) ) );
+  QCOMPARE( result.value( "FAILED_COUNT" ).toInt(), 1 );
+  QVERIFY2( plain.warnings.join( ' ' ).contains( "can be bridged" ), qPrintable( plain.warnings.join( '\n' ) ) );
+
+  RecordingFeedback bridged;
+  const QString output = mDir.filePath( "hole-bridged.gpkg" );
+  result = run( { { "BLOCK", mBlock }, { "IMAGE", "P1" }, { "DEM", dem }, { "INPUT", input }, { "BRIDGE_HOLES", 60 }, { "OUTPUT", output } }, &ok, &bridged );
+  QVERIFY2( ok, qPrintable( bridged.errors.join( '\n' ) ) );
+  QCOMPARE( result.value( "FAILED_COUNT" ).toInt(), 0 );
+  QCOMPARE( result.value( "BRIDGED_VERTICES" ).toInt(), 1 );
+  QVERIFY( result.value( "BRIDGED_DEM_CELLS" ).toInt() > 0 ); // (in the tiles the rays read)
+  QVERIFY2( bridged.infos.join( ' ' ).contains( "1 vertices lie on them" ), qPrintable( bridged.infos.join( '\n' ) ) );
+  QgsVectorLayer layer( output, QStringLiteral( "bridged" ), QStringLiteral( "ogr" ) );
+  QVERIFY( layer.isValid() );
+  QMap<QString, QgsFeature> byName;
+  QgsFeature f;
+  QgsFeatureIterator it = layer.getFeatures();
+  while ( it.nextFeature( f ) )
+    byName[f.attribute( "name" ).toString()] = f;
+  QCOMPARE( byName["hole"].attribute( "status" ).toString(), QStringLiteral( "ok" ) );
+  QCOMPARE( byName["hole"].attribute( "n_bridged" ).toInt(), 1 );
+  QCOMPARE( byName["good"].attribute( "n_bridged" ).toInt(), 0 );
+  // the bridged point is where the terrain is, to within its sigmas; those are larger than the good point's
+  const QgsPoint p = *byName["hole"].geometry().vertices_begin();
+  const double sigmaY = byName["hole"].attribute( "sigma_y" ).toDouble(), sigmaZ = byName["hole"].attribute( "sigma_z" ).toDouble();
+  QVERIFY2( std::abs( p.y() - ground.y() ) <= 3.0 * sigmaY + 0.5, qPrintable( QStringLiteral( "%1 vs %2, sigma %3" ).arg( p.y() ).arg( ground.y() ).arg( sigmaY ) ) );
+  QVERIFY2( std::abs( p.z() - ground.z() ) <= 3.0 * sigmaZ + 0.2, qPrintable( QStringLiteral( "%1 vs %2, sigma %3" ).arg( p.z() ).arg( ground.z() ).arg( sigmaZ ) ) );
+  QVERIFY( sigmaZ > byName["good"].attribute( "sigma_z" ).toDouble() );
 }
