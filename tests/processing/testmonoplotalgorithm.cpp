@@ -59,6 +59,8 @@ class TestMonoplotAlgorithm : public QObject
     QVariantMap projectToImage( QgsVectorLayer *layer, bool *ok, RecordingFeedback *feedback );
     //! The OUTPUT layer of an algorithm's result.
     QgsVectorLayer *outputLayer( const QVariantMap &result );
+    //! The features of an output file by their `name` (empty if it cannot be read).
+    QMap<QString, QgsFeature> featuresByName( const QString &path );
     QTemporaryDir mDir;
     QString mBlock;
     std::unique_ptr<geostation::OrientedImage> mImage;
@@ -457,6 +459,17 @@ QgsVectorLayer *TestMonoplotAlgorithm::outputLayer( const QVariantMap &result )
   return qobject_cast<QgsVectorLayer *>( QgsProcessingUtils::mapLayerFromString( result.value( "OUTPUT" ).toString(), mContext ) );
 }
 
+QMap<QString, QgsFeature> TestMonoplotAlgorithm::featuresByName( const QString &path )
+{
+  QMap<QString, QgsFeature> byName;
+  QgsVectorLayer layer( path, QStringLiteral( "output" ), QStringLiteral( "ogr" ) );
+  QgsFeature f;
+  QgsFeatureIterator it = layer.getFeatures();
+  while ( it.nextFeature( f ) )
+    byName[f.attribute( "name" ).toString()] = f;
+  return byName;
+}
+
 int main( int argc, char **argv )
 {
   return runQgisTests<TestMonoplotAlgorithm>( argc, argv );
@@ -482,13 +495,7 @@ void TestMonoplotAlgorithm::keepsGoingPastFeaturesItCannotResolve()
   QVERIFY2( ok, qPrintable( feedback.errors.join( '\n' ) ) );
   QCOMPARE( result.value( "MONOPLOTTED_COUNT" ).toInt(), 2 );
   QCOMPARE( result.value( "FAILED_COUNT" ).toInt(), 2 );
-  QgsVectorLayer layer( output, QStringLiteral( "mixed" ), QStringLiteral( "ogr" ) );
-  QVERIFY( layer.isValid() );
-  QMap<QString, QgsFeature> byName;
-  QgsFeature f;
-  QgsFeatureIterator it = layer.getFeatures();
-  while ( it.nextFeature( f ) )
-    byName[f.attribute( "name" ).toString()] = f;
+  QMap<QString, QgsFeature> byName = featuresByName( output );
   QCOMPARE( byName.size(), 4 );
   for ( const QString &name : { QStringLiteral( "good1" ), QStringLiteral( "good2" ) } )
   {
@@ -547,13 +554,7 @@ void TestMonoplotAlgorithm::bridgesLargerHolesWhenAsked()
   QCOMPARE( result.value( "BRIDGED_VERTICES" ).toInt(), 1 );
   QVERIFY( result.value( "BRIDGED_DEM_CELLS" ).toInt() > 0 ); // (in the tiles the rays read)
   QVERIFY2( bridged.infos.join( ' ' ).contains( "1 vertices lie on them" ), qPrintable( bridged.infos.join( '\n' ) ) );
-  QgsVectorLayer layer( output, QStringLiteral( "bridged" ), QStringLiteral( "ogr" ) );
-  QVERIFY( layer.isValid() );
-  QMap<QString, QgsFeature> byName;
-  QgsFeature f;
-  QgsFeatureIterator it = layer.getFeatures();
-  while ( it.nextFeature( f ) )
-    byName[f.attribute( "name" ).toString()] = f;
+  QMap<QString, QgsFeature> byName = featuresByName( output );
   QCOMPARE( byName["hole"].attribute( "status" ).toString(), QStringLiteral( "ok" ) );
   QCOMPARE( byName["hole"].attribute( "n_bridged" ).toInt(), 1 );
   QCOMPARE( byName["good"].attribute( "n_bridged" ).toInt(), 0 );
