@@ -420,9 +420,13 @@ namespace geostation
       for ( const TracedVertex &v : out.vertices )
         groundLine.push_back( v.point );
       if ( groundLine.size() < 2 )
+      {
+        // (a lone vertex is not mixed with the line on the road surface: their difference is no direction)
+        groundLine.clear();
         for ( const Eigen::Vector2d &p : followed.line.points )
           if ( const std::optional<Eigen::Vector3d> g = ground( reference, p ) )
             groundLine.push_back( *g );
+      }
       // its direction over the last 20 m
       if ( groundLine.size() >= 2 )
       {

@@ -125,3 +125,23 @@ TEST( LineBridging, AWornCrackAtTheClickDoesNotTurnTheSeedDirection )
   EXPECT_GT( std::abs( seed.direction.dot( along ) ), std::cos( 8.0 * 3.14159265358979 / 180.0 ) ) << seed.direction.transpose();
   EXPECT_NEAR( seed.profile.widthPx, 10.0, 2.5 );
 }
+
+TEST( LineBridging, AClickOnAShortDashKeepsTheDashsDirection )
+{
+  // a far dash: 14 px long, 4 px wide, on asphalt with some texture; the click in its middle
+  for ( const double degrees : { 20.0, 45.0, 70.0 } )
+  {
+    SCOPED_TRACE( degrees );
+    const double a = degrees * 3.14159265358979 / 180.0;
+    const Eigen::Vector2d along( std::cos( a ), -std::sin( a ) ), click( 100.0, 100.0 );
+    cv::Mat grey( 200, 200, CV_8UC1, cv::Scalar( 70 ) );
+    cv::randn( grey, 70, 6 );
+    const auto pt = []( const Eigen::Vector2d &p ) { return cv::Point( static_cast<int>( std::lround( p.x() ) ), static_cast<int>( std::lround( p.y() ) ) ); };
+    cv::line( grey, pt( click - 7.0 * along ), pt( click + 7.0 * along ), cv::Scalar( 190 ), 4 );
+    cv::GaussianBlur( grey, grey, cv::Size( 5, 5 ), 0.8 );
+    const SeedAnalysis seed = analyseSeed( grey, click, std::nullopt );
+    ASSERT_TRUE( seed.ok ) << seed.message;
+    EXPECT_EQ( seed.profile.kind, LineKind::BrightStripe );
+    EXPECT_GT( std::abs( seed.direction.dot( along ) ), std::cos( 10.0 * 3.14159265358979 / 180.0 ) ) << seed.direction.transpose();
+  }
+}
