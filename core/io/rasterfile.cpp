@@ -22,6 +22,68 @@ namespace geostation
     {
       void operator()( void *ds ) const { GDALClose( ds ); }
     };
+
+    GDALColorInterp interpretation( GDALDatasetH ds, int band )
+    {
+      return GDALGetRasterColorInterpretation( GDALGetRasterBand( ds, band ) );
+    }
+
+    /**
+     * The bands that make the image: 1 (grey or palette) or 3 (RGB) as they
+     * are; a last band that is alpha (grey + alpha, RGBA) is left out, as
+     * is nothing else. Throws std::invalid_argument naming the layout.
+     */
+    int usedBands( GDALDatasetH ds, const std::string &path )
+    {
+      const int bands = GDALGetRasterCount( ds );
+      if ( bands == 1 || bands == 3 )
+        return bands;
+      if ( ( bands == 2 || bands == 4 ) && interpretation( ds, bands ) == GCI_AlphaBand )
+        return bands - 1;
+      std::string layout;
+      for ( int b = 1; b <= bands && b <= 8; ++b )
+        layout += std::string( b > 1 ? ", " : "" ) + GDALGetColorInterpretationName( interpretation( ds, b ) );
+      throw std::invalid_argument( "the raster " + path + " has " + std::to_string( bands ) + " bands (" + layout + ( bands > 8 ? ", ..." : "" ) +
+                                   "); grey, RGB, and either with an alpha band are supported" );
+    }
+
+    //! The colour table of a palette image (one band of indices), nullptr for any other image.
+    GDALColorTableH paletteOf( GDALDatasetH ds )
+    {
+      if ( GDALGetRasterCount( ds ) > 2 || interpretation( ds, 1 ) != GCI_PaletteIndex )
+        return nullptr;
+      GDALColorTableH table = GDALGetRasterColorTable( GDALGetRasterBand( ds, 1 ) );
+      return table && GDALGetPaletteInterpretation( table ) == GPI_RGB ? table : nullptr;
+    }
+
+    /**
+     * Palette indices (8 or 16 bits) as the colours they stand for: grey
+     * when every entry is grey, RGB otherwise (8 bits; indices beyond the
+     * table are black).
+     */
+    cv::Mat expandPalette( const cv::Mat &indices, GDALColorTableH table )
+    {
+      const int entries = GDALGetColorEntryCount( table );
+      bool grey = true;
+      for ( int i = 0; i < entries; ++i )
+      {
+        const GDALColorEntry *e = GDALGetColorEntry( table, i );
+        grey = grey && e->c1 == e->c2 && e->c2 == e->c3;
+      }
+      cv::Mat colours( indices.rows, indices.cols, grey ? CV_8UC1 : CV_8UC3 );
+      for ( int r = 0; r < indices.rows; ++r )
+        for ( int c = 0; c < indices.cols; ++c )
+        {
+          const int index = indices.depth() == CV_8U ? indices.at<uchar>( r, c ) : indices.at<ushort>( r, c );
+          const GDALColorEntry *e = index < entries ? GDALGetColorEntry( table, index ) : nullptr;
+          const uchar red = e ? static_cast<uchar>( e->c1 ) : 0, green = e ? static_cast<uchar>( e->c2 ) : 0, blue = e ? static_cast<uchar>( e->c3 ) : 0;
+          if ( grey )
+            colours.at<uchar>( r, c ) = red;
+          else
+            colours.at<cv::Vec3b>( r, c ) = cv::Vec3b( red, green, blue );
+        }
+      return colours;
+    }
   }
 
   RasterImage readRaster( const std::string &path )
@@ -32,9 +94,7 @@ namespace geostation
     CPLPopErrorHandler();
     if ( !ds )
       throw std::invalid_argument( "cannot open the raster " + path );
-    const int bands = GDALGetRasterCount( ds.get() );
-    if ( bands != 1 && bands != 3 )
-      throw std::invalid_argument( "the raster " + path + " has " + std::to_string( bands ) + " bands; 1 (grey) or 3 (RGB) are supported" );
+    const int bands = usedBands( ds.get(), path );
     const GDALDataType type = GDALGetRasterDataType( GDALGetRasterBand( ds.get(), 1 ) );
     if ( type != GDT_Byte && type != GDT_UInt16 )
       throw std::invalid_argument( "the raster " + path + " is " + GDALGetDataTypeName( type ) + "; 8- and 16-bit unsigned images are supported" );
@@ -48,6 +108,8 @@ namespace geostation
     if ( GDALDatasetRasterIO( ds.get(), GF_Read, 0, 0, width, height, image.pixels.data, width, height, type, bands, bandMap.data(), pixelBytes,
                               static_cast<GSpacing>( image.pixels.step[0] ), static_cast<GSpacing>( image.pixels.elemSize1() ) ) != CE_None )
       throw std::invalid_argument( "cannot read the raster " + path );
+    if ( GDALColorTableH table = paletteOf( ds.get() ) )
+      image.pixels = expandPalette( image.pixels, table );
     std::array<double, 6> gt;
     if ( GDALGetGeoTransform( ds.get(), gt.data() ) == CE_None )
       image.geoTransform = gt;

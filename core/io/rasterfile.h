@@ -1,8 +1,9 @@
 /***************************************************************************
   rasterfile.h - images in and out of GDAL rasters, georeferencing kept
   -------------------------------------------------------------------------
-  readRaster() reads a 1- or 3-band 8- or 16-bit raster into a cv::Mat
-  (RGB order) with its geotransform, CRS and nodata; writeGeoTiffLike()
+  readRaster() reads an 8- or 16-bit grey or RGB raster into a cv::Mat
+  (RGB order) with its geotransform, CRS and nodata (an alpha band is left
+  out, a palette image becomes the colours of its table); writeGeoTiffLike()
   writes a cv::Mat as a GeoTIFF with another raster's georeferencing,
   through a temporary file renamed into place, so a failure never leaves a
   half-written output.
@@ -27,7 +28,12 @@ namespace geostation
     std::optional<double> noData;
   };
 
-  //! Throws std::invalid_argument (unreadable, not 1 or 3 bands, not 8/16-bit) naming the file.
+  /**
+   * Throws std::invalid_argument (unreadable, not grey or RGB with or
+   * without alpha, not 8/16-bit) naming the file. The pixels are the file's
+   * as stored: an EXIF orientation tag does not rotate them (the camera's
+   * calibration and every pixel coordinate refer to the stored grid).
+   */
   RasterImage readRaster( const std::string &path );
 
   /**
