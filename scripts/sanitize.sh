@@ -24,7 +24,7 @@ mkdir -p "$build_dir"
 cmake -S "$source_dir" -B "$build_dir" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O2 -g1 -DNDEBUG" -DGEOSTATION_SANITIZE="$sanitizers" \
   -DGEOSTATION_BUILD_PLUGIN=OFF -DGEOSTATION_BUILD_BENCH=OFF > "$build_dir.configure.log" 2>&1 \
   || { cat "$build_dir.configure.log"; exit 1; }
-cmake --build "$build_dir" -j"$(nproc)" --target geostation_core_tests
+cmake --build "$build_dir" -j"$(nproc)" --target geostation_core_tests geostation_fuzz_replay
 # detect_stack_use_after_return doubles the run time of the Eigen-heavy tests (fake stack frames for every
 # call): GEOSTATION_ASAN_OPTIONS=...:detect_stack_use_after_return=1 turns it on for a deeper run
 export ASAN_OPTIONS="${GEOSTATION_ASAN_OPTIONS:-detect_leaks=1:abort_on_error=1:strict_string_checks=1}"

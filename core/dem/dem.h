@@ -56,7 +56,10 @@ namespace geostation
     public:
       /**
        * Opens a single-band raster. Throws std::runtime_error if it cannot be
-       * read, has no CRS or no geotransform.
+       * read, has no CRS or no geotransform. Tiles are read when first
+       * needed: every method that reads heights (heightAt(), tileView(), ray
+       * intersection) throws std::runtime_error naming the file when a tile
+       * of it cannot be read (a corrupt block).
        */
       explicit Dem( const std::string &path, const DemOptions &options = DemOptions() );
       ~Dem();

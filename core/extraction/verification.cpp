@@ -217,7 +217,9 @@ namespace geostation
       const std::vector<Eigen::Vector2d> source = densifyPolyline( polygon.pixels, options.densifyPx );
       if ( source.size() < 3 )
         continue;
-      const auto [width, contrast] = measureBand( sourceGrey, source, object );
+      // (not a structured binding: lambdas capture those only from C++20 on)
+      const std::pair<double, double> band = measureBand( sourceGrey, source, object );
+      const double width = band.first, contrast = band.second;
       std::vector<Eigen::Vector2d> runSource, runTarget;
       const auto flush = [&]
       {

@@ -268,6 +268,11 @@ namespace geostation
       const auto [line, column] = lineColumn( text, e.byte > 0 ? e.byte - 1 : 0 );
       throw BlockFormatError( fileName, "", "not valid JSON (line " + std::to_string( line ) + ", column " + std::to_string( column ) + ")" );
     }
+    catch ( const json::out_of_range & )
+    {
+      // e.g. 1e400: the parser gives no position for it
+      throw BlockFormatError( fileName, "", "not valid JSON: a number is too large to be read" );
+    }
 
     const JsonNode top( root, "$", fileName );
     top.requireObject();

@@ -144,6 +144,8 @@ namespace geostation
           p.pixel.x() = in.read<double>( "a 2-D point" );
           p.pixel.y() = in.read<double>( "a 2-D point" );
           const std::uint64_t id = in.read<std::uint64_t>( "a 2-D point's 3-D id" );
+          if ( id != std::numeric_limits<std::uint64_t>::max() && id > static_cast<std::uint64_t>( std::numeric_limits<std::int64_t>::max() ) )
+            throw ColmapFormatError( "the COLMAP file " + file.string() + " has a 2-D point of image " + std::to_string( im.id ) + " with the 3-D point id " + std::to_string( id ) + " (more than 2^63, and not the all-bits-set of 'none')" );
           p.point3DId = id == std::numeric_limits<std::uint64_t>::max() ? -1 : static_cast<std::int64_t>( id );
         }
       }
@@ -271,9 +273,9 @@ namespace geostation
         std::getline( f, im.name ); // names may contain spaces
         if ( im.name.empty() )
           lines.fail( "expected NAME" );
+        // the last image's empty line of 2-D points may be missing (an editor dropped it); COLMAP reads it as empty too
         std::string points;
-        if ( !lines.nextLine( points ) )
-          lines.fail( "the image's line of 2-D points is missing" );
+        lines.nextLine( points );
         std::istringstream p( points );
         double x, y;
         while ( p >> x )
@@ -281,6 +283,8 @@ namespace geostation
           ColmapPoint2D pt;
           if ( !( p >> y >> pt.point3DId ) )
             lines.fail( "expected triples X Y POINT3D_ID" );
+          if ( pt.point3DId < -1 )
+            lines.fail( "a POINT3D_ID of " + std::to_string( pt.point3DId ) + " (-1 for none, or the id of a 3-D point)" );
           pt.pixel = { x, y };
           im.points2D.push_back( pt );
         }

@@ -57,6 +57,13 @@ namespace geostation
       return v[0];
     }
 
+    //! Throws unless the matrix is a rotation (orthonormal, determinant +1) to 1e-6: a singular or mirrored one would give no angles.
+    void requireRotation( const Eigen::Matrix3d &rotation, const fs::path &file, const std::string &what )
+    {
+      if ( !rotation.allFinite() || ( rotation.transpose() * rotation - Eigen::Matrix3d::Identity() ).cwiseAbs().maxCoeff() > 1e-6 || rotation.determinant() < 0.0 )
+        throw std::invalid_argument( "the Metashape file " + file.string() + ": " + what + " is not a rotation (orthonormal, not mirrored)" );
+    }
+
     void forEachElement( const CPLXMLNode *node, const char *name, const std::function<void( const CPLXMLNode * )> &visit )
     {
       for ( const CPLXMLNode *child = node ? node->psChild : nullptr; child; child = child->psNext )
@@ -222,9 +229,14 @@ namespace geostation
       if ( r.size() != 9 || t.size() != 3 )
         throw std::invalid_argument( "the Metashape file " + xmlFile.string() + ": the chunk's <transform> needs 9 rotation and 3 translation values" );
       chunkRotation = Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>( r.data() );
+      requireRotation( chunkRotation, xmlFile, "the chunk's <rotation>" );
+      if ( !std::isfinite( t[0] ) || !std::isfinite( t[1] ) || !std::isfinite( t[2] ) )
+        throw std::invalid_argument( "the Metashape file " + xmlFile.string() + ": the chunk's <translation> is not three numbers" );
       chunkTranslation = Eigen::Vector3d( t[0], t[1], t[2] );
       if ( CPLGetXMLValue( chunkTransform, "scale", nullptr ) )
         chunkScale = value( chunkTransform, "scale", xmlFile );
+      if ( !( chunkScale > 0.0 ) )
+        throw std::invalid_argument( "the Metashape file " + xmlFile.string() + ": the chunk's <scale> is not positive" );
     }
     const std::string reference = CPLGetXMLValue( chunk, "reference", "" );
     const bool geocentric = chunkTransform && !reference.empty() && reference.rfind( "LOCAL_CS", 0 ) != 0;
@@ -258,7 +270,10 @@ namespace geostation
         throw std::invalid_argument( "the Metashape file " + xmlFile.string() + ": the <transform> of camera \"" + label + "\" needs 16 values" );
       const Eigen::Matrix4d chunkFromCamera = Eigen::Map<const Eigen::Matrix<double, 4, 4, Eigen::RowMajor>>( m.data() );
       Eigen::Matrix3d rotation = chunkFromCamera.topLeftCorner<3, 3>();
-      rotation.colwise().normalize();
+      rotation.colwise().normalize(); // a rigid transform; normalised against rounding in the file
+      requireRotation( rotation, xmlFile, "the <transform> of camera \"" + label + "\"" );
+      if ( !chunkFromCamera.topRightCorner<3, 1>().allFinite() )
+        throw std::invalid_argument( "the Metashape file " + xmlFile.string() + ": the <transform> of camera \"" + label + "\" has a position that is not three numbers" );
       Eigen::Vector3d centre = chunkScale * ( chunkRotation * chunkFromCamera.topRightCorner<3, 1>() ) + chunkTranslation;
       rotation = chunkRotation * rotation; // camera (x right, y down, z forward) to geocentric or local
       if ( geocentric )

@@ -134,31 +134,49 @@ namespace geostation
     return camera;
   }
 
+  namespace
+  {
+    std::vector<RigCamera> readCameras( const fs::path &file )
+    {
+      cv::FileStorage fsr = open( file );
+      std::vector<RigCamera> cameras;
+      const cv::FileNode rig = fsr["cameras"];
+      if ( !rig.empty() )
+      {
+        if ( !rig.isSeq() || rig.size() == 0 )
+          fail( file, "\"cameras\" must be a non-empty sequence of cameras" );
+        for ( const cv::FileNode &node : rig )
+        {
+          if ( node["id"].empty() )
+            fail( file, "camera " + std::to_string( cameras.size() + 1 ) + " of \"cameras\" has no \"id\"" );
+          const std::string id = static_cast<std::string>( node["id"] );
+          if ( id.empty() )
+            fail( file, "camera " + std::to_string( cameras.size() + 1 ) + " of \"cameras\" has an \"id\" that is empty or not text" );
+          for ( const RigCamera &c : cameras )
+            if ( c.camera.id == id )
+              fail( file, "the camera id \"" + id + "\" is used twice" );
+          cameras.push_back( rigCamera( node, id, file ) );
+        }
+      }
+      else if ( !fsr["camera_matrix"].empty() )
+        cameras.push_back( rigCamera( fsr.root(), file.stem().string(), file ) );
+      else
+        fail( file, "neither \"camera_matrix\" (one camera) nor \"cameras\" (a rig) is in it" );
+      return cameras;
+    }
+  } // namespace
+
   std::vector<RigCamera> readOpenCvCalibration( const fs::path &file )
   {
-    cv::FileStorage fsr = open( file );
-    std::vector<RigCamera> cameras;
-    const cv::FileNode rig = fsr["cameras"];
-    if ( !rig.empty() )
+    try
     {
-      if ( !rig.isSeq() || rig.size() == 0 )
-        fail( file, "\"cameras\" must be a non-empty sequence of cameras" );
-      for ( const cv::FileNode &node : rig )
-      {
-        if ( node["id"].empty() )
-          fail( file, "camera " + std::to_string( cameras.size() + 1 ) + " of \"cameras\" has no \"id\"" );
-        const std::string id = static_cast<std::string>( node["id"] );
-        for ( const RigCamera &c : cameras )
-          if ( c.camera.id == id )
-            fail( file, "the camera id \"" + id + "\" is used twice" );
-        cameras.push_back( rigCamera( node, id, file ) );
-      }
+      return readCameras( file );
     }
-    else if ( !fsr["camera_matrix"].empty() )
-      cameras.push_back( rigCamera( fsr.root(), file.stem().string(), file ) );
-    else
-      fail( file, "neither \"camera_matrix\" (one camera) nor \"cameras\" (a rig) is in it" );
-    return cameras;
+    catch ( const cv::Exception &e )
+    {
+      // OpenCV's own checks while reading a node (e.g. an opencv-matrix whose data does not fit rows x cols)
+      fail( file, "OpenCV cannot read it (" + e.err + ")" );
+    }
   }
 
   bool isOpenCvCalibration( const fs::path &file )

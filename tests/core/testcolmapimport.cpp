@@ -472,6 +472,17 @@ TEST( ColmapImport, BadModelsAreRefusedWithOneSentence )
     EXPECT_NE( errorOf( [&] { ColmapModel::read( dir / "txt" ); } ).find( "line 1: expected the 4 parameters of PINHOLE" ), std::string::npos );
   }
   {
+    // the last image's empty line of 2-D points dropped by an editor: read as COLMAP reads it (no 2-D points)
+    const fs::path folder = dir / "lastline";
+    fs::create_directories( folder );
+    std::ofstream( folder / "cameras.txt" ) << "1 PINHOLE 640 480 500 500 320 240\n";
+    std::ofstream( folder / "images.txt" ) << "1 1 0 0 0 0 0 0 1 a.jpg\n10 20 -1\n2 1 0 0 0 1 0 0 1 b.jpg\n";
+    const ColmapModel read = ColmapModel::read( folder );
+    ASSERT_EQ( read.images.size(), 2u );
+    EXPECT_EQ( read.images[0].points2D.size(), 1u );
+    EXPECT_TRUE( read.images[1].points2D.empty() );
+  }
+  {
     // a track that names a 2-D point the image does not have
     ColmapModel broken = sampleModel();
     broken.points3D[3].track[1].point2DIndex = 999;

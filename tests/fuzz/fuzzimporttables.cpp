@@ -1,0 +1,128 @@
+/***************************************************************************
+  fuzzimporttables.cpp - the text formats of a mapping van and of Metashape
+  -------------------------------------------------------------------------
+  trajectory_csv: a trajectory table for a one-camera rig
+  (importTrajectory(), image files not required).
+  metashape_xml: Metashape's camera XML (importMetashapeCameras(), image
+  files not required).
+  opencv_calibration: an OpenCV calibration file, YAML (input starting with
+  "%YAML" or anything but "<") or XML (readOpenCvCalibration()).
+
+  Each either throws std::invalid_argument with a message or gives cameras
+  and images that are complete: every image has its camera and a finite
+  exterior orientation, every camera a positive size and finite focal
+  length.
+ ***************************************************************************/
+#include "fuzztarget.h"
+
+#include <cmath>
+
+#include "io/metashapeimport.h"
+#include "io/opencvcalibration.h"
+#include "io/trajectoryimport.h"
+
+namespace
+{
+  namespace fuzz = geostation::fuzz;
+
+  void requireFiniteCamera( const geostation::Camera &camera )
+  {
+    if ( camera.width <= 0 || camera.height <= 0 || !std::isfinite( camera.f ) || !std::isfinite( camera.cx ) || !std::isfinite( camera.cy ) )
+      fuzz::violated( "camera \"" + camera.id + "\" without a positive size or a finite focal length and principal point" );
+  }
+
+  void requireCompleteBlock( const geostation::Block &block )
+  {
+    fuzz::outcome( "imported: " + std::to_string( block.cameras.size() ) + " cameras, " + std::to_string( block.images.size() ) + " images" );
+    for ( const auto &camera : block.cameras )
+      requireFiniteCamera( camera );
+    for ( const auto &image : block.images )
+    {
+      if ( !block.findCamera( image.cameraId ) )
+        fuzz::violated( "image \"" + image.id + "\" without its camera" );
+      if ( image.exterior )
+      {
+        const auto &eo = *image.exterior;
+        if ( !eo.projectionCentre.allFinite() || !std::isfinite( eo.omegaDeg ) || !std::isfinite( eo.phiDeg ) || !std::isfinite( eo.kappaDeg ) )
+          fuzz::violated( "image \"" + image.id + "\" with an exterior orientation that is not finite" );
+      }
+    }
+  }
+}
+
+GEOSTATION_FUZZ_TARGET( trajectory_csv )
+{
+  const std::filesystem::path folder = fuzz::scratchFolder( "trajectory_csv" );
+  fuzz::writeBytes( folder / "trajectory.csv", data, size );
+  geostation::RigCamera front;
+  front.camera.id = "front";
+  front.camera.width = 64;
+  front.camera.height = 48;
+  front.camera.f = 50;
+  front.camera.cx = 32;
+  front.camera.cy = 24;
+  front.leverArmM = Eigen::Vector3d( 1.0, 0.0, -2.0 );
+  front.imagePattern = "img/{station}_front.png";
+  geostation::TrajectoryImportOptions options;
+  options.crs = "EPSG:32617";
+  options.requireImageFiles = false;
+  for ( const bool withPattern : { true, false } )
+  {
+    geostation::RigCamera camera = front;
+    if ( !withPattern )
+      camera.imagePattern.clear();
+    try
+    {
+      requireCompleteBlock( geostation::importTrajectory( { camera }, folder / "trajectory.csv", options ).block );
+    }
+    catch ( const std::invalid_argument &error )
+    {
+      fuzz::requireMessage( error );
+    }
+  }
+  return 0;
+}
+
+GEOSTATION_FUZZ_TARGET( metashape_xml )
+{
+  const std::filesystem::path folder = fuzz::scratchFolder( "metashape_xml" );
+  fuzz::writeBytes( folder / "cameras.xml", data, size );
+  geostation::MetashapeImportOptions options;
+  options.crs = "EPSG:32617";
+  options.requireImageFiles = false;
+  geostation::isMetashapeCameras( folder / "cameras.xml" );
+  try
+  {
+    requireCompleteBlock( geostation::importMetashapeCameras( folder / "cameras.xml", options ).block );
+  }
+  catch ( const std::invalid_argument &error )
+  {
+    fuzz::requireMessage( error );
+  }
+  return 0;
+}
+
+GEOSTATION_FUZZ_TARGET( opencv_calibration )
+{
+  const std::filesystem::path folder = fuzz::scratchFolder( "opencv_calibration" );
+  const bool xml = size > 0 && data[0] == '<';
+  const std::filesystem::path file = folder / ( xml ? "rig.xml" : "rig.yaml" );
+  fuzz::writeBytes( file, data, size );
+  geostation::isOpenCvCalibration( file );
+  try
+  {
+    const std::vector<geostation::RigCamera> cameras = geostation::readOpenCvCalibration( file );
+    fuzz::outcome( "read: " + std::to_string( cameras.size() ) + " cameras" );
+    for ( const auto &camera : cameras )
+    {
+      requireFiniteCamera( camera.camera );
+      if ( !camera.leverArmM.allFinite() || !camera.boresightDeg.allFinite() )
+        fuzz::violated( "rig camera \"" + camera.camera.id + "\" with a lever arm or boresight that is not finite" );
+    }
+  }
+  catch ( const std::invalid_argument &error )
+  {
+    fuzz::requireMessage( error );
+  }
+  return 0;
+}
