@@ -164,7 +164,7 @@ void BundleAdjustAlgorithm::initAlgorithm( const QVariantMap & )
   addOutput( new QgsProcessingOutputNumber( QStringLiteral( "RMSE_CHECK_M" ), QObject::tr( "RMSE on check points (m, 3D)" ) ) );
 }
 
-QVariantMap BundleAdjustAlgorithm::processAlgorithm( const QVariantMap &parameters, QgsProcessingContext &context, QgsProcessingFeedback *feedback )
+QVariantMap BundleAdjustAlgorithm::processGeoStation( const QVariantMap &parameters, QgsProcessingContext &context, QgsProcessingFeedback *feedback )
 {
   geostation::Block block = GeoStationProcessing::loadBlock( parameterAsFile( parameters, QStringLiteral( "BLOCK" ), context ) );
   const QgsCoordinateReferenceSystem crs = GeoStationProcessing::blockCrs( block );

@@ -4,11 +4,11 @@
 #ifndef ENHANCEIMAGEALGORITHM_H
 #define ENHANCEIMAGEALGORITHM_H
 
-#include <qgsprocessingalgorithm.h>
+#include "geostationalgorithm.h"
 
 #include "geostation_processing_export.h"
 
-class GEOSTATION_PROCESSING_EXPORT EnhanceImageAlgorithm : public QgsProcessingAlgorithm
+class GEOSTATION_PROCESSING_EXPORT EnhanceImageAlgorithm : public GeoStationAlgorithm
 {
   public:
     QString name() const override;
@@ -21,7 +21,7 @@ class GEOSTATION_PROCESSING_EXPORT EnhanceImageAlgorithm : public QgsProcessingA
 
   protected:
     void initAlgorithm( const QVariantMap &configuration = QVariantMap() ) override;
-    QVariantMap processAlgorithm( const QVariantMap &parameters, QgsProcessingContext &context, QgsProcessingFeedback *feedback ) override;
+    QVariantMap processGeoStation( const QVariantMap &parameters, QgsProcessingContext &context, QgsProcessingFeedback *feedback ) override;
 };
 
 #endif // ENHANCEIMAGEALGORITHM_H

@@ -71,7 +71,7 @@ void ExportBlockAlgorithm::initAlgorithm( const QVariantMap & )
   addOutput( new QgsProcessingOutputNumber( QStringLiteral( "IMAGES_EXPORTED" ), QObject::tr( "Images exported" ) ) );
 }
 
-QVariantMap ExportBlockAlgorithm::processAlgorithm( const QVariantMap &parameters, QgsProcessingContext &context, QgsProcessingFeedback *feedback )
+QVariantMap ExportBlockAlgorithm::processGeoStation( const QVariantMap &parameters, QgsProcessingContext &context, QgsProcessingFeedback *feedback )
 {
   const geostation::Block block = GeoStationProcessing::loadBlock( parameterAsFile( parameters, QStringLiteral( "BLOCK" ), context ) );
   const bool colmap = parameterAsEnumString( parameters, QStringLiteral( "FORMAT" ), context ) == QLatin1String( "colmap" );

@@ -7,11 +7,11 @@
 #ifndef EXPORTBLOCKALGORITHM_H
 #define EXPORTBLOCKALGORITHM_H
 
-#include <qgsprocessingalgorithm.h>
+#include "geostationalgorithm.h"
 
 #include "geostation_processing_export.h"
 
-class GEOSTATION_PROCESSING_EXPORT ExportBlockAlgorithm : public QgsProcessingAlgorithm
+class GEOSTATION_PROCESSING_EXPORT ExportBlockAlgorithm : public GeoStationAlgorithm
 {
   public:
     QString name() const override;
@@ -24,7 +24,7 @@ class GEOSTATION_PROCESSING_EXPORT ExportBlockAlgorithm : public QgsProcessingAl
 
   protected:
     void initAlgorithm( const QVariantMap &configuration = QVariantMap() ) override;
-    QVariantMap processAlgorithm( const QVariantMap &parameters, QgsProcessingContext &context, QgsProcessingFeedback *feedback ) override;
+    QVariantMap processGeoStation( const QVariantMap &parameters, QgsProcessingContext &context, QgsProcessingFeedback *feedback ) override;
 };
 
 #endif // EXPORTBLOCKALGORITHM_H

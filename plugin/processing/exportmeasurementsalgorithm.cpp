@@ -117,7 +117,7 @@ void ExportMeasurementsAlgorithm::initAlgorithm( const QVariantMap & )
   addOutput( new QgsProcessingOutputNumber( QStringLiteral( "FEATURES" ), QObject::tr( "Features exported" ) ) );
 }
 
-QVariantMap ExportMeasurementsAlgorithm::processAlgorithm( const QVariantMap &parameters, QgsProcessingContext &context, QgsProcessingFeedback *feedback )
+QVariantMap ExportMeasurementsAlgorithm::processGeoStation( const QVariantMap &parameters, QgsProcessingContext &context, QgsProcessingFeedback *feedback )
 {
   const QString input = parameterAsFile( parameters, QStringLiteral( "INPUT" ), context );
   const QStringList formats = parameterAsEnumStrings( parameters, QStringLiteral( "FORMATS" ), context );

@@ -4,11 +4,11 @@
 #ifndef EXPORTMEASUREMENTSALGORITHM_H
 #define EXPORTMEASUREMENTSALGORITHM_H
 
-#include <qgsprocessingalgorithm.h>
+#include "geostationalgorithm.h"
 
 #include "geostation_processing_export.h"
 
-class GEOSTATION_PROCESSING_EXPORT ExportMeasurementsAlgorithm : public QgsProcessingAlgorithm
+class GEOSTATION_PROCESSING_EXPORT ExportMeasurementsAlgorithm : public GeoStationAlgorithm
 {
   public:
     QString name() const override;
@@ -21,7 +21,7 @@ class GEOSTATION_PROCESSING_EXPORT ExportMeasurementsAlgorithm : public QgsProce
 
   protected:
     void initAlgorithm( const QVariantMap &configuration = QVariantMap() ) override;
-    QVariantMap processAlgorithm( const QVariantMap &parameters, QgsProcessingContext &context, QgsProcessingFeedback *feedback ) override;
+    QVariantMap processGeoStation( const QVariantMap &parameters, QgsProcessingContext &context, QgsProcessingFeedback *feedback ) override;
 };
 
 #endif // EXPORTMEASUREMENTSALGORITHM_H

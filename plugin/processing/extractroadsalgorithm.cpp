@@ -141,7 +141,7 @@ void ExtractRoadsAlgorithm::initAlgorithm( const QVariantMap & )
   addOutput( new QgsProcessingOutputNumber( QStringLiteral( "LINE_COUNT" ), QObject::tr( "Lines in the left image" ) ) );
 }
 
-QVariantMap ExtractRoadsAlgorithm::processAlgorithm( const QVariantMap &parameters, QgsProcessingContext &context, QgsProcessingFeedback *feedback )
+QVariantMap ExtractRoadsAlgorithm::processGeoStation( const QVariantMap &parameters, QgsProcessingContext &context, QgsProcessingFeedback *feedback )
 {
   const geostation::Block block = GeoStationProcessing::loadBlock( parameterAsFile( parameters, QStringLiteral( "BLOCK" ), context ) );
   const geostation::BlockImage &left = GeoStationProcessing::blockImage( block, parameterAsString( parameters, QStringLiteral( "LEFT" ), context ).trimmed() );

@@ -134,7 +134,7 @@ void ImportBlockAlgorithm::initAlgorithm( const QVariantMap & )
   addOutput( new QgsProcessingOutputNumber( QStringLiteral( "GEOREFERENCE_RMS_M" ), QObject::tr( "Georeference RMS residual (m)" ) ) );
 }
 
-QVariantMap ImportBlockAlgorithm::processAlgorithm( const QVariantMap &parameters, QgsProcessingContext &context, QgsProcessingFeedback *feedback )
+QVariantMap ImportBlockAlgorithm::processGeoStation( const QVariantMap &parameters, QgsProcessingContext &context, QgsProcessingFeedback *feedback )
 {
   const QString input = parameterAsString( parameters, QStringLiteral( "INPUT" ), context ).trimmed();
   if ( input.isEmpty() )

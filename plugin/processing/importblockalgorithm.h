@@ -8,11 +8,11 @@
 #ifndef IMPORTBLOCKALGORITHM_H
 #define IMPORTBLOCKALGORITHM_H
 
-#include <qgsprocessingalgorithm.h>
+#include "geostationalgorithm.h"
 
 #include "geostation_processing_export.h"
 
-class GEOSTATION_PROCESSING_EXPORT ImportBlockAlgorithm : public QgsProcessingAlgorithm
+class GEOSTATION_PROCESSING_EXPORT ImportBlockAlgorithm : public GeoStationAlgorithm
 {
   public:
     QString name() const override;
@@ -25,7 +25,7 @@ class GEOSTATION_PROCESSING_EXPORT ImportBlockAlgorithm : public QgsProcessingAl
 
   protected:
     void initAlgorithm( const QVariantMap &configuration = QVariantMap() ) override;
-    QVariantMap processAlgorithm( const QVariantMap &parameters, QgsProcessingContext &context, QgsProcessingFeedback *feedback ) override;
+    QVariantMap processGeoStation( const QVariantMap &parameters, QgsProcessingContext &context, QgsProcessingFeedback *feedback ) override;
 };
 
 #endif // IMPORTBLOCKALGORITHM_H

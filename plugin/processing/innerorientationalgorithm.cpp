@@ -85,7 +85,7 @@ void InnerOrientationAlgorithm::initAlgorithm( const QVariantMap & )
   addOutput( new QgsProcessingOutputNumber( QStringLiteral( "AFFINITY_PCT" ), QObject::tr( "Affinity (%)" ) ) );
 }
 
-QVariantMap InnerOrientationAlgorithm::processAlgorithm( const QVariantMap &parameters, QgsProcessingContext &context, QgsProcessingFeedback *feedback )
+QVariantMap InnerOrientationAlgorithm::processGeoStation( const QVariantMap &parameters, QgsProcessingContext &context, QgsProcessingFeedback *feedback )
 {
   geostation::Block block = GeoStationProcessing::loadBlock( parameterAsFile( parameters, QStringLiteral( "BLOCK" ), context ) );
   const QString imageId = parameterAsString( parameters, QStringLiteral( "IMAGE" ), context ).trimmed();

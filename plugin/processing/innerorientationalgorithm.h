@@ -4,11 +4,11 @@
 #ifndef INNERORIENTATIONALGORITHM_H
 #define INNERORIENTATIONALGORITHM_H
 
-#include <qgsprocessingalgorithm.h>
+#include "geostationalgorithm.h"
 
 #include "geostation_processing_export.h"
 
-class GEOSTATION_PROCESSING_EXPORT InnerOrientationAlgorithm : public QgsProcessingAlgorithm
+class GEOSTATION_PROCESSING_EXPORT InnerOrientationAlgorithm : public GeoStationAlgorithm
 {
   public:
     QString name() const override;
@@ -21,7 +21,7 @@ class GEOSTATION_PROCESSING_EXPORT InnerOrientationAlgorithm : public QgsProcess
 
   protected:
     void initAlgorithm( const QVariantMap &configuration = QVariantMap() ) override;
-    QVariantMap processAlgorithm( const QVariantMap &parameters, QgsProcessingContext &context, QgsProcessingFeedback *feedback ) override;
+    QVariantMap processGeoStation( const QVariantMap &parameters, QgsProcessingContext &context, QgsProcessingFeedback *feedback ) override;
 };
 
 #endif // INNERORIENTATIONALGORITHM_H

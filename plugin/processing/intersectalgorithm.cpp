@@ -75,7 +75,7 @@ void IntersectAlgorithm::initAlgorithm( const QVariantMap & )
   addOutput( new QgsProcessingOutputNumber( QStringLiteral( "SKIPPED_COUNT" ), QObject::tr( "Points skipped" ) ) );
 }
 
-QVariantMap IntersectAlgorithm::processAlgorithm( const QVariantMap &parameters, QgsProcessingContext &context, QgsProcessingFeedback *feedback )
+QVariantMap IntersectAlgorithm::processGeoStation( const QVariantMap &parameters, QgsProcessingContext &context, QgsProcessingFeedback *feedback )
 {
   const geostation::Block block = GeoStationProcessing::loadBlock( parameterAsFile( parameters, QStringLiteral( "BLOCK" ), context ) );
   const QgsCoordinateReferenceSystem crs = GeoStationProcessing::blockCrs( block );

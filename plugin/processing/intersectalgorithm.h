@@ -6,11 +6,11 @@
 #ifndef INTERSECTALGORITHM_H
 #define INTERSECTALGORITHM_H
 
-#include <qgsprocessingalgorithm.h>
+#include "geostationalgorithm.h"
 
 #include "geostation_processing_export.h"
 
-class GEOSTATION_PROCESSING_EXPORT IntersectAlgorithm : public QgsProcessingAlgorithm
+class GEOSTATION_PROCESSING_EXPORT IntersectAlgorithm : public GeoStationAlgorithm
 {
   public:
     QString name() const override;
@@ -23,7 +23,7 @@ class GEOSTATION_PROCESSING_EXPORT IntersectAlgorithm : public QgsProcessingAlgo
 
   protected:
     void initAlgorithm( const QVariantMap &configuration = QVariantMap() ) override;
-    QVariantMap processAlgorithm( const QVariantMap &parameters, QgsProcessingContext &context, QgsProcessingFeedback *feedback ) override;
+    QVariantMap processGeoStation( const QVariantMap &parameters, QgsProcessingContext &context, QgsProcessingFeedback *feedback ) override;
 };
 
 #endif // INTERSECTALGORITHM_H

@@ -179,7 +179,7 @@ void MonoplotAlgorithm::initAlgorithm( const QVariantMap & )
   addOutput( new QgsProcessingOutputNumber( QStringLiteral( "FAILED_COUNT" ), QObject::tr( "Features that cannot be monoplotted" ) ) );
 }
 
-QVariantMap MonoplotAlgorithm::processAlgorithm( const QVariantMap &parameters, QgsProcessingContext &context, QgsProcessingFeedback *feedback )
+QVariantMap MonoplotAlgorithm::processGeoStation( const QVariantMap &parameters, QgsProcessingContext &context, QgsProcessingFeedback *feedback )
 {
   const geostation::Block block = GeoStationProcessing::loadBlock( parameterAsFile( parameters, QStringLiteral( "BLOCK" ), context ) );
   const QString imageId = parameterAsString( parameters, QStringLiteral( "IMAGE" ), context ).trimmed();

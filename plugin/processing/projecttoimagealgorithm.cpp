@@ -118,7 +118,7 @@ void ProjectToImageAlgorithm::initAlgorithm( const QVariantMap & )
   addOutput( new QgsProcessingOutputNumber( QStringLiteral( "UNRESOLVED_COUNT" ), QObject::tr( "Features without a height, outside the DEM or not transformable" ) ) );
 }
 
-QVariantMap ProjectToImageAlgorithm::processAlgorithm( const QVariantMap &parameters, QgsProcessingContext &context, QgsProcessingFeedback *feedback )
+QVariantMap ProjectToImageAlgorithm::processGeoStation( const QVariantMap &parameters, QgsProcessingContext &context, QgsProcessingFeedback *feedback )
 {
   // everything that can fail is checked before the output exists: bad input leaves no partial file
   const geostation::Block block = GeoStationProcessing::loadBlock( parameterAsFile( parameters, QStringLiteral( "BLOCK" ), context ) );

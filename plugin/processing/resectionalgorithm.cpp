@@ -135,7 +135,7 @@ void ResectionAlgorithm::initAlgorithm( const QVariantMap & )
   addOutput( new QgsProcessingOutputString( QStringLiteral( "BLUNDERS" ), QObject::tr( "Control points removed as blunders" ) ) );
 }
 
-QVariantMap ResectionAlgorithm::processAlgorithm( const QVariantMap &parameters, QgsProcessingContext &context, QgsProcessingFeedback *feedback )
+QVariantMap ResectionAlgorithm::processGeoStation( const QVariantMap &parameters, QgsProcessingContext &context, QgsProcessingFeedback *feedback )
 {
   geostation::Block block = GeoStationProcessing::loadBlock( parameterAsFile( parameters, QStringLiteral( "BLOCK" ), context ) );
   const QString imageId = parameterAsString( parameters, QStringLiteral( "IMAGE" ), context ).trimmed();

@@ -123,7 +123,7 @@ void SimulateSurveyAlgorithm::initAlgorithm( const QVariantMap & )
   addOutput( new QgsProcessingOutputNumber( QStringLiteral( "IMAGES" ), QObject::tr( "Images rendered" ) ) );
 }
 
-QVariantMap SimulateSurveyAlgorithm::processAlgorithm( const QVariantMap &parameters, QgsProcessingContext &context, QgsProcessingFeedback *feedback )
+QVariantMap SimulateSurveyAlgorithm::processGeoStation( const QVariantMap &parameters, QgsProcessingContext &context, QgsProcessingFeedback *feedback )
 {
   geostation::SimulationOptions options;
   try

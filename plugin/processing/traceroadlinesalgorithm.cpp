@@ -136,7 +136,7 @@ void TraceRoadLinesAlgorithm::initAlgorithm( const QVariantMap & )
   addOutput( new QgsProcessingOutputNumber( QStringLiteral( "FAILED_COUNT" ), QObject::tr( "Seeds not traced" ) ) );
 }
 
-QVariantMap TraceRoadLinesAlgorithm::processAlgorithm( const QVariantMap &parameters, QgsProcessingContext &context, QgsProcessingFeedback *feedback )
+QVariantMap TraceRoadLinesAlgorithm::processGeoStation( const QVariantMap &parameters, QgsProcessingContext &context, QgsProcessingFeedback *feedback )
 {
   const geostation::Block block = GeoStationProcessing::loadBlock( parameterAsFile( parameters, QStringLiteral( "BLOCK" ), context ) );
   const QgsCoordinateReferenceSystem crs = GeoStationProcessing::blockCrs( block );

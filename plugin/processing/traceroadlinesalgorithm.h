@@ -4,11 +4,11 @@
 #ifndef TRACEROADLINESALGORITHM_H
 #define TRACEROADLINESALGORITHM_H
 
-#include <qgsprocessingalgorithm.h>
+#include "geostationalgorithm.h"
 
 #include "geostation_processing_export.h"
 
-class GEOSTATION_PROCESSING_EXPORT TraceRoadLinesAlgorithm : public QgsProcessingAlgorithm
+class GEOSTATION_PROCESSING_EXPORT TraceRoadLinesAlgorithm : public GeoStationAlgorithm
 {
   public:
     QString name() const override;
@@ -21,7 +21,7 @@ class GEOSTATION_PROCESSING_EXPORT TraceRoadLinesAlgorithm : public QgsProcessin
 
   protected:
     void initAlgorithm( const QVariantMap &configuration = QVariantMap() ) override;
-    QVariantMap processAlgorithm( const QVariantMap &parameters, QgsProcessingContext &context, QgsProcessingFeedback *feedback ) override;
+    QVariantMap processGeoStation( const QVariantMap &parameters, QgsProcessingContext &context, QgsProcessingFeedback *feedback ) override;
 };
 
 #endif // TRACEROADLINESALGORITHM_H

@@ -4,6 +4,7 @@
 
 #include <Eigen/Geometry>
 #include <gdal.h>
+#include <gdal_utils.h>
 #include <ogr_api.h>
 #include <ogr_srs_api.h>
 
@@ -51,6 +52,7 @@ class TestMonoplotAlgorithm : public QObject
     void badInput();
     void keepsGoingPastFeaturesItCannotResolve();
     void bridgesLargerHolesWhenAsked();
+    void corruptDemStopsWithOneSentenceAndNoFile();
 
   private:
     QString pixelLayer( const QString &name, const QList<QPair<QString, std::vector<Eigen::Vector2d>>> &features, bool line, const char *crs = nullptr );
@@ -564,4 +566,49 @@ void TestMonoplotAlgorithm::bridgesLargerHolesWhenAsked()
   QVERIFY2( std::abs( p.y() - ground.y() ) <= 3.0 * sigmaY + 0.5, qPrintable( QStringLiteral( "%1 vs %2, sigma %3" ).arg( p.y() ).arg( ground.y() ).arg( sigmaY ) ) );
   QVERIFY2( std::abs( p.z() - ground.z() ) <= 3.0 * sigmaZ + 0.2, qPrintable( QStringLiteral( "%1 vs %2, sigma %3" ).arg( p.z() ).arg( ground.z() ).arg( sigmaZ ) ) );
   QVERIFY( sigmaZ > byName["good"].attribute( "sigma_z" ).toDouble() );
+}
+
+void TestMonoplotAlgorithm::corruptDemStopsWithOneSentenceAndNoFile()
+{
+  // the DEM as tiles of 64 x 64 cells, then the data of every tile overwritten: the file opens, no tile reads.
+  // Core reports that as std::runtime_error, which QGIS does not catch (it would end QGIS): the algorithm must
+  // turn it into its own error
+  const QString tiled = mDir.filePath( "dem-tiled.tif" );
+  const char *options[] = { "-co", "TILED=YES", "-co", "BLOCKXSIZE=64", "-co", "BLOCKYSIZE=64", "-co", "COMPRESS=DEFLATE", nullptr };
+  GDALTranslateOptions *translate = GDALTranslateOptionsNew( const_cast<char **>( options ), nullptr );
+  GDALDatasetH source = GDALOpen( mDir.filePath( "dem.tif" ).toUtf8().constData(), GA_ReadOnly );
+  GDALClose( GDALTranslate( tiled.toUtf8().constData(), source, translate, nullptr ) );
+  GDALClose( source );
+  GDALTranslateOptionsFree( translate );
+  std::vector<std::pair<qint64, qint64>> tiles; // offset, size
+  GDALDatasetH ds = GDALOpen( tiled.toUtf8().constData(), GA_ReadOnly );
+  QVERIFY( ds );
+  GDALRasterBandH band = GDALGetRasterBand( ds, 1 );
+  for ( int ty = 0; ty * 64 < GDALGetRasterYSize( ds ); ++ty )
+    for ( int tx = 0; tx * 64 < GDALGetRasterXSize( ds ); ++tx )
+    {
+      const char *offset = GDALGetMetadataItem( band, QStringLiteral( "BLOCK_OFFSET_%1_%2" ).arg( tx ).arg( ty ).toUtf8().constData(), "TIFF" );
+      const char *size = GDALGetMetadataItem( band, QStringLiteral( "BLOCK_SIZE_%1_%2" ).arg( tx ).arg( ty ).toUtf8().constData(), "TIFF" );
+      QVERIFY( offset && size );
+      tiles.emplace_back( QByteArray( offset ).toLongLong(), QByteArray( size ).toLongLong() );
+    }
+  GDALClose( ds );
+  QFile file( tiled );
+  QVERIFY( file.open( QIODevice::ReadWrite ) );
+  for ( const auto &[offset, size] : tiles )
+  {
+    QVERIFY( file.seek( offset ) );
+    file.write( QByteArray( static_cast<int>( size ), '\x5a' ) );
+  }
+  file.close();
+
+  const QString input = pixelLayer( "on-corrupt", { qMakePair( QStringLiteral( "p" ), std::vector<Eigen::Vector2d> { { 640.0, 900.0 } } ) }, false );
+  const QString output = mDir.filePath( "never-corrupt.gpkg" );
+  bool ok = true;
+  RecordingFeedback feedback;
+  run( { { "BLOCK", mBlock }, { "IMAGE", "P1" }, { "DEM", tiled }, { "INPUT", input }, { "OUTPUT", output } }, &ok, &feedback );
+  QVERIFY( !ok );
+  QCOMPARE( feedback.errors.size(), 1 );
+  QVERIFY2( feedback.errors.at( 0 ).contains( "Monoplot image features onto a DEM stopped: reading the DEM failed" ), qPrintable( feedback.errors.at( 0 ) ) );
+  QVERIFY( !QFile::exists( output ) );
 }
