@@ -19,6 +19,12 @@ namespace geostation
   namespace
   {
     constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+    /**
+     * Beyond this (metres or the DEM's height unit) a value is no height but
+     * an undeclared nodata sentinel, such as float32's -3.4e38 that many
+     * DEMs use without saying so: treated as a hole.
+     */
+    constexpr double kMaxAbsHeight = 1.0e6;
   }
 
   Dem::Dem( const std::string &path, const DemOptions &options )
@@ -105,7 +111,7 @@ namespace geostation
         throw std::runtime_error( std::string( "reading the DEM failed: " ) + CPLGetLastErrorMsg() );
       long empty = 0;
       for ( double &v : region )
-        if ( !std::isfinite( v ) || ( mNoData && v == *mNoData ) )
+        if ( !std::isfinite( v ) || ( mNoData && v == *mNoData ) || std::abs( v ) > kMaxAbsHeight )
         {
           v = kNaN;
           ++empty;

@@ -56,7 +56,9 @@ namespace geostation
     public:
       /**
        * Opens a single-band raster. Throws std::runtime_error if it cannot be
-       * read, has no CRS or no geotransform. Tiles are read when first
+       * read, has no CRS or no geotransform. Cells at the nodata value, not
+       * finite, or beyond +-1e6 (undeclared sentinels such as -3.4e38) are
+       * holes. Tiles are read when first
        * needed: every method that reads heights (heightAt(), tileView(), ray
        * intersection) throws std::runtime_error naming the file when a tile
        * of it cannot be read (a corrupt block).

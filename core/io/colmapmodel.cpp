@@ -10,6 +10,7 @@
 #include <limits>
 #include <map>
 #include <sstream>
+#include <type_traits>
 
 namespace fs = std::filesystem;
 
@@ -72,6 +73,9 @@ namespace geostation
           T value;
           std::memcpy( &value, mData.data() + mOffset, sizeof( T ) );
           mOffset += sizeof( T );
+          if constexpr ( std::is_floating_point_v<T> )
+            if ( !std::isfinite( value ) )
+              throw ColmapFormatError( "the COLMAP file " + mFile.string() + " holds a value that is not a finite number in " + what );
           return value;
         }
 
@@ -138,6 +142,8 @@ namespace geostation
           im.tvec[i] = in.read<double>( "an image translation" );
         im.cameraId = in.read<std::uint32_t>( "an image's camera id" );
         im.name = in.readString( "an image name" );
+        if ( im.name.empty() || im.name.find_first_of( "\r\n" ) != std::string::npos )
+          throw ColmapFormatError( "the COLMAP file " + file.string() + " has an image name that is empty or holds a line break (image " + std::to_string( im.id ) + ")" );
         im.points2D.resize( in.readCount( 24, "2-D points" ) );
         for ( ColmapPoint2D &p : im.points2D )
         {

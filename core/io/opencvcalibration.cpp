@@ -21,11 +21,19 @@ namespace geostation
       throw std::invalid_argument( "the calibration file " + file.string() + ": " + problem );
     }
 
+    //! More values than any calibration matrix (3 x 3, up to 14 distortion coefficients) has.
+    constexpr long long kMaxMatrixValues = 64;
+
     std::vector<double> numbers( const cv::FileNode &node, const fs::path &file, const std::string &key )
     {
       std::vector<double> values;
       if ( node.isMap() && !node["data"].empty() ) // an opencv-matrix
       {
+        // OpenCV allocates rows x cols before it reads the data: a corrupt size would take gigabytes
+        const int rows = static_cast<int>( node["rows"] ), cols = static_cast<int>( node["cols"] );
+        if ( rows <= 0 || cols <= 0 || static_cast<long long>( rows ) * cols > kMaxMatrixValues || static_cast<long long>( rows ) * cols != static_cast<long long>( node["data"].size() ) )
+          fail( file, "\"" + key + "\" is an opencv-matrix of " + std::to_string( rows ) + " x " + std::to_string( cols ) + " with " + std::to_string( node["data"].size() ) +
+                " values (a calibration's matrices have at most " + std::to_string( kMaxMatrixValues ) + ")" );
         cv::Mat m;
         node >> m;
         m.convertTo( m, CV_64F );
@@ -57,10 +65,11 @@ namespace geostation
         fail( file, "\"camera_matrix\" of camera \"" + id + "\" has " + std::to_string( k.size() ) + " values, not 3 x 3" );
       Eigen::Matrix3d cameraMatrix;
       cameraMatrix << k[0], k[1], k[2], k[3], k[4], k[5], k[6], k[7], k[8];
+      const std::vector<double> distortion = numbers( node["distortion_coefficients"], file, "distortion_coefficients" );
       RigCamera rig;
       try
       {
-        rig.camera = cameraFromOpenCv( id, cameraMatrix, numbers( node["distortion_coefficients"], file, "distortion_coefficients" ),
+        rig.camera = cameraFromOpenCv( id, cameraMatrix, distortion,
                                        static_cast<int>( node["image_width"] ), static_cast<int>( node["image_height"] ) );
       }
       catch ( const std::invalid_argument &e )

@@ -272,6 +272,26 @@ TEST( Dem, SmallHolesAreFilledLargeOnesReported )
   std::filesystem::remove( path );
 }
 
+TEST( Dem, UndeclaredNodataSentinelsAreHoles )
+{
+  // a plane with a 3 x 3 patch at float32's lowest value and no nodata declared for it (common in DEMs from
+  // elsewhere): a hole, filled, not a pit 3.4e38 m deep (found by the dem fuzz target: rays hit nonsense there)
+  const std::string path = ( std::filesystem::temp_directory_path() / "geostation-dem-sentinel.tif" ).string();
+  const auto inPatch = []( double x, double y ) { return x > kX0 + 60.0 && x < kX0 + 66.0 && y < kY0 - 60.0 && y > kY0 - 66.0; };
+  syntheticterrain::writeDem( path, "EPSG:32633", { kX0, 2.0, 0.0, kY0, 0.0, -2.0 }, 64, 64,
+                              [&]( double x, double y ) { return inPatch( x, y ) ? -3.4028235e38 : 100.0 + 0.01 * ( x - kX0 ); } );
+  const Dem dem( path );
+  const std::optional<double> filled = dem.heightAt( kX0 + 63.0, kY0 - 63.0 );
+  ASSERT_TRUE( filled.has_value() );
+  EXPECT_NEAR( *filled, 100.63, 0.01 );
+  EXPECT_GE( dem.filledCellCount(), 9 );
+  const CrsTransform same( "EPSG:32633", "EPSG:32633" );
+  const DemIntersection hit = intersectRayWithDem( { { kX0 + 63.0, kY0 - 63.0, 150.0 }, { 0, 0, -1 } }, dem, same );
+  ASSERT_TRUE( hit.hit() ) << hit.message;
+  EXPECT_NEAR( hit.point.z(), 100.63, 0.01 );
+  std::filesystem::remove( path );
+}
+
 TEST( DemIntersection, ACrossingJustBeforeTheEdgeIsFound )
 {
   // A shallow ray that meets the terrain a few metres before the DEM ends.
