@@ -99,15 +99,27 @@ void GeoStationMeasurementController::pick( int view, const QPointF &pixelInImag
   mReference = view;
   std::vector<std::shared_ptr<const geostation::MatchImage>> pixels( mViews.size() );
   std::vector<geostation::MeasurementView> views( mViews.size() );
+  QVector<QString> unreadable( mViews.size() ); // why a view's image cannot be read (deleted, moved, corrupt), empty if it can
   for ( int i = 0; i < mViews.size(); ++i )
   {
     views[i].imageId = mViews[i].imageId.toStdString();
     views[i].image = mSession->orientedImage( mViews[i].imageId );
     const QString path = mSession->imagePath( mViews[i].imageId );
     if ( !path.isEmpty() )
-      pixels[i] = mCache->get( path.toStdString() ).image;
+    {
+      const geostation::MatchImageCache::Entry entry = mCache->get( path.toStdString() );
+      pixels[i] = entry.image;
+      unreadable[i] = QString::fromStdString( entry.error );
+    }
     views[i].pixels = pixels[i].get();
   }
+  for ( int i = 0; i < mViews.size(); ++i )
+    if ( !unreadable[i].isEmpty() )
+    {
+      emit message( tr( "The image of view %1 (%2) cannot be read, so no point is proposed %3: %4. Put the file back, or measure there by hand." )
+                    .arg( i + 1 ).arg( mViews[i].imageId, i == view ? tr( "from it" ) : tr( "in it" ), unreadable[i] ), true );
+      break;
+    }
   // the correlation window's shape predicted from the surface the point lies on: the DEM layer, or the road plane
   geostation::ProposalOptions options = mOptions;
   QString demProblem;
@@ -144,6 +156,8 @@ void GeoStationMeasurementController::pick( int view, const QPointF &pixelInImag
       s.observed = !s.doubtful;
       s.status = s.doubtful ? tr( "correlation only %1: click to confirm" ).arg( p.score, 0, 'f', 2 ) : tr( "match %1" ).arg( p.score, 0, 'f', 2 );
     }
+    else if ( !unreadable[i].isEmpty() || !unreadable[view].isEmpty() )
+      s.status = tr( "no proposal: %1" ).arg( !unreadable[i].isEmpty() ? tr( "its image cannot be read" ) : tr( "the image clicked in cannot be read" ) );
     else if ( !mViews[i].imageId.isEmpty() )
       s.status = tr( "no match (%1): %2" ).arg( QString::fromStdString( p.status ), QString::fromStdString( p.reason ) );
   }

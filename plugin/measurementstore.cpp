@@ -4,8 +4,12 @@
 #include "measurementstore.h"
 
 #include <QDateTime>
+#include <QFile>
 #include <QDir>
 #include <QFileInfo>
+
+#include <cpl_error.h>
+#include <gdal.h>
 
 #include <qgslayertree.h>
 #include <qgslinestring.h>
@@ -46,6 +50,25 @@ namespace
     const QVariantMap parts = QgsProviderRegistry::instance()->decodeUri( QStringLiteral( "ogr" ), vl->source() );
     *layerName = parts.value( QStringLiteral( "layerName" ) ).toString();
     return QFileInfo( parts.value( QStringLiteral( "path" ) ).toString() ).absoluteFilePath() == target ? vl : nullptr;
+  }
+
+  /**
+   * Removes the file if it is not a GeoPackage GDAL can open: the empty
+   * SQLite file the OGR provider leaves where it tried to reopen a
+   * GeoPackage that had gone (called only where the file was gone before).
+   */
+  void removeStrayFile( const QString &file )
+  {
+    if ( !QFileInfo::exists( file ) )
+      return;
+    const char *const drivers[] = { "GPKG", nullptr };
+    CPLPushErrorHandler( CPLQuietErrorHandler );
+    GDALDatasetH ds = GDALOpenEx( file.toUtf8().constData(), GDAL_OF_VECTOR | GDAL_OF_READONLY, drivers, nullptr, nullptr );
+    CPLPopErrorHandler();
+    if ( ds )
+      GDALClose( ds );
+    else
+      QFile::remove( file );
   }
 
   //! Adds the fields a layer lacks (a class got new attributes); false if its provider refuses.
@@ -410,6 +433,9 @@ GeoStationMeasurementStore::Result GeoStationMeasurementStore::addFeature( const
   set( QStringLiteral( "method" ), feature.method() );
   set( QStringLiteral( "measurement_id" ), feature.measurementId );
 
+  // the file removed or moved behind QGIS's back: a commit would fail, and leave an empty file that is no GeoPackage in its place
+  const QString file = QFileInfo( mSession->targetGeoPackage() ).absoluteFilePath();
+  const bool fileGone = !QFileInfo::exists( file );
   const bool operatorEditing = layer->isEditable();
   if ( !operatorEditing && !layer->startEditing() )
   {
@@ -426,6 +452,16 @@ GeoStationMeasurementStore::Result GeoStationMeasurementStore::addFeature( const
     return result;
   }
   result.ok = true;
+  if ( fileGone )
+  {
+    removeStrayFile( file );
+    result.message = tr( "The measurement GeoPackage %1 is no longer there (moved or deleted?): the feature stays in the edit buffer of %2, as does every one "
+                         "measured after it. Save them with Export ▸ Save Features As… (with the file gone, the layer's edits cannot be saved into it), "
+                         "then choose a measurement GeoPackage again." )
+                     .arg( file, layer->name() );
+    emit measurementsChanged();
+    return result;
+  }
   if ( operatorEditing )
   {
     result.message = tr( "Added to %1 in your edit session: save the layer's edits to write it." ).arg( layer->name() );

@@ -4,6 +4,7 @@
 #include "workstation/matchimagecache.h"
 
 #include <algorithm>
+#include <filesystem>
 #include <stdexcept>
 
 #include "io/rasterfile.h"
@@ -16,12 +17,33 @@ namespace geostation
   {
   }
 
+  namespace
+  {
+    //! "absent", or the file's size and last write time: what makes a remembered error stale.
+    std::string fileStamp( const std::string &path )
+    {
+      std::error_code ec;
+      const auto size = std::filesystem::file_size( path, ec );
+      if ( ec )
+        return "absent";
+      const auto time = std::filesystem::last_write_time( path, ec );
+      return std::to_string( size ) + "@" + std::to_string( ec ? 0 : time.time_since_epoch().count() );
+    }
+  }
+
   MatchImageCache::Entry MatchImageCache::get( const std::string &path )
   {
     {
       std::unique_lock<std::mutex> lock( mMutex );
       mLoaded.wait( lock, [&] { return mLoading.count( path ) == 0; } );
       auto it = mEntries.find( path );
+      if ( it != mEntries.end() && !it->second.image && mErrorStamps[path] != fileStamp( path ) )
+      {
+        // the file was put back or rewritten since it failed: read it again
+        mEntries.erase( it );
+        mOrder.remove( path );
+        it = mEntries.end();
+      }
       if ( it != mEntries.end() )
       {
         mOrder.remove( path );
@@ -31,6 +53,7 @@ namespace geostation
       mLoading.insert( path );
     }
     Entry entry;
+    const std::string stamp = fileStamp( path );
     try
     {
       entry.image = std::make_shared<const MatchImage>( readRaster( path ).pixels );
@@ -43,10 +66,15 @@ namespace geostation
       std::lock_guard<std::mutex> lock( mMutex );
       mLoading.erase( path );
       mEntries[path] = entry;
+      if ( entry.image )
+        mErrorStamps.erase( path );
+      else
+        mErrorStamps[path] = stamp;
       mOrder.push_front( path );
       while ( mOrder.size() > mCapacity )
       {
         mEntries.erase( mOrder.back() );
+        mErrorStamps.erase( mOrder.back() );
         mOrder.pop_back();
       }
     }
@@ -65,6 +93,7 @@ namespace geostation
     std::lock_guard<std::mutex> lock( mMutex );
     mEntries.clear();
     mOrder.clear();
+    mErrorStamps.clear();
   }
 
 } // namespace geostation

@@ -34,7 +34,11 @@ namespace geostation
         std::string error;                       //!< one sentence when it cannot be read
       };
 
-      //! The prepared image of a file, read on first use (errors are remembered too).
+      /**
+       * The prepared image of a file, read on first use. An error is
+       * remembered while the file stays as it was (missing, or the same
+       * size and time): a file put back or rewritten is read again.
+       */
       Entry get( const std::string &path );
 
       //! Whether the file is prepared already (no reading).
@@ -49,6 +53,7 @@ namespace geostation
       std::set<std::string> mLoading;
       std::list<std::string> mOrder; //!< most recent first
       std::map<std::string, Entry> mEntries;
+      std::map<std::string, std::string> mErrorStamps; //!< the file's state (fileStamp()) when its error was remembered
   };
 
 } // namespace geostation

@@ -295,7 +295,7 @@ TEST( PointMeasurer, SingleRayVerticesOnTheRoadPlane )
   EXPECT_FALSE( sky.message.empty() );
 }
 
-TEST( MatchImageCache, ReadsOnceRemembersErrorsAndForgetsTheOldest )
+TEST( MatchImageCache, ReadsOnceRemembersErrorsWhileTheFileStaysAwayAndForgetsTheOldest )
 {
   const Block block = Block::load( highwayRun() / "truth.geostation.json" );
   MatchImageCache cache( 2 );
@@ -312,4 +312,15 @@ TEST( MatchImageCache, ReadsOnceRemembersErrorsAndForgetsTheOldest )
   const MatchImageCache::Entry missing = cache.get( "/nonexistent/image.tif" );
   EXPECT_FALSE( missing.image );
   EXPECT_NE( missing.error.find( "/nonexistent/image.tif" ), std::string::npos ) << missing.error;
+
+  // an image deleted while in use and put back: its error is remembered only while the file stays away
+  const std::filesystem::path back = std::filesystem::temp_directory_path() / "geostation-cache-putback.tif";
+  std::filesystem::remove( back );
+  EXPECT_FALSE( cache.get( back.string() ).image );
+  EXPECT_FALSE( cache.get( back.string() ).image );
+  std::filesystem::copy_file( a, back );
+  const MatchImageCache::Entry putBack = cache.get( back.string() );
+  ASSERT_TRUE( putBack.image ) << putBack.error;
+  EXPECT_EQ( putBack.image->width(), first->width() );
+  std::filesystem::remove( back );
 }

@@ -6,6 +6,9 @@
 // memory, features drawn back into the images), the Overview layers and the
 // Trace tool (a kerb traced through the run into its layer, against truth).
 #include <QFile>
+#include <csignal>
+
+#include <sys/resource.h>
 #include <QLabel>
 #include <QMainWindow>
 #include <QRegularExpression>
@@ -21,6 +24,7 @@
 #include <qgsproject.h>
 #include <qgsrasterlayer.h>
 #include <qgsvectorlayer.h>
+#include <qgsvectorfilewriter.h>
 #include <qgsvectorlayereditbuffer.h>
 
 #include <qgsprocessingcontext.h>
@@ -56,6 +60,9 @@ class TestMultiview : public QObject
     void readOnlyGeoPackageIsReportedBeforeMeasuring();
     void operatorEditSessionKeepsUndo();
     void failedWriteKeepsTheFeatureInTheEditBuffer();
+    void removedGeoPackageLosesNothing();
+    void fullDiskKeepsTheFeatureUntilThereIsRoom();
+    void imageDeletedWhileItsViewIsOpen();
     void viewsShowPlaceholdersEnhancementsAndFeatures();
     void exportWritesShapefileAndDxfWithAttributesAndZ();
     void viewsMoveBetweenTheGridAndDocksOfTheirOwn();
@@ -473,6 +480,140 @@ void TestMultiview::failedWriteKeepsTheFeatureInTheEditBuffer()
   QCOMPARE( pole->dataProvider()->featureCount(), 1L );
   QString error;
   QCOMPARE( mStore->verticesTable( &error )->featureCount(), 1L );
+}
+
+void TestMultiview::removedGeoPackageLosesNothing()
+{
+  QString id;
+  QPointF left, right;
+  Eigen::Vector3d truth;
+  QVERIFY( goToStationWithPole( id, left, right, truth ) );
+  mController->pick( 0, left );
+  QVERIFY( mController->acceptPoint() );
+  QgsVectorLayer *pole = mStore->measurementLayers().value( 0 );
+  QVERIFY( pole );
+  QCOMPARE( pole->dataProvider()->featureCount(), 1L );
+
+  // the file moved away behind QGIS's back (a file manager, a sync client), then a pole measured
+  const QString away = mDir.filePath( QStringLiteral( "moved-away.gpkg" ) );
+  QFile::remove( away );
+  QVERIFY( QFile::rename( measurementsPath(), away ) );
+  QSignalSpy messages( mController.get(), &GeoStationMeasurementController::message );
+  QVERIFY( goToStationWithPole( id, left, right, truth, mSession->currentStation() + 1 ) );
+  mController->pick( 0, left );
+  QVERIFY( mController->acceptPoint() );
+  QVERIFY( messages.last().at( 1 ).toBool() ); // a warning
+  QVERIFY2( messages.last().at( 0 ).toString().contains( QStringLiteral( "is no longer there" ) ), qPrintable( messages.last().at( 0 ).toString() ) );
+  QVERIFY( pole->isEditable() );
+  QCOMPARE( pole->editBuffer()->addedFeatures().size(), 1 );
+  QVERIFY( !QFile::exists( measurementsPath() ) ); // no empty file left in its place
+
+  // the next one joins it in the edit buffer, with the same warning
+  QVERIFY( goToStationWithPole( id, left, right, truth, mSession->currentStation() + 1 ) );
+  mController->pick( 0, left );
+  QVERIFY( mController->acceptPoint() );
+  QVERIFY2( messages.last().at( 0 ).toString().contains( QStringLiteral( "is no longer there" ) ), qPrintable( messages.last().at( 0 ).toString() ) );
+  QCOMPARE( pole->editBuffer()->addedFeatures().size(), 2 );
+
+  // Save Features As writes them, from the edit buffer, into a new file
+  const QString saved = mDir.filePath( QStringLiteral( "saved-as.gpkg" ) );
+  QgsVectorFileWriter::SaveVectorOptions options;
+  options.driverName = QStringLiteral( "GPKG" );
+  QString error;
+  QCOMPARE( QgsVectorFileWriter::writeAsVectorFormatV3( pole, saved, QgsProject::instance()->transformContext(), options, &error ), QgsVectorFileWriter::NoError );
+  GDALDatasetH written = GDALOpenEx( saved.toUtf8().constData(), GDAL_OF_VECTOR | GDAL_OF_READONLY, nullptr, nullptr, nullptr );
+  QVERIFY( written );
+  OGRLayerH layer = GDALDatasetGetLayer( written, 0 );
+  QStringList ids;
+  OGRFeatureH f;
+  while ( ( f = OGR_L_GetNextFeature( layer ) ) )
+  {
+    ids << QString::fromUtf8( OGR_F_GetFieldAsString( f, OGR_F_GetFieldIndex( f, "measurement_id" ) ) );
+    OGR_F_Destroy( f );
+  }
+  GDALClose( written );
+  for ( const QgsFeature &buffered : pole->editBuffer()->addedFeatures() )
+    QVERIFY2( ids.contains( buffered.attribute( QStringLiteral( "measurement_id" ) ).toString() ), qPrintable( ids.join( ' ' ) ) );
+  pole->rollBack();
+}
+
+void TestMultiview::fullDiskKeepsTheFeatureUntilThereIsRoom()
+{
+  QString id;
+  QPointF left, right;
+  Eigen::Vector3d truth;
+  QVERIFY( goToStationWithPole( id, left, right, truth ) );
+  mController->pick( 0, left );
+  QVERIFY( mController->acceptPoint() );
+  QgsVectorLayer *pole = mStore->measurementLayers().value( 0 );
+  QVERIFY( pole );
+  QCOMPARE( pole->dataProvider()->featureCount(), 1L );
+
+  // the disk full, simulated by a file size limit for this process: a write past 4 kB of any file fails
+  // (EFBIG, as a full disk fails with ENOSPC), so SQLite cannot write the GeoPackage or its journal
+  rlimit unlimited {};
+  QCOMPARE( getrlimit( RLIMIT_FSIZE, &unlimited ), 0 );
+  const auto previousHandler = std::signal( SIGXFSZ, SIG_IGN );
+  rlimit full = unlimited;
+  full.rlim_cur = 4096;
+  QCOMPARE( setrlimit( RLIMIT_FSIZE, &full ), 0 );
+  QSignalSpy messages( mController.get(), &GeoStationMeasurementController::message );
+  const bool next = goToStationWithPole( id, left, right, truth, mSession->currentStation() + 1 );
+  mController->pick( 0, left );
+  const bool accepted = mController->acceptPoint();
+  QCOMPARE( setrlimit( RLIMIT_FSIZE, &unlimited ), 0 );
+  std::signal( SIGXFSZ, previousHandler );
+  QVERIFY( next && accepted );
+  QVERIFY( messages.last().at( 1 ).toBool() ); // a warning
+  QVERIFY2( messages.last().at( 0 ).toString().contains( QStringLiteral( "stays in the layer's edit buffer" ) ), qPrintable( messages.last().at( 0 ).toString() ) );
+  QVERIFY( pole->isEditable() );
+  QCOMPARE( pole->editBuffer()->addedFeatures().size(), 1 );
+
+  // room again: saving the edits writes the feature and its vertex row
+  QVERIFY2( pole->commitChanges(), qPrintable( pole->commitErrors().join( '\n' ) ) );
+  GDALDatasetH written = GDALOpenEx( measurementsPath().toUtf8().constData(), GDAL_OF_VECTOR | GDAL_OF_READONLY, nullptr, nullptr, nullptr );
+  QVERIFY( written );
+  QCOMPARE( OGR_L_GetFeatureCount( GDALDatasetGetLayerByName( written, "pole" ), TRUE ), 2LL );
+  GDALClose( written );
+  QString error;
+  QgsVectorLayer *vertices = mStore->verticesTable( &error );
+  QVERIFY2( vertices, qPrintable( error ) );
+  QCOMPARE( vertices->featureCount(), 2L );
+}
+
+void TestMultiview::imageDeletedWhileItsViewIsOpen()
+{
+  QString id;
+  QPointF left, right;
+  Eigen::Vector3d truth;
+  QVERIFY( goToStationWithPole( id, left, right, truth ) );
+  // the partner view's image file deleted (moved away) after the views opened, before it was read for matching
+  const QString partner = mSession->imagePath( mSession->viewImages().at( 1 ) );
+  const QString away = partner + QStringLiteral( ".away" );
+  QVERIFY( QFile::rename( partner, away ) );
+  QSignalSpy messages( mController.get(), &GeoStationMeasurementController::message );
+  mController->pick( 0, left );
+  QVERIFY( mController->hasOpenPoint() ); // the click itself stands
+  QCOMPARE( messages.count(), 1 );
+  QVERIFY( messages.at( 0 ).at( 1 ).toBool() );
+  QVERIFY2( messages.at( 0 ).at( 0 ).toString().contains( QStringLiteral( "The image of view 2 (%1) cannot be read" ).arg( mSession->viewImages().at( 1 ) ) ),
+            qPrintable( messages.at( 0 ).at( 0 ).toString() ) );
+  QVERIFY( !mController->viewStates()[1].proposed );
+  QVERIFY2( mController->viewStates()[1].status.contains( QStringLiteral( "its image cannot be read" ) ), qPrintable( mController->viewStates()[1].status ) );
+
+  // the operator measures the point there by hand: the vertex and the feature are made as ever
+  mController->pick( 1, right );
+  QVERIFY( mController->acceptPoint() );
+  QgsVectorLayer *pole = mStore->measurementLayers().value( 0 );
+  QVERIFY( pole );
+  QCOMPARE( pole->dataProvider()->featureCount(), 1L );
+
+  // the file put back: the next click matches in it again
+  QVERIFY( QFile::rename( away, partner ) );
+  mController->pick( 0, left );
+  QVERIFY2( mController->viewStates()[1].proposed, qPrintable( mController->viewStates()[1].status ) );
+  QVERIFY( QLineF( mController->viewStates()[1].pixel, right ).length() < 1.0 );
+  mController->cancel();
 }
 
 void TestMultiview::viewsShowPlaceholdersEnhancementsAndFeatures()
