@@ -46,7 +46,10 @@ namespace geostation
       mDataset = nullptr;
       throw std::runtime_error( "the DEM " + path + " " + why );
     };
-    if ( GDALGetGeoTransform( mDataset, mGeoTransform.data() ) != CE_None || !GDALInvGeoTransform( mGeoTransform.data(), mInverse.data() ) )
+    // the inverse must be finite too: a denormal cell size inverts to infinity
+    const auto finite = []( const std::array<double, 6> &g ) { return std::all_of( g.begin(), g.end(), []( double v ) { return std::isfinite( v ); } ); };
+    if ( GDALGetGeoTransform( mDataset, mGeoTransform.data() ) != CE_None || !GDALInvGeoTransform( mGeoTransform.data(), mInverse.data() ) ||
+         !finite( mGeoTransform ) || !finite( mInverse ) || std::hypot( mGeoTransform[1], mGeoTransform[4] ) < 1e-9 || std::hypot( mGeoTransform[2], mGeoTransform[5] ) < 1e-9 )
       fail( "has no usable georeferencing (geotransform)" );
     OGRSpatialReferenceH srs = GDALGetSpatialRef( mDataset );
     if ( !srs )

@@ -102,8 +102,10 @@ namespace geostation
       {
         fsr.open( file.string(), cv::FileStorage::READ );
       }
-      catch ( const cv::Exception & )
+      catch ( const std::exception & )
       {
+        // cv::Exception from OpenCV's parser, or std::length_error from a corrupt length in it: not readable
+        fsr.release();
       }
       if ( !fsr.isOpened() )
         fail( file, "not readable as an OpenCV FileStorage (YAML must start with %YAML:1.0)" );
