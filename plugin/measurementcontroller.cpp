@@ -229,9 +229,20 @@ bool GeoStationMeasurementController::acceptPoint()
     return false;
   }
   std::vector<geostation::VertexObservation> observations;
+  QStringList noLongerOriented; // the block file was read again meanwhile, without their orientation
   for ( const ViewState &s : std::as_const( mViews ) )
     if ( s.observed )
-      observations.push_back( { s.imageId.toStdString(), mSession->orientedImage( s.imageId ), Eigen::Vector2d( s.pixel.x(), s.pixel.y() ), s.sigmaPx } );
+    {
+      if ( const geostation::OrientedImage *image = mSession->orientedImage( s.imageId ) )
+        observations.push_back( { s.imageId.toStdString(), image, Eigen::Vector2d( s.pixel.x(), s.pixel.y() ), s.sigmaPx } );
+      else
+        noLongerOriented << s.imageId;
+    }
+  if ( observations.empty() )
+  {
+    emit message( tr( "%1 is no longer oriented in the block: the point cannot be computed." ).arg( noLongerOriented.join( QLatin1String( ", " ) ) ), true );
+    return false;
+  }
   geostation::MeasuredVertex vertex;
   QString why;
   if ( observations.size() >= 2 )

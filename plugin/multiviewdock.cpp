@@ -95,6 +95,13 @@ GeoStationMultiviewDock::GeoStationMultiviewDock( GeoStationSession *session, Ge
   connect( mController, &GeoStationMeasurementController::viewStatesChanged, this, &GeoStationMultiviewDock::updateMeasurementOverlays );
   connect( mController, &GeoStationMeasurementController::featureChanged, this, &GeoStationMultiviewDock::updateFeatureStatus );
   connect( mController, &GeoStationMeasurementController::message, this, &GeoStationMultiviewDock::appendMessage );
+  // the block file rewritten on disk (an adjustment, an import): the views show the new orientations, the operator is told
+  connect( mSession, &GeoStationSession::blockReloaded, this, [this]( const QString &summary )
+  {
+    rebuildViews();
+    appendMessage( summary, false );
+  } );
+  connect( mSession, &GeoStationSession::blockFileProblem, this, [this]( const QString &problem ) { appendMessage( problem, true ); } );
   connect( mStore, &GeoStationMeasurementStore::measurementsChanged, this, &GeoStationMultiviewDock::scheduleFeatureOverlays );
 
   rebuildViews();

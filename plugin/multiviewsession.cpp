@@ -3,6 +3,7 @@
  ***************************************************************************/
 #include "multiviewsession.h"
 
+#include <QDateTime>
 #include <QDir>
 #include <QFileInfo>
 
@@ -18,6 +19,111 @@ GeoStationSession::GeoStationSession( QObject *parent )
 {
   for ( int i = 0; i < 3; ++i )
     mViews << ViewAssignment();
+  // a writer may replace the file in steps (temporary file, rename): read it once it has settled
+  mReloadTimer.setSingleShot( true );
+  mReloadTimer.setInterval( 500 );
+  connect( &mReloadTimer, &QTimer::timeout, this, [this] { reloadBlock(); } );
+  const auto changed = [this]
+  {
+    watchBlockFile();
+    if ( mBlock && blockFileStamp() != mLoadedStamp )
+      mReloadTimer.start();
+  };
+  connect( &mWatcher, &QFileSystemWatcher::fileChanged, this, changed );
+  connect( &mWatcher, &QFileSystemWatcher::directoryChanged, this, changed );
+}
+
+std::map<std::string, geostation::OrientedImage> GeoStationSession::orientedImages( const geostation::Block &block )
+{
+  std::map<std::string, geostation::OrientedImage> oriented;
+  for ( const geostation::BlockImage &image : block.images )
+  {
+    if ( !image.exterior )
+      continue;
+    try
+    {
+      oriented.emplace( image.id, block.orientedImage( image ) );
+    }
+    catch ( const std::exception & )
+    {
+      // not usable for measuring (e.g. scan affine without pixel size): shown, not measured
+    }
+  }
+  return oriented;
+}
+
+QString GeoStationSession::blockFileStamp() const
+{
+  const QFileInfo file( mBlockPath );
+  return file.exists() ? QStringLiteral( "%1 %2" ).arg( file.size() ).arg( file.lastModified().toMSecsSinceEpoch() ) : QString();
+}
+
+void GeoStationSession::watchBlockFile()
+{
+  if ( !mWatcher.files().isEmpty() )
+    mWatcher.removePaths( mWatcher.files() );
+  if ( !mWatcher.directories().isEmpty() )
+    mWatcher.removePaths( mWatcher.directories() );
+  if ( mBlockPath.isEmpty() )
+    return;
+  if ( QFileInfo::exists( mBlockPath ) )
+    mWatcher.addPath( mBlockPath );
+  mWatcher.addPath( QFileInfo( mBlockPath ).absolutePath() );
+}
+
+bool GeoStationSession::reloadBlock()
+{
+  if ( !mBlock )
+    return false;
+  std::unique_ptr<geostation::Block> block;
+  try
+  {
+    block = std::make_unique<geostation::Block>( geostation::Block::load( mBlockPath.toStdString() ) );
+  }
+  catch ( const std::exception &e )
+  {
+    emit blockFileProblem( tr( "The block file %1 changed on disk but cannot be read now (%2); measuring goes on with the block as it was loaded." )
+                           .arg( mBlockPath, QString::fromStdString( e.what() ) ) );
+    return false;
+  }
+  mLoadedStamp = blockFileStamp();
+  if ( block->toJsonText() == mBlock->toJsonText() )
+    return true;
+
+  int newOrientations = 0;
+  for ( const geostation::BlockImage &image : block->images )
+  {
+    const geostation::BlockImage *old = mBlock->findImage( image.id );
+    const auto eoText = []( const geostation::BlockImage *i )
+    {
+      if ( !i || !i->exterior )
+        return std::string();
+      const geostation::ExteriorOrientation &e = *i->exterior;
+      return std::to_string( e.projectionCentre.x() ) + " " + std::to_string( e.projectionCentre.y() ) + " " + std::to_string( e.projectionCentre.z() ) + " " +
+             std::to_string( e.omegaDeg ) + " " + std::to_string( e.phiDeg ) + " " + std::to_string( e.kappaDeg );
+    };
+    if ( eoText( old ) != eoText( &image ) )
+      ++newOrientations;
+  }
+  const QString stationId = currentStationId();
+  mOriented = orientedImages( *block );
+  mBlock = std::move( block );
+  mCrs = QgsCoordinateReferenceSystem();
+  mCrs.createFromUserInput( QString::fromStdString( mBlock->crs ) );
+  mRun = geostation::StationSequence( *mBlock );
+  const int index = mRun.indexOf( stationId.toStdString() );
+  mCurrent = mRun.empty() ? -1 : std::max( 0, index );
+  // the views stay on their cameras where the block still has them
+  bool camerasKept = true;
+  for ( const ViewAssignment &view : std::as_const( mViews ) )
+    camerasKept = camerasKept && ( view.cameraId.isEmpty() || mBlock->findCamera( view.cameraId.toStdString() ) );
+  if ( !camerasKept )
+    resetViews();
+  emit blockReloaded( tr( "The block file %1 changed on disk and was read again: %n image(s) have another orientation; points measured from now on use it.", nullptr, newOrientations )
+                      .arg( QFileInfo( mBlockPath ).fileName() ) );
+  emit stationChanged( mCurrent );
+  emit viewImagesChanged();
+  return true;
 }
 
 bool GeoStationSession::openBlock( const QString &path, QString *error )
@@ -33,23 +139,11 @@ bool GeoStationSession::openBlock( const QString &path, QString *error )
       *error = QString::fromStdString( e.what() );
     return false;
   }
-  std::map<std::string, geostation::OrientedImage> oriented;
-  for ( const geostation::BlockImage &image : block->images )
-  {
-    if ( !image.exterior )
-      continue;
-    try
-    {
-      oriented.emplace( image.id, block->orientedImage( image ) );
-    }
-    catch ( const std::exception & )
-    {
-      // not usable for measuring (e.g. scan affine without pixel size): shown, not measured
-    }
-  }
+  mOriented = orientedImages( *block );
   mBlock = std::move( block );
-  mOriented = std::move( oriented );
   mBlockPath = QFileInfo( path ).absoluteFilePath();
+  mLoadedStamp = blockFileStamp();
+  watchBlockFile();
   mCrs = QgsCoordinateReferenceSystem();
   mCrs.createFromUserInput( QString::fromStdString( mBlock->crs ) );
   mRun = geostation::StationSequence( *mBlock );
@@ -69,6 +163,8 @@ void GeoStationSession::closeBlock()
   mBlock.reset();
   mOriented.clear();
   mBlockPath.clear();
+  mReloadTimer.stop();
+  watchBlockFile();
   mCrs = QgsCoordinateReferenceSystem();
   mRun = geostation::StationSequence();
   mCurrent = -1;

@@ -17,8 +17,10 @@
 #include <map>
 #include <memory>
 
+#include <QFileSystemWatcher>
 #include <QObject>
 #include <QStringList>
+#include <QTimer>
 
 #include <qgscoordinatereferencesystem.h>
 
@@ -46,6 +48,14 @@ class GeoStationSession : public QObject
 
     //! Loads a block; on failure returns false with one sentence and keeps the open block.
     bool openBlock( const QString &path, QString *error );
+    /**
+     * Reads the open block's file again, keeping the current station and
+     * the views (done by itself, half a second after the file changes on
+     * disk: a bundle adjustment or an import wrote it). Emits blockReloaded()
+     * when its content changed, blockFileProblem() and keeps the loaded
+     * block when it cannot be read now; false then.
+     */
+    bool reloadBlock();
     void closeBlock();
     bool hasBlock() const { return static_cast<bool>( mBlock ); }
     const geostation::Block *block() const { return mBlock.get(); }
@@ -104,6 +114,10 @@ class GeoStationSession : public QObject
 
   signals:
     void blockChanged();
+    //! The open block was read again from its changed file (reloadBlock()): one sentence on what changed.
+    void blockReloaded( const QString &summary );
+    //! The open block's file changed but cannot be read now (one sentence); the loaded block stays.
+    void blockFileProblem( const QString &problem );
     void stationChanged( int index );
     void viewImagesChanged();
     void featureClassesChanged();
@@ -113,6 +127,12 @@ class GeoStationSession : public QObject
   private:
     QString imageFor( const ViewAssignment &assignment, int viewIndex ) const;
     void resetViews();
+    //! Watches the open block's file (and its folder: a file replaced by a rename drops a file watch).
+    void watchBlockFile();
+    //! The block file's size and time, to tell a real change from a touch of its folder.
+    QString blockFileStamp() const;
+    //! The oriented images of a block (those that cannot be used for measuring are left out).
+    static std::map<std::string, geostation::OrientedImage> orientedImages( const geostation::Block &block );
 
     std::unique_ptr<geostation::Block> mBlock;
     QString mBlockPath;
@@ -127,6 +147,9 @@ class GeoStationSession : public QObject
     QString mDemLayerId;
     double mCameraHeight = 2.6;
     double mRoadSigma = 0.05;
+    QFileSystemWatcher mWatcher;
+    QTimer mReloadTimer;
+    QString mLoadedStamp;
 };
 
 #endif // GEOSTATIONMULTIVIEWSESSION_H

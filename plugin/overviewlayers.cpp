@@ -34,6 +34,7 @@ GeoStationOverview::GeoStationOverview( GeoStationSession *session, QgsProject *
   , mCanvas( canvas )
 {
   connect( mSession, &GeoStationSession::blockChanged, this, &GeoStationOverview::rebuild );
+  connect( mSession, &GeoStationSession::blockReloaded, this, &GeoStationOverview::rebuild );
   connect( mSession, &GeoStationSession::stationChanged, this, &GeoStationOverview::updateCurrentStation );
   connect( mSession, &GeoStationSession::settingsChanged, this, &GeoStationOverview::updateCurrentStation );
 }

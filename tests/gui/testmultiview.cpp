@@ -63,6 +63,7 @@ class TestMultiview : public QObject
     void removedGeoPackageLosesNothing();
     void fullDiskKeepsTheFeatureUntilThereIsRoom();
     void imageDeletedWhileItsViewIsOpen();
+    void blockFileChangedOnDiskIsReadAgain();
     void viewsShowPlaceholdersEnhancementsAndFeatures();
     void exportWritesShapefileAndDxfWithAttributesAndZ();
     void viewsMoveBetweenTheGridAndDocksOfTheirOwn();
@@ -614,6 +615,50 @@ void TestMultiview::imageDeletedWhileItsViewIsOpen()
   QVERIFY2( mController->viewStates()[1].proposed, qPrintable( mController->viewStates()[1].status ) );
   QVERIFY( QLineF( mController->viewStates()[1].pixel, right ).length() < 1.0 );
   mController->cancel();
+}
+
+void TestMultiview::blockFileChangedOnDiskIsReadAgain()
+{
+  QFile original( mBlockPath );
+  QVERIFY( original.open( QIODevice::ReadOnly ) );
+  const QByteArray originalText = original.readAll();
+  original.close();
+  mSession->setCurrentStation( 3 );
+  const QStringList images = mSession->viewImages();
+  const Eigen::Vector3d centre = mSession->orientedImage( images.at( 0 ) )->exterior().projectionCentre;
+  QSignalSpy reloaded( mSession.get(), &GeoStationSession::blockReloaded );
+  QSignalSpy problems( mSession.get(), &GeoStationSession::blockFileProblem );
+
+  // a bundle adjustment writes the block again (atomically: a temporary file renamed into place), one image moved by 0.5 m
+  geostation::Block block = geostation::Block::load( mBlockPath.toStdString() );
+  for ( geostation::BlockImage &image : block.images )
+    if ( image.id == images.at( 0 ).toStdString() )
+      image.exterior->projectionCentre.x() += 0.5;
+  block.save( mBlockPath.toStdString() );
+  QVERIFY( reloaded.wait( 5000 ) );
+  QVERIFY2( reloaded.last().at( 0 ).toString().contains( QStringLiteral( "1 image(s) have another orientation" ) ), qPrintable( reloaded.last().at( 0 ).toString() ) );
+  QCOMPARE( mSession->currentStation(), 3 ); // the operator stays where they were
+  QCOMPARE( mSession->viewImages(), images );
+  QCOMPARE( mSession->orientedImage( images.at( 0 ) )->exterior().projectionCentre.x(), centre.x() + 0.5 );
+
+  // a writer that leaves it broken (half written): one sentence, and the block as loaded stays
+  {
+    QFile broken( mBlockPath );
+    QVERIFY( broken.open( QIODevice::WriteOnly | QIODevice::Truncate ) );
+    broken.write( originalText.left( originalText.size() / 2 ) );
+  }
+  QVERIFY( problems.wait( 5000 ) );
+  QVERIFY2( problems.last().at( 0 ).toString().contains( QStringLiteral( "cannot be read now" ) ), qPrintable( problems.last().at( 0 ).toString() ) );
+  QCOMPARE( mSession->orientedImage( images.at( 0 ) )->exterior().projectionCentre.x(), centre.x() + 0.5 );
+
+  // the file as it was: read again
+  {
+    QFile restored( mBlockPath );
+    QVERIFY( restored.open( QIODevice::WriteOnly | QIODevice::Truncate ) );
+    restored.write( originalText );
+  }
+  QVERIFY( reloaded.wait( 5000 ) );
+  QCOMPARE( mSession->orientedImage( images.at( 0 ) )->exterior().projectionCentre.x(), centre.x() );
 }
 
 void TestMultiview::viewsShowPlaceholdersEnhancementsAndFeatures()
