@@ -46,10 +46,13 @@ namespace geostation
       mDataset = nullptr;
       throw std::runtime_error( "the DEM " + path + " " + why );
     };
-    // the inverse must be finite too: a denormal cell size inverts to infinity
+    // the inverse must be finite too (a denormal cell size inverts to infinity), and cells of more than 1000 km or an origin
+    // beyond 1e10 are no terrain model (their arithmetic overflows)
     const auto finite = []( const std::array<double, 6> &g ) { return std::all_of( g.begin(), g.end(), []( double v ) { return std::isfinite( v ); } ); };
     if ( GDALGetGeoTransform( mDataset, mGeoTransform.data() ) != CE_None || !GDALInvGeoTransform( mGeoTransform.data(), mInverse.data() ) ||
-         !finite( mGeoTransform ) || !finite( mInverse ) || std::hypot( mGeoTransform[1], mGeoTransform[4] ) < 1e-9 || std::hypot( mGeoTransform[2], mGeoTransform[5] ) < 1e-9 )
+         !finite( mGeoTransform ) || !finite( mInverse ) || std::hypot( mGeoTransform[1], mGeoTransform[4] ) < 1e-9 || std::hypot( mGeoTransform[2], mGeoTransform[5] ) < 1e-9 ||
+         std::hypot( mGeoTransform[1], mGeoTransform[4] ) > 1e6 || std::hypot( mGeoTransform[2], mGeoTransform[5] ) > 1e6 || std::abs( mGeoTransform[0] ) > 1e10 ||
+         std::abs( mGeoTransform[3] ) > 1e10 )
       fail( "has no usable georeferencing (geotransform)" );
     OGRSpatialReferenceH srs = GDALGetSpatialRef( mDataset );
     if ( !srs )

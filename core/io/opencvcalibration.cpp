@@ -3,6 +3,9 @@
  ***************************************************************************/
 #include "io/opencvcalibration.h"
 
+#include <fstream>
+#include <iterator>
+
 #include <cmath>
 #include <stdexcept>
 
@@ -20,6 +23,9 @@ namespace geostation
     {
       throw std::invalid_argument( "the calibration file " + file.string() + ": " + problem );
     }
+
+    //! Larger than any calibration file (a few kB for a rig of cameras).
+    constexpr size_t kMaxFileBytes = 1 << 20;
 
     //! More values than any calibration matrix (3 x 3, up to 14 distortion coefficients) has.
     constexpr long long kMaxMatrixValues = 64;
@@ -97,6 +103,13 @@ namespace geostation
       const std::string ext = asciiLower( file.extension().string() );
       if ( ext != ".yaml" && ext != ".yml" && ext != ".xml" )
         fail( file, "not an OpenCV calibration (expected a .yaml, .yml or .xml file)" );
+      // OpenCV's parser loops for ever on some bytes that are no text (a NUL inside the file): a calibration is small text
+      std::ifstream in( file, std::ios::binary );
+      const std::string bytes( ( std::istreambuf_iterator<char>( in ) ), std::istreambuf_iterator<char>() );
+      if ( bytes.size() > kMaxFileBytes )
+        fail( file, "more than 1 MB: not a camera calibration" );
+      if ( bytes.find( '\0' ) != std::string::npos )
+        fail( file, "not text (it holds NUL bytes)" );
       cv::FileStorage fsr;
       try
       {
