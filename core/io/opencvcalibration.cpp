@@ -3,10 +3,11 @@
  ***************************************************************************/
 #include "io/opencvcalibration.h"
 
+#include <cmath>
 #include <fstream>
 #include <iterator>
-
-#include <cmath>
+#include <optional>
+#include <sstream>
 #include <stdexcept>
 
 #include <opencv2/core/persistence.hpp>
@@ -95,6 +96,29 @@ namespace geostation
       return rig;
     }
 
+    /**
+     * OpenCV's YAML parser also loops for ever on a line indented left of
+     * the first key (the top level): refused first, naming the line.
+     */
+    void requireYamlIndentation( const fs::path &file, const std::string &text )
+    {
+      std::istringstream lines( text );
+      std::string line;
+      int number = 0;
+      std::optional<size_t> topLevel;
+      while ( std::getline( lines, line ) )
+      {
+        ++number;
+        const size_t first = line.find_first_not_of( " \t\r" );
+        if ( first == std::string::npos || line[first] == '#' || line[first] == '%' || line.compare( first, 3, "---" ) == 0 || line.compare( first, 3, "..." ) == 0 )
+          continue;
+        if ( !topLevel )
+          topLevel = first;
+        else if ( first < *topLevel )
+          fail( file, "line " + std::to_string( number ) + " is indented left of the first key: not YAML OpenCV can read" );
+      }
+    }
+
     cv::FileStorage open( const fs::path &file )
     {
       std::error_code ec;
@@ -110,6 +134,8 @@ namespace geostation
         fail( file, "more than 1 MB: not a camera calibration" );
       if ( bytes.find( '\0' ) != std::string::npos )
         fail( file, "not text (it holds NUL bytes)" );
+      if ( ext != ".xml" )
+        requireYamlIndentation( file, bytes );
       cv::FileStorage fsr;
       try
       {
