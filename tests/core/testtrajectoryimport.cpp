@@ -2,7 +2,8 @@
 // lever arms, boresights and image patterns) plus a trajectory CSV, checked
 // against physical facts (which way a camera looks for a given heading,
 // pitch, roll and boresight; meridian convergence), and bad tables refused
-// with one sentence.
+// with one sentence; NaN and infinity refused by every reader of numbers
+// from outside.
 #include <cmath>
 #include <fstream>
 
@@ -15,6 +16,9 @@
 #include "geometry/crs.h"
 #include "geometry/projection.h"
 #include "geometry/rotation.h"
+#include "io/block.h"
+#include "io/colmapmodel.h"
+#include "io/metashapeimport.h"
 #include "io/trajectoryimport.h"
 
 using namespace geostation;
@@ -240,5 +244,50 @@ TEST( TrajectoryImport, BadTablesAreRefusedWithOneSentence )
   e = importText( "X,Y,Z,roll,pitch,heading\n500000,4400000,200,0,0,0\n", { camera } );
   EXPECT_NE( e.find( "does not exist" ), std::string::npos ) << e;
   EXPECT_NE( e.find( "(image names resolve in" ), std::string::npos ) << e;
+  fs::remove_all( dir );
+}
+
+TEST( ImportedTables, NotANumberAndInfinityAreRefusedByEveryReader )
+{
+  const fs::path dir = freshTestFolder( "not-a-number" );
+  TrajectoryImportOptions trajectory;
+  trajectory.crs = "EPSG:32617";
+  trajectory.requireImageFiles = false;
+  RigCamera camera = forwardCamera();
+  camera.imagePattern = "{station}.png";
+  for ( const std::string value : { "nan", "NaN", "inf", "-inf", "Infinity", "1e999" } )
+  {
+    SCOPED_TRACE( value );
+    // a trajectory table
+    std::ofstream( dir / "t.csv" ) << "X,Y,Z,roll,pitch,heading\n500000,4400000," << value << ",0,0,0\n";
+    std::string e = errorOf( [&] { importTrajectory( { camera }, dir / "t.csv", trajectory ); } );
+    EXPECT_NE( e.find( "\"Z\" is \"" + value + "\", not a number" ), std::string::npos ) << e;
+    // an OpenCV calibration (YAML spells them .nan and .inf; both kinds are tried)
+    std::ofstream( dir / "c.yaml" ) << "%YAML:1.0\nimage_width: 64\nimage_height: 48\ncamera_matrix: [ 50., 0., 31.5, 0., " << ( value == "nan" ? ".nan" : value == "inf" ? ".inf" : value )
+                                    << ", 23.5, 0., 0., 1. ]\ndistortion_coefficients: [ ]\n";
+    e = errorOf( [&] { readOpenCvCalibration( dir / "c.yaml" ); } );
+    EXPECT_NE( e.find( "the calibration file" ), std::string::npos ) << e;
+    // a COLMAP model
+    fs::create_directories( dir / "colmap" );
+    std::ofstream( dir / "colmap" / "cameras.txt" ) << "1 PINHOLE 64 48 50 50 32 24\n";
+    std::ofstream( dir / "colmap" / "images.txt" ) << "1 1 0 0 0 " << value << " 0 0 1 a.png\n\n";
+    e = errorOf( [&] { ColmapModel::read( dir / "colmap" ); } );
+    EXPECT_NE( e.find( "images.txt, line 1: expected TX TY TZ" ), std::string::npos ) << e;
+    // a Metashape camera file
+    std::ofstream( dir / "m.xml" ) << "<document><chunk><sensors><sensor id=\"0\" type=\"frame\"><resolution width=\"60\" height=\"40\"/>"
+                                      "<calibration type=\"frame\"><resolution width=\"60\" height=\"40\"/><f>50</f></calibration></sensor></sensors>"
+                                      "<cameras><camera id=\"0\" sensor_id=\"0\" label=\"a\"><transform>1 0 0 "
+                                   << value << " 0 1 0 0 0 0 1 0 0 0 0 1</transform></camera></cameras></chunk></document>\n";
+    MetashapeImportOptions metashape;
+    metashape.crs = "EPSG:32617";
+    metashape.requireImageFiles = false;
+    e = errorOf( [&] { importMetashapeCameras( dir / "m.xml", metashape ); } );
+    EXPECT_NE( e.find( "holds something that is not a number" ), std::string::npos ) << e;
+    // a block file (JSON has no NaN; a number too large is the way in)
+    e = errorOf( [&] { Block::fromJsonText( "{\"format\": \"geostation-block\", \"version\": 1, \"crs\": \"EPSG:32617\", \"cameras\": [{\"id\": \"c\", "
+                                             "\"width\": 64, \"height\": 48, \"f\": " + std::string( value == "-inf" ? "-1e999" : "1e999" ) + ", \"cx\": 32, \"cy\": 24}], \"images\": []}",
+                                             dir / "b.geostation.json" ); } );
+    EXPECT_NE( e.find( "not valid JSON: a number is too large to be read" ), std::string::npos ) << e;
+  }
   fs::remove_all( dir );
 }
