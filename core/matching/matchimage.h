@@ -32,6 +32,8 @@ namespace geostation
       int width() const { return mGrey.cols; }
       int height() const { return mGrey.rows; }
       bool empty() const { return mGrey.empty(); }
+      //! Bytes of pixel data it holds (grey, values and spline coefficients: 9 a pixel).
+      size_t bytes() const { return mGrey.total() * mGrey.elemSize() + mValue.total() * mValue.elemSize() + mCoefficients.total() * mCoefficients.elemSize(); }
 
       const cv::Mat &grey() const { return mGrey; }     //!< CV_8U, for correlation
       const cv::Mat &value() const { return mValue; }   //!< CV_32F, 0..255

@@ -12,9 +12,16 @@
 namespace geostation
 {
 
-  MatchImageCache::MatchImageCache( size_t capacity )
+  MatchImageCache::MatchImageCache( size_t capacity, size_t maxBytes )
     : mCapacity( std::max<size_t>( 1, capacity ) )
+    , mMaxBytes( maxBytes )
   {
+  }
+
+  size_t MatchImageCache::bytes() const
+  {
+    std::lock_guard<std::mutex> lock( mMutex );
+    return mBytes;
   }
 
   namespace
@@ -40,7 +47,7 @@ namespace geostation
       if ( it != mEntries.end() && !it->second.image && mErrorStamps[path] != fileStamp( path ) )
       {
         // the file was put back or rewritten since it failed: read it again
-        mEntries.erase( it );
+        mEntries.erase( it ); // (an error holds no bytes)
         mOrder.remove( path );
         it = mEntries.end();
       }
@@ -65,14 +72,23 @@ namespace geostation
     {
       std::lock_guard<std::mutex> lock( mMutex );
       mLoading.erase( path );
+      if ( const auto previous = mEntries.find( path ); previous != mEntries.end() )
+      {
+        // (not while mLoading guards the path; the byte count stays exact all the same)
+        mBytes -= previous->second.image ? previous->second.image->bytes() : 0;
+        mOrder.remove( path );
+      }
       mEntries[path] = entry;
+      mBytes += entry.image ? entry.image->bytes() : 0;
       if ( entry.image )
         mErrorStamps.erase( path );
       else
         mErrorStamps[path] = stamp;
       mOrder.push_front( path );
-      while ( mOrder.size() > mCapacity )
+      while ( mOrder.size() > mCapacity || ( mOrder.size() > 1 && mBytes > mMaxBytes ) )
       {
+        const Entry &oldest = mEntries[mOrder.back()];
+        mBytes -= oldest.image ? oldest.image->bytes() : 0;
         mEntries.erase( mOrder.back() );
         mErrorStamps.erase( mOrder.back() );
         mOrder.pop_back();
@@ -94,6 +110,7 @@ namespace geostation
     mEntries.clear();
     mOrder.clear();
     mErrorStamps.clear();
+    mBytes = 0;
   }
 
 } // namespace geostation

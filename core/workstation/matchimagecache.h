@@ -4,8 +4,10 @@
   Reading an image and preparing it for matching (grey values, B-spline
   coefficients) takes tens of milliseconds for a full-HD frame, so the
   Multiview prepares the images of a station while the operator looks at
-  it, and keeps the last `capacity` ones. Safe to use from several threads:
-  a second request for an image being loaded waits for the first.
+  it, and keeps the last `capacity` ones, within a memory budget (the most
+  recent image always kept: 1 GiB by default, about 55 full-HD frames, or
+  the last image alone when it is larger). Safe to use from several
+  threads: a second request for an image being loaded waits for the first.
  ***************************************************************************/
 #ifndef GEOSTATION_WORKSTATION_MATCHIMAGECACHE_H
 #define GEOSTATION_WORKSTATION_MATCHIMAGECACHE_H
@@ -26,7 +28,11 @@ namespace geostation
   class MatchImageCache
   {
     public:
-      explicit MatchImageCache( size_t capacity = 18 );
+      //! At most `capacity` images and, beyond the most recent one, `maxBytes` of prepared pixels (MatchImage::bytes()).
+      explicit MatchImageCache( size_t capacity = 18, size_t maxBytes = size_t( 1 ) << 30 );
+
+      //! Bytes of prepared pixels held now.
+      size_t bytes() const;
 
       struct Entry
       {
@@ -48,6 +54,8 @@ namespace geostation
 
     private:
       size_t mCapacity;
+      size_t mMaxBytes;
+      size_t mBytes = 0;
       mutable std::mutex mMutex;
       std::condition_variable mLoaded;
       std::set<std::string> mLoading;

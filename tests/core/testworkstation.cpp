@@ -295,7 +295,7 @@ TEST( PointMeasurer, SingleRayVerticesOnTheRoadPlane )
   EXPECT_FALSE( sky.message.empty() );
 }
 
-TEST( MatchImageCache, ReadsOnceRemembersErrorsWhileTheFileStaysAwayAndForgetsTheOldest )
+TEST( MatchImageCache, ReadsOnceForgetsTheOldestWithinItsBudgetAndRetriesAFilePutBack )
 {
   const Block block = Block::load( highwayRun() / "truth.geostation.json" );
   MatchImageCache cache( 2 );
@@ -312,6 +312,24 @@ TEST( MatchImageCache, ReadsOnceRemembersErrorsWhileTheFileStaysAwayAndForgetsTh
   const MatchImageCache::Entry missing = cache.get( "/nonexistent/image.tif" );
   EXPECT_FALSE( missing.image );
   EXPECT_NE( missing.error.find( "/nonexistent/image.tif" ), std::string::npos ) << missing.error;
+
+  // a memory budget of two and a half images: the third evicts the first, the most recent always stays
+  const size_t imageBytes = first->bytes();
+  EXPECT_EQ( imageBytes, static_cast<size_t>( first->width() ) * first->height() * 9 );
+  MatchImageCache budget( 10, imageBytes * 5 / 2 );
+  budget.get( a );
+  budget.get( b );
+  EXPECT_EQ( budget.bytes(), 2 * imageBytes );
+  budget.get( c );
+  EXPECT_FALSE( budget.contains( a ) );
+  EXPECT_TRUE( budget.contains( b ) && budget.contains( c ) );
+  EXPECT_EQ( budget.bytes(), 2 * imageBytes );
+  MatchImageCache tiny( 10, imageBytes / 2 ); // an image larger than the budget: kept alone
+  tiny.get( a );
+  EXPECT_TRUE( tiny.contains( a ) );
+  tiny.get( b );
+  EXPECT_FALSE( tiny.contains( a ) );
+  EXPECT_EQ( tiny.bytes(), imageBytes );
 
   // an image deleted while in use and put back: its error is remembered only while the file stays away
   const std::filesystem::path back = std::filesystem::temp_directory_path() / "geostation-cache-putback.tif";
