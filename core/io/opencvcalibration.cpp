@@ -98,7 +98,9 @@ namespace geostation
 
     /**
      * OpenCV's YAML parser also loops for ever on a line indented left of
-     * the first key (the top level): refused first, naming the line.
+     * the first key (the top level) and on anything after a document end
+     * marker ("...-"): refused first, naming the line. (Found by fuzzing
+     * OpenCV 4.6; a YAML file OpenCV writes has neither.)
      */
     void requireYamlIndentation( const fs::path &file, const std::string &text )
     {
@@ -110,8 +112,15 @@ namespace geostation
       {
         ++number;
         const size_t first = line.find_first_not_of( " \t\r" );
-        if ( first == std::string::npos || line[first] == '#' || line[first] == '%' || line.compare( first, 3, "---" ) == 0 || line.compare( first, 3, "..." ) == 0 )
+        if ( first == std::string::npos || line[first] == '#' || line[first] == '%' )
           continue;
+        if ( line.compare( first, 3, "---" ) == 0 || line.compare( first, 3, "..." ) == 0 )
+        {
+          // a document marker; anything after it but blanks (e.g. "...-") also sends the parser into a loop
+          if ( line.find_first_not_of( " \t\r", first + 3 ) != std::string::npos && line.compare( first, 3, "---" ) != 0 )
+            fail( file, "line " + std::to_string( number ) + " has something after the document end \"...\": not YAML OpenCV can read" );
+          continue;
+        }
         if ( !topLevel )
           topLevel = first;
         else if ( first < *topLevel )
