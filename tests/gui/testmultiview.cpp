@@ -76,6 +76,8 @@ class TestMultiview : public QObject
     bool findPole( QString &id, QPointF &left, QPointF &right, Eigen::Vector3d &truth ) const;
     //! Steps to the first station (from `from`) with such a pole; false if there is none.
     bool goToStationWithPole( QString &id, QPointF &left, QPointF &right, Eigen::Vector3d &truth, int from = 0 );
+    //! Steps to the first station (from `from`) with a pole, clicks its foot in view 0 and accepts the point; false if none or refused.
+    bool measurePoleFrom( int from );
     QString measurementsPath() const { return mDir.filePath( QStringLiteral( "measurements.gpkg" ) ); }
 
     QTemporaryDir mDir;
@@ -160,6 +162,17 @@ bool TestMultiview::goToStationWithPole( QString &id, QPointF &left, QPointF &ri
     }
   }
   return false;
+}
+
+bool TestMultiview::measurePoleFrom( int from )
+{
+  QString id;
+  QPointF left, right;
+  Eigen::Vector3d truth;
+  if ( !goToStationWithPole( id, left, right, truth, from ) )
+    return false;
+  mController->pick( 0, left );
+  return mController->acceptPoint();
 }
 
 void TestMultiview::navigationKeepsEachViewOnItsCamera()
@@ -485,12 +498,7 @@ void TestMultiview::failedWriteKeepsTheFeatureInTheEditBuffer()
 
 void TestMultiview::removedGeoPackageLosesNothing()
 {
-  QString id;
-  QPointF left, right;
-  Eigen::Vector3d truth;
-  QVERIFY( goToStationWithPole( id, left, right, truth ) );
-  mController->pick( 0, left );
-  QVERIFY( mController->acceptPoint() );
+  QVERIFY( measurePoleFrom( 0 ) );
   QgsVectorLayer *pole = mStore->measurementLayers().value( 0 );
   QVERIFY( pole );
   QCOMPARE( pole->dataProvider()->featureCount(), 1L );
@@ -500,9 +508,7 @@ void TestMultiview::removedGeoPackageLosesNothing()
   QFile::remove( away );
   QVERIFY( QFile::rename( measurementsPath(), away ) );
   QSignalSpy messages( mController.get(), &GeoStationMeasurementController::message );
-  QVERIFY( goToStationWithPole( id, left, right, truth, mSession->currentStation() + 1 ) );
-  mController->pick( 0, left );
-  QVERIFY( mController->acceptPoint() );
+  QVERIFY( measurePoleFrom( mSession->currentStation() + 1 ) );
   QVERIFY( messages.last().at( 1 ).toBool() ); // a warning
   QVERIFY2( messages.last().at( 0 ).toString().contains( QStringLiteral( "is no longer there" ) ), qPrintable( messages.last().at( 0 ).toString() ) );
   QVERIFY( pole->isEditable() );
@@ -510,9 +516,7 @@ void TestMultiview::removedGeoPackageLosesNothing()
   QVERIFY( !QFile::exists( measurementsPath() ) ); // no empty file left in its place
 
   // the next one joins it in the edit buffer, with the same warning
-  QVERIFY( goToStationWithPole( id, left, right, truth, mSession->currentStation() + 1 ) );
-  mController->pick( 0, left );
-  QVERIFY( mController->acceptPoint() );
+  QVERIFY( measurePoleFrom( mSession->currentStation() + 1 ) );
   QVERIFY2( messages.last().at( 0 ).toString().contains( QStringLiteral( "is no longer there" ) ), qPrintable( messages.last().at( 0 ).toString() ) );
   QCOMPARE( pole->editBuffer()->addedFeatures().size(), 2 );
 
@@ -540,12 +544,7 @@ void TestMultiview::removedGeoPackageLosesNothing()
 
 void TestMultiview::fullDiskKeepsTheFeatureUntilThereIsRoom()
 {
-  QString id;
-  QPointF left, right;
-  Eigen::Vector3d truth;
-  QVERIFY( goToStationWithPole( id, left, right, truth ) );
-  mController->pick( 0, left );
-  QVERIFY( mController->acceptPoint() );
+  QVERIFY( measurePoleFrom( 0 ) );
   QgsVectorLayer *pole = mStore->measurementLayers().value( 0 );
   QVERIFY( pole );
   QCOMPARE( pole->dataProvider()->featureCount(), 1L );
@@ -559,12 +558,10 @@ void TestMultiview::fullDiskKeepsTheFeatureUntilThereIsRoom()
   full.rlim_cur = 4096;
   QCOMPARE( setrlimit( RLIMIT_FSIZE, &full ), 0 );
   QSignalSpy messages( mController.get(), &GeoStationMeasurementController::message );
-  const bool next = goToStationWithPole( id, left, right, truth, mSession->currentStation() + 1 );
-  mController->pick( 0, left );
-  const bool accepted = mController->acceptPoint();
+  const bool accepted = measurePoleFrom( mSession->currentStation() + 1 );
   QCOMPARE( setrlimit( RLIMIT_FSIZE, &unlimited ), 0 );
   std::signal( SIGXFSZ, previousHandler );
-  QVERIFY( next && accepted );
+  QVERIFY( accepted );
   QVERIFY( messages.last().at( 1 ).toBool() ); // a warning
   QVERIFY2( messages.last().at( 0 ).toString().contains( QStringLiteral( "stays in the layer's edit buffer" ) ), qPrintable( messages.last().at( 0 ).toString() ) );
   QVERIFY( pole->isEditable() );
