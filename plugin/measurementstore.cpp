@@ -4,8 +4,8 @@
 #include "measurementstore.h"
 
 #include <QDateTime>
-#include <QFile>
 #include <QDir>
+#include <QFile>
 #include <QFileInfo>
 
 #include <cpl_error.h>
