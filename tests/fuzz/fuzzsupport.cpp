@@ -13,11 +13,28 @@
 
 namespace geostation::fuzz
 {
+  namespace
+  {
+    //! This process's folder of scratch files, removed when it exits.
+    const std::filesystem::path &processFolder()
+    {
+      // RAM-backed where the system has it: the readers take file paths, and a run makes thousands of files a second
+      static const std::filesystem::path folder =
+        ( std::filesystem::exists( "/dev/shm" ) ? std::filesystem::path( "/dev/shm" ) : std::filesystem::temp_directory_path() ) / ( "geostation-fuzz-" + std::to_string( ::getpid() ) );
+      static const bool removedAtExit = [] {
+        return std::atexit( [] {
+          std::error_code ignored;
+          std::filesystem::remove_all( folder, ignored );
+        } ) == 0;
+      }();
+      ( void )removedAtExit;
+      return folder;
+    }
+  }
+
   std::filesystem::path scratchFolder( const std::string &name )
   {
-    // RAM-backed where the system has it: the readers take file paths, and a run makes thousands of files a second
-    const std::filesystem::path base = std::filesystem::exists( "/dev/shm" ) ? std::filesystem::path( "/dev/shm" ) : std::filesystem::temp_directory_path();
-    const std::filesystem::path folder = base / ( "geostation-fuzz-" + std::to_string( ::getpid() ) ) / name;
+    const std::filesystem::path folder = processFolder() / name;
     std::error_code ignored;
     std::filesystem::remove_all( folder, ignored );
     std::filesystem::create_directories( folder );
