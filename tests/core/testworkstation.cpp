@@ -2,9 +2,13 @@
 // conjugate-point proposals and vertices against the simulator's truth
 // (highway preset), and the image cache.
 #include <cmath>
+#include <atomic>
 #include <filesystem>
+#include <thread>
+#include <vector>
 
 #include <gtest/gtest.h>
+#include <opencv2/imgcodecs.hpp>
 
 #include "io/block.h"
 #include "simulation/surveysimulator.h"
@@ -341,4 +345,42 @@ TEST( MatchImageCache, ReadsOnceForgetsTheOldestWithinItsBudgetAndRetriesAFilePu
   ASSERT_TRUE( putBack.image ) << putBack.error;
   EXPECT_EQ( putBack.image->width(), first->width() );
   std::filesystem::remove( back );
+}
+
+TEST( MatchImageCache, ThreadsShareLoadsWithinTheBudget )
+{
+  // the Multiview prefetches a station's images on worker threads while the operator's click reads them:
+  // four threads asking for three images (and a missing one) over and over, with a budget of two images
+  const std::filesystem::path dir = std::filesystem::temp_directory_path() / "geostation-cache-threads";
+  std::filesystem::create_directories( dir );
+  std::vector<std::string> paths;
+  for ( int i = 0; i < 3; ++i )
+  {
+    cv::Mat pixels( 120, 160, CV_8UC1 );
+    cv::randu( pixels, 0, 255 );
+    paths.push_back( ( dir / ( "image" + std::to_string( i ) + ".png" ) ).string() );
+    ASSERT_TRUE( cv::imwrite( paths.back(), pixels ) );
+  }
+  const size_t imageBytes = size_t( 160 ) * 120 * 9;
+  MatchImageCache cache( 18, 2 * imageBytes );
+  std::atomic<int> wrong { 0 };
+  std::vector<std::thread> threads;
+  for ( int t = 0; t < 4; ++t )
+    threads.emplace_back( [&, t] {
+      for ( int k = 0; k < 60; ++k )
+      {
+        const MatchImageCache::Entry e = cache.get( paths[( t + k ) % 3] );
+        if ( !e.image || e.image->width() != 160 || e.image->bytes() != imageBytes )
+          ++wrong;
+        if ( k % 20 == 0 && cache.get( ( dir / "missing.png" ).string() ).image )
+          ++wrong;
+        if ( cache.bytes() > 2 * imageBytes )
+          ++wrong;
+      }
+    } );
+  for ( std::thread &thread : threads )
+    thread.join();
+  EXPECT_EQ( wrong.load(), 0 );
+  EXPECT_LE( cache.bytes(), 2 * imageBytes );
+  std::filesystem::remove_all( dir );
 }
