@@ -29,7 +29,7 @@ cmake --build "$build_dir" -j"$(nproc)" --target geostation_core_tests geostatio
 # call): GEOSTATION_ASAN_OPTIONS=...:detect_stack_use_after_return=1 turns it on for a deeper run
 export ASAN_OPTIONS="${GEOSTATION_ASAN_OPTIONS:-detect_leaks=1:abort_on_error=1:strict_string_checks=1}"
 export UBSAN_OPTIONS="print_stacktrace=1:halt_on_error=1"
-export TSAN_OPTIONS="halt_on_error=1:second_deadlock_stack=1"
+export TSAN_OPTIONS="halt_on_error=1:second_deadlock_stack=1:suppressions=$source_dir/scripts/tsan.supp"
 echo "Core tests under -fsanitize=$sanitizers:"
 if [ "$filter" = "*" ]; then
   # every core test, through CTest, as many at a time as there are cores
