@@ -52,6 +52,15 @@ std::map<std::string, geostation::OrientedImage> GeoStationSession::orientedImag
   return oriented;
 }
 
+void GeoStationSession::adoptBlock( std::unique_ptr<geostation::Block> block )
+{
+  mOriented = orientedImages( *block );
+  mBlock = std::move( block );
+  mCrs = QgsCoordinateReferenceSystem();
+  mCrs.createFromUserInput( QString::fromStdString( mBlock->crs ) );
+  mRun = geostation::StationSequence( *mBlock );
+}
+
 QString GeoStationSession::blockFileStamp() const
 {
   const QFileInfo file( mBlockPath );
@@ -94,23 +103,13 @@ bool GeoStationSession::reloadBlock()
   for ( const geostation::BlockImage &image : block->images )
   {
     const geostation::BlockImage *old = mBlock->findImage( image.id );
-    const auto eoText = []( const geostation::BlockImage *i )
-    {
-      if ( !i || !i->exterior )
-        return std::string();
-      const geostation::ExteriorOrientation &e = *i->exterior;
-      return std::to_string( e.projectionCentre.x() ) + " " + std::to_string( e.projectionCentre.y() ) + " " + std::to_string( e.projectionCentre.z() ) + " " +
-             std::to_string( e.omegaDeg ) + " " + std::to_string( e.phiDeg ) + " " + std::to_string( e.kappaDeg );
-    };
-    if ( eoText( old ) != eoText( &image ) )
-      ++newOrientations;
+    const bool same = old && old->exterior.has_value() == image.exterior.has_value() &&
+                      ( !image.exterior || ( old->exterior->projectionCentre == image.exterior->projectionCentre && old->exterior->omegaDeg == image.exterior->omegaDeg &&
+                                             old->exterior->phiDeg == image.exterior->phiDeg && old->exterior->kappaDeg == image.exterior->kappaDeg ) );
+    newOrientations += same ? 0 : 1;
   }
   const QString stationId = currentStationId();
-  mOriented = orientedImages( *block );
-  mBlock = std::move( block );
-  mCrs = QgsCoordinateReferenceSystem();
-  mCrs.createFromUserInput( QString::fromStdString( mBlock->crs ) );
-  mRun = geostation::StationSequence( *mBlock );
+  adoptBlock( std::move( block ) );
   const int index = mRun.indexOf( stationId.toStdString() );
   mCurrent = mRun.empty() ? -1 : std::max( 0, index );
   // the views stay on their cameras where the block still has them
@@ -139,14 +138,10 @@ bool GeoStationSession::openBlock( const QString &path, QString *error )
       *error = QString::fromStdString( e.what() );
     return false;
   }
-  mOriented = orientedImages( *block );
-  mBlock = std::move( block );
+  adoptBlock( std::move( block ) );
   mBlockPath = QFileInfo( path ).absoluteFilePath();
   mLoadedStamp = blockFileStamp();
   watchBlockFile();
-  mCrs = QgsCoordinateReferenceSystem();
-  mCrs.createFromUserInput( QString::fromStdString( mBlock->crs ) );
-  mRun = geostation::StationSequence( *mBlock );
   mCurrent = mRun.empty() ? -1 : 0;
   resetViews();
   if ( mTarget.isEmpty() )

@@ -131,6 +131,8 @@ class GeoStationSession : public QObject
     void watchBlockFile();
     //! The block file's size and time, to tell a real change from a touch of its folder.
     QString blockFileStamp() const;
+    //! Makes the block the open one: its oriented images, CRS and run (the station and views are the caller's).
+    void adoptBlock( std::unique_ptr<geostation::Block> block );
     //! The oriented images of a block (those that cannot be used for measuring are left out).
     static std::map<std::string, geostation::OrientedImage> orientedImages( const geostation::Block &block );
 

@@ -72,12 +72,6 @@ namespace geostation
     {
       std::lock_guard<std::mutex> lock( mMutex );
       mLoading.erase( path );
-      if ( const auto previous = mEntries.find( path ); previous != mEntries.end() )
-      {
-        // (not while mLoading guards the path; the byte count stays exact all the same)
-        mBytes -= previous->second.image ? previous->second.image->bytes() : 0;
-        mOrder.remove( path );
-      }
       mEntries[path] = entry;
       mBytes += entry.image ? entry.image->bytes() : 0;
       if ( entry.image )
@@ -87,7 +81,7 @@ namespace geostation
       mOrder.push_front( path );
       while ( mOrder.size() > mCapacity || ( mOrder.size() > 1 && mBytes > mMaxBytes ) )
       {
-        const Entry &oldest = mEntries[mOrder.back()];
+        const Entry &oldest = mEntries.at( mOrder.back() );
         mBytes -= oldest.image ? oldest.image->bytes() : 0;
         mEntries.erase( mOrder.back() );
         mErrorStamps.erase( mOrder.back() );
