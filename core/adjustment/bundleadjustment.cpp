@@ -1,11 +1,17 @@
 /***************************************************************************
   bundleadjustment.cpp - bundle adjustment of a block
+  -------------------------------------------------------------------------
+  BundleAdjuster runs the adjustment in named steps, as COLMAP's does:
+  checkInput, setUpParameters, startPoints, checkDatum, buildProblem,
+  solve, computeCovariances, then the results (residuals, images, cameras,
+  points).
  ***************************************************************************/
 #include "adjustment/bundleadjustment.h"
 
 #include <cmath>
 #include <map>
 #include <memory>
+#include <optional>
 #include <stdexcept>
 
 #include <Eigen/Dense>
@@ -64,350 +70,474 @@ namespace geostation
     }
 
     std::array<double, 3> toArray( const Eigen::Vector3d &v ) { return { v.x(), v.y(), v.z() }; }
+
+    //! One adjustment of a block (bundleAdjust()); the parameters live in it, relative to a local origin.
+    class BundleAdjuster
+    {
+      public:
+        BundleAdjuster( const std::vector<Camera> &cameras, const std::vector<BundleImage> &images, const std::vector<ControlPoint> &groundPoints,
+                        const std::vector<BundleObservation> &observations, const BundleOptions &options )
+          : mCameras( cameras ), mImages( images ), mGroundPoints( groundPoints ), mObservations( observations ), mOptions( options ) {}
+
+        BundleSummary run();
+
+      private:
+        void checkInput();
+        void setUpParameters();
+        void startPoints();
+        std::optional<BundleSummary> checkDatum() const;
+        void addObservations();
+        void addControl();
+        void addPosePriors();
+        void fixInterior();
+        std::optional<BundleSummary> solve();
+        bool computeCovariances();
+        Eigen::VectorXd sigmaOf( const double *block, int size ) const;
+        void collectResiduals();
+        void collectImages();
+        void collectCameras();
+        void collectPoints();
+        void holdFixed( double *block, int size, const std::vector<int> &fixed );
+
+        const std::vector<Camera> &mCameras;
+        const std::vector<BundleImage> &mImages;
+        const std::vector<ControlPoint> &mGroundPoints;
+        const std::vector<BundleObservation> &mObservations;
+        const BundleOptions &mOptions;
+
+        std::map<std::string, size_t> mCameraIndex, mImageIndex;
+        Eigen::Vector3d mOrigin = Eigen::Vector3d::Zero(); //!< the mean projection centre
+        std::vector<std::array<double, 6>> mPoses;         //!< X, Y, Z - origin (m), omega, phi, kappa (rad)
+        std::vector<std::array<double, kInteriorSize>> mInteriors;
+        std::vector<std::unique_ptr<OrientedImage>> mStartImages;
+        std::vector<PointState> mPoints;
+        ceres::Problem mProblem;
+        std::map<const double *, std::vector<int>> mFixedOf; //!< components held fixed, per block with a SubsetManifold
+        std::vector<bool> mImageUsed, mCameraUsed;
+        std::map<const double *, Eigen::MatrixXd> mTangentCovariance;
+        double mVarianceFactor = 1.0;
+        std::vector<double> mImageSumPx2, mPointRmsPx;
+        std::vector<int> mImageCount;
+        BundleSummary mSummary;
+    };
+
+    BundleSummary BundleAdjuster::run()
+    {
+      checkInput();
+      setUpParameters();
+      startPoints();
+      if ( std::optional<BundleSummary> noDatum = checkDatum() )
+        return *noDatum;
+      addObservations();
+      if ( mProblem.NumResidualBlocks() == 0 )
+        return failure( BundleSummary::Status::TooFewObservations, "no point is observed often enough to take part (tie points need two images)" );
+      addControl();
+      addPosePriors();
+      fixInterior();
+      if ( std::optional<BundleSummary> failed = solve() )
+        return *failed;
+      if ( !computeCovariances() )
+        return failure( BundleSummary::Status::NoDatum, "the block's parameters are not all determined (the normal equations are singular); add control points, pose priors or tie points, or free fewer interior parameters" );
+      collectResiduals();
+      collectImages();
+      collectCameras();
+      collectPoints();
+      if ( !mSummary.skippedPoints.empty() )
+        mSummary.message = std::to_string( mSummary.skippedPoints.size() ) + " points seen in fewer than two images (or with parallel rays) were left out";
+      return std::move( mSummary );
+    }
+
+    //! Preconditions: valid cameras, known cameras and images, positive sigmas, free lens parameters only with a lens model.
+    void BundleAdjuster::checkInput()
+    {
+      mOptions.check();
+      for ( size_t i = 0; i < mCameras.size(); ++i )
+      {
+        mCameras[i].validate();
+        mCameraIndex[mCameras[i].id] = i;
+        if ( mCameras[i].distortion.model == DistortionModel::None )
+          for ( int k = kInteriorK1; k < kInteriorSize; ++k )
+            if ( mOptions.freeInterior[k] )
+              throw std::invalid_argument( std::string( "camera '" ) + mCameras[i].id + "' has no lens model, so " + interiorParameterNames()[k] + " cannot be estimated" );
+      }
+      for ( size_t i = 0; i < mImages.size(); ++i )
+      {
+        if ( !mCameraIndex.count( mImages[i].cameraId ) )
+          throw std::invalid_argument( "image '" + mImages[i].id + "' uses camera '" + mImages[i].cameraId + "', which is not given" );
+        mImageIndex[mImages[i].id] = i;
+      }
+      for ( const BundleObservation &o : mObservations )
+      {
+        if ( !mImageIndex.count( o.imageId ) )
+          throw std::invalid_argument( "point '" + o.pointId + "' is observed in image '" + o.imageId + "', which is not in the adjustment" );
+        if ( !( o.sigmaPx > 0.0 ) )
+          throw std::invalid_argument( "point '" + o.pointId + "' in image '" + o.imageId + "': pixel sigma must be positive" );
+      }
+    }
+
+    //! Poses relative to the mean projection centre, interiors as blocks, and the start orientations for the points' first intersection.
+    void BundleAdjuster::setUpParameters()
+    {
+      for ( const BundleImage &image : mImages )
+        mOrigin += image.exterior.projectionCentre;
+      mOrigin /= std::max<size_t>( 1, mImages.size() );
+      mPoses.resize( mImages.size() );
+      mInteriors.resize( mCameras.size() );
+      for ( size_t i = 0; i < mImages.size(); ++i )
+      {
+        const ExteriorOrientation &eo = mImages[i].exterior;
+        const Eigen::Vector3d c = eo.projectionCentre - mOrigin;
+        mPoses[i] = { c.x(), c.y(), c.z(), degToRad( eo.omegaDeg ), degToRad( eo.phiDeg ), degToRad( eo.kappaDeg ) };
+        mStartImages.push_back( std::make_unique<OrientedImage>( mCameras[mCameraIndex[mImages[i].cameraId]], eo ) );
+      }
+      for ( size_t c = 0; c < mCameras.size(); ++c )
+        interiorBlockFromCamera( mCameras[c], mInteriors[c].data() );
+      mImageUsed.assign( mImages.size(), false );
+      mCameraUsed.assign( mCameras.size(), false );
+    }
+
+    //! Control points at their known position, tie and check points intersected from the start orientations (or skipped).
+    void BundleAdjuster::startPoints()
+    {
+      std::map<std::string, const ControlPoint *> known;
+      for ( const ControlPoint &g : mGroundPoints )
+        known[g.id] = &g;
+      std::map<std::string, std::vector<size_t>> observationsOfPoint;
+      for ( size_t k = 0; k < mObservations.size(); ++k )
+        observationsOfPoint[mObservations[k].pointId].push_back( k );
+      mPoints.reserve( observationsOfPoint.size() );
+      for ( const auto &[id, obs] : observationsOfPoint )
+      {
+        PointState p;
+        p.id = id;
+        p.observations = obs;
+        const auto it = known.find( id );
+        if ( it != known.end() )
+        {
+          p.known = it->second;
+          p.role = it->second->check ? BundlePointResult::Role::Check : BundlePointResult::Role::Control;
+        }
+        if ( p.role == BundlePointResult::Role::Control )
+          p.local = toArray( p.known->world - mOrigin );
+        else
+        {
+          std::vector<RayObservation> rays;
+          for ( size_t k : obs )
+            rays.push_back( { mStartImages[mImageIndex[mObservations[k].imageId]].get(), mObservations[k].pixelInImage, mObservations[k].sigmaPx } );
+          const IntersectionSummary start = intersectRays( rays );
+          if ( !start.ok() )
+          {
+            mSummary.skippedPoints.push_back( id );
+            continue;
+          }
+          p.local = toArray( start.point - mOrigin );
+        }
+        mPoints.push_back( p );
+      }
+    }
+
+    //! Three control points or pose priors fix the block in space; otherwise the NoDatum failure.
+    std::optional<BundleSummary> BundleAdjuster::checkDatum() const
+    {
+      int controlUsed = 0;
+      bool anyPrior = false;
+      for ( const PointState &p : mPoints )
+        controlUsed += p.role == BundlePointResult::Role::Control ? 1 : 0;
+      if ( mOptions.usePosePriors )
+        for ( const BundleImage &image : mImages )
+          anyPrior |= image.exterior.sigma.has_value();
+      if ( !anyPrior && controlUsed < 3 )
+        return failure( BundleSummary::Status::NoDatum, "the block has no datum: measure at least three control points or use the images' GNSS/INS orientation as priors" );
+      return std::nullopt;
+    }
+
+    //! A collinearity residual per observation (with the Huber loss when robust).
+    void BundleAdjuster::addObservations()
+    {
+      ceres::LossFunction *loss = mOptions.robust ? new ceres::HuberLoss( mOptions.robustThreshold ) : nullptr;
+      for ( PointState &p : mPoints )
+        for ( size_t k : p.observations )
+        {
+          const BundleObservation &o = mObservations[k];
+          const size_t i = mImageIndex[o.imageId];
+          const size_t c = mCameraIndex[mImages[i].cameraId];
+          mProblem.AddResidualBlock( CollinearityError::create( mCameras[c], o.pixelInImage.x(), o.pixelInImage.y(), o.sigmaPx ), loss,
+                                     mPoses[i].data(), mInteriors[c].data(), p.local.data() );
+          mImageUsed[i] = mCameraUsed[c] = true;
+        }
+    }
+
+    //! Components with sigma 0 held fixed (a SubsetManifold), recorded for the sigmas.
+    void BundleAdjuster::holdFixed( double *block, int size, const std::vector<int> &fixed )
+    {
+      if ( fixed.empty() )
+        return;
+      mProblem.SetManifold( block, new ceres::SubsetManifold( size, fixed ) );
+      mFixedOf[block] = fixed;
+    }
+
+    //! Control points: fixed, or weighted by their sigmas.
+    void BundleAdjuster::addControl()
+    {
+      for ( PointState &p : mPoints )
+      {
+        if ( p.role != BundlePointResult::Role::Control )
+          continue;
+        const std::array<double, 3> sigma = toArray( p.known->sigmaM );
+        const std::vector<int> fixed = ParameterPrior<3>::fixedComponents( sigma );
+        if ( fixed.size() == 3 )
+          mProblem.SetParameterBlockConstant( p.local.data() );
+        else
+        {
+          mProblem.AddResidualBlock( ParameterPrior<3>::create( toArray( p.known->world - mOrigin ), sigma ), nullptr, p.local.data() );
+          holdFixed( p.local.data(), 3, fixed );
+        }
+      }
+    }
+
+    //! The images' GNSS/INS orientations as observations, with their sigmas.
+    void BundleAdjuster::addPosePriors()
+    {
+      if ( !mOptions.usePosePriors )
+        return;
+      for ( size_t i = 0; i < mImages.size(); ++i )
+      {
+        if ( !mImageUsed[i] || !mImages[i].exterior.sigma )
+          continue;
+        const ExteriorSigma &s = *mImages[i].exterior.sigma;
+        const std::array<double, 6> sigma { s.x, s.y, s.z, degToRad( s.omegaDeg ), degToRad( s.phiDeg ), degToRad( s.kappaDeg ) };
+        const std::vector<int> fixed = ParameterPrior<6>::fixedComponents( sigma );
+        if ( fixed.size() == 6 )
+          mProblem.SetParameterBlockConstant( mPoses[i].data() );
+        else
+        {
+          mProblem.AddResidualBlock( ParameterPrior<6>::create( mPoses[i], sigma ), nullptr, mPoses[i].data() );
+          holdFixed( mPoses[i].data(), 6, fixed );
+        }
+      }
+    }
+
+    //! The interior parameters not freed for self-calibration held fixed.
+    void BundleAdjuster::fixInterior()
+    {
+      std::vector<int> fixedInterior;
+      for ( int k = 0; k < kInteriorSize; ++k )
+        if ( !mOptions.freeInterior[k] )
+          fixedInterior.push_back( k );
+      for ( size_t c = 0; c < mCameras.size(); ++c )
+      {
+        if ( !mCameraUsed[c] )
+          continue;
+        if ( fixedInterior.size() == kInteriorSize )
+          mProblem.SetParameterBlockConstant( mInteriors[c].data() );
+        else
+          holdFixed( mInteriors[c].data(), kInteriorSize, fixedInterior );
+      }
+    }
+
+    //! Levenberg-Marquardt with the Schur complement; the failure (cancelled, failed, not converged), or nothing; then sigma0 without the robust loss.
+    std::optional<BundleSummary> BundleAdjuster::solve()
+    {
+      ceres::Solver::Options solverOptions;
+      solverOptions.linear_solver_type = static_cast<int>( mImages.size() ) <= mOptions.denseSchurMaxImages ? ceres::DENSE_SCHUR : ceres::SPARSE_SCHUR;
+      solverOptions.max_num_iterations = mOptions.maxIterations;
+      solverOptions.function_tolerance = mOptions.functionTolerance;
+      solverOptions.gradient_tolerance = mOptions.gradientTolerance;
+      solverOptions.parameter_tolerance = mOptions.parameterTolerance;
+      solverOptions.num_threads = std::max( 1, mOptions.threads );
+      IterationCallbackAdapter callback( mOptions.onIteration );
+      if ( mOptions.onIteration )
+        solverOptions.callbacks.push_back( &callback );
+      ceres::Solver::Summary solverSummary;
+      ceres::Solve( solverOptions, &mProblem, &solverSummary );
+      if ( callback.stopped() )
+        return failure( BundleSummary::Status::Cancelled, "the bundle adjustment was cancelled after " + std::to_string( solverSummary.iterations.size() ) + " iteration(s)" );
+      mSummary.iterations = static_cast<int>( solverSummary.iterations.size() );
+      mSummary.solveSeconds = solverSummary.total_time_in_seconds;
+      mSummary.converged = solverSummary.termination_type == ceres::CONVERGENCE;
+      if ( solverSummary.termination_type == ceres::FAILURE )
+        return failure( BundleSummary::Status::Failed, "the bundle adjustment failed: " + solverSummary.message );
+      if ( !mSummary.converged )
+        return failure( BundleSummary::Status::NotConverged, "the bundle adjustment did not converge in " + std::to_string( mOptions.maxIterations ) + " iterations: " + solverSummary.message );
+
+      ceres::Problem::EvaluateOptions evaluate;
+      evaluate.apply_loss_function = false;
+      double cost = 0.0;
+      mProblem.Evaluate( evaluate, &cost, nullptr, nullptr, nullptr );
+      mSummary.redundancy = static_cast<long>( solverSummary.num_residuals_reduced ) - static_cast<long>( solverSummary.num_effective_parameters_reduced );
+      mSummary.sigma0 = mSummary.redundancy > 0 ? std::sqrt( 2.0 * cost / mSummary.redundancy ) : 0.0;
+      mVarianceFactor = mSummary.redundancy > 0 ? mSummary.sigma0 * mSummary.sigma0 : 1.0;
+      return std::nullopt;
+    }
+
+    //! Covariances through the Schur complement: cheap per point, exact. False when the normal equations are singular.
+    bool BundleAdjuster::computeCovariances()
+    {
+      if ( !mOptions.computeCovariance )
+        return true;
+      std::vector<double *> cameraBlocks, pointBlocks;
+      for ( size_t i = 0; i < mImages.size(); ++i )
+        if ( mImageUsed[i] && !mProblem.IsParameterBlockConstant( mPoses[i].data() ) )
+          cameraBlocks.push_back( mPoses[i].data() );
+      for ( size_t c = 0; c < mCameras.size(); ++c )
+        if ( mCameraUsed[c] && !mProblem.IsParameterBlockConstant( mInteriors[c].data() ) )
+          cameraBlocks.push_back( mInteriors[c].data() );
+      for ( PointState &p : mPoints )
+        if ( !mProblem.IsParameterBlockConstant( p.local.data() ) )
+          pointBlocks.push_back( p.local.data() );
+      const SchurCovariance covariance = schurCovariance( mProblem, cameraBlocks, pointBlocks );
+      if ( !covariance.ok )
+        return false;
+      for ( size_t b = 0; b < cameraBlocks.size(); ++b )
+      {
+        const int size = mProblem.ParameterBlockTangentSize( cameraBlocks[b] );
+        mTangentCovariance[cameraBlocks[b]] = covariance.cameras.block( covariance.cameraOffsets[b], covariance.cameraOffsets[b], size, size );
+      }
+      for ( size_t j = 0; j < pointBlocks.size(); ++j )
+        mTangentCovariance[pointBlocks[j]] = covariance.points[j];
+      return true;
+    }
+
+    //! Standard deviations in the block's own coordinates, scaled by sigma0; fixed components get 0.
+    Eigen::VectorXd BundleAdjuster::sigmaOf( const double *block, int size ) const
+    {
+      Eigen::VectorXd sigma = Eigen::VectorXd::Zero( size );
+      const auto it = mTangentCovariance.find( block );
+      if ( it == mTangentCovariance.end() )
+        return sigma;
+      const auto fixedIt = mFixedOf.find( block );
+      int t = 0;
+      for ( int k = 0; k < size; ++k )
+      {
+        if ( fixedIt != mFixedOf.end() && std::find( fixedIt->second.begin(), fixedIt->second.end(), k ) != fixedIt->second.end() )
+          continue;
+        sigma( k ) = std::sqrt( std::max( 0.0, it->second( t, t ) * mVarianceFactor ) );
+        ++t;
+      }
+      return sigma;
+    }
+
+    //! Residuals in pixels: sums per image, RMS per point and overall.
+    void BundleAdjuster::collectResiduals()
+    {
+      mImageSumPx2.assign( mImages.size(), 0.0 );
+      mImageCount.assign( mImages.size(), 0 );
+      mPointRmsPx.assign( mPoints.size(), 0.0 );
+      double totalSum = 0.0;
+      long totalCount = 0;
+      for ( size_t j = 0; j < mPoints.size(); ++j )
+      {
+        double pointSum = 0.0;
+        for ( size_t k : mPoints[j].observations )
+        {
+          const BundleObservation &o = mObservations[k];
+          const size_t i = mImageIndex[o.imageId];
+          const size_t c = mCameraIndex[mImages[i].cameraId];
+          std::unique_ptr<ceres::CostFunction> costFunction( CollinearityError::create( mCameras[c], o.pixelInImage.x(), o.pixelInImage.y(), o.sigmaPx ) );
+          const double *parameters[3] = { mPoses[i].data(), mInteriors[c].data(), mPoints[j].local.data() };
+          double r[2];
+          costFunction->Evaluate( parameters, r, nullptr );
+          const double squaredPx = ( r[0] * r[0] + r[1] * r[1] ) * o.sigmaPx * o.sigmaPx;
+          mImageSumPx2[i] += squaredPx;
+          mImageCount[i] += 1;
+          pointSum += squaredPx;
+          totalSum += squaredPx;
+          ++totalCount;
+        }
+        mPointRmsPx[j] = std::sqrt( pointSum / ( 2.0 * mPoints[j].observations.size() ) );
+      }
+      mSummary.rmsPx = totalCount ? std::sqrt( totalSum / ( 2.0 * totalCount ) ) : 0.0;
+    }
+
+    void BundleAdjuster::collectImages()
+    {
+      for ( size_t i = 0; i < mImages.size(); ++i )
+      {
+        BundleImageResult r;
+        r.id = mImages[i].id;
+        r.exterior.projectionCentre = Eigen::Vector3d( mPoses[i][0], mPoses[i][1], mPoses[i][2] ) + mOrigin;
+        r.exterior.omegaDeg = radToDeg( mPoses[i][3] );
+        r.exterior.phiDeg = radToDeg( mPoses[i][4] );
+        r.exterior.kappaDeg = radToDeg( mPoses[i][5] );
+        if ( mImageUsed[i] )
+        {
+          const Eigen::VectorXd s = sigmaOf( mPoses[i].data(), 6 );
+          r.exterior.sigma = ExteriorSigma { s( 0 ), s( 1 ), s( 2 ), radToDeg( s( 3 ) ), radToDeg( s( 4 ) ), radToDeg( s( 5 ) ) };
+        }
+        else
+          r.exterior.sigma = mImages[i].exterior.sigma; // untouched
+        r.observationCount = mImageCount[i];
+        r.rmsPx = mImageCount[i] ? std::sqrt( mImageSumPx2[i] / ( 2.0 * mImageCount[i] ) ) : 0.0;
+        r.shiftM = r.exterior.projectionCentre - mImages[i].exterior.projectionCentre;
+        mSummary.images.push_back( r );
+      }
+    }
+
+    void BundleAdjuster::collectCameras()
+    {
+      for ( size_t c = 0; c < mCameras.size(); ++c )
+      {
+        BundleCameraResult r;
+        r.camera = mCameras[c];
+        cameraFromInteriorBlock( mInteriors[c].data(), &r.camera );
+        const Eigen::VectorXd s = sigmaOf( mInteriors[c].data(), kInteriorSize );
+        for ( int k = 0; k < kInteriorSize; ++k )
+          if ( mOptions.freeInterior[k] && mCameraUsed[c] )
+          {
+            r.freeParameters.push_back( interiorParameterNames()[k] );
+            r.sigmas.push_back( s( k ) );
+          }
+        mSummary.cameras.push_back( r );
+      }
+    }
+
+    //! Points with sigmas and residuals; control and check points' errors against their known positions.
+    void BundleAdjuster::collectPoints()
+    {
+      Eigen::Vector3d sumControl = Eigen::Vector3d::Zero(), sumCheck = Eigen::Vector3d::Zero();
+      for ( size_t j = 0; j < mPoints.size(); ++j )
+      {
+        const PointState &p = mPoints[j];
+        BundlePointResult r;
+        r.id = p.id;
+        r.role = p.role;
+        r.world = Eigen::Vector3d( p.local[0], p.local[1], p.local[2] ) + mOrigin;
+        r.sigmaM = sigmaOf( p.local.data(), 3 );
+        r.imageCount = static_cast<int>( p.observations.size() );
+        r.rmsPx = mPointRmsPx[j];
+        if ( p.known )
+        {
+          r.errorM = r.world - p.known->world;
+          const bool control = p.role == BundlePointResult::Role::Control;
+          ( control ? sumControl : sumCheck ) += r.errorM.cwiseAbs2();
+          ++( control ? mSummary.controlCount : mSummary.checkCount );
+        }
+        mSummary.points.push_back( r );
+      }
+      if ( mSummary.controlCount )
+        mSummary.rmseControlM = ( sumControl / mSummary.controlCount ).cwiseSqrt();
+      if ( mSummary.checkCount )
+        mSummary.rmseCheckM = ( sumCheck / mSummary.checkCount ).cwiseSqrt();
+    }
   } // namespace
+
+  void BundleOptions::check() const
+  {
+    if ( maxIterations < 1 )
+      throw std::invalid_argument( "the bundle adjustment needs at least one iteration" );
+    if ( robust && !( robustThreshold > 0 && std::isfinite( robustThreshold ) ) )
+      throw std::invalid_argument( "the robust threshold must be a positive number of sigmas" );
+    for ( const double tolerance : { functionTolerance, gradientTolerance, parameterTolerance } )
+      if ( !( tolerance > 0 && tolerance < 1 ) )
+        throw std::invalid_argument( "the solver's tolerances must lie between 0 and 1" );
+    if ( denseSchurMaxImages < 0 )
+      throw std::invalid_argument( "the largest block for the dense Schur solver must be 0 images or more" );
+  }
 
   BundleSummary bundleAdjust( const std::vector<Camera> &cameras, const std::vector<BundleImage> &images, const std::vector<ControlPoint> &groundPoints,
                               const std::vector<BundleObservation> &observations, const BundleOptions &options )
   {
-    // ---- preconditions ----
-    std::map<std::string, size_t> cameraIndex, imageIndex;
-    for ( size_t i = 0; i < cameras.size(); ++i )
-    {
-      cameras[i].validate();
-      cameraIndex[cameras[i].id] = i;
-      if ( cameras[i].distortion.model == DistortionModel::None )
-        for ( int k = kInteriorK1; k < kInteriorSize; ++k )
-          if ( options.freeInterior[k] )
-            throw std::invalid_argument( std::string( "camera '" ) + cameras[i].id + "' has no lens model, so " + interiorParameterNames()[k] + " cannot be estimated" );
-    }
-    for ( size_t i = 0; i < images.size(); ++i )
-    {
-      if ( !cameraIndex.count( images[i].cameraId ) )
-        throw std::invalid_argument( "image '" + images[i].id + "' uses camera '" + images[i].cameraId + "', which is not given" );
-      imageIndex[images[i].id] = i;
-    }
-    for ( const BundleObservation &o : observations )
-    {
-      if ( !imageIndex.count( o.imageId ) )
-        throw std::invalid_argument( "point '" + o.pointId + "' is observed in image '" + o.imageId + "', which is not in the adjustment" );
-      if ( !( o.sigmaPx > 0.0 ) )
-        throw std::invalid_argument( "point '" + o.pointId + "' in image '" + o.imageId + "': pixel sigma must be positive" );
-    }
-
-    // Local origin: the mean projection centre.
-    Eigen::Vector3d origin = Eigen::Vector3d::Zero();
-    for ( const BundleImage &image : images )
-      origin += image.exterior.projectionCentre;
-    origin /= std::max<size_t>( 1, images.size() );
-
-    std::vector<std::array<double, 6>> poses( images.size() );
-    std::vector<std::array<double, kInteriorSize>> interiors( cameras.size() );
-    std::vector<std::unique_ptr<OrientedImage>> startImages;
-    for ( size_t i = 0; i < images.size(); ++i )
-    {
-      const ExteriorOrientation &eo = images[i].exterior;
-      const Eigen::Vector3d c = eo.projectionCentre - origin;
-      poses[i] = { c.x(), c.y(), c.z(), degToRad( eo.omegaDeg ), degToRad( eo.phiDeg ), degToRad( eo.kappaDeg ) };
-      startImages.push_back( std::make_unique<OrientedImage>( cameras[cameraIndex[images[i].cameraId]], eo ) );
-    }
-    for ( size_t c = 0; c < cameras.size(); ++c )
-      interiorBlockFromCamera( cameras[c], interiors[c].data() );
-
-    // ---- points: control at their known position, tie and check points intersected ----
-    std::map<std::string, const ControlPoint *> known;
-    for ( const ControlPoint &g : groundPoints )
-      known[g.id] = &g;
-    std::map<std::string, std::vector<size_t>> observationsOfPoint;
-    for ( size_t k = 0; k < observations.size(); ++k )
-      observationsOfPoint[observations[k].pointId].push_back( k );
-
-    BundleSummary summary;
-    std::vector<PointState> points;
-    points.reserve( observationsOfPoint.size() );
-    for ( const auto &[id, obs] : observationsOfPoint )
-    {
-      PointState p;
-      p.id = id;
-      p.observations = obs;
-      const auto it = known.find( id );
-      if ( it != known.end() )
-      {
-        p.known = it->second;
-        p.role = it->second->check ? BundlePointResult::Role::Check : BundlePointResult::Role::Control;
-      }
-      if ( p.role == BundlePointResult::Role::Control )
-        p.local = toArray( p.known->world - origin );
-      else
-      {
-        std::vector<RayObservation> rays;
-        for ( size_t k : obs )
-          rays.push_back( { startImages[imageIndex[observations[k].imageId]].get(), observations[k].pixelInImage, observations[k].sigmaPx } );
-        const IntersectionSummary start = intersectRays( rays );
-        if ( !start.ok() )
-        {
-          summary.skippedPoints.push_back( id );
-          continue;
-        }
-        p.local = toArray( start.point - origin );
-      }
-      points.push_back( p );
-    }
-
-    // ---- datum ----
-    int controlUsed = 0;
-    bool anyPrior = false;
-    for ( const PointState &p : points )
-      controlUsed += p.role == BundlePointResult::Role::Control ? 1 : 0;
-    if ( options.usePosePriors )
-      for ( const BundleImage &image : images )
-        anyPrior |= image.exterior.sigma.has_value();
-    if ( !anyPrior && controlUsed < 3 )
-      return failure( BundleSummary::Status::NoDatum, "the block has no datum: measure at least three control points or use the images' GNSS/INS orientation as priors" );
-
-    // ---- problem ----
-    ceres::Problem problem;
-    std::map<const double *, std::vector<int>> fixedOf; //!< components held fixed, per block with a SubsetManifold
-    ceres::LossFunction *loss = options.robust ? new ceres::HuberLoss( options.robustThreshold ) : nullptr;
-    std::vector<bool> imageUsed( images.size(), false ), cameraUsed( cameras.size(), false );
-    for ( PointState &p : points )
-      for ( size_t k : p.observations )
-      {
-        const BundleObservation &o = observations[k];
-        const size_t i = imageIndex[o.imageId];
-        const size_t c = cameraIndex[images[i].cameraId];
-        problem.AddResidualBlock( CollinearityError::create( cameras[c], o.pixelInImage.x(), o.pixelInImage.y(), o.sigmaPx ), loss,
-                                  poses[i].data(), interiors[c].data(), p.local.data() );
-        imageUsed[i] = cameraUsed[c] = true;
-      }
-    if ( problem.NumResidualBlocks() == 0 )
-      return failure( BundleSummary::Status::TooFewObservations, "no point is observed often enough to take part (tie points need two images)" );
-
-    for ( PointState &p : points )
-      if ( p.role == BundlePointResult::Role::Control )
-      {
-        const std::array<double, 3> sigma = toArray( p.known->sigmaM );
-        const std::vector<int> fixed = ParameterPrior<3>::fixedComponents( sigma );
-        if ( fixed.size() == 3 )
-          problem.SetParameterBlockConstant( p.local.data() );
-        else
-        {
-          problem.AddResidualBlock( ParameterPrior<3>::create( toArray( p.known->world - origin ), sigma ), nullptr, p.local.data() );
-          if ( !fixed.empty() )
-          {
-            problem.SetManifold( p.local.data(), new ceres::SubsetManifold( 3, fixed ) );
-            fixedOf[p.local.data()] = fixed;
-          }
-        }
-      }
-    for ( size_t i = 0; i < images.size(); ++i )
-    {
-      if ( !imageUsed[i] || !options.usePosePriors || !images[i].exterior.sigma )
-        continue;
-      const ExteriorSigma &s = *images[i].exterior.sigma;
-      const std::array<double, 6> sigma { s.x, s.y, s.z, degToRad( s.omegaDeg ), degToRad( s.phiDeg ), degToRad( s.kappaDeg ) };
-      const std::vector<int> fixed = ParameterPrior<6>::fixedComponents( sigma );
-      if ( fixed.size() == 6 )
-        problem.SetParameterBlockConstant( poses[i].data() );
-      else
-      {
-        problem.AddResidualBlock( ParameterPrior<6>::create( poses[i], sigma ), nullptr, poses[i].data() );
-        if ( !fixed.empty() )
-        {
-          problem.SetManifold( poses[i].data(), new ceres::SubsetManifold( 6, fixed ) );
-          fixedOf[poses[i].data()] = fixed;
-        }
-      }
-    }
-    std::vector<int> fixedInterior;
-    for ( int k = 0; k < kInteriorSize; ++k )
-      if ( !options.freeInterior[k] )
-        fixedInterior.push_back( k );
-    for ( size_t c = 0; c < cameras.size(); ++c )
-    {
-      if ( !cameraUsed[c] )
-        continue;
-      if ( fixedInterior.size() == kInteriorSize )
-        problem.SetParameterBlockConstant( interiors[c].data() );
-      else if ( !fixedInterior.empty() )
-      {
-        problem.SetManifold( interiors[c].data(), new ceres::SubsetManifold( kInteriorSize, fixedInterior ) );
-        fixedOf[interiors[c].data()] = fixedInterior;
-      }
-    }
-
-    // ---- solve ----
-    ceres::Solver::Options solverOptions;
-    solverOptions.linear_solver_type = images.size() <= 200 ? ceres::DENSE_SCHUR : ceres::SPARSE_SCHUR;
-    solverOptions.max_num_iterations = options.maxIterations;
-    solverOptions.function_tolerance = 1e-12;
-    solverOptions.gradient_tolerance = 1e-12;
-    solverOptions.parameter_tolerance = 1e-12;
-    solverOptions.num_threads = std::max( 1, options.threads );
-    IterationCallbackAdapter callback( options.onIteration );
-    if ( options.onIteration )
-      solverOptions.callbacks.push_back( &callback );
-    ceres::Solver::Summary solverSummary;
-    ceres::Solve( solverOptions, &problem, &solverSummary );
-    if ( callback.stopped() )
-      return failure( BundleSummary::Status::Cancelled, "the bundle adjustment was cancelled after " + std::to_string( solverSummary.iterations.size() ) + " iteration(s)" );
-    summary.iterations = static_cast<int>( solverSummary.iterations.size() );
-    summary.solveSeconds = solverSummary.total_time_in_seconds;
-    summary.converged = solverSummary.termination_type == ceres::CONVERGENCE;
-    if ( solverSummary.termination_type == ceres::FAILURE )
-      return failure( BundleSummary::Status::Failed, "the bundle adjustment failed: " + solverSummary.message );
-    if ( !summary.converged )
-      return failure( BundleSummary::Status::NotConverged, "the bundle adjustment did not converge in " + std::to_string( options.maxIterations ) + " iterations: " + solverSummary.message );
-
-    // ---- statistics, without the robust loss ----
-    ceres::Problem::EvaluateOptions evaluate;
-    evaluate.apply_loss_function = false;
-    double cost = 0.0;
-    problem.Evaluate( evaluate, &cost, nullptr, nullptr, nullptr );
-    summary.redundancy = static_cast<long>( solverSummary.num_residuals_reduced ) - static_cast<long>( solverSummary.num_effective_parameters_reduced );
-    summary.sigma0 = summary.redundancy > 0 ? std::sqrt( 2.0 * cost / summary.redundancy ) : 0.0;
-    const double varianceFactor = summary.redundancy > 0 ? summary.sigma0 * summary.sigma0 : 1.0;
-
-    // Covariances through the Schur complement: cheap per point, exact.
-    std::map<const double *, Eigen::MatrixXd> tangentCovariance;
-    if ( options.computeCovariance )
-    {
-      std::vector<double *> cameraBlocks, pointBlocks;
-      for ( size_t i = 0; i < images.size(); ++i )
-        if ( imageUsed[i] && !problem.IsParameterBlockConstant( poses[i].data() ) )
-          cameraBlocks.push_back( poses[i].data() );
-      for ( size_t c = 0; c < cameras.size(); ++c )
-        if ( cameraUsed[c] && !problem.IsParameterBlockConstant( interiors[c].data() ) )
-          cameraBlocks.push_back( interiors[c].data() );
-      for ( PointState &p : points )
-        if ( !problem.IsParameterBlockConstant( p.local.data() ) )
-          pointBlocks.push_back( p.local.data() );
-      const SchurCovariance covariance = schurCovariance( problem, cameraBlocks, pointBlocks );
-      if ( !covariance.ok )
-        return failure( BundleSummary::Status::NoDatum, "the block's parameters are not all determined (the normal equations are singular); add control points, pose priors or tie points, or free fewer interior parameters" );
-      for ( size_t b = 0; b < cameraBlocks.size(); ++b )
-      {
-        const int size = problem.ParameterBlockTangentSize( cameraBlocks[b] );
-        tangentCovariance[cameraBlocks[b]] = covariance.cameras.block( covariance.cameraOffsets[b], covariance.cameraOffsets[b], size, size );
-      }
-      for ( size_t j = 0; j < pointBlocks.size(); ++j )
-        tangentCovariance[pointBlocks[j]] = covariance.points[j];
-    }
-    // Standard deviations in the block's own coordinates; fixed components get 0.
-    const auto sigmaOf = [&]( const double *block, int size ) -> Eigen::VectorXd
-    {
-      Eigen::VectorXd sigma = Eigen::VectorXd::Zero( size );
-      const auto it = tangentCovariance.find( block );
-      if ( it == tangentCovariance.end() )
-        return sigma;
-      const auto fixedIt = fixedOf.find( block );
-      int t = 0;
-      for ( int k = 0; k < size; ++k )
-      {
-        if ( fixedIt != fixedOf.end() && std::find( fixedIt->second.begin(), fixedIt->second.end(), k ) != fixedIt->second.end() )
-          continue;
-        sigma( k ) = std::sqrt( std::max( 0.0, it->second( t, t ) * varianceFactor ) );
-        ++t;
-      }
-      return sigma;
-    };
-
-    // ---- residuals in pixels, per image and per point ----
-    std::vector<double> imageSum( images.size(), 0.0 );
-    std::vector<int> imageCount( images.size(), 0 );
-    double totalSum = 0.0;
-    long totalCount = 0;
-    std::vector<double> pointRms( points.size(), 0.0 );
-    for ( size_t j = 0; j < points.size(); ++j )
-    {
-      double pointSum = 0.0;
-      for ( size_t k : points[j].observations )
-      {
-        const BundleObservation &o = observations[k];
-        const size_t i = imageIndex[o.imageId];
-        const size_t c = cameraIndex[images[i].cameraId];
-        std::unique_ptr<ceres::CostFunction> costFunction( CollinearityError::create( cameras[c], o.pixelInImage.x(), o.pixelInImage.y(), o.sigmaPx ) );
-        const double *parameters[3] = { poses[i].data(), interiors[c].data(), points[j].local.data() };
-        double r[2];
-        costFunction->Evaluate( parameters, r, nullptr );
-        const double squaredPx = ( r[0] * r[0] + r[1] * r[1] ) * o.sigmaPx * o.sigmaPx;
-        imageSum[i] += squaredPx;
-        imageCount[i] += 1;
-        pointSum += squaredPx;
-        totalSum += squaredPx;
-        ++totalCount;
-      }
-      pointRms[j] = std::sqrt( pointSum / ( 2.0 * points[j].observations.size() ) );
-    }
-    summary.rmsPx = totalCount ? std::sqrt( totalSum / ( 2.0 * totalCount ) ) : 0.0;
-
-    for ( size_t i = 0; i < images.size(); ++i )
-    {
-      BundleImageResult r;
-      r.id = images[i].id;
-      r.exterior.projectionCentre = Eigen::Vector3d( poses[i][0], poses[i][1], poses[i][2] ) + origin;
-      r.exterior.omegaDeg = radToDeg( poses[i][3] );
-      r.exterior.phiDeg = radToDeg( poses[i][4] );
-      r.exterior.kappaDeg = radToDeg( poses[i][5] );
-      if ( imageUsed[i] )
-      {
-        const Eigen::VectorXd s = sigmaOf( poses[i].data(), 6 );
-        r.exterior.sigma = ExteriorSigma { s( 0 ), s( 1 ), s( 2 ), radToDeg( s( 3 ) ), radToDeg( s( 4 ) ), radToDeg( s( 5 ) ) };
-      }
-      else
-        r.exterior.sigma = images[i].exterior.sigma; // untouched
-      r.observationCount = imageCount[i];
-      r.rmsPx = imageCount[i] ? std::sqrt( imageSum[i] / ( 2.0 * imageCount[i] ) ) : 0.0;
-      r.shiftM = r.exterior.projectionCentre - images[i].exterior.projectionCentre;
-      summary.images.push_back( r );
-    }
-    for ( size_t c = 0; c < cameras.size(); ++c )
-    {
-      BundleCameraResult r;
-      r.camera = cameras[c];
-      cameraFromInteriorBlock( interiors[c].data(), &r.camera );
-      const Eigen::VectorXd s = sigmaOf( interiors[c].data(), kInteriorSize );
-      for ( int k = 0; k < kInteriorSize; ++k )
-        if ( options.freeInterior[k] && cameraUsed[c] )
-        {
-          r.freeParameters.push_back( interiorParameterNames()[k] );
-          r.sigmas.push_back( s( k ) );
-        }
-      summary.cameras.push_back( r );
-    }
-    Eigen::Vector3d sumControl = Eigen::Vector3d::Zero(), sumCheck = Eigen::Vector3d::Zero();
-    for ( size_t j = 0; j < points.size(); ++j )
-    {
-      const PointState &p = points[j];
-      BundlePointResult r;
-      r.id = p.id;
-      r.role = p.role;
-      r.world = Eigen::Vector3d( p.local[0], p.local[1], p.local[2] ) + origin;
-      r.sigmaM = sigmaOf( p.local.data(), 3 );
-      r.imageCount = static_cast<int>( p.observations.size() );
-      r.rmsPx = pointRms[j];
-      if ( p.known )
-      {
-        r.errorM = r.world - p.known->world;
-        if ( p.role == BundlePointResult::Role::Control )
-        {
-          sumControl += r.errorM.cwiseAbs2();
-          ++summary.controlCount;
-        }
-        else
-        {
-          sumCheck += r.errorM.cwiseAbs2();
-          ++summary.checkCount;
-        }
-      }
-      summary.points.push_back( r );
-    }
-    if ( summary.controlCount )
-      summary.rmseControlM = ( sumControl / summary.controlCount ).cwiseSqrt();
-    if ( summary.checkCount )
-      summary.rmseCheckM = ( sumCheck / summary.checkCount ).cwiseSqrt();
-    if ( !summary.skippedPoints.empty() )
-      summary.message = std::to_string( summary.skippedPoints.size() ) + " points seen in fewer than two images (or with parallel rays) were left out";
-    return summary;
+    return BundleAdjuster( cameras, images, groundPoints, observations, options ).run();
   }
 
 } // namespace geostation

@@ -48,14 +48,27 @@ namespace geostation
     bool robust = false;          //!< Huber loss while iterating
     double robustThreshold = 2.0; //!< in sigmas
     int maxIterations = 100;
-    int threads = 2;
+    int threads = 2;              //!< for the solver's linear algebra; 0 = 1
     bool computeCovariance = true;
+    //! Convergence: relative change of the cost, gradient (max norm) and parameters (Ceres' tolerances).
+    double functionTolerance = 1e-12;
+    double gradientTolerance = 1e-12;
+    double parameterTolerance = 1e-12;
+    /**
+     * Blocks of up to this many images are solved with the dense Schur
+     * complement (the reduced camera system as a dense matrix), larger ones
+     * with the sparse one.
+     */
+    int denseSchurMaxImages = 200;
     /**
      * Called after every iteration of the solve with the iteration number
      * (0 = the start) and the cost; returning false stops the adjustment,
      * which then reports Status::Cancelled. Empty: never stops early.
      */
     std::function<bool( int iteration, double cost )> onIteration;
+
+    //! Throws std::invalid_argument naming the first bad value.
+    void check() const;
   };
 
   struct BundlePointResult

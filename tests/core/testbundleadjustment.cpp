@@ -1,4 +1,6 @@
 // Bundle adjustment of a simulated highway run against exact truth.
+#include <functional>
+#include <limits>
 #include <random>
 
 #include <gtest/gtest.h>
@@ -256,4 +258,52 @@ TEST( BundleAdjustment, CancelStopsTheSolveBetweenIterations )
   EXPECT_EQ( calls, 2 );
   EXPECT_TRUE( stopped.images.empty() );
   EXPECT_NE( stopped.message.find( "cancelled" ), std::string::npos );
+}
+
+TEST( BundleAdjustment, SparseSchurAgreesWithTheDenseOne )
+{
+  std::mt19937 rng( 5 );
+  const SurveyRun run = highwayRun( 4, 80, rng );
+  const std::vector<BundleImage> start = perturbed( run, rng, 0.5, 0.3 );
+  const std::vector<BundleObservation> observations = observe( run, rng, 0.3 );
+  const BundleSummary dense = bundleAdjust( run.cameras, start, {}, observations );
+  ASSERT_TRUE( dense.ok() ) << dense.message;
+  BundleOptions sparseOptions;
+  sparseOptions.denseSchurMaxImages = 0; // every block is solved with the sparse Schur complement
+  const BundleSummary sparse = bundleAdjust( run.cameras, start, {}, observations, sparseOptions );
+  ASSERT_TRUE( sparse.ok() ) << sparse.message;
+  EXPECT_NEAR( sparse.sigma0, dense.sigma0, 1e-6 );
+  ASSERT_EQ( sparse.images.size(), dense.images.size() );
+  for ( size_t i = 0; i < dense.images.size(); ++i )
+  {
+    EXPECT_LT( ( sparse.images[i].exterior.projectionCentre - dense.images[i].exterior.projectionCentre ).norm(), 1e-6 );
+    EXPECT_NEAR( sparse.images[i].exterior.sigma->z, dense.images[i].exterior.sigma->z, 1e-6 );
+  }
+}
+
+TEST( BundleAdjustment, BadOptionsAreRefusedByName )
+{
+  std::mt19937 rng( 6 );
+  const SurveyRun run = highwayRun( 3, 40, rng );
+  const std::vector<BundleImage> start = perturbed( run, rng, 0.5, 0.3 );
+  const std::vector<BundleObservation> observations = observe( run, rng, 0.3 );
+  const auto refused = [&]( const std::function<void( BundleOptions & )> &spoil, const std::string &named )
+  {
+    BundleOptions options;
+    spoil( options );
+    try
+    {
+      bundleAdjust( run.cameras, start, {}, observations, options );
+      ADD_FAILURE() << "accepted: " << named;
+    }
+    catch ( const std::invalid_argument &e )
+    {
+      EXPECT_NE( std::string( e.what() ).find( named ), std::string::npos ) << e.what();
+    }
+  };
+  refused( []( BundleOptions & o ) { o.maxIterations = 0; }, "iteration" );
+  refused( []( BundleOptions & o ) { o.gradientTolerance = 2.0; }, "tolerances" );
+  refused( []( BundleOptions & o ) { o.functionTolerance = -1e-9; }, "tolerances" );
+  refused( []( BundleOptions & o ) { o.denseSchurMaxImages = -1; }, "dense Schur" );
+  refused( []( BundleOptions & o ) { o.robust = true; o.robustThreshold = std::numeric_limits<double>::infinity(); }, "robust threshold" );
 }
