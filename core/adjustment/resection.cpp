@@ -1,10 +1,14 @@
 /***************************************************************************
   resection.cpp - space resection of one image from control points
+  -------------------------------------------------------------------------
+  Resector runs it in named steps: checkInput, pairControl, checkControl,
+  startPose, solveRemovingBlunders, then fillEstimates and fillResiduals.
  ***************************************************************************/
 #include "adjustment/resection.h"
 
 #include <cmath>
 #include <map>
+#include <optional>
 #include <set>
 #include <sstream>
 #include <stdexcept>
@@ -146,9 +150,9 @@ namespace geostation
       ceres::Solver::Options solverOptions;
       solverOptions.linear_solver_type = ceres::DENSE_QR;
       solverOptions.max_num_iterations = options.maxIterations;
-      solverOptions.function_tolerance = 1e-14;
-      solverOptions.gradient_tolerance = 1e-14;
-      solverOptions.parameter_tolerance = 1e-12;
+      solverOptions.function_tolerance = options.functionTolerance;
+      solverOptions.gradient_tolerance = options.gradientTolerance;
+      solverOptions.parameter_tolerance = options.parameterTolerance;
       solverOptions.num_threads = 1;
       ceres::Solve( solverOptions, &problem, &sol.solverSummary );
 
@@ -189,6 +193,295 @@ namespace geostation
       }
       return sol;
     }
+
+    //! One resection (resectImage()) in named steps; parameters relative to the centroid of the control.
+    class Resector
+    {
+      public:
+        Resector( const Camera &camera, const std::vector<ControlPoint> &control, const std::vector<ImagePoint> &observations, const ResectionOptions &options )
+          : mCamera( camera ), mControl( control ), mObservations( observations ), mOptions( options ) {}
+
+        ResectionSummary run();
+
+      private:
+        void checkInput();
+        void pairControl();
+        std::optional<ResectionSummary> checkControl();
+        std::optional<ResectionSummary> startPose();
+        std::optional<ResectionSummary> solveRemovingBlunders();
+        std::optional<ResectionSummary> checkDeterminable( const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> &eigen ) const;
+        void fillEstimates();
+        void fillResiduals();
+
+        const Camera &mCamera;
+        const std::vector<ControlPoint> &mControl;
+        const std::vector<ImagePoint> &mObservations;
+        const ResectionOptions &mOptions;
+
+        std::map<std::string, const ImagePoint *> mObserved;
+        std::vector<UsedPoint> mUsed, mChecks;         //!< control in the adjustment; check points and removed blunders
+        int mMinimum = 4;                              //!< control points needed
+        Eigen::Vector3d mOrigin = Eigen::Vector3d::Zero();
+        std::array<double, 6> mPose {};                //!< start of the next solve
+        Solution mSolution;
+        Eigen::MatrixXd mCofactor;
+        Eigen::VectorXd mW;                            //!< Baarda's w per used point
+        std::vector<PointResidual> mRemoved;           //!< blunders, worst first
+        ResectionSummary mSummary;
+    };
+
+    ResectionSummary Resector::run()
+    {
+      checkInput();
+      pairControl();
+      if ( std::optional<ResectionSummary> failed = checkControl() )
+        return *failed;
+      if ( std::optional<ResectionSummary> failed = startPose() )
+        return *failed;
+      if ( std::optional<ResectionSummary> failed = solveRemovingBlunders() )
+        return *failed;
+      mSummary.iterations = static_cast<int>( mSolution.solverSummary.iterations.size() );
+      mSummary.converged = mSolution.solverSummary.termination_type == ceres::CONVERGENCE;
+      if ( !mSummary.converged )
+        return failure( ResectionSummary::Status::NotConverged, "the resection did not converge in " + std::to_string( mOptions.maxIterations ) + " iterations: " + mSolution.solverSummary.message );
+      fillEstimates();
+      fillResiduals();
+      return std::move( mSummary );
+    }
+
+    //! Preconditions: a valid camera, lens parameters freed only with a lens model, positive sigmas, each point measured once.
+    void Resector::checkInput()
+    {
+      mOptions.check();
+      mCamera.validate();
+      if ( mCamera.distortion.model == DistortionModel::None )
+        for ( int k = kInteriorK1; k < kInteriorSize; ++k )
+          if ( mOptions.freeInterior[k] )
+            throw std::invalid_argument( std::string( "camera '" ) + mCamera.id + "' has no lens model, so " + interiorParameterNames()[k] + " cannot be estimated" );
+      for ( const ImagePoint &o : mObservations )
+      {
+        if ( !( o.sigmaPx > 0.0 ) )
+          throw std::invalid_argument( "point '" + o.pointId + "': pixel sigma must be positive" );
+        if ( !mObserved.emplace( o.pointId, &o ).second )
+          throw std::invalid_argument( "point '" + o.pointId + "' is measured twice in the image" );
+      }
+    }
+
+    //! The control points measured in the image, used or check; the image points without control counted.
+    void Resector::pairControl()
+    {
+      std::set<std::string> controlIds;
+      for ( const ControlPoint &c : mControl )
+      {
+        controlIds.insert( c.id );
+        const auto it = mObserved.find( c.id );
+        if ( it == mObserved.end() )
+          continue;
+        UsedPoint p { &c, it->second, {}, !c.check && ( c.sigmaM.array() > 0.0 ).all() };
+        ( c.check ? mChecks : mUsed ).push_back( p );
+      }
+      for ( const ImagePoint &o : mObservations )
+        mSummary.unmatchedObservations += controlIds.count( o.pointId ) ? 0 : 1;
+    }
+
+    //! Enough control for the unknowns, not on one line; the local origin at its centroid.
+    std::optional<ResectionSummary> Resector::checkControl()
+    {
+      int freeCount = 0;
+      for ( bool f : mOptions.freeInterior )
+        freeCount += f ? 1 : 0;
+      mMinimum = std::max( 4, ( 6 + freeCount ) / 2 + 1 );
+      if ( static_cast<int>( mUsed.size() ) < mMinimum )
+      {
+        std::ostringstream m;
+        m << "a resection" << ( freeCount ? " with " + freeList( mOptions.freeInterior ) + " free" : std::string() ) << " needs at least " << mMinimum
+          << " control points measured in the image; " << mUsed.size() << " given";
+        return failure( ResectionSummary::Status::TooFewPoints, m.str() );
+      }
+      for ( const UsedPoint &p : mUsed )
+        mOrigin += p.control->world;
+      mOrigin /= static_cast<double>( mUsed.size() );
+      const auto localise = [this]( UsedPoint & p )
+      {
+        p.knownLocal = p.control->world - mOrigin;
+        p.local = { p.knownLocal.x(), p.knownLocal.y(), p.knownLocal.z() };
+      };
+      std::for_each( mUsed.begin(), mUsed.end(), localise );
+      std::for_each( mChecks.begin(), mChecks.end(), localise );
+
+      Eigen::MatrixXd centred( mUsed.size(), 3 );
+      for ( size_t i = 0; i < mUsed.size(); ++i )
+        centred.row( i ) = Eigen::Vector3d( mUsed[i].local[0], mUsed[i].local[1], mUsed[i].local[2] ).transpose();
+      const Eigen::Vector3d singular = Eigen::JacobiSVD<Eigen::MatrixXd>( centred ).singularValues();
+      if ( !( singular( 1 ) > 1e-3 * singular( 0 ) ) )
+        return failure( ResectionSummary::Status::DegenerateControl, "the control points lie (nearly) on one line, which cannot fix the image's rotation about it; add control off that line" );
+      return std::nullopt;
+    }
+
+    //! The given start, or the closed-form one; it must put the control in front of the camera.
+    std::optional<ResectionSummary> Resector::startPose()
+    {
+      if ( const std::optional<ExteriorOrientation> &initial = mOptions.initial )
+      {
+        const Eigen::Vector3d c = initial->projectionCentre - mOrigin;
+        mPose = { c.x(), c.y(), c.z(), degToRad( initial->omegaDeg ), degToRad( initial->phiDeg ), degToRad( initial->kappaDeg ) };
+        return std::nullopt;
+      }
+      const std::optional<std::array<double, 6>> start = initialPose( mCamera, mUsed );
+      if ( !start || !allInFront( *start, mUsed ) )
+        return failure( ResectionSummary::Status::NoSolution, "no orientation puts the control points in front of the camera; check the point identifications and coordinates" );
+      mPose = *start;
+      return std::nullopt;
+    }
+
+    //! Solves; removes the worst blunder (Baarda's w) and solves again while one is found and enough control remains.
+    std::optional<ResectionSummary> Resector::solveRemovingBlunders()
+    {
+      for ( ;; )
+      {
+        mSolution = solve( mCamera, mUsed, mPose, mOptions );
+        const Solution &sol = mSolution;
+        if ( sol.solverSummary.termination_type == ceres::FAILURE || !allInFront( sol.pose, mUsed ) )
+          return failure( ResectionSummary::Status::NoSolution, "the adjustment failed: " + sol.solverSummary.message );
+        // degeneracy: the column-scaled normal matrix must be well conditioned
+        const Eigen::VectorXd scale = sol.jacobian.colwise().norm().cwiseMax( 1e-300 ).cwiseInverse();
+        const Eigen::MatrixXd scaled = sol.jacobian * scale.asDiagonal();
+        if ( std::optional<ResectionSummary> degenerate = checkDeterminable( Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>( scaled.transpose() * scaled ) ) )
+          return degenerate;
+        const Eigen::MatrixXd normal = sol.jacobian.transpose() * sol.jacobian;
+        mCofactor = normal.inverse();
+        const Eigen::VectorXd qvv = ( Eigen::MatrixXd::Identity( sol.jacobian.rows(), sol.jacobian.rows() ) - sol.jacobian * mCofactor * sol.jacobian.transpose() ).diagonal();
+        mW = Eigen::VectorXd::Zero( mUsed.size() );
+        for ( size_t i = 0; i < mUsed.size(); ++i )
+          for ( int k = 0; k < 2; ++k )
+            if ( qvv( 2 * i + k ) > 1e-12 )
+              mW( i ) = std::max( mW( i ), std::abs( sol.residuals( 2 * i + k ) ) / std::sqrt( qvv( 2 * i + k ) ) );
+
+        Eigen::Index worst = 0;
+        const double worstW = mUsed.empty() ? 0.0 : mW.maxCoeff( &worst );
+        if ( !( mOptions.removeBlunders && worstW > mOptions.blunderThreshold && static_cast<int>( mUsed.size() ) > mMinimum ) )
+          return std::nullopt;
+        PointResidual blunder;
+        blunder.pointId = mUsed[worst].control->id;
+        blunder.normalised = worstW;
+        blunder.blunder = true;
+        mRemoved.push_back( blunder );
+        mChecks.push_back( mUsed[worst] ); // evaluated like a check point
+        mUsed.erase( mUsed.begin() + worst );
+        mPose = sol.pose;
+      }
+    }
+
+    //! The DegenerateControl failure naming the parameter the geometry cannot determine, or nothing.
+    std::optional<ResectionSummary> Resector::checkDeterminable( const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> &eigen ) const
+    {
+      if ( eigen.eigenvalues()( 0 ) > 1e-12 * eigen.eigenvalues().maxCoeff() )
+        return std::nullopt;
+      int column = 0;
+      eigen.eigenvectors().col( 0 ).cwiseAbs().maxCoeff( &column );
+      const char *poseNames[6] = { "X0", "Y0", "Z0", "omega", "phi", "kappa" };
+      const std::vector<int> &interiorColumns = mSolution.interiorColumns;
+      const std::string name = column < 6 ? poseNames[column] : column < 6 + static_cast<int>( interiorColumns.size() ) ? interiorParameterNames()[interiorColumns[column - 6]] : "a control point";
+      return failure( ResectionSummary::Status::DegenerateControl, "the control geometry cannot determine " + name + " (e.g. flat control with the principal distance free); fix it or add control at other heights and positions" );
+    }
+
+    //! Sigma0, the pose (metres, degrees) and free interior with sigmas, and their correlations.
+    void Resector::fillEstimates()
+    {
+      const Solution &sol = mSolution;
+      ResectionSummary &summary = mSummary;
+      summary.redundancy = static_cast<int>( sol.jacobian.rows() - sol.jacobian.cols() );
+      summary.sigma0 = summary.redundancy > 0 ? std::sqrt( sol.residuals.squaredNorm() / summary.redundancy ) : 0.0;
+      Eigen::MatrixXd covariance = mCofactor;
+      if ( mOptions.scaleCovarianceBySigma0 && summary.redundancy > 0 )
+        covariance *= summary.sigma0 * summary.sigma0;
+
+      summary.camera = mCamera;
+      cameraFromInteriorBlock( sol.interior.data(), &summary.camera );
+      summary.exterior.projectionCentre = Eigen::Vector3d( sol.pose[0], sol.pose[1], sol.pose[2] ) + mOrigin;
+      summary.exterior.omegaDeg = radToDeg( sol.pose[3] );
+      summary.exterior.phiDeg = radToDeg( sol.pose[4] );
+      summary.exterior.kappaDeg = radToDeg( sol.pose[5] );
+      const int parameters = 6 + static_cast<int>( sol.interiorColumns.size() );
+      const Eigen::VectorXd sigma = covariance.diagonal().head( parameters ).cwiseSqrt();
+      summary.exterior.sigma = ExteriorSigma { sigma( 0 ), sigma( 1 ), sigma( 2 ), radToDeg( sigma( 3 ) ), radToDeg( sigma( 4 ) ), radToDeg( sigma( 5 ) ) };
+      summary.parameterNames = { "X0", "Y0", "Z0", "omega", "phi", "kappa" };
+      summary.estimates = { summary.exterior.projectionCentre.x(), summary.exterior.projectionCentre.y(), summary.exterior.projectionCentre.z(),
+                            summary.exterior.omegaDeg, summary.exterior.phiDeg, summary.exterior.kappaDeg
+                          };
+      summary.sigmas = { sigma( 0 ), sigma( 1 ), sigma( 2 ), radToDeg( sigma( 3 ) ), radToDeg( sigma( 4 ) ), radToDeg( sigma( 5 ) ) };
+      for ( size_t c = 0; c < sol.interiorColumns.size(); ++c )
+      {
+        summary.parameterNames.push_back( interiorParameterNames()[sol.interiorColumns[c]] );
+        summary.estimates.push_back( sol.interior[sol.interiorColumns[c]] );
+        summary.sigmas.push_back( sigma( 6 + c ) );
+      }
+      const Eigen::MatrixXd block = covariance.topLeftCorner( parameters, parameters );
+      const Eigen::VectorXd inverseSigma = block.diagonal().cwiseSqrt().cwiseInverse();
+      summary.correlation = inverseSigma.asDiagonal() * block * inverseSigma.asDiagonal();
+    }
+
+    //! Residuals: control (with w), then check points and removed blunders (with their error on the ground); RMSEs; the blunders named.
+    void Resector::fillResiduals()
+    {
+      ResectionSummary &summary = mSummary;
+      const OrientedImage image( summary.camera, summary.exterior );
+      double sumControl = 0.0, sumCheckPx = 0.0, sumCheckM = 0.0;
+      for ( size_t i = 0; i < mUsed.size(); ++i )
+      {
+        PointResidual r;
+        r.pointId = mUsed[i].control->id;
+        const Eigen::Vector3d world = Eigen::Vector3d( mUsed[i].local[0], mUsed[i].local[1], mUsed[i].local[2] ) + mOrigin;
+        const GroundProjection g = image.projectGroundToPixel( world );
+        r.residualPx = g.ok() ? Eigen::Vector2d( g.pixelInImage - mUsed[i].observation->pixelInImage ) : Eigen::Vector2d( mSolution.residuals.segment<2>( 2 * i ) * mUsed[i].observation->sigmaPx );
+        r.normalised = mW( i );
+        r.blunder = mW( i ) > mOptions.blunderThreshold;
+        sumControl += r.residualPx.squaredNorm();
+        summary.residuals.push_back( r );
+      }
+      for ( const UsedPoint &c : mChecks )
+      {
+        PointResidual r;
+        r.pointId = c.control->id;
+        r.check = c.control->check;
+        for ( const PointResidual &b : mRemoved )
+          if ( b.pointId == r.pointId )
+          {
+            r.blunder = true;
+            r.normalised = b.normalised;
+          }
+        const GroundProjection g = image.projectGroundToPixel( c.control->world );
+        if ( g.ok() )
+          r.residualPx = g.pixelInImage - c.observation->pixelInImage;
+        const PlaneIntersectionSummary ground = intersectRayWithPlane( { &image, c.observation->pixelInImage, c.observation->sigmaPx }, Plane::horizontal( c.control->world.z() ) );
+        if ( ground.ok() )
+          r.groundErrorM = ground.point - c.control->world;
+        if ( r.check )
+        {
+          sumCheckPx += r.residualPx.squaredNorm();
+          sumCheckM += r.groundErrorM.head<2>().squaredNorm();
+          ++summary.checkCount;
+        }
+        summary.residuals.push_back( r );
+      }
+      for ( const PointResidual &b : mRemoved )
+        summary.blunders.push_back( b.pointId );
+      summary.controlCount = static_cast<int>( mUsed.size() );
+      summary.rmseControlPx = std::sqrt( sumControl / std::max<size_t>( 1, mUsed.size() ) );
+      if ( summary.checkCount > 0 )
+      {
+        summary.rmseCheckPx = std::sqrt( sumCheckPx / summary.checkCount );
+        summary.rmseCheckM = std::sqrt( sumCheckM / summary.checkCount );
+      }
+      if ( !summary.blunders.empty() )
+      {
+        std::ostringstream m;
+        m << "removed as blunder" << ( summary.blunders.size() > 1 ? "s" : "" ) << ":";
+        for ( const PointResidual &b : mRemoved )
+          m << " " << b.pointId << " (w = " << std::round( b.normalised * 10 ) / 10 << ")";
+        summary.message = m.str();
+      }
+    }
   } // namespace
 
   const std::array<const char *, kInteriorSize> &interiorParameterNames()
@@ -205,226 +498,23 @@ namespace geostation
     return std::nullopt;
   }
 
+
+  void ResectionOptions::check() const
+  {
+    if ( maxIterations < 1 )
+      throw std::invalid_argument( "the resection needs at least one iteration" );
+    if ( robust && !( robustThreshold > 0 && std::isfinite( robustThreshold ) ) )
+      throw std::invalid_argument( "the robust threshold must be a positive number of sigmas" );
+    if ( !( blunderThreshold > 0 ) )
+      throw std::invalid_argument( "the blunder threshold (Baarda's w) must be positive" );
+    for ( const double tolerance : { functionTolerance, gradientTolerance, parameterTolerance } )
+      if ( !( tolerance > 0 && tolerance < 1 ) )
+        throw std::invalid_argument( "the solver's tolerances must lie between 0 and 1" );
+  }
+
   ResectionSummary resectImage( const Camera &camera, const std::vector<ControlPoint> &control, const std::vector<ImagePoint> &observations, const ResectionOptions &options )
   {
-    camera.validate();
-    if ( camera.distortion.model == DistortionModel::None )
-      for ( int k = kInteriorK1; k < kInteriorSize; ++k )
-        if ( options.freeInterior[k] )
-          throw std::invalid_argument( std::string( "camera '" ) + camera.id + "' has no lens model, so " + interiorParameterNames()[k] + " cannot be estimated" );
-
-    std::map<std::string, const ImagePoint *> observed;
-    for ( const ImagePoint &o : observations )
-    {
-      if ( !( o.sigmaPx > 0.0 ) )
-        throw std::invalid_argument( "point '" + o.pointId + "': pixel sigma must be positive" );
-      if ( !observed.emplace( o.pointId, &o ).second )
-        throw std::invalid_argument( "point '" + o.pointId + "' is measured twice in the image" );
-    }
-
-    // Local origin: the centroid of the control, for well-conditioned numbers.
-    Eigen::Vector3d origin = Eigen::Vector3d::Zero();
-    std::vector<UsedPoint> used, checks;
-    std::set<std::string> controlIds;
-    for ( const ControlPoint &c : control )
-    {
-      controlIds.insert( c.id );
-      const auto it = observed.find( c.id );
-      if ( it == observed.end() )
-        continue;
-      UsedPoint p { &c, it->second, {}, !c.check && ( c.sigmaM.array() > 0.0 ).all() };
-      ( c.check ? checks : used ).push_back( p );
-    }
-    ResectionSummary summary;
-    for ( const ImagePoint &o : observations )
-      summary.unmatchedObservations += controlIds.count( o.pointId ) ? 0 : 1;
-
-    int freeCount = 0;
-    for ( bool f : options.freeInterior )
-      freeCount += f ? 1 : 0;
-    const int unknowns = 6 + freeCount;
-    const int minimum = std::max( 4, unknowns / 2 + 1 );
-    if ( static_cast<int>( used.size() ) < minimum )
-    {
-      std::ostringstream m;
-      m << "a resection" << ( freeCount ? " with " + freeList( options.freeInterior ) + " free" : std::string() ) << " needs at least " << minimum
-        << " control points measured in the image; " << used.size() << " given";
-      return failure( ResectionSummary::Status::TooFewPoints, m.str() );
-    }
-
-    for ( const UsedPoint &p : used )
-      origin += p.control->world;
-    origin /= static_cast<double>( used.size() );
-    const auto localise = [&origin]( UsedPoint & p )
-    {
-      p.knownLocal = p.control->world - origin;
-      p.local = { p.knownLocal.x(), p.knownLocal.y(), p.knownLocal.z() };
-    };
-    std::for_each( used.begin(), used.end(), localise );
-    std::for_each( checks.begin(), checks.end(), localise );
-
-    {
-      Eigen::MatrixXd centred( used.size(), 3 );
-      for ( size_t i = 0; i < used.size(); ++i )
-        centred.row( i ) = Eigen::Vector3d( used[i].local[0], used[i].local[1], used[i].local[2] ).transpose();
-      const Eigen::Vector3d singular = Eigen::JacobiSVD<Eigen::MatrixXd>( centred ).singularValues();
-      if ( !( singular( 1 ) > 1e-3 * singular( 0 ) ) )
-        return failure( ResectionSummary::Status::DegenerateControl, "the control points lie (nearly) on one line, which cannot fix the image's rotation about it; add control off that line" );
-    }
-
-    std::array<double, 6> pose;
-    if ( options.initial )
-    {
-      const Eigen::Vector3d c = options.initial->projectionCentre - origin;
-      pose = { c.x(), c.y(), c.z(), degToRad( options.initial->omegaDeg ), degToRad( options.initial->phiDeg ), degToRad( options.initial->kappaDeg ) };
-    }
-    else
-    {
-      const std::optional<std::array<double, 6>> start = initialPose( camera, used );
-      if ( !start || !allInFront( *start, used ) )
-        return failure( ResectionSummary::Status::NoSolution, "no orientation puts the control points in front of the camera; check the point identifications and coordinates" );
-      pose = *start;
-    }
-
-    // Solve; remove the worst blunder and solve again while one is found.
-    std::vector<PointResidual> removed;
-    Solution sol;
-    Eigen::MatrixXd cofactor;
-    Eigen::VectorXd w;
-    for ( ;; )
-    {
-      sol = solve( camera, used, pose, options );
-      if ( sol.solverSummary.termination_type == ceres::FAILURE || !allInFront( sol.pose, used ) )
-        return failure( ResectionSummary::Status::NoSolution, "the adjustment failed: " + sol.solverSummary.message );
-      // Degeneracy: the column-scaled normal matrix must be well conditioned.
-      const Eigen::VectorXd scale = sol.jacobian.colwise().norm().cwiseMax( 1e-300 ).cwiseInverse();
-      const Eigen::MatrixXd scaled = sol.jacobian * scale.asDiagonal();
-      const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eigen( scaled.transpose() * scaled );
-      if ( !( eigen.eigenvalues()( 0 ) > 1e-12 * eigen.eigenvalues().maxCoeff() ) )
-      {
-        int column = 0;
-        eigen.eigenvectors().col( 0 ).cwiseAbs().maxCoeff( &column );
-        const char *poseNames[6] = { "X0", "Y0", "Z0", "omega", "phi", "kappa" };
-        const std::string name = column < 6 ? poseNames[column] : column < 6 + static_cast<int>( sol.interiorColumns.size() ) ? interiorParameterNames()[sol.interiorColumns[column - 6]] : "a control point";
-        return failure( ResectionSummary::Status::DegenerateControl, "the control geometry cannot determine " + name + " (e.g. flat control with the principal distance free); fix it or add control at other heights and positions" );
-      }
-      const Eigen::MatrixXd normal = sol.jacobian.transpose() * sol.jacobian;
-      cofactor = normal.inverse();
-      const Eigen::VectorXd qvv = ( Eigen::MatrixXd::Identity( sol.jacobian.rows(), sol.jacobian.rows() ) - sol.jacobian * cofactor * sol.jacobian.transpose() ).diagonal();
-      w = Eigen::VectorXd::Zero( used.size() );
-      for ( size_t i = 0; i < used.size(); ++i )
-        for ( int k = 0; k < 2; ++k )
-          if ( qvv( 2 * i + k ) > 1e-12 )
-            w( i ) = std::max( w( i ), std::abs( sol.residuals( 2 * i + k ) ) / std::sqrt( qvv( 2 * i + k ) ) );
-
-      Eigen::Index worst = 0;
-      const double worstW = used.empty() ? 0.0 : w.maxCoeff( &worst );
-      if ( !( options.removeBlunders && worstW > options.blunderThreshold && static_cast<int>( used.size() ) > minimum ) )
-        break;
-      PointResidual blunder;
-      blunder.pointId = used[worst].control->id;
-      blunder.normalised = worstW;
-      blunder.blunder = true;
-      removed.push_back( blunder );
-      checks.push_back( used[worst] ); // evaluated like a check point below
-      used.erase( used.begin() + worst );
-      pose = sol.pose;
-    }
-
-    summary.iterations = static_cast<int>( sol.solverSummary.iterations.size() );
-    summary.converged = sol.solverSummary.termination_type == ceres::CONVERGENCE;
-    if ( !summary.converged )
-      return failure( ResectionSummary::Status::NotConverged, "the resection did not converge in " + std::to_string( options.maxIterations ) + " iterations: " + sol.solverSummary.message );
-
-    summary.redundancy = static_cast<int>( sol.jacobian.rows() - sol.jacobian.cols() );
-    summary.sigma0 = summary.redundancy > 0 ? std::sqrt( sol.residuals.squaredNorm() / summary.redundancy ) : 0.0;
-    Eigen::MatrixXd covariance = cofactor;
-    if ( options.scaleCovarianceBySigma0 && summary.redundancy > 0 )
-      covariance *= summary.sigma0 * summary.sigma0;
-
-    // Estimates and precision: pose (metres, degrees) and free interior.
-    summary.camera = camera;
-    cameraFromInteriorBlock( sol.interior.data(), &summary.camera );
-    summary.exterior.projectionCentre = Eigen::Vector3d( sol.pose[0], sol.pose[1], sol.pose[2] ) + origin;
-    summary.exterior.omegaDeg = radToDeg( sol.pose[3] );
-    summary.exterior.phiDeg = radToDeg( sol.pose[4] );
-    summary.exterior.kappaDeg = radToDeg( sol.pose[5] );
-    const int parameters = 6 + static_cast<int>( sol.interiorColumns.size() );
-    const Eigen::VectorXd sigma = covariance.diagonal().head( parameters ).cwiseSqrt();
-    summary.exterior.sigma = ExteriorSigma { sigma( 0 ), sigma( 1 ), sigma( 2 ), radToDeg( sigma( 3 ) ), radToDeg( sigma( 4 ) ), radToDeg( sigma( 5 ) ) };
-    summary.parameterNames = { "X0", "Y0", "Z0", "omega", "phi", "kappa" };
-    summary.estimates = { summary.exterior.projectionCentre.x(), summary.exterior.projectionCentre.y(), summary.exterior.projectionCentre.z(),
-                          summary.exterior.omegaDeg, summary.exterior.phiDeg, summary.exterior.kappaDeg
-                        };
-    summary.sigmas = { sigma( 0 ), sigma( 1 ), sigma( 2 ), radToDeg( sigma( 3 ) ), radToDeg( sigma( 4 ) ), radToDeg( sigma( 5 ) ) };
-    for ( size_t c = 0; c < sol.interiorColumns.size(); ++c )
-    {
-      summary.parameterNames.push_back( interiorParameterNames()[sol.interiorColumns[c]] );
-      summary.estimates.push_back( sol.interior[sol.interiorColumns[c]] );
-      summary.sigmas.push_back( sigma( 6 + c ) );
-    }
-    const Eigen::MatrixXd block = covariance.topLeftCorner( parameters, parameters );
-    const Eigen::VectorXd inverseSigma = block.diagonal().cwiseSqrt().cwiseInverse();
-    summary.correlation = inverseSigma.asDiagonal() * block * inverseSigma.asDiagonal();
-
-    // Residuals: control (with w), then check points and removed blunders.
-    const OrientedImage image( summary.camera, summary.exterior );
-    double sumControl = 0.0, sumCheckPx = 0.0, sumCheckM = 0.0;
-    for ( size_t i = 0; i < used.size(); ++i )
-    {
-      PointResidual r;
-      r.pointId = used[i].control->id;
-      const Eigen::Vector3d world = Eigen::Vector3d( used[i].local[0], used[i].local[1], used[i].local[2] ) + origin;
-      const GroundProjection g = image.projectGroundToPixel( world );
-      r.residualPx = g.ok() ? Eigen::Vector2d( g.pixelInImage - used[i].observation->pixelInImage ) : Eigen::Vector2d( sol.residuals.segment<2>( 2 * i ) * used[i].observation->sigmaPx );
-      r.normalised = w( i );
-      r.blunder = w( i ) > options.blunderThreshold;
-      sumControl += r.residualPx.squaredNorm();
-      summary.residuals.push_back( r );
-    }
-    for ( const UsedPoint &c : checks )
-    {
-      PointResidual r;
-      r.pointId = c.control->id;
-      r.check = c.control->check;
-      for ( const PointResidual &b : removed )
-        if ( b.pointId == r.pointId )
-        {
-          r.blunder = true;
-          r.normalised = b.normalised;
-        }
-      const GroundProjection g = image.projectGroundToPixel( c.control->world );
-      if ( g.ok() )
-        r.residualPx = g.pixelInImage - c.observation->pixelInImage;
-      const PlaneIntersectionSummary ground = intersectRayWithPlane( { &image, c.observation->pixelInImage, c.observation->sigmaPx }, Plane::horizontal( c.control->world.z() ) );
-      if ( ground.ok() )
-        r.groundErrorM = ground.point - c.control->world;
-      if ( r.check )
-      {
-        sumCheckPx += r.residualPx.squaredNorm();
-        sumCheckM += r.groundErrorM.head<2>().squaredNorm();
-        ++summary.checkCount;
-      }
-      summary.residuals.push_back( r );
-    }
-    for ( const PointResidual &b : removed )
-      summary.blunders.push_back( b.pointId );
-    summary.controlCount = static_cast<int>( used.size() );
-    summary.rmseControlPx = std::sqrt( sumControl / std::max<size_t>( 1, used.size() ) );
-    if ( summary.checkCount > 0 )
-    {
-      summary.rmseCheckPx = std::sqrt( sumCheckPx / summary.checkCount );
-      summary.rmseCheckM = std::sqrt( sumCheckM / summary.checkCount );
-    }
-    if ( !summary.blunders.empty() )
-    {
-      std::ostringstream m;
-      m << "removed as blunder" << ( summary.blunders.size() > 1 ? "s" : "" ) << ":";
-      for ( const PointResidual &b : removed )
-        m << " " << b.pointId << " (w = " << std::round( b.normalised * 10 ) / 10 << ")";
-      summary.message = m.str();
-    }
-    return summary;
+    return Resector( camera, control, observations, options ).run();
   }
 
 } // namespace geostation

@@ -49,7 +49,14 @@ namespace geostation
     bool removeBlunders = true;     //!< drop the worst blunder and solve again, while enough points remain
     bool scaleCovarianceBySigma0 = true;
     int maxIterations = 100;
+    //! Convergence: relative change of the cost, gradient (max norm) and parameters (Ceres' tolerances).
+    double functionTolerance = 1e-14;
+    double gradientTolerance = 1e-14;
+    double parameterTolerance = 1e-12;
     std::optional<ExteriorOrientation> initial; //!< skip the automatic start
+
+    //! Throws std::invalid_argument naming the first bad value.
+    void check() const;
   };
 
   struct PointResidual

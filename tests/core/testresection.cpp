@@ -1,4 +1,5 @@
 // Space resection against exact synthetic truth.
+#include <functional>
 #include <random>
 
 #include <gtest/gtest.h>
@@ -277,6 +278,47 @@ TEST( Resection, BadGeometryAndInputAreReported )
   ResectionOptions freeK1;
   freeK1.freeInterior[kInteriorK1] = true;
   EXPECT_THROW( resectImage( truth.camera(), control, measure( truth, control ), freeK1 ), std::invalid_argument );
+  // Bad options throw, naming the value.
+  const auto refused = [&]( const std::function<void( ResectionOptions & )> &spoil, const std::string &named )
+  {
+    ResectionOptions options;
+    spoil( options );
+    try
+    {
+      resectImage( truth.camera(), control, measure( truth, control ), options );
+      ADD_FAILURE() << "accepted: " << named;
+    }
+    catch ( const std::invalid_argument &e )
+    {
+      EXPECT_NE( std::string( e.what() ).find( named ), std::string::npos ) << e.what();
+    }
+  };
+  refused( []( ResectionOptions & o ) { o.maxIterations = 0; }, "iteration" );
+  refused( []( ResectionOptions & o ) { o.functionTolerance = 0.0; }, "tolerances" );
+  refused( []( ResectionOptions & o ) { o.parameterTolerance = std::nan( "" ); }, "tolerances" );
+  refused( []( ResectionOptions & o ) { o.blunderThreshold = -1.0; }, "blunder threshold" );
+  refused( []( ResectionOptions & o ) { o.robust = true; o.robustThreshold = 0.0; }, "robust threshold" );
+}
+
+TEST( Resection, SolverTolerancesComeFromTheOptions )
+{
+  const auto images = vanrig::images();
+  const OrientedImage &truth = *images[1];
+  std::mt19937 rng( 13 );
+  const std::vector<ControlPoint> control = controlFor( truth, 8, rng );
+  std::vector<ImagePoint> measured = measure( truth, control );
+  std::normal_distribution<double> noise( 0.0, 0.5 );
+  for ( ImagePoint &p : measured )
+    p.pixelInImage += Eigen::Vector2d( noise( rng ), noise( rng ) );
+  const ResectionSummary tight = resectImage( truth.camera(), control, measured );
+  ASSERT_TRUE( tight.ok() ) << tight.message;
+  // loose tolerances stop the same solve earlier, a little further from the optimum
+  ResectionOptions loose;
+  loose.functionTolerance = loose.gradientTolerance = loose.parameterTolerance = 0.5;
+  const ResectionSummary early = resectImage( truth.camera(), control, measured, loose );
+  ASSERT_TRUE( early.ok() ) << early.message;
+  EXPECT_LT( early.iterations, tight.iterations );
+  EXPECT_GE( early.sigma0, tight.sigma0 - 1e-12 );
 }
 
 TEST( Resection, UnmatchedObservationsAreCounted )
