@@ -27,7 +27,7 @@
 #include "featureclass.h"
 #include "geometry/projection.h"
 #include "io/block.h"
-#include "workstation/stationsequence.h"
+#include "io/stationsequence.h"
 
 class QgsProject;
 

@@ -23,7 +23,7 @@
 #include "tracing/roadtracer.h"
 #include "tracing/runline.h"
 #include "tracing/stationstereo.h"
-#include "workstation/stationsequence.h"
+#include "io/stationsequence.h"
 
 namespace geostation
 {

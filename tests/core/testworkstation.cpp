@@ -14,7 +14,7 @@
 #include "simulation/surveysimulator.h"
 #include "workstation/matchimagecache.h"
 #include "workstation/pointmeasurer.h"
-#include "workstation/stationsequence.h"
+#include "io/stationsequence.h"
 #include "workstation/viewcone.h"
 #include "simulationtruth.h"
 #include "texturedground.h"

@@ -1,7 +1,7 @@
 /***************************************************************************
   stationsequence.cpp
  ***************************************************************************/
-#include "workstation/stationsequence.h"
+#include "io/stationsequence.h"
 
 #include <algorithm>
 #include <cmath>

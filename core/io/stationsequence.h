@@ -7,8 +7,8 @@
   its position (the mean projection centre of its oriented images), so a
   station can be picked from the map or from typed coordinates.
  ***************************************************************************/
-#ifndef GEOSTATION_WORKSTATION_STATIONSEQUENCE_H
-#define GEOSTATION_WORKSTATION_STATIONSEQUENCE_H
+#ifndef GEOSTATION_IO_STATIONSEQUENCE_H
+#define GEOSTATION_IO_STATIONSEQUENCE_H
 
 #include <optional>
 #include <string>
@@ -69,4 +69,4 @@ namespace geostation
 
 } // namespace geostation
 
-#endif // GEOSTATION_WORKSTATION_STATIONSEQUENCE_H
+#endif // GEOSTATION_IO_STATIONSEQUENCE_H

@@ -1,0 +1,33 @@
+# Fails when a module of core/ includes a module after it in the module order
+# (docs/architecture.md): camera -> geometry -> io -> imageproc -> adjustment
+# -> dem -> matching -> tracing -> extraction -> workstation -> simulation
+# -> tools. A module includes only itself and the modules before it.
+#   cmake -DCORE_DIR=<core> -P CheckCoreLayers.cmake
+set(order camera geometry io imageproc adjustment dem matching tracing extraction workstation simulation tools)
+file(GLOB_RECURSE sources RELATIVE "${CORE_DIR}" "${CORE_DIR}/*.h" "${CORE_DIR}/*.cpp" "${CORE_DIR}/*.hpp")
+set(offenders "")
+set(checked 0)
+foreach(source ${sources})
+  string(REGEX MATCH "^[^/]+" module "${source}")
+  list(FIND order "${module}" rank)
+  if(rank LESS 0)
+    if(source MATCHES "/")
+      list(APPEND offenders "${source}: the folder ${module}/ is not in the module order (cmake/CheckCoreLayers.cmake)")
+    endif()
+    continue()
+  endif()
+  math(EXPR checked "${checked} + 1")
+  file(STRINGS "${CORE_DIR}/${source}" lines REGEX "^[ \t]*#[ \t]*include[ \t]*\"[a-z]+/")
+  foreach(line ${lines})
+    string(REGEX REPLACE "^[ \t]*#[ \t]*include[ \t]*\"([a-z]+)/.*" "\\1" included "${line}")
+    list(FIND order "${included}" includedRank)
+    if(includedRank GREATER rank)
+      list(APPEND offenders "${source} (${module}) includes ${included}/, which comes after it")
+    endif()
+  endforeach()
+endforeach()
+if(offenders)
+  string(REPLACE ";" "\n  " report "${offenders}")
+  message(FATAL_ERROR "core/ modules include only the modules before them (docs/architecture.md):\n  ${report}")
+endif()
+message(STATUS "core layers: ${checked} files checked, no upward include")
