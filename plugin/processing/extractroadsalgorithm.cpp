@@ -10,10 +10,6 @@
  ***************************************************************************/
 #include "extractroadsalgorithm.h"
 
-#include <QJsonArray>
-#include <QJsonDocument>
-#include <QJsonObject>
-#include <QSaveFile>
 
 #include <qgsexception.h>
 #include <qgsfeaturesink.h>
@@ -27,41 +23,14 @@
 
 #include "extraction/roadnetworkextractor.h"
 #include "io/rasterfile.h"
+#include "extractroadsreport.h"
 #include "processingblock.h"
+#include "processingtables.h"
 
 namespace
 {
   const QStringList kPolarities { QStringLiteral( "dark" ), QStringLiteral( "bright" ) };
   const QStringList kMappings { QStringLiteral( "multiquadric" ), QStringLiteral( "projective" ) };
-
-  //! point_id, col_left, row_left, col_right, row_right
-  std::vector<geostation::ControlPair> readControl( QgsFeatureSource *source )
-  {
-    const QgsFields fields = source->fields();
-    QVector<int> index;
-    for ( const QString &name : { QStringLiteral( "point_id" ), QStringLiteral( "col_left" ), QStringLiteral( "row_left" ), QStringLiteral( "col_right" ), QStringLiteral( "row_right" ) } )
-    {
-      index << fields.lookupField( name );
-      if ( index.back() < 0 )
-        throw QgsProcessingException( QObject::tr( "The CONTROL table has no field %1 (it needs point_id, col_left, row_left, col_right, row_right)." ).arg( name ) );
-    }
-    std::vector<geostation::ControlPair> pairs;
-    QgsFeature f;
-    QgsFeatureIterator it = source->getFeatures();
-    while ( it.nextFeature( f ) )
-    {
-      double v[4];
-      for ( int k = 0; k < 4; ++k )
-      {
-        bool ok = false;
-        v[k] = f.attribute( index[k + 1] ).toString().toDouble( &ok );
-        if ( !ok || !std::isfinite( v[k] ) )
-          throw QgsProcessingException( QObject::tr( "CONTROL row %1: %2 is not a number." ).arg( pairs.size() + 1 ).arg( fields.at( index[k + 1] ).name() ) );
-      }
-      pairs.push_back( { f.attribute( index[0] ).toString().toStdString(), Eigen::Vector2d( v[0], v[1] ), Eigen::Vector2d( v[2], v[3] ) } );
-    }
-    return pairs;
-  }
 
   geostation::MatchImage readImage( const geostation::Block &block, const geostation::BlockImage &image )
   {
@@ -158,7 +127,7 @@ QVariantMap ExtractRoadsAlgorithm::processGeoStation( const QVariantMap &paramet
   if ( parameters.value( QStringLiteral( "MEAN_HEIGHT_M" ) ).isValid() && !parameters.value( QStringLiteral( "MEAN_HEIGHT_M" ) ).toString().isEmpty() )
     options.meanHeightM = parameterAsDouble( parameters, QStringLiteral( "MEAN_HEIGHT_M" ), context );
   if ( std::unique_ptr<QgsProcessingFeatureSource> control { parameterAsSource( parameters, QStringLiteral( "CONTROL" ), context ) } )
-    options.control = readControl( control.get() );
+    options.control = GeoStationProcessing::readControlPairs( control.get() );
   options.controlMapping = parameterAsEnumString( parameters, QStringLiteral( "MAPPING" ), context ) == QLatin1String( "projective" ) ? geostation::ControlMapping::Projective
                            : geostation::ControlMapping::Multiquadric;
   const bool oriented = left.exterior && right.exterior && options.control.empty();
@@ -273,42 +242,8 @@ QVariantMap ExtractRoadsAlgorithm::processGeoStation( const QVariantMap &paramet
     outputs.insert( QStringLiteral( "DEAD_ENDS" ), endsDestination );
   }
 
-  QJsonArray rounds;
-  for ( const geostation::RoundReport &r : s.extraction.rounds )
-    rounds.append( QJsonObject { { "round", r.round }, { "extracted_in", r.image == "A" ? "left" : "right" }, { "starting_points", r.startingPoints },
-      { "lines_started", r.linesStarted }, { "continued_from_dead_ends", r.continued }, { "polygons", r.polygons }, { "accepted_wholly", r.wholly },
-      { "accepted_partly", r.partly }, { "rejected", r.rejected }, { "extracted_px", r.extractedPx }, { "accepted_px", r.acceptedPx }, { "seconds", r.seconds } } );
-  const auto stage = []( const geostation::StageCounts &c ) { return QJsonObject { { "seconds", c.seconds }, { "line_px", c.linePx }, { "image_px", static_cast<double>( c.imagePixels ) } }; };
-  QJsonObject report { { "algorithm", "geostation:extract_roads" }, { "left", QString::fromStdString( left.id ) }, { "right", QString::fromStdString( right.id ) },
-    { "mapping", QString::fromStdString( s.mapping ) }, { "rounds", rounds }, { "lines_left", static_cast<int>( s.extraction.linesA.size() ) },
-    { "lines_right", static_cast<int>( s.extraction.linesB.size() ) }, { "intersections_left", static_cast<int>( s.extraction.intersectionsA.size() ) },
-    { "intersections_right", static_cast<int>( s.extraction.intersectionsB.size() ) }, { "gaps_bridged", s.extraction.bridged },
-    { "stages", QJsonObject { { "starting_points", stage( s.extraction.startStage ) }, { "lem", stage( s.extraction.lemStage ) }, { "rem", stage( s.extraction.remStage ) },
-        { "verification", stage( s.extraction.verificationStage ) }, { "compilation", stage( s.extraction.compilationStage ) } } },
-    { "seconds", s.seconds }, { "empty", s.extraction.linesA.empty() } };
-  if ( s.oriented )
-  {
-    report.insert( "mean_height_m", s.meanHeightM );
-    if ( s.terrainEstimate )
-      report.insert( "terrain_estimate", QJsonObject { { "height_m", s.terrainEstimate->heightM }, { "points", s.terrainEstimate->points }, { "spread_m", s.terrainEstimate->spreadM } } );
-    report.insert( "vertices_3d", QJsonObject { { "total", s.network.vertices }, { "by_line_crossing", s.network.byCrossing }, { "by_area_matching", s.network.byArea },
-      { "unmatched", s.network.unmatched } } );
-  }
-  if ( s.registration )
-  {
-    QJsonArray residuals;
-    for ( size_t i = 0; i < s.registration->residualsPx.size(); ++i )
-      residuals.append( QJsonObject { { "point_id", QString::fromStdString( options.control[i].id ) }, { "misregistration_px", s.registration->residualsPx[i] } } );
-    report.insert( "registration", QJsonObject { { "method", QString::fromStdString( s.registration->method ) }, { "rms_px", s.registration->rmsPx },
-      { "max_px", s.registration->maxPx }, { "points", residuals } } );
-  }
   const QString reportPath = parameterAsFileOutput( parameters, QStringLiteral( "REPORT" ), context );
-  QSaveFile file( reportPath );
-  if ( !file.open( QIODevice::WriteOnly ) )
-    throw QgsProcessingException( QObject::tr( "Cannot write the report %1." ).arg( reportPath ) );
-  file.write( QJsonDocument( report ).toJson( QJsonDocument::Indented ) );
-  if ( !file.commit() )
-    throw QgsProcessingException( QObject::tr( "Cannot write the report %1." ).arg( reportPath ) );
+  GeoStationProcessing::writeReport( GeoStationProcessing::extractRoadsReport( s, QString::fromStdString( left.id ), QString::fromStdString( right.id ), options.control ), reportPath );
   outputs.insert( QStringLiteral( "REPORT" ), reportPath );
   outputs.insert( QStringLiteral( "LINE_COUNT" ), static_cast<int>( s.extraction.linesA.size() ) );
   feedback->pushInfo( QObject::tr( "%1 lines in the left image, %2 in the right, %3 rounds, %4 s (mapping: %5)." ).arg( s.extraction.linesA.size() )

@@ -16,98 +16,8 @@
 
 #include "dem/demintersection.h"
 #include "dem/monoplotter.h"
-#include "geometrymapper.h"
+#include "geometrymonoplotter.h"
 #include "processingblock.h"
-
-namespace
-{
-  //! Monoplots one geometry; fills `worst` with the largest vertex sigmas, and `problem` and `status` on failure.
-  struct Monoplotting
-  {
-    const geostation::Monoplotter &monoplotter;
-    double densifyPx;
-    int width, height;
-    Eigen::Vector3d worst = Eigen::Vector3d::Zero();
-    int vertices = 0;
-    int bridged = 0; //!< vertices on bridged DEM cells
-    QString problem;
-    QString status; //!< why not: outside_image, misses_dem, below_dem, dem_hole
-
-    void fail( const QString &why, const QString &statusName )
-    {
-      problem = why;
-      status = statusName;
-    }
-
-    bool inFrame( const QgsPoint &p ) const
-    {
-      return p.x() >= 0.0 && p.x() <= width && -p.y() >= 0.0 && -p.y() <= height;
-    }
-
-    std::optional<QgsPoint> point( const Eigen::Vector2d &pixel )
-    {
-      const geostation::MonoplotPoint g = monoplotter.imageToGround( pixel );
-      if ( !g.ok() )
-      {
-        fail( QObject::tr( "pixel (%1, %2): %3" ).arg( pixel.x(), 0, 'f', 1 ).arg( pixel.y(), 0, 'f', 1 ).arg( QString::fromStdString( g.message ) ),
-              QString::fromStdString( geostation::demIntersectionStatusName( g.status ) ) );
-        return std::nullopt;
-      }
-      worst = worst.cwiseMax( g.sigmaM );
-      ++vertices;
-      bridged += g.onBridgedCells() ? 1 : 0;
-      return QgsPoint( g.world.x(), g.world.y(), g.world.z() );
-    }
-
-    std::unique_ptr<QgsLineString> line( const QgsLineString &in, bool closed )
-    {
-      std::vector<Eigen::Vector2d> pixels;
-      for ( int i = 0; i < in.numPoints(); ++i )
-      {
-        if ( !inFrame( in.pointN( i ) ) )
-        {
-          fail( QObject::tr( "vertex (%1, %2) lies outside the image frame" ).arg( in.xAt( i ) ).arg( in.yAt( i ) ), QStringLiteral( "outside_image" ) );
-          return nullptr;
-        }
-        pixels.emplace_back( in.xAt( i ), -in.yAt( i ) );
-      }
-      QVector<QgsPoint> out;
-      for ( const geostation::MonoplotPoint &g : monoplotter.imageLineToGround( pixels, densifyPx ) )
-      {
-        if ( !g.ok() )
-        {
-          fail( QObject::tr( "pixel (%1, %2): %3" ).arg( g.pixelInImage.x(), 0, 'f', 1 ).arg( g.pixelInImage.y(), 0, 'f', 1 ).arg( QString::fromStdString( g.message ) ),
-                QString::fromStdString( geostation::demIntersectionStatusName( g.status ) ) );
-          return nullptr;
-        }
-        worst = worst.cwiseMax( g.sigmaM );
-        ++vertices;
-        bridged += g.onBridgedCells() ? 1 : 0;
-        out << QgsPoint( g.world.x(), g.world.y(), g.world.z() );
-      }
-      if ( closed && !out.isEmpty() )
-        out.last() = out.first(); // the ring closes exactly
-      return std::make_unique<QgsLineString>( out );
-    }
-
-    std::unique_ptr<QgsAbstractGeometry> geometry( const QgsAbstractGeometry *g )
-    {
-      GeoStationProcessing::GeometryMapper mapper;
-      mapper.point = [this]( const QgsPoint & p ) -> std::optional<QgsPoint>
-      {
-        if ( !inFrame( p ) )
-        {
-          fail( QObject::tr( "point (%1, %2) lies outside the image frame" ).arg( p.x() ).arg( p.y() ), QStringLiteral( "outside_image" ) );
-          return std::nullopt;
-        }
-        return point( { p.x(), -p.y() } );
-      };
-      mapper.line = [this]( const QgsLineString & l, bool closed ) { return line( l, closed ); };
-      mapper.collectionType = []( QgsWkbTypes::Type type ) { return QgsWkbTypes::addZ( type ); }; // map features get heights
-      return GeoStationProcessing::mapGeometry( g, mapper );
-    }
-  };
-} // namespace
 
 QString MonoplotAlgorithm::name() const
 {
@@ -220,7 +130,7 @@ QVariantMap MonoplotAlgorithm::processGeoStation( const QVariantMap &parameters,
   if ( gridHits == 0 )
     throw QgsProcessingException( QObject::tr( "The DEM does not cover the footprint of image %1: no viewing ray of the image meets it." ).arg( imageId ) );
 
-  Monoplotting mono { monoplotter, parameterAsDouble( parameters, QStringLiteral( "DENSIFY_PX" ), context ), camera.width, camera.height };
+  GeoStationProcessing::GeometryMonoplotter mono { monoplotter, parameterAsDouble( parameters, QStringLiteral( "DENSIFY_PX" ), context ), camera.width, camera.height };
   QgsFields newFields;
   for ( const char *name : { "sigma_x", "sigma_y", "sigma_z" } )
     newFields.append( QgsField( QString::fromLatin1( name ), QVariant::Double ) );
@@ -248,13 +158,10 @@ QVariantMap MonoplotAlgorithm::processGeoStation( const QVariantMap &parameters,
       return QVariantMap();
     QgsFeature out( fields );
     QgsAttributes attributes = f.attributes();
-    mono.worst.setZero();
-    mono.vertices = 0;
-    mono.bridged = 0;
+    mono.reset( QObject::tr( "its geometry cannot be monoplotted" ), QStringLiteral( "no_solution" ) );
     QString status = QStringLiteral( "ok" ), message;
     if ( f.hasGeometry() )
     {
-      mono.fail( QObject::tr( "its geometry cannot be monoplotted" ), QStringLiteral( "no_solution" ) );
       if ( std::unique_ptr<QgsAbstractGeometry> g = mono.geometry( f.geometry().constGet() ) )
       {
         out.setGeometry( QgsGeometry( std::move( g ) ) );

@@ -127,6 +127,16 @@ namespace GeoStationProcessing
       throw QgsProcessingException( QObject::tr( "Cannot write the report %1." ).arg( reportPath ) );
   }
 
+  void writeReport( const QJsonObject &report, const QString &reportPath )
+  {
+    QSaveFile file( reportPath );
+    if ( !file.open( QIODevice::WriteOnly ) )
+      throw QgsProcessingException( QObject::tr( "Cannot write the report %1." ).arg( reportPath ) );
+    file.write( QJsonDocument( report ).toJson( QJsonDocument::Indented ) );
+    if ( !file.commit() )
+      throw QgsProcessingException( QObject::tr( "Cannot write the report %1." ).arg( reportPath ) );
+  }
+
   LoadedDem loadDem( const QString &path, const geostation::Block &block, const geostation::DemOptions &options )
   {
     LoadedDem out;

@@ -57,6 +57,8 @@ namespace GeoStationProcessing
    * and committed only once the block has been saved (atomically).
    */
   void writeBlockAndReport( const geostation::Block &block, const QString &blockPath, const QJsonObject &report, const QString &reportPath );
+  //! Writes a JSON report atomically (a temporary file renamed); throws QgsProcessingException with one sentence.
+  void writeReport( const QJsonObject &report, const QString &reportPath );
   //! A DEM and the transform from the block CRS to its CRS.
   struct LoadedDem
   {

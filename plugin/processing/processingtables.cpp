@@ -240,4 +240,70 @@ namespace GeoStationProcessing
     return records;
   }
 
+  std::vector<geostation::ControlPair> readControlPairs( QgsFeatureSource *source )
+  {
+    const QgsFields fields = source->fields();
+    QVector<int> index;
+    for ( const QString &name : { QStringLiteral( "point_id" ), QStringLiteral( "col_left" ), QStringLiteral( "row_left" ), QStringLiteral( "col_right" ), QStringLiteral( "row_right" ) } )
+    {
+      index << fields.lookupField( name );
+      if ( index.back() < 0 )
+        throw QgsProcessingException( QObject::tr( "The CONTROL table has no field %1 (it needs point_id, col_left, row_left, col_right, row_right)." ).arg( name ) );
+    }
+    std::vector<geostation::ControlPair> pairs;
+    QgsFeature f;
+    QgsFeatureIterator it = source->getFeatures();
+    while ( it.nextFeature( f ) )
+    {
+      double v[4];
+      for ( int k = 0; k < 4; ++k )
+      {
+        bool ok = false;
+        v[k] = f.attribute( index[k + 1] ).toString().toDouble( &ok );
+        if ( !ok || !std::isfinite( v[k] ) )
+          throw QgsProcessingException( QObject::tr( "CONTROL row %1: %2 is not a number." ).arg( pairs.size() + 1 ).arg( fields.at( index[k + 1] ).name() ) );
+      }
+      pairs.push_back( { f.attribute( index[0] ).toString().toStdString(), Eigen::Vector2d( v[0], v[1] ), Eigen::Vector2d( v[2], v[3] ) } );
+    }
+    return pairs;
+  }
+
+  QVector<TraceSeedRecord> readTraceSeeds( QgsFeatureSource *source )
+  {
+    const QgsFields fields = source->fields();
+    const auto field = [&]( const QString &name, bool required )
+    {
+      const int i = fields.lookupField( name );
+      if ( i < 0 && required )
+        throw QgsProcessingException( QObject::tr( "The SEEDS table has no field %1 (it needs seed_id, image_id, col, row and optionally direction_deg)." ).arg( name ) );
+      return i;
+    };
+    const int id = field( QStringLiteral( "seed_id" ), true ), image = field( QStringLiteral( "image_id" ), true ), col = field( QStringLiteral( "col" ), true ),
+              row = field( QStringLiteral( "row" ), true ), direction = field( QStringLiteral( "direction_deg" ), false );
+    QVector<TraceSeedRecord> rows;
+    QgsFeature f;
+    QgsFeatureIterator it = source->getFeatures();
+    while ( it.nextFeature( f ) )
+    {
+      const auto number = [&]( int index, const QString &name )
+      {
+        bool ok = false;
+        const double v = f.attribute( index ).toString().toDouble( &ok );
+        if ( !ok || !std::isfinite( v ) )
+          throw QgsProcessingException( QObject::tr( "SEEDS row %1: %2 is not a number (\"%3\")." ).arg( rows.size() + 1 ).arg( name, f.attribute( index ).toString() ) );
+        return v;
+      };
+      TraceSeedRecord r;
+      r.seed.id = f.attribute( id ).toString().toStdString();
+      r.seed.imageId = f.attribute( image ).toString().trimmed().toStdString();
+      r.seed.pixelInImage = Eigen::Vector2d( number( col, QStringLiteral( "col" ) ), number( row, QStringLiteral( "row" ) ) );
+      if ( direction >= 0 && !f.attribute( direction ).isNull() && !f.attribute( direction ).toString().trimmed().isEmpty() )
+        r.seed.directionDeg = number( direction, QStringLiteral( "direction_deg" ) );
+      r.attributes = f.attributes();
+      rows << r;
+    }
+    if ( rows.isEmpty() )
+      throw QgsProcessingException( QObject::tr( "The SEEDS table is empty." ) );
+    return rows;
+  }
 }

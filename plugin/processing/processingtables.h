@@ -20,6 +20,9 @@
 
 #include <Eigen/Core>
 
+#include "extraction/pairmapping.h"
+#include "tracing/roadtracer.h"
+
 class QgsFeatureSource;
 class QgsProcessingFeedback;
 class QgsCoordinateTransformContext;
@@ -74,6 +77,19 @@ namespace GeoStationProcessing
    * image_id field, only the rows of `imageId` are kept.
    */
   QVector<FiducialRecord> readFiducials( QgsFeatureSource *source, const QString &imageId );
+
+  //! Control pairs of a stereo pair from a table point_id, col_left, row_left, col_right, row_right (pixels); throws QgsProcessingException naming a missing field or a bad number.
+  std::vector<geostation::ControlPair> readControlPairs( QgsFeatureSource *source );
+
+  //! A road-tracing seed and the row's attributes (kept on the traced line).
+  struct TraceSeedRecord
+  {
+    geostation::TraceSeed seed;
+    QgsAttributes attributes;
+  };
+
+  //! Seeds from a table seed_id, image_id, col, row [, direction_deg]; names match case-insensitively, numbers may be text; throws QgsProcessingException for a missing field, a bad number or an empty table.
+  QVector<TraceSeedRecord> readTraceSeeds( QgsFeatureSource *source );
 
   //! Reads image observations; `what` names the table in messages.
   ObservationTable readObservations( QgsFeatureSource *source, const QString &what, QgsProcessingFeedback *feedback );

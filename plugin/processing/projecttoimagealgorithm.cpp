@@ -23,8 +23,7 @@
 #include <qgsrasterlayer.h>
 
 #include "dem/monoplotter.h"
-#include "geometry/lineprojection.h"
-#include "geometrymapper.h"
+#include "geometryprojector.h"
 #include "processingblock.h"
 
 namespace
@@ -40,12 +39,6 @@ namespace
     QVariant col, row, depthM;
     QString status = QStringLiteral( "ok" ); //!< or why not: behind_camera, outside_field, no_height, outside_dem, transform_failed
     QString message;
-  };
-
-  //! Why one feature cannot be projected (the others go on).
-  struct FeatureProblem
-  {
-    QString status, message;
   };
 } // namespace
 
@@ -147,92 +140,10 @@ QVariantMap ProjectToImageAlgorithm::processGeoStation( const QVariantMap &param
     feedback->pushWarning( QObject::tr( "The input layer has no CRS; its coordinates are taken to be in the block CRS %1." ).arg( blockCrs.userFriendlyIdentifier() ) );
   const QgsCoordinateTransform toBlock( sourceCrs, blockCrs, context.transformContext() );
 
-  // Heights of inserted line points come from the DEM when the layer's came from it.
-  const bool drapeLines = monoplotter && !QgsWkbTypes::hasZ( source->wkbType() );
-
-  // A vertex in the block CRS, with its height (from the DEM when it has none).
-  const auto groundOf = [&]( const QgsPoint & vertex, QgsFeatureId id ) -> Eigen::Vector3d
-  {
-    double x = vertex.x(), y = vertex.y(), z = vertex.z();
-    const bool drape = std::isnan( z );
-    if ( drape && !monoplotter )
-      throw FeatureProblem { QStringLiteral( "no_height" ), QObject::tr( "Feature %1 has no Z value; without a DEM every vertex needs a height." ).arg( id ) };
-    try
-    {
-      if ( drape )
-        z = 0.0;
-      toBlock.transformInPlace( x, y, z );
-    }
-    catch ( const QgsCsException & )
-    {
-      throw FeatureProblem { QStringLiteral( "transform_failed" ), QObject::tr( "Feature %1 cannot be transformed from %2 to the block CRS %3." )
-                             .arg( id ).arg( sourceCrs.userFriendlyIdentifier(), blockCrs.userFriendlyIdentifier() ) };
-    }
-    if ( drape )
-    {
-      const std::optional<double> h = monoplotter->demHeightAt( Eigen::Vector3d( x, y, 0.0 ) );
-      if ( !h )
-        throw FeatureProblem { QStringLiteral( "outside_dem" ), QObject::tr( "Feature %1 has no Z value and lies outside the DEM." ).arg( id ) };
-      z = *h;
-    }
-    return { x, y, z };
-  };
-  // a ground point seen from the image: with a DEM, the terrain may hide it
-  const geostation::GroundPointViewer view = geostation::featureViewer( orientedImage, monoplotter.get() );
-  // a point feature in the image (x = col, y = -row); nothing when it cannot be projected
-  const auto projectPoint = [&]( const Eigen::Vector3d & ground, geostation::FeatureProjectionTally & c ) -> std::optional<QgsPoint>
-  {
-    const geostation::GroundPointView v = view( ground );
-    c.add( v );
-    return v.projection.ok() ? std::optional<QgsPoint>( QgsPoint( v.projection.pixelInImage.x(), -v.projection.pixelInImage.y() ) ) : std::nullopt;
-  };
-  geostation::GroundLineOptions lineOptions;
-  lineOptions.densifyPx = parameterAsDouble( parameters, QStringLiteral( "DENSIFY_PX" ), context );
   // heights of inserted line points come from the DEM when the layer's came from it
-  if ( drapeLines )
-    lineOptions.heightAt = [&]( const Eigen::Vector3d & p ) { return monoplotter->demHeightAt( p ); };
-  const auto toImageLine = []( const std::vector<Eigen::Vector2d> &part )
-  {
-    QVector<QgsPoint> points;
-    for ( const Eigen::Vector2d &v : part )
-      points << QgsPoint( v.x(), -v.y() );
-    return std::make_unique<QgsLineString>( points );
-  };
-  // A line or ring (core: densified, cut or clipped where it leaves the projectable space). `otherParts`:
-  // where the other parts of a line cut into several go (a multi-line keeps them all; a single line its longest)
-  const auto projectLine = [&]( const QgsLineString & line, QgsFeatureId id, geostation::FeatureProjectionTally & c, bool closed,
-                                std::vector<std::unique_ptr<QgsLineString>> *otherParts = nullptr ) -> std::unique_ptr<QgsLineString>
-  {
-    std::vector<Eigen::Vector3d> ground;
-    for ( int i = 0; i < line.numPoints(); ++i )
-      ground.push_back( groundOf( line.pointN( i ), id ) );
-    lineOptions.closed = closed;
-    const geostation::ProjectedGroundLine projected = geostation::projectGroundLine( orientedImage, ground, view, lineOptions );
-    c.add( projected, !otherParts );
-    if ( projected.parts.empty() )
-      return nullptr;
-    if ( otherParts )
-      for ( size_t k = 1; k < projected.parts.size(); ++k )
-        otherParts->push_back( toImageLine( projected.parts[k] ) );
-    return toImageLine( projected.parts.front() );
-  };
-  const auto convert = [&]( const QgsAbstractGeometry * g, QgsFeatureId id, geostation::FeatureProjectionTally & c )
-  {
-    GeoStationProcessing::GeometryMapper mapper;
-    mapper.point = [&]( const QgsPoint & p ) { return projectPoint( groundOf( p, id ), c ); };
-    mapper.line = [&]( const QgsLineString & line, bool closed ) { return projectLine( line, id, c, closed ); };
-    mapper.lineParts = [&]( const QgsLineString & line )
-    {
-      std::vector<std::unique_ptr<QgsLineString>> parts;
-      if ( std::unique_ptr<QgsLineString> main = projectLine( line, id, c, false, &parts ) )
-        parts.insert( parts.begin(), std::move( main ) );
-      else
-        c.clipped = true; // this part is out of the photo altogether
-      return parts;
-    };
-    mapper.collectionType = []( QgsWkbTypes::Type type ) { return QgsWkbTypes::flatType( type ); }; // image space is 2D
-    return GeoStationProcessing::mapGeometry( g, mapper );
-  };
+  const bool drapeLines = monoplotter && !QgsWkbTypes::hasZ( source->wkbType() );
+  const GeoStationProcessing::GeometryProjector projector( orientedImage, monoplotter.get(), toBlock, parameterAsDouble( parameters, QStringLiteral( "DENSIFY_PX" ), context ),
+      drapeLines );
 
   std::vector<ProjectedFeature> results;
   results.reserve( static_cast<size_t>( std::max<long long>( 0, source->featureCount() ) ) );
@@ -253,7 +164,7 @@ QVariantMap ProjectToImageAlgorithm::processGeoStation( const QVariantMap &param
       std::unique_ptr<QgsAbstractGeometry> inImage;
       try
       {
-        inImage = convert( feature.geometry().constGet(), feature.id(), c );
+        inImage = projector.project( feature.geometry().constGet(), feature.id(), c );
         out.depthM = std::isfinite( c.minDepthM ) ? QVariant( c.minDepthM ) : QVariant();
         if ( !inImage )
         {
@@ -262,7 +173,7 @@ QVariantMap ProjectToImageAlgorithm::processGeoStation( const QVariantMap &param
           out.status = c.behind ? QStringLiteral( "behind_camera" ) : QStringLiteral( "outside_field" );
         }
       }
-      catch ( const FeatureProblem &problem )
+      catch ( const GeoStationProcessing::FeatureProblem &problem )
       {
         out.status = problem.status;
         out.message = problem.message;

@@ -22,57 +22,12 @@
 
 #include "dem/demintersection.h"
 #include "processingblock.h"
+#include "processingtables.h"
 #include "tracing/roadtracer.h"
 
 namespace
 {
   const QStringList kMethods { QStringLiteral( "auto" ), QStringLiteral( "directional" ), QStringLiteral( "least_squares" ), QStringLiteral( "polynomial" ) };
-
-  struct SeedRow
-  {
-    geostation::TraceSeed seed;
-    QgsAttributes attributes;
-  };
-
-  //! seed_id, image_id, col, row [, direction_deg]; names match case-insensitively, numbers may be text.
-  QVector<SeedRow> readSeeds( QgsFeatureSource *source )
-  {
-    const QgsFields fields = source->fields();
-    const auto field = [&]( const QString &name, bool required )
-    {
-      const int i = fields.lookupField( name );
-      if ( i < 0 && required )
-        throw QgsProcessingException( QObject::tr( "The SEEDS table has no field %1 (it needs seed_id, image_id, col, row and optionally direction_deg)." ).arg( name ) );
-      return i;
-    };
-    const int id = field( QStringLiteral( "seed_id" ), true ), image = field( QStringLiteral( "image_id" ), true ), col = field( QStringLiteral( "col" ), true ),
-              row = field( QStringLiteral( "row" ), true ), direction = field( QStringLiteral( "direction_deg" ), false );
-    QVector<SeedRow> rows;
-    QgsFeature f;
-    QgsFeatureIterator it = source->getFeatures();
-    while ( it.nextFeature( f ) )
-    {
-      const auto number = [&]( int index, const QString &name )
-      {
-        bool ok = false;
-        const double v = f.attribute( index ).toString().toDouble( &ok );
-        if ( !ok || !std::isfinite( v ) )
-          throw QgsProcessingException( QObject::tr( "SEEDS row %1: %2 is not a number (\"%3\")." ).arg( rows.size() + 1 ).arg( name, f.attribute( index ).toString() ) );
-        return v;
-      };
-      SeedRow r;
-      r.seed.id = f.attribute( id ).toString().toStdString();
-      r.seed.imageId = f.attribute( image ).toString().trimmed().toStdString();
-      r.seed.pixelInImage = Eigen::Vector2d( number( col, QStringLiteral( "col" ) ), number( row, QStringLiteral( "row" ) ) );
-      if ( direction >= 0 && !f.attribute( direction ).isNull() && !f.attribute( direction ).toString().trimmed().isEmpty() )
-        r.seed.directionDeg = number( direction, QStringLiteral( "direction_deg" ) );
-      r.attributes = f.attributes();
-      rows << r;
-    }
-    if ( rows.isEmpty() )
-      throw QgsProcessingException( QObject::tr( "The SEEDS table is empty." ) );
-    return rows;
-  }
 }
 
 QString TraceRoadLinesAlgorithm::name() const
@@ -143,8 +98,8 @@ QVariantMap TraceRoadLinesAlgorithm::processGeoStation( const QVariantMap &param
   std::unique_ptr<QgsProcessingFeatureSource> source( parameterAsSource( parameters, QStringLiteral( "SEEDS" ), context ) );
   if ( !source )
     throw QgsProcessingException( invalidSourceError( parameters, QStringLiteral( "SEEDS" ) ) );
-  const QVector<SeedRow> seeds = readSeeds( source.get() );
-  for ( const SeedRow &r : seeds )
+  const QVector<GeoStationProcessing::TraceSeedRecord> seeds = GeoStationProcessing::readTraceSeeds( source.get() );
+  for ( const GeoStationProcessing::TraceSeedRecord &r : seeds )
     GeoStationProcessing::orientedImage( block, GeoStationProcessing::blockImage( block, QString::fromStdString( r.seed.imageId ) ) ); // unknown or unoriented: one sentence, before any output
 
   geostation::RoadTraceOptions options;

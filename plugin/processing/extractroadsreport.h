@@ -1,0 +1,25 @@
+/***************************************************************************
+  extractroadsreport.h - the REPORT of geostation:extract_roads
+ ***************************************************************************/
+#ifndef EXTRACTROADSREPORT_H
+#define EXTRACTROADSREPORT_H
+
+#include <vector>
+
+#include <QJsonObject>
+#include <QString>
+
+#include "extraction/roadnetworkextractor.h"
+
+namespace GeoStationProcessing
+{
+  /**
+   * The rounds (extracted, accepted, rejected per round), line and
+   * intersection counts, the time per stage, the 3-D vertices of an oriented
+   * pair, and the registration's misregistration per control pair.
+   */
+  QJsonObject extractRoadsReport( const geostation::RoadNetworkSummary &s, const QString &leftId, const QString &rightId,
+                                  const std::vector<geostation::ControlPair> &control );
+}
+
+#endif // EXTRACTROADSREPORT_H
