@@ -168,156 +168,192 @@ namespace geostation
     return request;
   }
 
+  namespace
+  {
+    //! A station's pose: world from vehicle (x forward, y left, z up) and the vehicle's origin (block CRS).
+    struct RigPose
+    {
+      Eigen::Matrix3d worldFromVehicle;
+      Eigen::Vector3d origin;
+    };
+
+    //! The cameras with their mounts (vehicle from camera [R | t]) and every station's exact pose.
+    struct RigLayout
+    {
+      std::vector<std::pair<Camera, Eigen::Matrix<double, 3, 4>>> cameras;
+      std::vector<RigPose> exact;
+    };
+
+    //! The van in the first road's right-hand outer lane, its stations every stationSpacingM from 20 m, pitched and rolled with the road; options.cameras of kVanMounts.
+    RigLayout vanLayout( const SimulationOptions &options, const RigSettings &settings, const Scene &scene, std::mt19937 &random, std::normal_distribution<double> &gauss )
+    {
+      RigLayout layout;
+      const double w = settings.width, h = settings.height;
+      const RoadNetwork &roads = scene.roads();
+      const Road &road = roads.roads().front();
+      const double laneOffset = -( road.lanesPerDirection - 0.5 ) * road.laneWidthM;
+      const double start = 20.0;
+      if ( start + ( settings.stations - 1 ) * options.stationSpacingM > roads.length( 0 ) - 5.0 )
+        throw std::invalid_argument( "the run of " + std::to_string( settings.stations ) + " stations every " + std::to_string( options.stationSpacingM ) +
+                                     " m is longer than the road " + road.id + " (" + std::to_string( static_cast<int>( roads.length( 0 ) ) ) + " m)" );
+      for ( int i = 0; i < settings.stations; ++i )
+      {
+        Eigen::Vector2d tangent;
+        const double s = start + i * options.stationSpacingM;
+        const Eigen::Vector2d p = roads.pointAt( 0, s, laneOffset, &tangent );
+        const Eigen::Vector2d left( -tangent.y(), tangent.x() );
+        const auto groundAt = [&]( const Eigen::Vector2d &q )
+        {
+          const std::optional<double> z = scene.terrain().heightAt( q.x(), q.y() );
+          if ( !z )
+            throw std::invalid_argument( "station " + stationId( i ) + " lies outside the terrain" );
+          return *z;
+        };
+        const double pitch = std::atan2( groundAt( p + 2.0 * tangent ) - groundAt( p - 2.0 * tangent ), 4.0 );
+        const double roll = std::atan2( groundAt( p + 0.9 * left ) - groundAt( p - 0.9 * left ), 1.8 );
+        const double bounce = degToRad( 0.15 ); // suspension
+        RigPose pose;
+        pose.origin = Eigen::Vector3d( p.x(), p.y(), groundAt( p ) );
+        pose.worldFromVehicle = rotZ( std::atan2( tangent.y(), tangent.x() ) ) * rotY( -pitch + bounce * gauss( random ) ) * rotX( roll + bounce * gauss( random ) );
+        layout.exact.push_back( pose );
+      }
+      const int n = options.cameras;
+      for ( int k = 0; k < n; ++k )
+      {
+        const Mount &mount = kVanMounts[k];
+        Camera camera;
+        camera.id = mount.id;
+        camera.width = settings.width;
+        camera.height = settings.height;
+        camera.f = 0.8 * w * ( 1.0 + 0.01 * k );
+        camera.aspect = 1.0;
+        camera.cx = 0.5 * w + 1.3 - 0.4 * k;
+        camera.cy = 0.5 * h - 0.8 + 0.3 * k;
+        camera.pixelSizeMm = 0.0074 * 640.0 / w;
+        camera.distortion.model = DistortionModel::OpenCV;
+        camera.distortion.coeffs = { -0.12 + 0.01 * k, 0.03, 2e-4, -1e-4, 0.0 };
+        const double yaw = degToRad( mount.yawDeg ), down = degToRad( mount.downDeg );
+        const Eigen::Vector3d view( std::cos( down ) * std::cos( yaw ), std::cos( down ) * std::sin( yaw ), -std::sin( down ) );
+        Eigen::Matrix<double, 3, 4> vehicleFromCamera;
+        vehicleFromCamera.leftCols<3>() = cameraAxesLookingAlong( view );
+        vehicleFromCamera.col( 3 ) = mount.position;
+        layout.cameras.push_back( { camera, vehicleFromCamera } );
+      }
+      return layout;
+    }
+
+    //! A frame camera along a strip over the site centre, 60 % forward overlap at the ground pixel size asked for.
+    RigLayout aerialLayout( const SimulationOptions &options, const RigSettings &settings, const BuiltScene &built, std::mt19937 &random,
+                            std::normal_distribution<double> &gauss )
+    {
+      RigLayout layout;
+      const Scene &scene = *built.scene;
+      const double w = settings.width, h = settings.height;
+      const double gsd = options.groundPixelSizeM;
+      Camera camera;
+      camera.id = "frame";
+      camera.width = settings.width;
+      camera.height = settings.height;
+      camera.f = 0.9 * w;
+      camera.cx = 0.5 * w + 0.7;
+      camera.cy = 0.5 * h - 1.1;
+      camera.pixelSizeMm = 0.012;
+      camera.distortion.model = DistortionModel::BrownPhoto;
+      camera.distortion.coeffs = { -2.0e-5, 1.5e-8, 1.0e-6, -8.0e-7, 0.0 };
+      Eigen::Matrix<double, 3, 4> identity = Eigen::Matrix<double, 3, 4>::Zero();
+      identity.leftCols<3>().setIdentity();
+      layout.cameras.push_back( { camera, identity } );
+      const std::optional<double> centreHeight = scene.terrain().heightAt( built.siteCentre.x(), built.siteCentre.y() );
+      const double flyingHeight = ( centreHeight ? *centreHeight : scene.terrain().maxHeight() ) + camera.f * gsd;
+      const double base = 0.4 * w * gsd;
+      for ( int i = 0; i < settings.stations; ++i )
+      {
+        RigPose pose;
+        pose.origin = Eigen::Vector3d( built.siteCentre.x() + ( i - 0.5 * ( settings.stations - 1 ) ) * base, built.siteCentre.y() + 2.0 * gauss( random ), flyingHeight + 1.5 * gauss( random ) );
+        pose.worldFromVehicle = rotX( degToRad( 0.8 * gauss( random ) ) ) * rotY( degToRad( 0.8 * gauss( random ) ) ) * rotZ( degToRad( 1.0 * gauss( random ) ) );
+        layout.exact.push_back( pose );
+      }
+      return layout;
+    }
+
+    //! One oblique camera 140 m above the terrain south-west of the site, looking at a point north-east of its centre; digital or scanned film.
+    RigLayout obliqueLayout( const SimulationOptions &options, const RigSettings &settings, const BuiltScene &built, std::mt19937 &random,
+                             std::normal_distribution<double> &gauss )
+    {
+      RigLayout layout;
+      const Scene &scene = *built.scene;
+      const double w = settings.width, h = settings.height;
+      Camera camera;
+      camera.id = options.scannedFilm ? "film" : "oblique";
+      camera.width = settings.width;
+      camera.height = settings.height;
+      camera.f = 1.1 * w;
+      camera.cx = 0.5 * w - 2.1;
+      camera.cy = 0.5 * h + 1.6;
+      camera.distortion.model = DistortionModel::BrownPhoto;
+      if ( options.scannedFilm )
+      {
+        // a 100 x 75 mm film frame scanned at 0.1 mm (for the default 1024 x 768)
+        camera.pixelSizeMm = 0.1 * 1024.0 / w;
+        const double s = *camera.pixelSizeMm / 0.0065; // the digital lens scaled to the film format
+        camera.distortion.coeffs = { -1.0e-3 / ( s * s ), 2.0e-6 / ( s * s * s * s ), 3.0e-5 / s, -2.0e-5 / s, 0.0 };
+        camera.fiducials = filmFiducials( camera );
+      }
+      else
+      {
+        camera.pixelSizeMm = 0.0065 * 1024.0 / w;
+        camera.distortion.coeffs = { -1.0e-3, 2.0e-6, 3.0e-5, -2.0e-5, 0.0 };
+      }
+      Eigen::Matrix<double, 3, 4> identity = Eigen::Matrix<double, 3, 4>::Zero();
+      identity.leftCols<3>().setIdentity();
+      layout.cameras.push_back( { camera, identity } );
+      const Eigen::Vector2d target = built.siteCentre + Eigen::Vector2d( 40, 40 );
+      const Eigen::Vector2d position = built.siteCentre + Eigen::Vector2d( -250, -250 );
+      const std::optional<double> targetZ = scene.terrain().heightAt( target.x(), target.y() );
+      const std::optional<double> groundZ = scene.terrain().heightAt( position.x(), position.y() );
+      if ( !targetZ || !groundZ )
+        throw std::invalid_argument( "the terrain does not reach the oblique camera's position and target" );
+      RigPose pose;
+      pose.origin = Eigen::Vector3d( position.x(), position.y(), std::max( *groundZ, *targetZ ) + 140.0 );
+      pose.worldFromVehicle = cameraAxesLookingAlong( Eigen::Vector3d( target.x(), target.y(), *targetZ ) - pose.origin ) * rotZ( degToRad( 1.5 * gauss( random ) ) );
+      // the camera has the identity mount: the pose is the camera's own
+      layout.exact.push_back( pose );
+      return layout;
+    }
+
+    //! The pose with the GNSS/INS errors of `sigma`.
+    RigPose perturbed( const RigPose &pose, const ExteriorSigma &sigma, std::mt19937 &random, std::normal_distribution<double> &gauss )
+    {
+      RigPose p = pose;
+      p.origin += Eigen::Vector3d( sigma.x * gauss( random ), sigma.y * gauss( random ), sigma.z * gauss( random ) );
+      p.worldFromVehicle = rotZ( degToRad( sigma.kappaDeg * gauss( random ) ) ) * p.worldFromVehicle *
+                           rotX( degToRad( sigma.omegaDeg * gauss( random ) ) ) * rotY( degToRad( sigma.phiDeg * gauss( random ) ) );
+      return p;
+    }
+  } // namespace
+
   void buildRig( const SimulationOptions &options, const RigSettings &settings, const BuiltScene &built, Block &truth, Block &noisy )
   {
-    const Scene &scene = *built.scene;
     truth = Block();
     truth.crs = built.crs;
     std::mt19937 random( options.seed * 104729u + 5u );
     std::normal_distribution<double> gauss( 0.0, 1.0 );
     const ExteriorSigma &sigma = settings.sigma;
-    const double w = settings.width, h = settings.height;
-    // per station: the exact pose (world from vehicle, origin) and a perturbed one
-    struct Pose
-    {
-      Eigen::Matrix3d worldFromVehicle;
-      Eigen::Vector3d origin;
-    };
-    std::vector<Pose> exact, perturbed;
-    const auto perturb = [&]( const Pose &pose )
-    {
-      Pose p = pose;
-      p.origin += Eigen::Vector3d( sigma.x * gauss( random ), sigma.y * gauss( random ), sigma.z * gauss( random ) );
-      p.worldFromVehicle = rotZ( degToRad( sigma.kappaDeg * gauss( random ) ) ) * p.worldFromVehicle *
-                           rotX( degToRad( sigma.omegaDeg * gauss( random ) ) ) * rotY( degToRad( sigma.phiDeg * gauss( random ) ) );
-      return p;
-    };
-    std::vector<std::pair<Camera, Eigen::Matrix<double, 3, 4>>> cameras; // camera, vehicle-from-camera [R | t]
-
+    RigLayout layout;
     switch ( options.preset )
     {
       case SurveyPreset::Highway:
-      {
-        const RoadNetwork &roads = scene.roads();
-        const Road &road = roads.roads().front();
-        const double laneOffset = -( road.lanesPerDirection - 0.5 ) * road.laneWidthM;
-        const double start = 20.0;
-        if ( start + ( settings.stations - 1 ) * options.stationSpacingM > roads.length( 0 ) - 5.0 )
-          throw std::invalid_argument( "the run of " + std::to_string( settings.stations ) + " stations every " + std::to_string( options.stationSpacingM ) +
-                                       " m is longer than the road " + road.id + " (" + std::to_string( static_cast<int>( roads.length( 0 ) ) ) + " m)" );
-        for ( int i = 0; i < settings.stations; ++i )
-        {
-          Eigen::Vector2d tangent;
-          const double s = start + i * options.stationSpacingM;
-          const Eigen::Vector2d p = roads.pointAt( 0, s, laneOffset, &tangent );
-          const Eigen::Vector2d left( -tangent.y(), tangent.x() );
-          const auto groundAt = [&]( const Eigen::Vector2d &q )
-          {
-            const std::optional<double> z = scene.terrain().heightAt( q.x(), q.y() );
-            if ( !z )
-              throw std::invalid_argument( "station " + stationId( i ) + " lies outside the terrain" );
-            return *z;
-          };
-          const double pitch = std::atan2( groundAt( p + 2.0 * tangent ) - groundAt( p - 2.0 * tangent ), 4.0 );
-          const double roll = std::atan2( groundAt( p + 0.9 * left ) - groundAt( p - 0.9 * left ), 1.8 );
-          const double bounce = degToRad( 0.15 ); // suspension
-          Pose pose;
-          pose.origin = Eigen::Vector3d( p.x(), p.y(), groundAt( p ) );
-          pose.worldFromVehicle = rotZ( std::atan2( tangent.y(), tangent.x() ) ) * rotY( -pitch + bounce * gauss( random ) ) * rotX( roll + bounce * gauss( random ) );
-          exact.push_back( pose );
-        }
-        const int n = options.cameras;
-        for ( int k = 0; k < n; ++k )
-        {
-          const Mount &mount = kVanMounts[k];
-          Camera camera;
-          camera.id = mount.id;
-          camera.width = settings.width;
-          camera.height = settings.height;
-          camera.f = 0.8 * w * ( 1.0 + 0.01 * k );
-          camera.aspect = 1.0;
-          camera.cx = 0.5 * w + 1.3 - 0.4 * k;
-          camera.cy = 0.5 * h - 0.8 + 0.3 * k;
-          camera.pixelSizeMm = 0.0074 * 640.0 / w;
-          camera.distortion.model = DistortionModel::OpenCV;
-          camera.distortion.coeffs = { -0.12 + 0.01 * k, 0.03, 2e-4, -1e-4, 0.0 };
-          const double yaw = degToRad( mount.yawDeg ), down = degToRad( mount.downDeg );
-          const Eigen::Vector3d view( std::cos( down ) * std::cos( yaw ), std::cos( down ) * std::sin( yaw ), -std::sin( down ) );
-          Eigen::Matrix<double, 3, 4> vehicleFromCamera;
-          vehicleFromCamera.leftCols<3>() = cameraAxesLookingAlong( view );
-          vehicleFromCamera.col( 3 ) = mount.position;
-          cameras.push_back( { camera, vehicleFromCamera } );
-        }
+        layout = vanLayout( options, settings, *built.scene, random, gauss );
         break;
-      }
       case SurveyPreset::AerialStereo:
-      {
-        const double gsd = options.groundPixelSizeM;
-        Camera camera;
-        camera.id = "frame";
-        camera.width = settings.width;
-        camera.height = settings.height;
-        camera.f = 0.9 * w;
-        camera.cx = 0.5 * w + 0.7;
-        camera.cy = 0.5 * h - 1.1;
-        camera.pixelSizeMm = 0.012;
-        camera.distortion.model = DistortionModel::BrownPhoto;
-        camera.distortion.coeffs = { -2.0e-5, 1.5e-8, 1.0e-6, -8.0e-7, 0.0 };
-        Eigen::Matrix<double, 3, 4> identity = Eigen::Matrix<double, 3, 4>::Zero();
-        identity.leftCols<3>().setIdentity();
-        cameras.push_back( { camera, identity } );
-        const std::optional<double> centreHeight = scene.terrain().heightAt( built.siteCentre.x(), built.siteCentre.y() );
-        const double flyingHeight = ( centreHeight ? *centreHeight : scene.terrain().maxHeight() ) + camera.f * gsd;
-        const double base = 0.4 * w * gsd;
-        for ( int i = 0; i < settings.stations; ++i )
-        {
-          Pose pose;
-          pose.origin = Eigen::Vector3d( built.siteCentre.x() + ( i - 0.5 * ( settings.stations - 1 ) ) * base, built.siteCentre.y() + 2.0 * gauss( random ), flyingHeight + 1.5 * gauss( random ) );
-          pose.worldFromVehicle = rotX( degToRad( 0.8 * gauss( random ) ) ) * rotY( degToRad( 0.8 * gauss( random ) ) ) * rotZ( degToRad( 1.0 * gauss( random ) ) );
-          exact.push_back( pose );
-        }
+        layout = aerialLayout( options, settings, built, random, gauss );
         break;
-      }
       case SurveyPreset::ObliquePhoto:
-      {
-        Camera camera;
-        camera.id = options.scannedFilm ? "film" : "oblique";
-        camera.width = settings.width;
-        camera.height = settings.height;
-        camera.f = 1.1 * w;
-        camera.cx = 0.5 * w - 2.1;
-        camera.cy = 0.5 * h + 1.6;
-        camera.distortion.model = DistortionModel::BrownPhoto;
-        if ( options.scannedFilm )
-        {
-          // a 100 x 75 mm film frame scanned at 0.1 mm (for the default 1024 x 768)
-          camera.pixelSizeMm = 0.1 * 1024.0 / w;
-          const double s = *camera.pixelSizeMm / 0.0065; // the digital lens scaled to the film format
-          camera.distortion.coeffs = { -1.0e-3 / ( s * s ), 2.0e-6 / ( s * s * s * s ), 3.0e-5 / s, -2.0e-5 / s, 0.0 };
-          camera.fiducials = filmFiducials( camera );
-        }
-        else
-        {
-          camera.pixelSizeMm = 0.0065 * 1024.0 / w;
-          camera.distortion.coeffs = { -1.0e-3, 2.0e-6, 3.0e-5, -2.0e-5, 0.0 };
-        }
-        Eigen::Matrix<double, 3, 4> identity = Eigen::Matrix<double, 3, 4>::Zero();
-        identity.leftCols<3>().setIdentity();
-        cameras.push_back( { camera, identity } );
-        const Eigen::Vector2d target = built.siteCentre + Eigen::Vector2d( 40, 40 );
-        const Eigen::Vector2d position = built.siteCentre + Eigen::Vector2d( -250, -250 );
-        const std::optional<double> targetZ = scene.terrain().heightAt( target.x(), target.y() );
-        const std::optional<double> groundZ = scene.terrain().heightAt( position.x(), position.y() );
-        if ( !targetZ || !groundZ )
-          throw std::invalid_argument( "the terrain does not reach the oblique camera's position and target" );
-        Pose pose;
-        pose.origin = Eigen::Vector3d( position.x(), position.y(), std::max( *groundZ, *targetZ ) + 140.0 );
-        pose.worldFromVehicle = cameraAxesLookingAlong( Eigen::Vector3d( target.x(), target.y(), *targetZ ) - pose.origin ) * rotZ( degToRad( 1.5 * gauss( random ) ) );
-        // cameras[0] has the identity mount: the pose is the camera's own
-        exact.push_back( pose );
+        layout = obliqueLayout( options, settings, built, random, gauss );
         break;
-      }
     }
+    const std::vector<std::pair<Camera, Eigen::Matrix<double, 3, 4>>> &cameras = layout.cameras;
+    const std::vector<RigPose> &exact = layout.exact;
 
     for ( const auto &entry : cameras )
       truth.cameras.push_back( entry.first );
@@ -358,7 +394,7 @@ namespace geostation
     index = 0;
     for ( size_t i = 0; i < exact.size(); ++i )
     {
-      const Pose pose = perturb( exact[i] );
+      const RigPose pose = perturbed( exact[i], sigma, random, gauss );
       for ( size_t k = 0; k < cameras.size(); ++k, ++index )
       {
         BlockImage &image = noisy.images[index];
