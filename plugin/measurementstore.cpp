@@ -19,6 +19,7 @@
 #include <qgsvectordataprovider.h>
 #include <qgsvectorfilewriter.h>
 #include <qgsvectorlayer.h>
+#include <qgsvectorlayereditbuffer.h>
 
 #include "multiviewsession.h"
 
@@ -315,18 +316,43 @@ void GeoStationMeasurementStore::watch( QgsVectorLayer *layer )
   connect( layer, &QgsVectorLayer::dataSourceChanged, this, &GeoStationMeasurementStore::measurementsChanged );
 }
 
+GeoStationMeasurementStore::~GeoStationMeasurementStore()
+{
+  // (with the GeoPackage gone, the features cannot be saved into it either: no new file is made for their vertices)
+  if ( mPendingVertices.isEmpty() || !QFileInfo::exists( mSession->targetGeoPackage() ) )
+    return;
+  for ( const QPointer<QgsVectorLayer> &layer : std::as_const( mWatched ) )
+  {
+    if ( !layer || !layer->editBuffer() )
+      continue;
+    QList<QPair<QVariant, GeoStationMeasuredFeature>> toWrite;
+    for ( const QgsFeature &f : layer->editBuffer()->addedFeatures() )
+    {
+      const auto it = mPendingVertices.constFind( f.attribute( QStringLiteral( "measurement_id" ) ).toString() );
+      if ( it != mPendingVertices.constEnd() )
+        toWrite << qMakePair( QVariant(), it.value() );
+    }
+    if ( !toWrite.isEmpty() )
+      writeVertexRows( layer->name(), toWrite );
+  }
+}
+
 void GeoStationMeasurementStore::writeVertices( QgsVectorLayer *layer, const QgsFeatureList &added )
 {
-  QList<QPair<QgsFeatureId, GeoStationMeasuredFeature>> toWrite;
+  QList<QPair<QVariant, GeoStationMeasuredFeature>> toWrite;
   for ( const QgsFeature &f : added )
   {
     const QString id = f.attribute( QStringLiteral( "measurement_id" ) ).toString();
     auto it = mPendingVertices.find( id );
     if ( it != mPendingVertices.end() )
-      toWrite << qMakePair( f.id(), it.value() );
+      toWrite << qMakePair( QVariant( f.id() ), it.value() );
   }
-  if ( toWrite.isEmpty() )
-    return;
+  if ( !toWrite.isEmpty() )
+    writeVertexRows( layer->name(), toWrite );
+}
+
+void GeoStationMeasurementStore::writeVertexRows( const QString &layerName, const QList<QPair<QVariant, GeoStationMeasuredFeature>> &toWrite )
+{
   QString error;
   QgsVectorLayer *table = verticesTable( &error );
   if ( !table )
@@ -358,7 +384,7 @@ void GeoStationMeasurementStore::writeVertices( QgsVectorLayer *layer, const Qgs
       row.setAttribute( QStringLiteral( "sz" ), v.sigmaM.z() );
       row.setAttribute( QStringLiteral( "image_ids" ), images.join( ';' ) );
       row.setAttribute( QStringLiteral( "residuals_px" ), residuals.join( ';' ) );
-      row.setAttribute( QStringLiteral( "layer" ), layer->name() );
+      row.setAttribute( QStringLiteral( "layer" ), layerName );
       row.setAttribute( QStringLiteral( "method" ), QString::fromStdString( geostation::vertexMethodName( v.method ) ) );
       row.setAttribute( QStringLiteral( "measurement_id" ), feature.measurementId );
       table->addFeature( row );

@@ -12,7 +12,8 @@
   layer); otherwise it is committed at once. A commit that fails leaves the
   feature in the edit buffer and says why: nothing measured is lost. The
   vertex rows are written when their feature is committed (with its real
-  fid), whenever that happens.
+  fid), whenever that happens; if the store goes away first, they are
+  written then, linked by measurement_id (see the destructor).
  ***************************************************************************/
 #ifndef GEOSTATIONMEASUREMENTSTORE_H
 #define GEOSTATIONMEASUREMENTSTORE_H
@@ -56,6 +57,15 @@ class GeoStationMeasurementStore : public QObject
     GeoStationMeasurementStore( GeoStationSession *session, QgsProject *project, QObject *parent = nullptr );
 
     /**
+     * Writes the vertex rows of the features still in an edit buffer (not
+     * yet saved, e.g. the disk was full) when the store goes away with the
+     * plugin or QGIS: with an empty feature_fid, linked to their feature by
+     * measurement_id, so the vertices survive however the edits are saved
+     * later. Features the operator discarded get no rows.
+     */
+    ~GeoStationMeasurementStore() override;
+
+    /**
      * Whether measurements can be written to the target GeoPackage (set,
      * folder writable, file writable if it exists, a GeoPackage if it
      * exists); false with one sentence.
@@ -96,6 +106,8 @@ class GeoStationMeasurementStore : public QObject
   private:
     void watch( QgsVectorLayer *layer );
     void writeVertices( QgsVectorLayer *layer, const QgsFeatureList &added );
+    //! Rows of the vertices table for each (feature fid, or null while the feature is unsaved; feature) of `layerName`.
+    void writeVertexRows( const QString &layerName, const QList<QPair<QVariant, GeoStationMeasuredFeature>> &toWrite );
     QgsVectorLayer *openOrCreate( const QString &layerName, const QgsFields &fields, QgsWkbTypes::Type type, QString *error );
 
     GeoStationSession *mSession;

@@ -62,6 +62,7 @@ class TestMultiview : public QObject
     void failedWriteKeepsTheFeatureInTheEditBuffer();
     void removedGeoPackageLosesNothing();
     void fullDiskKeepsTheFeatureUntilThereIsRoom();
+    void pluginUnloadedWithEditsPendingKeepsTheirVertices();
     void imageDeletedWhileItsViewIsOpen();
     void blockFileChangedOnDiskIsReadAgain();
     void viewsShowPlaceholdersEnhancementsAndFeatures();
@@ -577,6 +578,79 @@ void TestMultiview::fullDiskKeepsTheFeatureUntilThereIsRoom()
   QgsVectorLayer *vertices = mStore->verticesTable( &error );
   QVERIFY2( vertices, qPrintable( error ) );
   QCOMPARE( vertices->featureCount(), 2L );
+}
+
+void TestMultiview::pluginUnloadedWithEditsPendingKeepsTheirVertices()
+{
+  QVERIFY( measurePoleFrom( 0 ) );
+  QgsVectorLayer *pole = mStore->measurementLayers().value( 0 );
+  QVERIFY( pole );
+  // the second pole cannot be written (the disk full): it stays in the edit buffer, its vertex rows wait for its fid
+  rlimit unlimited {};
+  QCOMPARE( getrlimit( RLIMIT_FSIZE, &unlimited ), 0 );
+  const auto previousHandler = std::signal( SIGXFSZ, SIG_IGN );
+  rlimit full = unlimited;
+  full.rlim_cur = 4096;
+  QCOMPARE( setrlimit( RLIMIT_FSIZE, &full ), 0 );
+  const bool accepted = measurePoleFrom( mSession->currentStation() + 1 );
+  QCOMPARE( setrlimit( RLIMIT_FSIZE, &unlimited ), 0 );
+  std::signal( SIGXFSZ, previousHandler );
+  QVERIFY( accepted );
+  QCOMPARE( pole->editBuffer()->addedFeatures().size(), 1 );
+  const QString pending = pole->editBuffer()->addedFeatures().begin()->attribute( QStringLiteral( "measurement_id" ) ).toString();
+  QVERIFY( !pending.isEmpty() );
+
+  // the plugin goes away (unloaded, or QGIS closing) with the feature still unsaved: its vertex rows are written now,
+  // linked by measurement_id
+  mController.reset();
+  mStore.reset();
+  const auto vertexRows = [this]( const QString &measurementId, bool *fidNull )
+  {
+    GDALDatasetH ds = GDALOpenEx( measurementsPath().toUtf8().constData(), GDAL_OF_VECTOR | GDAL_OF_READONLY, nullptr, nullptr, nullptr );
+    int rows = 0;
+    if ( OGRLayerH table = ds ? GDALDatasetGetLayerByName( ds, "vertices" ) : nullptr )
+    {
+      OGR_L_SetAttributeFilter( table, QStringLiteral( "measurement_id = '%1'" ).arg( measurementId ).toUtf8().constData() );
+      while ( OGRFeatureH f = OGR_L_GetNextFeature( table ) )
+      {
+        ++rows;
+        *fidNull = !OGR_F_IsFieldSetAndNotNull( f, OGR_F_GetFieldIndex( f, "feature_fid" ) );
+        OGR_F_Destroy( f );
+      }
+    }
+    if ( ds )
+      GDALClose( ds );
+    return rows;
+  };
+  bool fidNull = false;
+  QCOMPARE( vertexRows( pending, &fidNull ), 1 );
+  QVERIFY( fidNull );
+
+  // saved later through QGIS: the feature and its vertices are both in the file, joined by measurement_id
+  QVERIFY2( pole->commitChanges(), qPrintable( pole->commitErrors().join( '\n' ) ) );
+  GDALDatasetH written = GDALOpenEx( measurementsPath().toUtf8().constData(), GDAL_OF_VECTOR | GDAL_OF_READONLY, nullptr, nullptr, nullptr );
+  QVERIFY( written );
+  OGRLayerH poles = GDALDatasetGetLayerByName( written, "pole" );
+  OGR_L_SetAttributeFilter( poles, QStringLiteral( "measurement_id = '%1'" ).arg( pending ).toUtf8().constData() );
+  QCOMPARE( OGR_L_GetFeatureCount( poles, TRUE ), 1LL );
+  GDALClose( written );
+  QCOMPARE( vertexRows( pending, &fidNull ), 1 );
+
+  // a feature the operator discarded (edits rolled back) gets no rows
+  mStore = std::make_unique<GeoStationMeasurementStore>( mSession.get(), QgsProject::instance() );
+  mController = std::make_unique<GeoStationMeasurementController>( mSession.get(), mStore.get() );
+  QCOMPARE( setrlimit( RLIMIT_FSIZE, &full ), 0 );
+  std::signal( SIGXFSZ, SIG_IGN );
+  const bool again = measurePoleFrom( mSession->currentStation() + 1 );
+  QCOMPARE( setrlimit( RLIMIT_FSIZE, &unlimited ), 0 );
+  std::signal( SIGXFSZ, previousHandler );
+  QVERIFY( again );
+  QCOMPARE( pole->editBuffer()->addedFeatures().size(), 1 );
+  const QString discarded = pole->editBuffer()->addedFeatures().begin()->attribute( QStringLiteral( "measurement_id" ) ).toString();
+  QVERIFY( pole->rollBack() );
+  mController.reset();
+  mStore.reset();
+  QCOMPARE( vertexRows( discarded, &fidNull ), 0 );
 }
 
 void TestMultiview::imageDeletedWhileItsViewIsOpen()
