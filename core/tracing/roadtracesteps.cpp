@@ -48,15 +48,19 @@ namespace geostation
 
   /**
    * The line in the reference image: the method asked for, or auto's
-   * choice (polynomial strips first: they bridge dashes, wear and shadows
-   * and are the most precise in the tests; where they cover less than
-   * half the way, the skeleton for stripes or least squares for edges).
+   * choice. Stripes: polynomial strips first (they bridge dashes, wear and
+   * shadows and are the most precise in the tests), the skeleton where
+   * they cover less than half the way. Edges: least squares first (it
+   * matches the seed's edge profile; the strips took a same-polarity edge
+   * 1.5 m beside a weak kerb edge where it faded), polynomial strips where
+   * it covers less than half the way.
    */
   ReferenceLine RoadTraceRun::followInReference( const StationAt &at ) const
   {
     const bool automatic = mOptions.method == TraceMethod::Auto;
     ReferenceLine line;
-    line.method = automatic ? TraceMethod::Polynomial : mOptions.method;
+    const bool edge = mProfile.kind == LineKind::Edge;
+    line.method = automatic ? ( edge ? TraceMethod::LeastSquares : TraceMethod::Polynomial ) : mOptions.method;
     line.followed = keepInCourse( at, followLine( *mReferenceGrey, at.request, line.method, at.follow ) );
     const OrientedImage &reference = *at.reference;
     if ( automatic && at.startGround )
@@ -64,7 +68,7 @@ namespace geostation
       const double wanted = at.rangeLimitM - horizontalDistance( *at.startGround, at.centre );
       if ( groundLength( reference, line.followed.line.points, at.ground ) < 0.5 * wanted && line.followed.line.stop != TraceStop::LeftImage )
       {
-        const TraceMethod other = mProfile.kind == LineKind::Edge ? TraceMethod::LeastSquares : TraceMethod::Directional;
+        const TraceMethod other = edge ? TraceMethod::Polynomial : TraceMethod::Directional;
         LineFollowResult second = keepInCourse( at, followLine( *mReferenceGrey, at.request, other, at.follow ) );
         if ( groundLength( reference, second.line.points, at.ground ) > groundLength( reference, line.followed.line.points, at.ground ) )
         {

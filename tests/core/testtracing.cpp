@@ -118,11 +118,13 @@ TEST( Tracing, HighwayLinesWithExactOrientation )
     EXPECT_GE( sc.buffer.correctness, c.minCorrectness );
     EXPECT_LE( sc.rms15, 0.035 );
     // without pose sigmas the images' noise and the stripe's sigma on the road decide; sigma0 (0.46-0.59) scales
-    // them to what the other stations' images show, about right for the centre line and the kerb face (0.87,
-    // 0.88), optimistic for the worn edge line (1.60) and the dashed lane (2.09): where paint is worn, its
-    // visible centre is off the line's in every image alike, which no residual shows
+    // them to what the other stations' images show, about right for the centre line (0.87), optimistic for the
+    // worn edge line (1.60), the dashed lane (2.09) and the kerb face (2.53, at 0.6 cm RMS): where paint is worn
+    // its visible centre is off the line's in every image alike, and least squares puts an edge a few
+    // millimetres off it in every image alike, which no residual shows. (With the poses' errors, as in real
+    // runs, the sigmas are honest: 0.7-1.4 above.)
     EXPECT_GE( sc.normalisedSd, 0.45 );
-    EXPECT_LE( sc.normalisedSd, 2.5 );
+    EXPECT_LE( sc.normalisedSd, 2.75 );
   }
 }
 
@@ -465,4 +467,25 @@ TEST( Tracing, RealPhotographUnderAKnownHomography )
       EXPECT_LE( worst, 2.0 );
     }
   }
+}
+
+TEST( Tracing, KerbOuterEdgeFromOneSeed )
+{
+  // followed with polynomial strips (auto's choice for edges before) it slid onto the shoulder's edge to the
+  // verge where the weak kerb edge faded (completeness 0.26 on this run); least squares, auto's first choice
+  // for edges now, matches the seed's edge profile and keeps to it
+  const HighwayRun &run = highwayRun();
+  const HighwayLine &c = kKerbOuterEdge;
+  const std::vector<Eigen::Vector3d> truth = joinedTruthLine( run.roads, c.prefix );
+  ASSERT_GE( truth.size(), 2u );
+  const RoadTraceSummary s = traceFromSeed( run, run.block, c.prefix, "S0001_FL", TraceMethod::Auto );
+  const LineScore sc = score( s, truth, run, 0.10 );
+  print( c.name, s, sc );
+  EXPECT_EQ( s.stop, TraceStop::EndOfRun ) << s.message;
+  EXPECT_GE( s.lengthM, 300.0 );
+  EXPECT_GE( sc.buffer.completeness, c.minCompleteness );
+  EXPECT_GE( sc.buffer.correctness, c.minCorrectness );
+  EXPECT_LE( sc.rms15, c.maxRms15 );
+  EXPECT_GE( sc.normalisedSd, 0.7 );
+  EXPECT_LE( sc.normalisedSd, 1.4 );
 }

@@ -48,4 +48,22 @@ TEST_P( TracingFreshRun, HighwayLinesFromOneSeedEach )
   }
 }
 
+TEST_P( TracingFreshRun, KerbOuterEdgeFromOneSeed )
+{
+  const char *fresh = std::getenv( "GEOSTATION_TRACING_FRESH_SEED" );
+  const HighwayRun &run = highwayRun( fresh ? static_cast<uint32_t>( std::strtoul( fresh, nullptr, 10 ) ) : GetParam() );
+  const HighwayLine &c = kKerbOuterEdge;
+  const std::vector<Eigen::Vector3d> truth = joinedTruthLine( run.roads, c.prefix );
+  ASSERT_GE( truth.size(), 2u );
+  const RoadTraceSummary s = traceFromSeed( run, run.block, c.prefix, "S0001_FL", TraceMethod::Auto );
+  const LineScore sc = score( s, truth, run, 0.10 );
+  print( c.name, s, sc );
+  EXPECT_GE( sc.buffer.completeness, c.minCompleteness );
+  EXPECT_GE( sc.buffer.correctness, c.minCorrectness );
+  EXPECT_EQ( s.stop, TraceStop::EndOfRun ) << s.message;
+  EXPECT_LE( sc.rms15, c.maxRms15 );
+  EXPECT_GE( sc.normalisedSd, 0.7 );
+  EXPECT_LE( sc.normalisedSd, 1.4 );
+}
+
 INSTANTIATE_TEST_SUITE_P( Seeds, TracingFreshRun, ::testing::Values( 23u, 31u ) );
