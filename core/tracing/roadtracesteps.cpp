@@ -52,8 +52,8 @@ namespace geostation
    * shadows and are the most precise in the tests), the skeleton where
    * they cover less than half the way. Edges: least squares first (it
    * matches the seed's edge profile; the strips took a same-polarity edge
-   * 1.5 m beside a weak kerb edge where it faded), polynomial strips where
-   * it covers less than half the way.
+   * 1.5 m beside a weak kerb edge where it faded), then polynomial strips
+   * and the skeleton while the line covers less than half the way.
    */
   ReferenceLine RoadTraceRun::followInReference( const StationAt &at ) const
   {
@@ -65,15 +65,22 @@ namespace geostation
     const OrientedImage &reference = *at.reference;
     if ( automatic && at.startGround )
     {
+      // while the line covers less than half the way, the other methods are tried in turn; the longest is kept
       const double wanted = at.rangeLimitM - horizontalDistance( *at.startGround, at.centre );
-      if ( groundLength( reference, line.followed.line.points, at.ground ) < 0.5 * wanted && line.followed.line.stop != TraceStop::LeftImage )
+      const std::vector<TraceMethod> others = edge ? std::vector<TraceMethod> { TraceMethod::Polynomial, TraceMethod::Directional }
+                                              : std::vector<TraceMethod> { TraceMethod::Directional };
+      double length = groundLength( reference, line.followed.line.points, at.ground );
+      for ( const TraceMethod other : others )
       {
-        const TraceMethod other = edge ? TraceMethod::Polynomial : TraceMethod::Directional;
-        LineFollowResult second = keepInCourse( at, followLine( *mReferenceGrey, at.request, other, at.follow ) );
-        if ( groundLength( reference, second.line.points, at.ground ) > groundLength( reference, line.followed.line.points, at.ground ) )
+        if ( length >= 0.5 * wanted || line.followed.line.stop == TraceStop::LeftImage )
+          break;
+        LineFollowResult next = keepInCourse( at, followLine( *mReferenceGrey, at.request, other, at.follow ) );
+        const double nextLength = groundLength( reference, next.line.points, at.ground );
+        if ( nextLength > length )
         {
-          line.followed = std::move( second );
+          line.followed = std::move( next );
           line.method = other;
+          length = nextLength;
         }
       }
     }

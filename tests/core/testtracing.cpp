@@ -16,7 +16,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "io/block.h"
-#include "highwaytracing.h"
+#include "highwaytracingchecks.h"
 #include "linescoring.h"
 #include "simulation/surveysimulator.h"
 #include "tracing/directionalfollower.h"
@@ -473,19 +473,7 @@ TEST( Tracing, KerbOuterEdgeFromOneSeed )
 {
   // followed with polynomial strips (auto's choice for edges before) it slid onto the shoulder's edge to the
   // verge where the weak kerb edge faded (completeness 0.26 on this run); least squares, auto's first choice
-  // for edges now, matches the seed's edge profile and keeps to it
-  const HighwayRun &run = highwayRun();
-  const HighwayLine &c = kKerbOuterEdge;
-  const std::vector<Eigen::Vector3d> truth = joinedTruthLine( run.roads, c.prefix );
-  ASSERT_GE( truth.size(), 2u );
-  const RoadTraceSummary s = traceFromSeed( run, run.block, c.prefix, "S0001_FL", TraceMethod::Auto );
-  const LineScore sc = score( s, truth, run, 0.10 );
-  print( c.name, s, sc );
-  EXPECT_EQ( s.stop, TraceStop::EndOfRun ) << s.message;
-  EXPECT_GE( s.lengthM, 300.0 );
-  EXPECT_GE( sc.buffer.completeness, c.minCompleteness );
-  EXPECT_GE( sc.buffer.correctness, c.minCorrectness );
-  EXPECT_LE( sc.rms15, c.maxRms15 );
-  EXPECT_GE( sc.normalisedSd, 0.7 );
-  EXPECT_LE( sc.normalisedSd, 1.4 );
+  // for edges now, matches the seed's edge profile and keeps to it, and where it turns off the edge early
+  // (seed 47's first station) the skeleton is tried after the polynomial strips
+  expectWholeRunFromOneSeed( highwayRun(), kKerbOuterEdge );
 }

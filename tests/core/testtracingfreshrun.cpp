@@ -17,53 +17,32 @@
 
 #include <gtest/gtest.h>
 
-#include "highwaytracing.h"
+#include "highwaytracingchecks.h"
 
 using namespace geostation;
 using namespace geostation::highwaytracing;
 
 class TracingFreshRun : public ::testing::TestWithParam<uint32_t>
 {
+  protected:
+    //! The run of the test's seed, or of GEOSTATION_TRACING_FRESH_SEED.
+    const HighwayRun &freshRun() const
+    {
+      const char *fresh = std::getenv( "GEOSTATION_TRACING_FRESH_SEED" );
+      return highwayRun( fresh ? static_cast<uint32_t>( std::strtoul( fresh, nullptr, 10 ) ) : GetParam() );
+    }
 };
 
 TEST_P( TracingFreshRun, HighwayLinesFromOneSeedEach )
 {
-  const char *fresh = std::getenv( "GEOSTATION_TRACING_FRESH_SEED" );
-  const HighwayRun &run = highwayRun( fresh ? static_cast<uint32_t>( std::strtoul( fresh, nullptr, 10 ) ) : GetParam() );
+  const HighwayRun &run = freshRun();
   for ( const HighwayLine &c : kHighwayLines )
-  {
-    SCOPED_TRACE( c.name );
-    const std::vector<Eigen::Vector3d> truth = joinedTruthLine( run.roads, c.prefix );
-    ASSERT_GE( truth.size(), 2u );
-    const RoadTraceSummary s = traceFromSeed( run, run.block, c.prefix, "S0001_FL", TraceMethod::Auto );
-    const LineScore sc = score( s, truth, run, 0.10 );
-    print( c.name, s, sc );
-    EXPECT_GE( sc.buffer.completeness, c.minCompleteness );
-    EXPECT_GE( sc.buffer.correctness, c.minCorrectness );
-    EXPECT_EQ( s.stop, TraceStop::EndOfRun ) << s.message;
-    EXPECT_GE( s.lengthM, 300.0 );
-    EXPECT_LE( sc.rms15, c.maxRms15 );
-    EXPECT_GE( sc.normalisedSd, 0.7 );
-    EXPECT_LE( sc.normalisedSd, 1.4 );
-  }
+    expectWholeRunFromOneSeed( run, c );
 }
 
 TEST_P( TracingFreshRun, KerbOuterEdgeFromOneSeed )
 {
-  const char *fresh = std::getenv( "GEOSTATION_TRACING_FRESH_SEED" );
-  const HighwayRun &run = highwayRun( fresh ? static_cast<uint32_t>( std::strtoul( fresh, nullptr, 10 ) ) : GetParam() );
-  const HighwayLine &c = kKerbOuterEdge;
-  const std::vector<Eigen::Vector3d> truth = joinedTruthLine( run.roads, c.prefix );
-  ASSERT_GE( truth.size(), 2u );
-  const RoadTraceSummary s = traceFromSeed( run, run.block, c.prefix, "S0001_FL", TraceMethod::Auto );
-  const LineScore sc = score( s, truth, run, 0.10 );
-  print( c.name, s, sc );
-  EXPECT_GE( sc.buffer.completeness, c.minCompleteness );
-  EXPECT_GE( sc.buffer.correctness, c.minCorrectness );
-  EXPECT_EQ( s.stop, TraceStop::EndOfRun ) << s.message;
-  EXPECT_LE( sc.rms15, c.maxRms15 );
-  EXPECT_GE( sc.normalisedSd, 0.7 );
-  EXPECT_LE( sc.normalisedSd, 1.4 );
+  expectWholeRunFromOneSeed( freshRun(), kKerbOuterEdge );
 }
 
 INSTANTIATE_TEST_SUITE_P( Seeds, TracingFreshRun, ::testing::Values( 23u, 31u ) );

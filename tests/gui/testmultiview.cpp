@@ -79,6 +79,13 @@ class TestMultiview : public QObject
     bool goToStationWithPole( QString &id, QPointF &left, QPointF &right, Eigen::Vector3d &truth, int from = 0 );
     //! Steps to the first station (from `from`) with a pole, clicks its foot in view 0 and accepts the point; false if none or refused.
     bool measurePoleFrom( int from );
+    /**
+     * As measurePoleFrom(), with the disk full: simulated by a file size limit
+     * for this process, so a write past 4 kB of any file fails (EFBIG, as a
+     * full disk fails with ENOSPC) and SQLite cannot write the GeoPackage or
+     * its journal. The limit is lifted before it returns.
+     */
+    bool measurePoleWithDiskFull( int from );
     QString measurementsPath() const { return mDir.filePath( QStringLiteral( "measurements.gpkg" ) ); }
 
     QTemporaryDir mDir;
@@ -163,6 +170,21 @@ bool TestMultiview::goToStationWithPole( QString &id, QPointF &left, QPointF &ri
     }
   }
   return false;
+}
+
+bool TestMultiview::measurePoleWithDiskFull( int from )
+{
+  rlimit unlimited {};
+  if ( getrlimit( RLIMIT_FSIZE, &unlimited ) != 0 )
+    return false;
+  const auto previousHandler = std::signal( SIGXFSZ, SIG_IGN );
+  rlimit full = unlimited;
+  full.rlim_cur = 4096;
+  const bool limited = setrlimit( RLIMIT_FSIZE, &full ) == 0;
+  const bool accepted = limited && measurePoleFrom( from );
+  const bool lifted = setrlimit( RLIMIT_FSIZE, &unlimited ) == 0;
+  std::signal( SIGXFSZ, previousHandler );
+  return accepted && lifted;
 }
 
 bool TestMultiview::measurePoleFrom( int from )
@@ -550,19 +572,8 @@ void TestMultiview::fullDiskKeepsTheFeatureUntilThereIsRoom()
   QVERIFY( pole );
   QCOMPARE( pole->dataProvider()->featureCount(), 1L );
 
-  // the disk full, simulated by a file size limit for this process: a write past 4 kB of any file fails
-  // (EFBIG, as a full disk fails with ENOSPC), so SQLite cannot write the GeoPackage or its journal
-  rlimit unlimited {};
-  QCOMPARE( getrlimit( RLIMIT_FSIZE, &unlimited ), 0 );
-  const auto previousHandler = std::signal( SIGXFSZ, SIG_IGN );
-  rlimit full = unlimited;
-  full.rlim_cur = 4096;
-  QCOMPARE( setrlimit( RLIMIT_FSIZE, &full ), 0 );
   QSignalSpy messages( mController.get(), &GeoStationMeasurementController::message );
-  const bool accepted = measurePoleFrom( mSession->currentStation() + 1 );
-  QCOMPARE( setrlimit( RLIMIT_FSIZE, &unlimited ), 0 );
-  std::signal( SIGXFSZ, previousHandler );
-  QVERIFY( accepted );
+  QVERIFY( measurePoleWithDiskFull( mSession->currentStation() + 1 ) );
   QVERIFY( messages.last().at( 1 ).toBool() ); // a warning
   QVERIFY2( messages.last().at( 0 ).toString().contains( QStringLiteral( "stays in the layer's edit buffer" ) ), qPrintable( messages.last().at( 0 ).toString() ) );
   QVERIFY( pole->isEditable() );
@@ -586,16 +597,7 @@ void TestMultiview::pluginUnloadedWithEditsPendingKeepsTheirVertices()
   QgsVectorLayer *pole = mStore->measurementLayers().value( 0 );
   QVERIFY( pole );
   // the second pole cannot be written (the disk full): it stays in the edit buffer, its vertex rows wait for its fid
-  rlimit unlimited {};
-  QCOMPARE( getrlimit( RLIMIT_FSIZE, &unlimited ), 0 );
-  const auto previousHandler = std::signal( SIGXFSZ, SIG_IGN );
-  rlimit full = unlimited;
-  full.rlim_cur = 4096;
-  QCOMPARE( setrlimit( RLIMIT_FSIZE, &full ), 0 );
-  const bool accepted = measurePoleFrom( mSession->currentStation() + 1 );
-  QCOMPARE( setrlimit( RLIMIT_FSIZE, &unlimited ), 0 );
-  std::signal( SIGXFSZ, previousHandler );
-  QVERIFY( accepted );
+  QVERIFY( measurePoleWithDiskFull( mSession->currentStation() + 1 ) );
   QCOMPARE( pole->editBuffer()->addedFeatures().size(), 1 );
   const QString pending = pole->editBuffer()->addedFeatures().begin()->attribute( QStringLiteral( "measurement_id" ) ).toString();
   QVERIFY( !pending.isEmpty() );
@@ -639,12 +641,7 @@ void TestMultiview::pluginUnloadedWithEditsPendingKeepsTheirVertices()
   // a feature the operator discarded (edits rolled back) gets no rows
   mStore = std::make_unique<GeoStationMeasurementStore>( mSession.get(), QgsProject::instance() );
   mController = std::make_unique<GeoStationMeasurementController>( mSession.get(), mStore.get() );
-  QCOMPARE( setrlimit( RLIMIT_FSIZE, &full ), 0 );
-  std::signal( SIGXFSZ, SIG_IGN );
-  const bool again = measurePoleFrom( mSession->currentStation() + 1 );
-  QCOMPARE( setrlimit( RLIMIT_FSIZE, &unlimited ), 0 );
-  std::signal( SIGXFSZ, previousHandler );
-  QVERIFY( again );
+  QVERIFY( measurePoleWithDiskFull( mSession->currentStation() + 1 ) );
   QCOMPARE( pole->editBuffer()->addedFeatures().size(), 1 );
   const QString discarded = pole->editBuffer()->addedFeatures().begin()->attribute( QStringLiteral( "measurement_id" ) ).toString();
   QVERIFY( pole->rollBack() );
