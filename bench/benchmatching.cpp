@@ -140,7 +140,7 @@ namespace
     int converged = 0;
     for ( auto _ : state )
       for ( const Eigen::Vector2d &p : im.points )
-        converged += leastSquaresMatch( *im.leftMatch, p, *im.rightMatch, p + Eigen::Vector2d( 37.4 + 0.6, 0.3 - 0.5 ) ).converged;
+        converged += leastSquaresMatch( *im.leftMatch, p, *im.rightMatch, p + Eigen::Vector2d( 37.4 + 0.6, 0.3 - 0.5 ) ).converged();
     benchmark::DoNotOptimize( converged );
     state.SetItemsProcessed( state.iterations() * im.points.size() );
   }
@@ -216,7 +216,7 @@ namespace
     int matched = 0;
     for ( auto _ : state )
       for ( const auto &[reference, approximate] : p.points )
-        matched += matchAroundPosition( *p.one, reference, *p.three, approximate, 3.0, options ).matched;
+        matched += matchAroundPosition( *p.one, reference, *p.three, approximate, 3.0, options ).matched();
     benchmark::DoNotOptimize( matched );
     state.SetItemsProcessed( state.iterations() * p.points.size() );
   }
@@ -228,7 +228,7 @@ namespace
     int matched = 0;
     for ( auto _ : state )
       for ( const Eigen::Vector2d &p : im.points )
-        matched += matchAroundPosition( *im.leftMatch, p, *im.rightMatch, p + Eigen::Vector2d( 37.4 + 1.3, 0.3 - 1.1 ), 3.0, options ).matched;
+        matched += matchAroundPosition( *im.leftMatch, p, *im.rightMatch, p + Eigen::Vector2d( 37.4 + 1.3, 0.3 - 1.1 ), 3.0, options ).matched();
     benchmark::DoNotOptimize( matched );
     state.SetItemsProcessed( state.iterations() * im.points.size() );
   }
@@ -291,7 +291,7 @@ namespace
     int matched = 0;
     for ( auto _ : state )
       for ( const Eigen::Vector2d &point : p.points )
-        matched += proposeConjugates( views, 0, point, options )[1].matched;
+        matched += proposeConjugates( views, 0, point, options )[1].matched();
     state.counters["matched"] = static_cast<double>( matched ) / state.iterations() / p.points.size();
     state.SetItemsProcessed( state.iterations() * p.points.size() );
   }

@@ -25,7 +25,7 @@ namespace
   struct Run
   {
     std::filesystem::path dir;
-    std::unique_ptr<GeoStationSession> session;
+    std::unique_ptr<GeoStationMultiviewSession> session;
     std::unique_ptr<GeoStationMeasurementStore> store;
     std::unique_ptr<GeoStationMeasurementController> controller;
     std::unique_ptr<GeoStationMultiviewDock> dock;
@@ -41,7 +41,7 @@ namespace
       options.imageHeight = 1080;
       options.supersampling = 1;
       geostation::simulateSurvey( options );
-      session = std::make_unique<GeoStationSession>();
+      session = std::make_unique<GeoStationMultiviewSession>();
       QString error;
       if ( !session->openBlock( QString::fromStdString( ( dir / "block.geostation.json" ).string() ), &error ) )
         throw std::runtime_error( error.toStdString() );

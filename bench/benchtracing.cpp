@@ -185,11 +185,11 @@ namespace
         for ( const TracedVertex *v : vertices )
         {
           const std::vector<ConjugateProposal> proposals = proposeConjugates( views, 0, v->pixels[0] );
-          if ( !proposals[1].matched )
+          if ( !proposals[1].matched() )
             continue;
           const MeasuredVertex m = intersectVertex( { VertexObservation { views[0].imageId, views[0].image, v->pixels[0] },
                                                       VertexObservation { views[1].imageId, views[1].image, proposals[1].pixelInImage } } );
-          measured += m.ok;
+          measured += m.ok();
         }
       }
     }

@@ -83,7 +83,7 @@ namespace
     for ( auto _ : state )
       for ( const Eigen::Vector2d &click : s.clicks )
         for ( const ConjugateProposal &p : proposeConjugates( s.views, 0, click ) )
-          matched += p.matched;
+          matched += p.matched();
     benchmark::DoNotOptimize( matched );
     state.SetItemsProcessed( state.iterations() * s.clicks.size() );
     state.SetLabel( std::to_string( s.views.size() - 1 ) + " other views" );

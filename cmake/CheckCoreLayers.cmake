@@ -2,6 +2,9 @@
 # (docs/architecture.md): camera -> geometry -> io -> imageproc -> adjustment
 # -> dem -> matching -> tracing -> extraction -> workstation -> simulation
 # -> tools. A module includes only itself and the modules before it.
+# Headers that expose Ceres or nlohmann::json live in a module's internal/
+# folder, which only that module's sources (and the tests) include: the
+# public headers of core stay free of both.
 #   cmake -DCORE_DIR=<core> -P CheckCoreLayers.cmake
 set(order camera geometry io imageproc adjustment dem matching tracing extraction workstation simulation tools)
 file(GLOB_RECURSE sources RELATIVE "${CORE_DIR}" "${CORE_DIR}/*.h" "${CORE_DIR}/*.cpp" "${CORE_DIR}/*.hpp")
@@ -17,6 +20,22 @@ foreach(source ${sources})
     continue()
   endif()
   math(EXPR checked "${checked} + 1")
+  if(source MATCHES "\\.(h|hpp)$" AND NOT source MATCHES "/internal/")
+    file(STRINGS "${CORE_DIR}/${source}" private REGEX "^[ \t]*#[ \t]*include[ \t]*[<\"](ceres/|nlohmann/|[a-z]+/internal/)")
+    foreach(line ${private})
+      string(REGEX REPLACE "^[ \t]*#[ \t]*include[ \t]*" "" line "${line}")
+      list(APPEND offenders "${source} is a public header and includes ${line}: move it to ${module}/internal/")
+    endforeach()
+  endif()
+  if(NOT source MATCHES "^${module}/internal/")
+    file(STRINGS "${CORE_DIR}/${source}" foreign REGEX "^[ \t]*#[ \t]*include[ \t]*\"[a-z]+/internal/")
+    foreach(line ${foreign})
+      string(REGEX REPLACE "^[ \t]*#[ \t]*include[ \t]*\"([a-z]+)/.*" "\\1" owner "${line}")
+      if(NOT owner STREQUAL module)
+        list(APPEND offenders "${source} includes the internal header of ${owner}/ (${line})")
+      endif()
+    endforeach()
+  endif()
   file(STRINGS "${CORE_DIR}/${source}" lines REGEX "^[ \t]*#[ \t]*include[ \t]*\"[a-z]+/")
   foreach(line ${lines})
     string(REGEX REPLACE "^[ \t]*#[ \t]*include[ \t]*\"([a-z]+)/.*" "\\1" included "${line}")

@@ -23,7 +23,7 @@ int GeoStationCameraTableModel::rowCount( const QModelIndex &parent ) const
 
 int GeoStationCameraTableModel::columnCount( const QModelIndex &parent ) const
 {
-  return parent.isValid() ? 0 : ColumnCount;
+  return parent.isValid() ? 0 : kColumnCount;
 }
 
 QVariant GeoStationCameraTableModel::data( const QModelIndex &index, int role ) const
@@ -33,7 +33,7 @@ QVariant GeoStationCameraTableModel::data( const QModelIndex &index, int role ) 
   const geostation::Camera &camera = mBlock->cameras[static_cast<size_t>( index.row() )];
 
   if ( role == Qt::TextAlignmentRole )
-    return index.column() == ColumnId || index.column() == ColumnModel ? QVariant( Qt::AlignLeft | Qt::AlignVCenter ) : QVariant( Qt::AlignRight | Qt::AlignVCenter );
+    return index.column() == static_cast<int>( Column::Id ) || index.column() == static_cast<int>( Column::Model ) ? QVariant( Qt::AlignLeft | Qt::AlignVCenter ) : QVariant( Qt::AlignRight | Qt::AlignVCenter );
   if ( role != Qt::DisplayRole && role != Qt::EditRole && role != Qt::ToolTipRole )
     return QVariant();
 
@@ -46,35 +46,35 @@ QVariant GeoStationCameraTableModel::data( const QModelIndex &index, int role ) 
     return display ? QVariant( QString::number( value, 'g', 6 ) ) : QVariant( value );
   };
 
-  switch ( index.column() )
+  switch ( static_cast<Column>( index.column() ) )
   {
-    case ColumnId:
+    case Column::Id:
       return QString::fromStdString( camera.id );
-    case ColumnSize:
+    case Column::Size:
       return QStringLiteral( "%1 × %2" ).arg( camera.width ).arg( camera.height );
-    case ColumnF:
+    case Column::F:
       return number( camera.f, 3 );
-    case ColumnAspect:
+    case Column::Aspect:
       return number( camera.aspect, 6 );
-    case ColumnCx:
+    case Column::Cx:
       return number( camera.cx, 3 );
-    case ColumnCy:
+    case Column::Cy:
       return number( camera.cy, 3 );
-    case ColumnPixelSize:
+    case Column::PixelSize:
       return camera.pixelSizeMm ? number( *camera.pixelSizeMm, 6 ) : QVariant();
-    case ColumnModel:
+    case Column::Model:
       return QString::fromStdString( geostation::distortionModelName( camera.distortion.model ) );
-    case ColumnK1:
+    case Column::K1:
       return coefficient( camera.distortion.k1() );
-    case ColumnK2:
+    case Column::K2:
       return coefficient( camera.distortion.k2() );
-    case ColumnP1:
+    case Column::P1:
       return coefficient( camera.distortion.p1() );
-    case ColumnP2:
+    case Column::P2:
       return coefficient( camera.distortion.p2() );
-    case ColumnK3:
+    case Column::K3:
       return coefficient( camera.distortion.k3() );
-    case ColumnImages:
+    case Column::Images:
     {
       int count = 0;
       for ( const geostation::BlockImage &image : mBlock->images )
@@ -90,35 +90,35 @@ QVariant GeoStationCameraTableModel::headerData( int section, Qt::Orientation or
 {
   if ( orientation != Qt::Horizontal || role != Qt::DisplayRole )
     return QAbstractTableModel::headerData( section, orientation, role );
-  switch ( section )
+  switch ( static_cast<Column>( section ) )
   {
-    case ColumnId:
+    case Column::Id:
       return tr( "Camera" );
-    case ColumnSize:
+    case Column::Size:
       return tr( "Size [px]" );
-    case ColumnF:
+    case Column::F:
       return tr( "f [px]" );
-    case ColumnAspect:
+    case Column::Aspect:
       return tr( "Aspect" );
-    case ColumnCx:
+    case Column::Cx:
       return tr( "cx [px]" );
-    case ColumnCy:
+    case Column::Cy:
       return tr( "cy [px]" );
-    case ColumnPixelSize:
+    case Column::PixelSize:
       return tr( "Pixel [mm]" );
-    case ColumnModel:
+    case Column::Model:
       return tr( "Distortion" );
-    case ColumnK1:
+    case Column::K1:
       return QStringLiteral( "k1" );
-    case ColumnK2:
+    case Column::K2:
       return QStringLiteral( "k2" );
-    case ColumnP1:
+    case Column::P1:
       return QStringLiteral( "p1" );
-    case ColumnP2:
+    case Column::P2:
       return QStringLiteral( "p2" );
-    case ColumnK3:
+    case Column::K3:
       return QStringLiteral( "k3" );
-    case ColumnImages:
+    case Column::Images:
       return tr( "Images" );
     default:
       return QVariant();

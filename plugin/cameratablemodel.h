@@ -19,24 +19,25 @@ class GeoStationCameraTableModel : public QAbstractTableModel
     Q_OBJECT
 
   public:
-    enum Column
+    enum class Column
     {
-      ColumnId,
-      ColumnSize,
-      ColumnF,
-      ColumnAspect,
-      ColumnCx,
-      ColumnCy,
-      ColumnPixelSize,
-      ColumnModel,
-      ColumnK1,
-      ColumnK2,
-      ColumnP1,
-      ColumnP2,
-      ColumnK3,
-      ColumnImages,
-      ColumnCount
+      Id,
+      Size,
+      F,
+      Aspect,
+      Cx,
+      Cy,
+      PixelSize,
+      Model,
+      K1,
+      K2,
+      P1,
+      P2,
+      K3,
+      Images,
+      Count,
     };
+    static constexpr int kColumnCount = static_cast<int>( Column::Count );
 
     explicit GeoStationCameraTableModel( QObject *parent = nullptr );
 

@@ -19,14 +19,14 @@
 
 class QgsVectorLayer;
 class GeoStationMeasurementStore;
-class GeoStationSession;
+class GeoStationMultiviewSession;
 
 class GeoStationExtractionReview : public QObject
 {
     Q_OBJECT
 
   public:
-    GeoStationExtractionReview( GeoStationSession *session, GeoStationMeasurementStore *store, QObject *parent = nullptr );
+    GeoStationExtractionReview( GeoStationMultiviewSession *session, GeoStationMeasurementStore *store, QObject *parent = nullptr );
 
     //! A layer written by geostation:extract_roads (3-D lines with line_id, accepted_in and sigma_max).
     static bool isExtractedRoadsLayer( const QgsVectorLayer *layer );
@@ -44,29 +44,8 @@ class GeoStationExtractionReview : public QObject
   private:
     bool mark( QgsVectorLayer *layer, QgsFeatureId fid, const QString &decision );
 
-    GeoStationSession *mSession;
+    GeoStationMultiviewSession *mSession;
     GeoStationMeasurementStore *mStore;
-};
-
-/**
- * Map tool of the QGIS canvas: a left click on an extracted line accepts it,
- * a right click rejects it. Only emits the line found (the nearest line of
- * an extracted-roads layer within the search radius).
- */
-class GeoStationReviewTool : public QgsMapTool
-{
-    Q_OBJECT
-
-  public:
-    explicit GeoStationReviewTool( QgsMapCanvas *canvas );
-    void canvasReleaseEvent( QgsMapMouseEvent *e ) override;
-
-    //! The nearest line of an extracted-roads layer of the canvas within `radius` (map units) of a map point.
-    static bool lineAt( QgsMapCanvas *canvas, const QgsPointXY &pointInCanvasCrs, double radius, QgsVectorLayer *&layer, QgsFeatureId &fid );
-
-  signals:
-    void picked( QgsVectorLayer *layer, QgsFeatureId fid, bool accept );
-    void missed();
 };
 
 #endif // GEOSTATIONEXTRACTIONREVIEW_H

@@ -17,8 +17,8 @@ GeoStationFeatureClassDialog::GeoStationFeatureClassDialog( const QList<GeoStati
   const auto add = [this]( GeoStationFeatureClass::Geometry geometry )
   {
     const int row = mModel->addClass( geometry );
-    mClassTable->setCurrentIndex( mModel->index( row, GeoStationFeatureClassModel::Name ) );
-    mClassTable->edit( mModel->index( row, GeoStationFeatureClassModel::Name ) );
+    mClassTable->setCurrentIndex( mModel->index( row, static_cast<int>( GeoStationFeatureClassModel::Column::Name ) ) );
+    mClassTable->edit( mModel->index( row, static_cast<int>( GeoStationFeatureClassModel::Column::Name ) ) );
   };
   connect( mAddPointButton, &QPushButton::clicked, this, [add] { add( GeoStationFeatureClass::Geometry::Point ); } );
   connect( mAddLineButton, &QPushButton::clicked, this, [add] { add( GeoStationFeatureClass::Geometry::Line ); } );

@@ -6,7 +6,7 @@
 
 #include <QDialog>
 
-#include "featureclass.h"
+#include "featureclassmodel.h"
 #include "ui_geostationfeatureclassdialogbase.h"
 
 class GeoStationFeatureClassDialog : public QDialog, private Ui::GeoStationFeatureClassDialogBase

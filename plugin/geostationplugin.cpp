@@ -3,6 +3,7 @@
  ***************************************************************************/
 #include "geostationplugin.h"
 #include "extractionreview.h"
+#include "reviewtool.h"
 
 #include <QAction>
 #include <QFileDialog>
@@ -31,13 +32,14 @@
 #include "multiviewdock.h"
 #include "multiviewsession.h"
 #include "overviewlayers.h"
+#include "stationpicktool.h"
 
 namespace
 {
   const QString sName = QStringLiteral( "GeoStation" );
   const QString sDescription = QStringLiteral( "Softcopy photogrammetry: multiview measurement, monoplotting and road tracing from oriented imagery" );
   const QString sCategory = QStringLiteral( "Plugins" );
-  const QString sVersion = QStringLiteral( "0.1.0" );
+  const QString sVersion = QStringLiteral( GEOSTATION_VERSION ); // project( VERSION ) in CMakeLists.txt
   const QString sIcon = QStringLiteral( ":/geostation/icons/geostation.svg" );
   const QgisPlugin::PluginType sPluginType = QgisPlugin::UI;
   const QString sLastBlockDirKey = QStringLiteral( "geostation/lastBlockDir" );
@@ -118,10 +120,10 @@ void GeoStationPlugin::initGui()
   addAlgorithmAction( mMenu, QStringLiteral( "mActionGeoStationMonoplot" ), tr( "Monoplot Image Features onto a DEM…" ), QStringLiteral( "geostation:monoplot" ) );
 
   // the Multiview, the Overview and measuring
-  mSession = new GeoStationSession( this );
+  mSession = new GeoStationMultiviewSession( this );
   mStore = new GeoStationMeasurementStore( mSession, QgsProject::instance(), this );
   mController = new GeoStationMeasurementController( mSession, mStore, this );
-  mOverview = new GeoStationOverview( mSession, QgsProject::instance(), mIface->mapCanvas(), this );
+  mOverview = new GeoStationOverviewLayers( mSession, QgsProject::instance(), mIface->mapCanvas(), this );
   mTrace = new GeoStationTraceController( mSession, mStore, this );
   // the line being traced grows on the map too
   connect( mTrace, &GeoStationTraceController::lineChanged, this, [this]
@@ -201,7 +203,7 @@ void GeoStationPlugin::initGui()
   connect( QgsProject::instance(), &QgsProject::writeProject, this, [this]( QDomDocument & ) { writeProject(); } );
   connect( QgsProject::instance(), &QgsProject::readProject, this, [this]( const QDomDocument & ) { readProject(); } );
   connect( QgsProject::instance(), &QgsProject::cleared, this, [this] { mSession->closeBlock(); } );
-  connect( mSession, &GeoStationSession::blockChanged, this, &GeoStationPlugin::updateActions );
+  connect( mSession, &GeoStationMultiviewSession::blockChanged, this, &GeoStationPlugin::updateActions );
 
   mAdjustmentMenu = mMenu->addMenu( tr( "Adjustment" ) );
   mAdjustmentMenu->setObjectName( QStringLiteral( "mGeoStationAdjustmentMenu" ) );

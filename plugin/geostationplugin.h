@@ -25,8 +25,8 @@ class GeoStationReviewTool;
 class GeoStationMeasurementController;
 class GeoStationMeasurementStore;
 class GeoStationMultiviewDock;
-class GeoStationOverview;
-class GeoStationSession;
+class GeoStationOverviewLayers;
+class GeoStationMultiviewSession;
 class GeoStationStationPickTool;
 
 namespace geostation
@@ -47,7 +47,7 @@ class GeoStationPlugin : public QObject, public QgisPlugin
 
     //! The block opened last, or nullptr.
     const geostation::Block *block() const;
-    GeoStationSession *session() const { return mSession; }
+    GeoStationMultiviewSession *session() const { return mSession; }
 
   public slots:
     /**
@@ -109,11 +109,11 @@ class GeoStationPlugin : public QObject, public QgisPlugin
     QAction *mMultiviewAction = nullptr;
     QAction *mPickStationAction = nullptr;
     bool mRegisteredProvider = false;
-    GeoStationSession *mSession = nullptr;
+    GeoStationMultiviewSession *mSession = nullptr;
     GeoStationMeasurementStore *mStore = nullptr;
     GeoStationMeasurementController *mController = nullptr;
     GeoStationTraceController *mTrace = nullptr;
-    GeoStationOverview *mOverview = nullptr;
+    GeoStationOverviewLayers *mOverview = nullptr;
     QPointer<GeoStationMultiviewDock> mDock;
     QPointer<GeoStationStationPickTool> mPickTool;
     GeoStationExtractionReview *mReview = nullptr;

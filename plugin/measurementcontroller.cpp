@@ -17,7 +17,7 @@
 #include "geometry/crs.h"
 #include "multiviewsession.h"
 
-GeoStationMeasurementController::GeoStationMeasurementController( GeoStationSession *session, GeoStationMeasurementStore *store, QObject *parent )
+GeoStationMeasurementController::GeoStationMeasurementController( GeoStationMultiviewSession *session, GeoStationMeasurementStore *store, QObject *parent )
   : QObject( parent )
   , mSession( session )
   , mStore( store )
@@ -145,21 +145,21 @@ void GeoStationMeasurementController::pick( int view, const QPointF &pixelInImag
     }
     const geostation::ConjugateProposal &p = proposals[i];
     s.curve = p.curve;
-    if ( p.matched )
+    if ( p.matched() )
     {
       s.proposed = true;
       s.pixel = QPointF( p.pixelInImage.x(), p.pixelInImage.y() );
       s.score = p.score;
       s.sigmaPx = std::max( 0.3, p.sigmaPx );
       // only a least-squares match that passed its checks is taken as it is; a correlation peak is the operator's to confirm
-      s.doubtful = p.status != "lsm";
+      s.doubtful = p.status != geostation::MatchStatus::Lsm;
       s.observed = !s.doubtful;
       s.status = s.doubtful ? tr( "correlation only %1: click to confirm" ).arg( p.score, 0, 'f', 2 ) : tr( "match %1" ).arg( p.score, 0, 'f', 2 );
     }
     else if ( !unreadable[i].isEmpty() || !unreadable[view].isEmpty() )
       s.status = tr( "no proposal: %1" ).arg( !unreadable[i].isEmpty() ? tr( "its image cannot be read" ) : tr( "the image clicked in cannot be read" ) );
     else if ( !mViews[i].imageId.isEmpty() )
-      s.status = tr( "no match (%1): %2" ).arg( QString::fromStdString( p.status ), QString::fromStdString( p.reason ) );
+      s.status = tr( "no match (%1): %2" ).arg( QString::fromStdString( geostation::matchStatusName( p.status ) ), QString::fromStdString( p.message ) );
   }
   mLastProposalMs = timer.nsecsElapsed() / 1e6;
   emit viewStatesChanged();
@@ -249,7 +249,7 @@ bool GeoStationMeasurementController::acceptPoint()
     vertex = geostation::intersectVertex( observations );
   else
     vertex = singleRayVertex( observations.front(), &why );
-  if ( !vertex.ok )
+  if ( !vertex.ok() )
   {
     emit message( why.isEmpty() ? tr( "The vertex cannot be computed: %1" ).arg( QString::fromStdString( vertex.message ) ) : why, true );
     return false;

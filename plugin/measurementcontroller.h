@@ -27,7 +27,7 @@
 #include "workstation/matchimagecache.h"
 #include "workstation/pointmeasurer.h"
 
-class GeoStationSession;
+class GeoStationMultiviewSession;
 
 namespace geostation
 {
@@ -56,7 +56,7 @@ class GeoStationMeasurementController : public QObject
       geostation::EpipolarCurve curve; //!< of the reference pixel in this view
     };
 
-    GeoStationMeasurementController( GeoStationSession *session, GeoStationMeasurementStore *store, QObject *parent = nullptr );
+    GeoStationMeasurementController( GeoStationMultiviewSession *session, GeoStationMeasurementStore *store, QObject *parent = nullptr );
     ~GeoStationMeasurementController() override;
 
     geostation::MatchImageCache &imageCache() { return *mCache; }
@@ -97,7 +97,7 @@ class GeoStationMeasurementController : public QObject
     bool loadDem( QString *why );
     void resetViews();
 
-    GeoStationSession *mSession;
+    GeoStationMultiviewSession *mSession;
     GeoStationMeasurementStore *mStore;
     //! shared with the background loads, which may outlive the controller
     std::shared_ptr<geostation::MatchImageCache> mCache = std::make_shared<geostation::MatchImageCache>();

@@ -10,7 +10,7 @@
 #include "measurementstore.h"
 #include "multiviewsession.h"
 
-GeoStationMeasurementSettingsDialog::GeoStationMeasurementSettingsDialog( GeoStationSession *session, GeoStationMeasurementStore *store, QWidget *parent )
+GeoStationMeasurementSettingsDialog::GeoStationMeasurementSettingsDialog( GeoStationMultiviewSession *session, GeoStationMeasurementStore *store, QWidget *parent )
   : QDialog( parent )
   , mSession( session )
   , mStore( store )

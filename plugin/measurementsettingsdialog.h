@@ -8,7 +8,7 @@
 
 #include "ui_geostationmeasurementsettingsdialogbase.h"
 
-class GeoStationSession;
+class GeoStationMultiviewSession;
 class GeoStationMeasurementStore;
 
 class GeoStationMeasurementSettingsDialog : public QDialog, private Ui::GeoStationMeasurementSettingsDialogBase
@@ -16,14 +16,14 @@ class GeoStationMeasurementSettingsDialog : public QDialog, private Ui::GeoStati
     Q_OBJECT
 
   public:
-    GeoStationMeasurementSettingsDialog( GeoStationSession *session, GeoStationMeasurementStore *store, QWidget *parent = nullptr );
+    GeoStationMeasurementSettingsDialog( GeoStationMultiviewSession *session, GeoStationMeasurementStore *store, QWidget *parent = nullptr );
 
   public slots:
     //! Applies the settings; a GeoPackage that cannot be written is reported and the dialog stays open.
     void accept() override;
 
   private:
-    GeoStationSession *mSession;
+    GeoStationMultiviewSession *mSession;
     GeoStationMeasurementStore *mStore;
 };
 

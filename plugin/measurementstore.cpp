@@ -22,11 +22,14 @@
 #include <qgsvectorlayereditbuffer.h>
 
 #include "multiviewsession.h"
+#include "io/featureschema.h"
+
+namespace fs = geostation::featureschema;
 
 namespace
 {
   const QString sGroupName = QStringLiteral( "GeoStation measurements" );
-  const QString sVerticesName = QStringLiteral( "vertices" );
+  const QString sVerticesName = QLatin1String( fs::kVerticesTable );
 
   int methodRank( geostation::VertexMethod method )
   {
@@ -108,7 +111,7 @@ int GeoStationMeasuredFeature::imageCount() const
   return ids.size();
 }
 
-GeoStationMeasurementStore::GeoStationMeasurementStore( GeoStationSession *session, QgsProject *project, QObject *parent )
+GeoStationMeasurementStore::GeoStationMeasurementStore( GeoStationMultiviewSession *session, QgsProject *project, QObject *parent )
   : QObject( parent )
   , mSession( session )
   , mProject( project )
@@ -118,16 +121,16 @@ GeoStationMeasurementStore::GeoStationMeasurementStore( GeoStationSession *sessi
 QgsFields GeoStationMeasurementStore::featureFields( const GeoStationFeatureClass &featureClass )
 {
   QgsFields fields;
-  fields.append( QgsField( QStringLiteral( "class" ), QVariant::String ) );
-  fields.append( QgsField( QStringLiteral( "station" ), QVariant::String ) );
-  fields.append( QgsField( QStringLiteral( "acquired" ), QVariant::String ) );
-  fields.append( QgsField( QStringLiteral( "measured" ), QVariant::String ) );
-  fields.append( QgsField( QStringLiteral( "n_images" ), QVariant::Int ) );
-  fields.append( QgsField( QStringLiteral( "sigma_x" ), QVariant::Double ) );
-  fields.append( QgsField( QStringLiteral( "sigma_y" ), QVariant::Double ) );
-  fields.append( QgsField( QStringLiteral( "sigma_z" ), QVariant::Double ) );
-  fields.append( QgsField( QStringLiteral( "method" ), QVariant::String ) );
-  fields.append( QgsField( QStringLiteral( "measurement_id" ), QVariant::String ) );
+  fields.append( QgsField( QLatin1String( fs::kClass ), QVariant::String ) );
+  fields.append( QgsField( QLatin1String( fs::kStation ), QVariant::String ) );
+  fields.append( QgsField( QLatin1String( fs::kAcquired ), QVariant::String ) );
+  fields.append( QgsField( QLatin1String( fs::kMeasured ), QVariant::String ) );
+  fields.append( QgsField( QLatin1String( fs::kImageCount ), QVariant::Int ) );
+  fields.append( QgsField( QLatin1String( fs::kSigmaX ), QVariant::Double ) );
+  fields.append( QgsField( QLatin1String( fs::kSigmaY ), QVariant::Double ) );
+  fields.append( QgsField( QLatin1String( fs::kSigmaZ ), QVariant::Double ) );
+  fields.append( QgsField( QLatin1String( fs::kMethod ), QVariant::String ) );
+  fields.append( QgsField( QLatin1String( fs::kMeasurementId ), QVariant::String ) );
   for ( auto it = featureClass.attributes.constBegin(); it != featureClass.attributes.constEnd(); ++it )
     fields.append( QgsField( it.key(), QVariant::String ) );
   return fields;
@@ -136,15 +139,15 @@ QgsFields GeoStationMeasurementStore::featureFields( const GeoStationFeatureClas
 QgsFields GeoStationMeasurementStore::vertexFields()
 {
   QgsFields fields;
-  fields.append( QgsField( QStringLiteral( "feature_fid" ), QVariant::LongLong ) );
-  fields.append( QgsField( QStringLiteral( "vertex" ), QVariant::Int ) );
-  for ( const char *name : { "X", "Y", "Z", "sx", "sy", "sz" } )
+  fields.append( QgsField( QLatin1String( fs::kFeatureFid ), QVariant::LongLong ) );
+  fields.append( QgsField( QLatin1String( fs::kVertex ), QVariant::Int ) );
+  for ( const char *name : { fs::kX, fs::kY, fs::kZ, fs::kSx, fs::kSy, fs::kSz } )
     fields.append( QgsField( QString::fromLatin1( name ), QVariant::Double ) );
-  fields.append( QgsField( QStringLiteral( "image_ids" ), QVariant::String ) );
-  fields.append( QgsField( QStringLiteral( "residuals_px" ), QVariant::String ) );
-  fields.append( QgsField( QStringLiteral( "layer" ), QVariant::String ) );
-  fields.append( QgsField( QStringLiteral( "method" ), QVariant::String ) );
-  fields.append( QgsField( QStringLiteral( "measurement_id" ), QVariant::String ) );
+  fields.append( QgsField( QLatin1String( fs::kImageIds ), QVariant::String ) );
+  fields.append( QgsField( QLatin1String( fs::kResidualsPx ), QVariant::String ) );
+  fields.append( QgsField( QLatin1String( fs::kLayer ), QVariant::String ) );
+  fields.append( QgsField( QLatin1String( fs::kMethod ), QVariant::String ) );
+  fields.append( QgsField( QLatin1String( fs::kMeasurementId ), QVariant::String ) );
   return fields;
 }
 
@@ -328,7 +331,7 @@ GeoStationMeasurementStore::~GeoStationMeasurementStore()
     QList<QPair<QVariant, GeoStationMeasuredFeature>> toWrite;
     for ( const QgsFeature &f : layer->editBuffer()->addedFeatures() )
     {
-      const auto it = mPendingVertices.constFind( f.attribute( QStringLiteral( "measurement_id" ) ).toString() );
+      const auto it = mPendingVertices.constFind( f.attribute( QLatin1String( fs::kMeasurementId ) ).toString() );
       if ( it != mPendingVertices.constEnd() )
         toWrite << qMakePair( QVariant(), it.value() );
     }
@@ -342,7 +345,7 @@ void GeoStationMeasurementStore::writeVertices( QgsVectorLayer *layer, const Qgs
   QList<QPair<QVariant, GeoStationMeasuredFeature>> toWrite;
   for ( const QgsFeature &f : added )
   {
-    const QString id = f.attribute( QStringLiteral( "measurement_id" ) ).toString();
+    const QString id = f.attribute( QLatin1String( fs::kMeasurementId ) ).toString();
     auto it = mPendingVertices.find( id );
     if ( it != mPendingVertices.end() )
       toWrite << qMakePair( QVariant( f.id() ), it.value() );
@@ -374,19 +377,19 @@ void GeoStationMeasurementStore::writeVertexRows( const QString &layerName, cons
         if ( k < v.residualsPx.size() )
           residuals << QStringLiteral( "%1 %2" ).arg( v.residualsPx[k].x(), 0, 'f', 3 ).arg( v.residualsPx[k].y(), 0, 'f', 3 );
       }
-      row.setAttribute( QStringLiteral( "feature_fid" ), fid );
-      row.setAttribute( QStringLiteral( "vertex" ), i );
-      row.setAttribute( QStringLiteral( "X" ), v.point.x() );
-      row.setAttribute( QStringLiteral( "Y" ), v.point.y() );
-      row.setAttribute( QStringLiteral( "Z" ), v.point.z() );
-      row.setAttribute( QStringLiteral( "sx" ), v.sigmaM.x() );
-      row.setAttribute( QStringLiteral( "sy" ), v.sigmaM.y() );
-      row.setAttribute( QStringLiteral( "sz" ), v.sigmaM.z() );
-      row.setAttribute( QStringLiteral( "image_ids" ), images.join( ';' ) );
-      row.setAttribute( QStringLiteral( "residuals_px" ), residuals.join( ';' ) );
-      row.setAttribute( QStringLiteral( "layer" ), layerName );
-      row.setAttribute( QStringLiteral( "method" ), QString::fromStdString( geostation::vertexMethodName( v.method ) ) );
-      row.setAttribute( QStringLiteral( "measurement_id" ), feature.measurementId );
+      row.setAttribute( QLatin1String( fs::kFeatureFid ), fid );
+      row.setAttribute( QLatin1String( fs::kVertex ), i );
+      row.setAttribute( QLatin1String( fs::kX ), v.point.x() );
+      row.setAttribute( QLatin1String( fs::kY ), v.point.y() );
+      row.setAttribute( QLatin1String( fs::kZ ), v.point.z() );
+      row.setAttribute( QLatin1String( fs::kSx ), v.sigmaM.x() );
+      row.setAttribute( QLatin1String( fs::kSy ), v.sigmaM.y() );
+      row.setAttribute( QLatin1String( fs::kSz ), v.sigmaM.z() );
+      row.setAttribute( QLatin1String( fs::kImageIds ), images.join( ';' ) );
+      row.setAttribute( QLatin1String( fs::kResidualsPx ), residuals.join( ';' ) );
+      row.setAttribute( QLatin1String( fs::kLayer ), layerName );
+      row.setAttribute( QLatin1String( fs::kMethod ), QString::fromStdString( geostation::vertexMethodName( v.method ) ) );
+      row.setAttribute( QLatin1String( fs::kMeasurementId ), feature.measurementId );
       table->addFeature( row );
     }
     mPendingVertices.remove( feature.measurementId );
@@ -448,16 +451,16 @@ GeoStationMeasurementStore::Result GeoStationMeasurementStore::addFeature( const
   };
   for ( auto it = featureClass->attributes.constBegin(); it != featureClass->attributes.constEnd(); ++it )
     set( it.key(), it.value() );
-  set( QStringLiteral( "class" ), featureClass->name );
-  set( QStringLiteral( "station" ), feature.station );
-  set( QStringLiteral( "acquired" ), feature.acquired );
-  set( QStringLiteral( "measured" ), feature.measured );
-  set( QStringLiteral( "n_images" ), feature.imageCount() );
-  set( QStringLiteral( "sigma_x" ), sx );
-  set( QStringLiteral( "sigma_y" ), sy );
-  set( QStringLiteral( "sigma_z" ), sz );
-  set( QStringLiteral( "method" ), feature.method() );
-  set( QStringLiteral( "measurement_id" ), feature.measurementId );
+  set( QLatin1String( fs::kClass ), featureClass->name );
+  set( QLatin1String( fs::kStation ), feature.station );
+  set( QLatin1String( fs::kAcquired ), feature.acquired );
+  set( QLatin1String( fs::kMeasured ), feature.measured );
+  set( QLatin1String( fs::kImageCount ), feature.imageCount() );
+  set( QLatin1String( fs::kSigmaX ), sx );
+  set( QLatin1String( fs::kSigmaY ), sy );
+  set( QLatin1String( fs::kSigmaZ ), sz );
+  set( QLatin1String( fs::kMethod ), feature.method() );
+  set( QLatin1String( fs::kMeasurementId ), feature.measurementId );
 
   // the file removed or moved behind QGIS's back: a commit would fail, and leave an empty file that is no GeoPackage in its place
   const QString file = QFileInfo( mSession->targetGeoPackage() ).absoluteFilePath();

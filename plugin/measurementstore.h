@@ -31,7 +31,7 @@
 
 class QgsProject;
 class QgsVectorLayer;
-class GeoStationSession;
+class GeoStationMultiviewSession;
 
 struct GeoStationMeasuredFeature
 {
@@ -54,7 +54,7 @@ class GeoStationMeasurementStore : public QObject
     Q_OBJECT
 
   public:
-    GeoStationMeasurementStore( GeoStationSession *session, QgsProject *project, QObject *parent = nullptr );
+    GeoStationMeasurementStore( GeoStationMultiviewSession *session, QgsProject *project, QObject *parent = nullptr );
 
     /**
      * Writes the vertex rows of the features still in an edit buffer (not
@@ -110,7 +110,7 @@ class GeoStationMeasurementStore : public QObject
     void writeVertexRows( const QString &layerName, const QList<QPair<QVariant, GeoStationMeasuredFeature>> &toWrite );
     QgsVectorLayer *openOrCreate( const QString &layerName, const QgsFields &fields, QgsWkbTypes::Type type, QString *error );
 
-    GeoStationSession *mSession;
+    GeoStationMultiviewSession *mSession;
     QgsProject *mProject;
     //! measurement_id -> the feature's vertices, until the feature is committed
     QHash<QString, GeoStationMeasuredFeature> mPendingVertices;

@@ -32,7 +32,7 @@
 #include "tracecontroller.h"
 #include "tracing/linetrace.h"
 
-GeoStationMultiviewDock::GeoStationMultiviewDock( GeoStationSession *session, GeoStationMeasurementController *controller, GeoStationMeasurementStore *store,
+GeoStationMultiviewDock::GeoStationMultiviewDock( GeoStationMultiviewSession *session, GeoStationMeasurementController *controller, GeoStationMeasurementStore *store,
     QWidget *parent, GeoStationTraceController *trace )
   : QgsDockWidget( tr( "GeoStation Multiview" ), parent )
   , mSession( session )
@@ -84,24 +84,24 @@ GeoStationMultiviewDock::GeoStationMultiviewDock( GeoStationSession *session, Ge
   mOverlayTimer->setInterval( 30 );
   connect( mOverlayTimer, &QTimer::timeout, this, &GeoStationMultiviewDock::updateFeatureOverlays );
 
-  connect( mSession, &GeoStationSession::blockChanged, this, &GeoStationMultiviewDock::rebuildViews );
-  connect( mSession, &GeoStationSession::stationChanged, this, [this]
+  connect( mSession, &GeoStationMultiviewSession::blockChanged, this, &GeoStationMultiviewDock::rebuildViews );
+  connect( mSession, &GeoStationMultiviewSession::stationChanged, this, [this]
   {
     mNavigationTimer.start();
     updateStationControls();
   } );
-  connect( mSession, &GeoStationSession::viewImagesChanged, this, &GeoStationMultiviewDock::showViewImages );
-  connect( mSession, &GeoStationSession::featureClassesChanged, this, &GeoStationMultiviewDock::updateClassCombo );
+  connect( mSession, &GeoStationMultiviewSession::viewImagesChanged, this, &GeoStationMultiviewDock::showViewImages );
+  connect( mSession, &GeoStationMultiviewSession::featureClassesChanged, this, &GeoStationMultiviewDock::updateClassCombo );
   connect( mController, &GeoStationMeasurementController::viewStatesChanged, this, &GeoStationMultiviewDock::updateMeasurementOverlays );
   connect( mController, &GeoStationMeasurementController::featureChanged, this, &GeoStationMultiviewDock::updateFeatureStatus );
   connect( mController, &GeoStationMeasurementController::message, this, &GeoStationMultiviewDock::appendMessage );
   // the block file rewritten on disk (an adjustment, an import): the views show the new orientations, the operator is told
-  connect( mSession, &GeoStationSession::blockReloaded, this, [this]( const QString &summary )
+  connect( mSession, &GeoStationMultiviewSession::blockReloaded, this, [this]( const QString &summary )
   {
     rebuildViews();
     appendMessage( summary, false );
   } );
-  connect( mSession, &GeoStationSession::blockFileProblem, this, [this]( const QString &problem ) { appendMessage( problem, true ); } );
+  connect( mSession, &GeoStationMultiviewSession::blockFileProblem, this, [this]( const QString &problem ) { appendMessage( problem, true ); } );
   connect( mStore, &GeoStationMeasurementStore::measurementsChanged, this, &GeoStationMultiviewDock::scheduleFeatureOverlays );
 
   rebuildViews();
@@ -233,7 +233,7 @@ QWidget *GeoStationMultiviewDock::buildToolbar()
   bar->addWidget( new QLabel( tr( "Views" ), bar ) );
   mViewCountSpin = new QSpinBox( bar );
   mViewCountSpin->setObjectName( QStringLiteral( "mViewCountSpin" ) );
-  mViewCountSpin->setRange( 1, GeoStationSession::sMaxViews );
+  mViewCountSpin->setRange( 1, GeoStationMultiviewSession::sMaxViews );
   bar->addWidget( mViewCountSpin );
   connect( mViewCountSpin, qOverload<int>( &QSpinBox::valueChanged ), this, [this]( int n ) { mSession->setViewCount( n ); } );
   QAction *separate = bar->addAction( tr( "Separate docks" ) );

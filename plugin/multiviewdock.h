@@ -37,7 +37,7 @@ class GeoStationCameraPanel;
 class GeoStationImageView;
 class GeoStationMeasurementController;
 class GeoStationMeasurementStore;
-class GeoStationSession;
+class GeoStationMultiviewSession;
 class GeoStationTraceBar;
 class GeoStationTraceController;
 
@@ -49,7 +49,7 @@ class GeoStationMultiviewDock : public QgsDockWidget
 
   public:
     //! `trace` may be nullptr: no Trace tool.
-    GeoStationMultiviewDock( GeoStationSession *session, GeoStationMeasurementController *controller, GeoStationMeasurementStore *store,
+    GeoStationMultiviewDock( GeoStationMultiviewSession *session, GeoStationMeasurementController *controller, GeoStationMeasurementStore *store,
                              QWidget *parent = nullptr, GeoStationTraceController *trace = nullptr );
     ~GeoStationMultiviewDock() override;
 
@@ -111,7 +111,7 @@ class GeoStationMultiviewDock : public QgsDockWidget
     std::function<void()> keyAction( int key, Qt::KeyboardModifiers modifiers );
     void layoutViews();
 
-    GeoStationSession *mSession;
+    GeoStationMultiviewSession *mSession;
     GeoStationMeasurementController *mController;
     GeoStationMeasurementStore *mStore;
     GeoStationTraceController *mTrace = nullptr;

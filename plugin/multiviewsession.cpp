@@ -14,7 +14,7 @@ namespace
   const QString sScope = QStringLiteral( "GeoStation" );
 }
 
-GeoStationSession::GeoStationSession( QObject *parent )
+GeoStationMultiviewSession::GeoStationMultiviewSession( QObject *parent )
   : QObject( parent )
 {
   for ( int i = 0; i < 3; ++i )
@@ -33,7 +33,7 @@ GeoStationSession::GeoStationSession( QObject *parent )
   connect( &mWatcher, &QFileSystemWatcher::directoryChanged, this, changed );
 }
 
-std::map<std::string, geostation::OrientedImage> GeoStationSession::orientedImages( const geostation::Block &block )
+std::map<std::string, geostation::OrientedImage> GeoStationMultiviewSession::orientedImages( const geostation::Block &block )
 {
   std::map<std::string, geostation::OrientedImage> oriented;
   for ( const geostation::BlockImage &image : block.images )
@@ -52,7 +52,7 @@ std::map<std::string, geostation::OrientedImage> GeoStationSession::orientedImag
   return oriented;
 }
 
-void GeoStationSession::adoptBlock( std::unique_ptr<geostation::Block> block )
+void GeoStationMultiviewSession::adoptBlock( std::unique_ptr<geostation::Block> block )
 {
   mOriented = orientedImages( *block );
   mBlock = std::move( block );
@@ -61,13 +61,13 @@ void GeoStationSession::adoptBlock( std::unique_ptr<geostation::Block> block )
   mRun = geostation::StationSequence( *mBlock );
 }
 
-QString GeoStationSession::blockFileStamp() const
+QString GeoStationMultiviewSession::blockFileStamp() const
 {
   const QFileInfo file( mBlockPath );
   return file.exists() ? QStringLiteral( "%1 %2" ).arg( file.size() ).arg( file.lastModified().toMSecsSinceEpoch() ) : QString();
 }
 
-void GeoStationSession::watchBlockFile()
+void GeoStationMultiviewSession::watchBlockFile()
 {
   if ( !mWatcher.files().isEmpty() )
     mWatcher.removePaths( mWatcher.files() );
@@ -80,7 +80,7 @@ void GeoStationSession::watchBlockFile()
   mWatcher.addPath( QFileInfo( mBlockPath ).absolutePath() );
 }
 
-bool GeoStationSession::reloadBlock()
+bool GeoStationMultiviewSession::reloadBlock()
 {
   if ( !mBlock )
     return false;
@@ -125,7 +125,7 @@ bool GeoStationSession::reloadBlock()
   return true;
 }
 
-bool GeoStationSession::openBlock( const QString &path, QString *error )
+bool GeoStationMultiviewSession::openBlock( const QString &path, QString *error )
 {
   std::unique_ptr<geostation::Block> block;
   try
@@ -153,7 +153,7 @@ bool GeoStationSession::openBlock( const QString &path, QString *error )
   return true;
 }
 
-void GeoStationSession::closeBlock()
+void GeoStationMultiviewSession::closeBlock()
 {
   mBlock.reset();
   mOriented.clear();
@@ -168,7 +168,7 @@ void GeoStationSession::closeBlock()
   emit viewImagesChanged();
 }
 
-void GeoStationSession::resetViews()
+void GeoStationMultiviewSession::resetViews()
 {
   // one view per image of the first station (at most six); without stations, the views there were (at least two)
   int n = std::max<int>( mViews.size(), 2 );
@@ -184,12 +184,12 @@ void GeoStationSession::resetViews()
     mViews[i].cameraId = QString::fromStdString( mBlock->image( station.imageIds[i] ).cameraId );
 }
 
-QString GeoStationSession::currentStationId() const
+QString GeoStationMultiviewSession::currentStationId() const
 {
   return mCurrent >= 0 && mCurrent < mRun.size() ? QString::fromStdString( mRun.at( mCurrent ).id ) : QString();
 }
 
-void GeoStationSession::setCurrentStation( int index )
+void GeoStationMultiviewSession::setCurrentStation( int index )
 {
   if ( mRun.empty() )
     return;
@@ -201,7 +201,7 @@ void GeoStationSession::setCurrentStation( int index )
   emit viewImagesChanged();
 }
 
-void GeoStationSession::setViewCount( int count )
+void GeoStationMultiviewSession::setViewCount( int count )
 {
   count = std::clamp( count, 1, sMaxViews );
   if ( count == mViews.size() )
@@ -213,7 +213,7 @@ void GeoStationSession::setViewCount( int count )
   emit viewImagesChanged();
 }
 
-bool GeoStationSession::setViewImage( int view, const QString &imageId )
+bool GeoStationMultiviewSession::setViewImage( int view, const QString &imageId )
 {
   if ( !mBlock || view < 0 || view >= mViews.size() )
     return false;
@@ -229,7 +229,7 @@ bool GeoStationSession::setViewImage( int view, const QString &imageId )
   return true;
 }
 
-QString GeoStationSession::imageFor( const ViewAssignment &assignment, int viewIndex ) const
+QString GeoStationMultiviewSession::imageFor( const ViewAssignment &assignment, int viewIndex ) const
 {
   if ( !mBlock || mCurrent < 0 )
     return QString();
@@ -247,7 +247,7 @@ QString GeoStationSession::imageFor( const ViewAssignment &assignment, int viewI
   return viewIndex < static_cast<int>( station.imageIds.size() ) ? QString::fromStdString( station.imageIds[viewIndex] ) : QString();
 }
 
-QStringList GeoStationSession::viewImages() const
+QStringList GeoStationMultiviewSession::viewImages() const
 {
   QStringList ids;
   for ( int i = 0; i < mViews.size(); ++i )
@@ -255,32 +255,32 @@ QStringList GeoStationSession::viewImages() const
   return ids;
 }
 
-const geostation::OrientedImage *GeoStationSession::orientedImage( const QString &imageId ) const
+const geostation::OrientedImage *GeoStationMultiviewSession::orientedImage( const QString &imageId ) const
 {
   auto it = mOriented.find( imageId.toStdString() );
   return it == mOriented.end() ? nullptr : &it->second;
 }
 
-QString GeoStationSession::imagePath( const QString &imageId ) const
+QString GeoStationMultiviewSession::imagePath( const QString &imageId ) const
 {
   const geostation::BlockImage *image = mBlock ? mBlock->findImage( imageId.toStdString() ) : nullptr;
   return image ? QString::fromStdString( mBlock->imageFilePath( *image ).string() ) : QString();
 }
 
-QString GeoStationSession::imageStation( const QString &imageId ) const
+QString GeoStationMultiviewSession::imageStation( const QString &imageId ) const
 {
   const geostation::BlockImage *image = mBlock ? mBlock->findImage( imageId.toStdString() ) : nullptr;
   return image ? QString::fromStdString( image->stationId ) : QString();
 }
 
-QString GeoStationSession::imageTime( const QString &imageId ) const
+QString GeoStationMultiviewSession::imageTime( const QString &imageId ) const
 {
   const geostation::BlockImage *image = mBlock ? mBlock->findImage( imageId.toStdString() ) : nullptr;
   const geostation::Station *station = image && !image->stationId.empty() ? mBlock->findStation( image->stationId ) : nullptr;
   return station ? QString::fromStdString( station->time ) : QString();
 }
 
-void GeoStationSession::setFeatureClasses( const QList<GeoStationFeatureClass> &classes )
+void GeoStationMultiviewSession::setFeatureClasses( const QList<GeoStationFeatureClass> &classes )
 {
   mClasses = classes;
   if ( !findClass( mCurrentClass ) )
@@ -288,7 +288,7 @@ void GeoStationSession::setFeatureClasses( const QList<GeoStationFeatureClass> &
   emit featureClassesChanged();
 }
 
-void GeoStationSession::setCurrentClass( const QString &name )
+void GeoStationMultiviewSession::setCurrentClass( const QString &name )
 {
   if ( !findClass( name ) || name == mCurrentClass )
     return;
@@ -296,7 +296,7 @@ void GeoStationSession::setCurrentClass( const QString &name )
   emit featureClassesChanged();
 }
 
-const GeoStationFeatureClass *GeoStationSession::findClass( const QString &name ) const
+const GeoStationFeatureClass *GeoStationMultiviewSession::findClass( const QString &name ) const
 {
   for ( const GeoStationFeatureClass &c : mClasses )
     if ( c.name == name )
@@ -304,7 +304,7 @@ const GeoStationFeatureClass *GeoStationSession::findClass( const QString &name 
   return nullptr;
 }
 
-void GeoStationSession::setTargetGeoPackage( const QString &path )
+void GeoStationMultiviewSession::setTargetGeoPackage( const QString &path )
 {
   const QString absolute = path.isEmpty() ? QString() : QFileInfo( path ).absoluteFilePath();
   if ( absolute == mTarget )
@@ -313,25 +313,25 @@ void GeoStationSession::setTargetGeoPackage( const QString &path )
   emit targetChanged();
 }
 
-QString GeoStationSession::defaultTargetGeoPackage() const
+QString GeoStationMultiviewSession::defaultTargetGeoPackage() const
 {
   return mBlockPath.isEmpty() ? QString() : QFileInfo( mBlockPath ).absoluteDir().filePath( QStringLiteral( "measurements.gpkg" ) );
 }
 
-void GeoStationSession::setDemLayerId( const QString &layerId )
+void GeoStationMultiviewSession::setDemLayerId( const QString &layerId )
 {
   mDemLayerId = layerId;
   emit settingsChanged();
 }
 
-void GeoStationSession::setRoadPlane( double cameraHeightAboveRoadM, double sigmaM )
+void GeoStationMultiviewSession::setRoadPlane( double cameraHeightAboveRoadM, double sigmaM )
 {
   mCameraHeight = cameraHeightAboveRoadM;
   mRoadSigma = std::max( 0.0, sigmaM );
   emit settingsChanged();
 }
 
-void GeoStationSession::writeToProject( QgsProject *project ) const
+void GeoStationMultiviewSession::writeToProject( QgsProject *project ) const
 {
   const QgsPathResolver resolver = project->pathResolver();
   project->writeEntry( sScope, QStringLiteral( "block" ), mBlockPath.isEmpty() ? QString() : resolver.writePath( mBlockPath ) );
@@ -348,7 +348,7 @@ void GeoStationSession::writeToProject( QgsProject *project ) const
   project->writeEntry( sScope, QStringLiteral( "roadPlaneSigma" ), mRoadSigma );
 }
 
-bool GeoStationSession::readFromProject( QgsProject *project, QString *error )
+bool GeoStationMultiviewSession::readFromProject( QgsProject *project, QString *error )
 {
   bool present = false;
   const QString blockEntry = project->readEntry( sScope, QStringLiteral( "block" ), QString(), &present );

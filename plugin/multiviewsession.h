@@ -31,7 +31,7 @@
 
 class QgsProject;
 
-class GeoStationSession : public QObject
+class GeoStationMultiviewSession : public QObject
 {
     Q_OBJECT
 
@@ -44,7 +44,7 @@ class GeoStationSession : public QObject
       int stationOffset = 0; //!< stations from the current one
     };
 
-    explicit GeoStationSession( QObject *parent = nullptr );
+    explicit GeoStationMultiviewSession( QObject *parent = nullptr );
 
     //! Loads a block; on failure returns false with one sentence and keeps the open block.
     bool openBlock( const QString &path, QString *error );

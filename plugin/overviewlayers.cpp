@@ -27,25 +27,25 @@ namespace
   const QString sProperty = QStringLiteral( "geostation/overview" );
 }
 
-GeoStationOverview::GeoStationOverview( GeoStationSession *session, QgsProject *project, QgsMapCanvas *canvas, QObject *parent )
+GeoStationOverviewLayers::GeoStationOverviewLayers( GeoStationMultiviewSession *session, QgsProject *project, QgsMapCanvas *canvas, QObject *parent )
   : QObject( parent )
   , mSession( session )
   , mProject( project )
   , mCanvas( canvas )
 {
-  connect( mSession, &GeoStationSession::blockChanged, this, &GeoStationOverview::rebuild );
-  connect( mSession, &GeoStationSession::blockReloaded, this, &GeoStationOverview::rebuild );
-  connect( mSession, &GeoStationSession::stationChanged, this, &GeoStationOverview::updateCurrentStation );
-  connect( mSession, &GeoStationSession::settingsChanged, this, &GeoStationOverview::updateCurrentStation );
+  connect( mSession, &GeoStationMultiviewSession::blockChanged, this, &GeoStationOverviewLayers::rebuild );
+  connect( mSession, &GeoStationMultiviewSession::blockReloaded, this, &GeoStationOverviewLayers::rebuild );
+  connect( mSession, &GeoStationMultiviewSession::stationChanged, this, &GeoStationOverviewLayers::updateCurrentStation );
+  connect( mSession, &GeoStationMultiviewSession::settingsChanged, this, &GeoStationOverviewLayers::updateCurrentStation );
 }
 
-GeoStationOverview::~GeoStationOverview()
+GeoStationOverviewLayers::~GeoStationOverviewLayers()
 {
   delete mHighlight;
   delete mTraced;
 }
 
-void GeoStationOverview::setTracedLine( const QVector<QgsPoint> &pointsInBlockCrs )
+void GeoStationOverviewLayers::setTracedLine( const QVector<QgsPoint> &pointsInBlockCrs )
 {
   if ( !mCanvas )
     return;
@@ -65,7 +65,7 @@ void GeoStationOverview::setTracedLine( const QVector<QgsPoint> &pointsInBlockCr
   mTraced->setToGeometry( QgsGeometry( new QgsLineString( pointsInBlockCrs ) ), mSession->crs() );
 }
 
-QgsVectorLayer *GeoStationOverview::addLayer( const QString &uri, const QString &name )
+QgsVectorLayer *GeoStationOverviewLayers::addLayer( const QString &uri, const QString &name )
 {
   QgsVectorLayer *layer = new QgsVectorLayer( uri, name, QStringLiteral( "memory" ) );
   layer->setCustomProperty( sProperty, true );
@@ -79,7 +79,7 @@ QgsVectorLayer *GeoStationOverview::addLayer( const QString &uri, const QString 
   return layer;
 }
 
-void GeoStationOverview::removeLayers()
+void GeoStationOverviewLayers::removeLayers()
 {
   QStringList ids;
   for ( QgsMapLayer *layer : mProject->mapLayers() )
@@ -93,7 +93,7 @@ void GeoStationOverview::removeLayers()
     mHighlight->reset( QgsWkbTypes::PointGeometry );
 }
 
-void GeoStationOverview::rebuild()
+void GeoStationOverviewLayers::rebuild()
 {
   removeLayers();
   const geostation::Block *block = mSession->block();
@@ -157,7 +157,7 @@ void GeoStationOverview::rebuild()
   updateCurrentStation();
 }
 
-double GeoStationOverview::groundHeightUnder( double x, double y, double cameraZ ) const
+double GeoStationOverviewLayers::groundHeightUnder( double x, double y, double cameraZ ) const
 {
   if ( QgsRasterLayer *dem = qobject_cast<QgsRasterLayer *>( mProject->mapLayer( mSession->demLayerId() ) ) )
   {
@@ -176,7 +176,7 @@ double GeoStationOverview::groundHeightUnder( double x, double y, double cameraZ
   return cameraZ - mSession->cameraHeightAboveRoadM();
 }
 
-void GeoStationOverview::updateCurrentStation()
+void GeoStationOverviewLayers::updateCurrentStation()
 {
   if ( !mCones || !mSession->block() )
     return;
@@ -243,7 +243,7 @@ void GeoStationOverview::updateCurrentStation()
   mCanvas->refresh();
 }
 
-int GeoStationOverview::stationNearestToMapPoint( const QgsPointXY &pointInCanvasCrs ) const
+int GeoStationOverviewLayers::stationNearestToMapPoint( const QgsPointXY &pointInCanvasCrs ) const
 {
   if ( !mStations || !mCanvas )
     return -1;
@@ -259,14 +259,3 @@ int GeoStationOverview::stationNearestToMapPoint( const QgsPointXY &pointInCanva
   }
 }
 
-GeoStationStationPickTool::GeoStationStationPickTool( QgsMapCanvas *canvas )
-  : QgsMapTool( canvas )
-{
-  setCursor( QCursor( Qt::PointingHandCursor ) );
-}
-
-void GeoStationStationPickTool::canvasReleaseEvent( QgsMapMouseEvent *e )
-{
-  if ( e->button() == Qt::LeftButton )
-    emit picked( e->mapPoint() );
-}

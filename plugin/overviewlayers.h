@@ -23,15 +23,15 @@ class QgsMapCanvas;
 class QgsProject;
 class QgsRubberBand;
 class QgsVectorLayer;
-class GeoStationSession;
+class GeoStationMultiviewSession;
 
-class GeoStationOverview : public QObject
+class GeoStationOverviewLayers : public QObject
 {
     Q_OBJECT
 
   public:
-    GeoStationOverview( GeoStationSession *session, QgsProject *project, QgsMapCanvas *canvas, QObject *parent = nullptr );
-    ~GeoStationOverview() override;
+    GeoStationOverviewLayers( GeoStationMultiviewSession *session, QgsProject *project, QgsMapCanvas *canvas, QObject *parent = nullptr );
+    ~GeoStationOverviewLayers() override;
 
     QgsVectorLayer *trajectoryLayer() const { return mTrajectory; }
     QgsVectorLayer *stationsLayer() const { return mStations; }
@@ -59,29 +59,13 @@ class GeoStationOverview : public QObject
     QgsVectorLayer *addLayer( const QString &uri, const QString &name );
     double groundHeightUnder( double x, double y, double cameraZ ) const;
 
-    GeoStationSession *mSession;
+    GeoStationMultiviewSession *mSession;
     QgsProject *mProject;
     QPointer<QgsMapCanvas> mCanvas;
     QPointer<QgsVectorLayer> mTrajectory, mStations, mCones;
     QgsRubberBand *mHighlight = nullptr;
     QgsRubberBand *mTraced = nullptr;
     int mTracedVertices = 0;
-};
-
-/**
- * Map tool of the QGIS canvas: a click picks the nearest station of the
- * run and loads it into the Multiview. Only emits the map point.
- */
-class GeoStationStationPickTool : public QgsMapTool
-{
-    Q_OBJECT
-
-  public:
-    explicit GeoStationStationPickTool( QgsMapCanvas *canvas );
-    void canvasReleaseEvent( QgsMapMouseEvent *e ) override;
-
-  signals:
-    void picked( const QgsPointXY &pointInCanvasCrs );
 };
 
 #endif // GEOSTATIONOVERVIEWLAYERS_H

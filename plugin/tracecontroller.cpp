@@ -21,14 +21,14 @@ namespace
   }
 }
 
-GeoStationTraceController::GeoStationTraceController( GeoStationSession *session, GeoStationMeasurementStore *store, QObject *parent )
+GeoStationTraceController::GeoStationTraceController( GeoStationMultiviewSession *session, GeoStationMeasurementStore *store, QObject *parent )
   : QObject( parent )
   , mSession( session )
   , mStore( store )
 {
   connect( &mWatcher, &QFutureWatcher<geostation::RoadTraceSummary>::finished, this, &GeoStationTraceController::traceFinished );
   // another block: a line of the old one means nothing there
-  connect( mSession, &GeoStationSession::blockChanged, this, [this]
+  connect( mSession, &GeoStationMultiviewSession::blockChanged, this, [this]
   {
     if ( mRunning )
     {
@@ -209,7 +209,7 @@ GeoStationMeasuredFeature GeoStationTraceController::feature( const QString &cla
   for ( const geostation::TracedVertex &t : vertices )
   {
     geostation::MeasuredVertex v;
-    v.ok = true;
+    v.status = geostation::MeasuredVertex::Status::Ok;
     v.method = geostation::VertexMethod::Intersection;
     v.point = t.point;
     v.sigmaM = t.sigmaM;

@@ -32,14 +32,14 @@
 #include "tracing/roadtracer.h"
 #include "tracing/tracedline.h"
 
-class GeoStationSession;
+class GeoStationMultiviewSession;
 
 class GeoStationTraceController : public QObject
 {
     Q_OBJECT
 
   public:
-    GeoStationTraceController( GeoStationSession *session, GeoStationMeasurementStore *store, QObject *parent = nullptr );
+    GeoStationTraceController( GeoStationMultiviewSession *session, GeoStationMeasurementStore *store, QObject *parent = nullptr );
     //! Cancels a running trace and waits for it (at most one station).
     ~GeoStationTraceController() override;
 
@@ -92,7 +92,7 @@ class GeoStationTraceController : public QObject
     //! The line as a feature for the store (vertices with their images, residuals and ray angles).
     GeoStationMeasuredFeature feature( const QString &className ) const;
 
-    GeoStationSession *mSession;
+    GeoStationMultiviewSession *mSession;
     GeoStationMeasurementStore *mStore;
     geostation::RoadTraceOptions mOptions;
     geostation::TracedLine mLine;      //!< finished parts

@@ -3,6 +3,13 @@
 set -euo pipefail
 source_dir="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 build_dir="${GEOSTATION_BUILD_DIR:-$source_dir/build}"
-cmake -S "$source_dir" -B "$build_dir" -DCMAKE_BUILD_TYPE="${CMAKE_BUILD_TYPE:-RelWithDebInfo}" > "$build_dir.configure.log" 2>&1 \
+# GEOSTATION_WERROR=ON (CI=true sets it): compiler warnings fail the build
+werror="${GEOSTATION_WERROR:-$([ "${CI:-}" = true ] && echo ON || echo OFF)}"
+cmake -S "$source_dir" -B "$build_dir" -DCMAKE_BUILD_TYPE="${CMAKE_BUILD_TYPE:-RelWithDebInfo}" -DGEOSTATION_WERROR="$werror" > "$build_dir.configure.log" 2>&1 \
   || { cat "$build_dir.configure.log"; exit 1; }
+# the configure log is kept; its warnings (a missing optional package, a deprecated setting) are shown
+if grep -q "CMake Warning\|CMake Deprecation Warning" "$build_dir.configure.log"; then
+  echo "Configure warnings (full log: $build_dir.configure.log):"
+  awk '/^CMake (Deprecation )?Warning/{show=1} show{print} /^$/{if(show)n++; if(n>=2){show=0;n=0}}' "$build_dir.configure.log"
+fi
 cmake --build "$build_dir" -j"$(nproc)"

@@ -9,6 +9,8 @@
 # --gui   afterwards opens QGIS with the plugin and the demo project loaded
 # --out   where the demo data and results go (default: demo-out/)
 set -euo pipefail
+# a failing step says which, instead of ending the demo without a word
+trap 'echo "demo.sh: failed (exit $?) at line $LINENO: $BASH_COMMAND" >&2' ERR
 source_dir="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 out="$source_dir/demo-out"
 gui=0

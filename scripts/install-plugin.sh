@@ -79,11 +79,16 @@ done
 staging="$profile_dir/.geostation-staging"
 rm -rf "$staging"
 cmake --install "$build_dir" --prefix "$staging" > /dev/null
-rm -rf "$target" "$bridge"
-mkdir -p "$(dirname "$bridge")"
+# the old installation is renamed aside first and removed only once the new one is in place: QGIS never
+# sees a half-copied plugin, and an interrupted swap leaves the old one beside it (*.old)
+old="$profile_dir/.geostation-old.$$"
+mkdir -p "$old" "$(dirname "$bridge")"
+[ -e "$target" ] && mv "$target" "$old/plugin"
+[ -e "$bridge" ] && mv "$bridge" "$old/bridge"
 mv "$staging/python/geostation_processing" "$bridge"
 rmdir "$staging/python"
 mv "$staging" "$target"
+rm -rf "$old"
 edit_settings install
 
 echo "GeoStation installed into $profile_dir"

@@ -17,9 +17,9 @@
 #include <Eigen/Dense>
 #include <ceres/ceres.h>
 
-#include "adjustment/collinearityerror.h"
+#include "adjustment/internal/collinearityerror.h"
 #include "adjustment/intersection.h"
-#include "adjustment/priors.h"
+#include "adjustment/internal/priors.h"
 #include "adjustment/schurcovariance.h"
 #include "geometry/projection.h"
 

@@ -17,7 +17,8 @@
 
 #include <Eigen/Core>
 
-#include "adjustment/resection.h"
+#include "adjustment/controlpoint.h"
+#include "adjustment/interiorparameters.h"
 #include "camera/camera.h"
 #include "geometry/exteriororientation.h"
 

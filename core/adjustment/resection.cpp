@@ -17,9 +17,9 @@
 #include <ceres/ceres.h>
 #include <opencv2/calib3d.hpp>
 
-#include "adjustment/collinearityerror.h"
+#include "adjustment/internal/collinearityerror.h"
 #include "adjustment/intersection.h"
-#include "adjustment/priors.h"
+#include "adjustment/internal/priors.h"
 #include "geometry/projection.h"
 
 namespace geostation

@@ -16,29 +16,13 @@
 
 #include <Eigen/Core>
 
+#include "adjustment/controlpoint.h"
 #include "adjustment/interiorparameters.h"
 #include "camera/camera.h"
 #include "geometry/exteriororientation.h"
 
 namespace geostation
 {
-
-  //! A ground point with known coordinates (block CRS, metres).
-  struct ControlPoint
-  {
-    std::string id;
-    Eigen::Vector3d world = Eigen::Vector3d::Zero();
-    Eigen::Vector3d sigmaM = Eigen::Vector3d::Zero(); //!< 0: held fixed
-    bool check = false; //!< a check point: not used in the adjustment, only evaluated
-  };
-
-  //! A control point measured in the image.
-  struct ImagePoint
-  {
-    std::string pointId;
-    Eigen::Vector2d pixelInImage = Eigen::Vector2d::Zero();
-    double sigmaPx = 0.5;
-  };
 
   struct ResectionOptions
   {

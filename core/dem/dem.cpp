@@ -90,48 +90,20 @@ namespace geostation
     return { 111320.0 * std::cos( latitude ), 110574.0 };
   }
 
-  const Dem::Tile *Dem::readTile( int tileX, int tileY ) const
+  namespace
   {
-    const int T = mOptions.tileSize, H = mOptions.holeFillHalo;
-    const int x0 = tileX * T, y0 = tileY * T;
-    // Read the tile with a halo, so holes near its edge see their neighbours.
-    // Filling runs H passes and a pass's error at the region's border moves
-    // in one cell per pass, so cells at least H in from the border come out
-    // as if the whole raster were filled: the tile and its extra last column
-    // and row (the neighbours' first ones) agree with the neighbouring tiles.
-    // (the region's buffer and an evicted tile's storage are reused: no allocation, no page faults per tile)
-    std::vector<double> &region = mRegion;
-    int rx0 = 0, ry0 = 0, rw = 0, rh = 0;
-    long filledInTile = 0;
-    // reads the tile with `halo` cells around it and fills; the cells of the tile left empty
-    std::vector<double> original; // the region as read, where holes are bridged
-    const auto readAndFill = [&]( int halo, bool keepOriginal ) -> long
+    /**
+     * The paper's filling: an empty (NaN) cell takes the mean of its present
+     * neighbours in X and Y; repeated inward, one ring per pass, at most
+     * `passes` (none where nothing is empty: most tiles of most DEMs).
+     * `region` is rw x rh cells from column rx0, row ry0; returns the cells
+     * filled inside the tile of T x T cells from (x0, y0).
+     */
+    long fillHoles( std::vector<double> &region, std::vector<double> &next, int rx0, int ry0, int rw, int rh, long empty, int passes, int x0, int y0, int T )
     {
-      rx0 = std::max( 0, x0 - halo );
-      ry0 = std::max( 0, y0 - halo );
-      const int rx1 = std::min( mWidth, x0 + T + 1 + halo ), ry1 = std::min( mHeight, y0 + T + 1 + halo );
-      rw = rx1 - rx0;
-      rh = ry1 - ry0;
-      region.resize( static_cast<size_t>( rw ) * rh );
-      if ( GDALRasterIO( GDALGetRasterBand( static_cast<GDALDatasetH>( mDataset ), 1 ), GF_Read, rx0, ry0, rw, rh, region.data(), rw, rh, GDT_Float64, 0, 0 ) != CE_None )
-        throw std::runtime_error( std::string( "reading the DEM failed: " ) + CPLGetLastErrorMsg() );
-      long empty = 0;
-      for ( double &v : region )
-        if ( !std::isfinite( v ) || ( mNoData && v == *mNoData ) || std::abs( v ) > kMaxAbsHeight )
-        {
-          v = kNaN;
-          ++empty;
-        }
-      if ( keepOriginal )
-        original = region;
-
-      // The paper's filling: an empty cell takes the mean of its present
-      // neighbours in X and Y; repeated inward, one ring per pass (none where
-      // nothing is empty: most tiles of most DEMs).
-      filledInTile = 0;
-      for ( int pass = 0; pass < H && empty > 0; ++pass )
+      long filledInTile = 0;
+      for ( int pass = 0; pass < passes && empty > 0; ++pass )
       {
-        std::vector<double> &next = mFillScratch;
         next = region;
         bool changed = false;
         for ( int r = 0; r < rh; ++r )
@@ -169,23 +141,100 @@ namespace geostation
         if ( !changed )
           break;
       }
-      long left = 0;
-      for ( int row = y0; row <= std::min( y0 + T, mHeight - 1 ); ++row )
-        for ( int col = x0; col <= std::min( x0 + T, mWidth - 1 ); ++col )
-          left += std::isnan( region[static_cast<size_t>( row - ry0 ) * rw + ( col - rx0 )] ) ? 1 : 0;
-      return left;
-    };
-    long leftEmpty = readAndFill( H, false );
+      return filledInTile;
+    }
+  }
+
+  long Dem::readRegion( int x0, int y0, int halo, Region &at, std::vector<double> *original ) const
+  {
+    const int T = mOptions.tileSize;
+    at.x0 = std::max( 0, x0 - halo );
+    at.y0 = std::max( 0, y0 - halo );
+    at.width = std::min( mWidth, x0 + T + 1 + halo ) - at.x0;
+    at.height = std::min( mHeight, y0 + T + 1 + halo ) - at.y0;
+    std::vector<double> &region = mRegion;
+    region.resize( static_cast<size_t>( at.width ) * at.height );
+    if ( GDALRasterIO( GDALGetRasterBand( static_cast<GDALDatasetH>( mDataset ), 1 ), GF_Read, at.x0, at.y0, at.width, at.height, region.data(), at.width, at.height,
+                       GDT_Float64, 0, 0 ) != CE_None )
+      throw std::runtime_error( std::string( "reading the DEM failed: " ) + CPLGetLastErrorMsg() );
+    long empty = 0;
+    for ( double &v : region )
+      if ( !std::isfinite( v ) || ( mNoData && v == *mNoData ) || std::abs( v ) > kMaxAbsHeight )
+      {
+        v = kNaN;
+        ++empty;
+      }
+    if ( original )
+      *original = region;
+    at.filledInTile = fillHoles( region, mFillScratch, at.x0, at.y0, at.width, at.height, empty, mOptions.holeFillHalo, x0, y0, T );
+    long left = 0;
+    for ( int row = y0; row <= std::min( y0 + T, mHeight - 1 ); ++row )
+      for ( int col = x0; col <= std::min( x0 + T, mWidth - 1 ); ++col )
+        left += std::isnan( region[static_cast<size_t>( row - at.y0 ) * at.width + ( col - at.x0 )] ) ? 1 : 0;
+    return left;
+  }
+
+  void Dem::setBlockMaxima( Tile &t, int x0, int y0 ) const
+  {
+    // Block maxima over the corners of each block's cells; blocks with holes
+    // take the tile's highest valid height (+inf if it has none).
+    const int B = kBlockSize, blocks = mOptions.tileSize / B, stride = mOptions.tileSize + 1;
+    t.blockMax.assign( static_cast<size_t>( blocks ) * blocks, 0.0f );
+    std::vector<char> blockHasHole( t.blockMax.size(), 0 );
+    float tileMax = -std::numeric_limits<float>::infinity();
+    bool tileHasHole = false;
+    for ( int by = 0; by < blocks; ++by )
+      for ( int bx = 0; bx < blocks; ++bx )
+      {
+        float m = -std::numeric_limits<float>::infinity();
+        bool hole = false, anyCell = false;
+        for ( int r = by * B; r <= by * B + B && y0 + r < mHeight; ++r )
+          for ( int c = bx * B; c <= bx * B + B && x0 + c < mWidth; ++c )
+          {
+            anyCell = true;
+            const float v = t.vertices[static_cast<size_t>( r ) * stride + c];
+            if ( std::isnan( v ) )
+              hole = true;
+            else
+              m = std::max( m, v );
+          }
+        const size_t k = static_cast<size_t>( by ) * blocks + bx;
+        t.blockMax[k] = m;
+        blockHasHole[k] = hole && anyCell;
+        tileHasHole = tileHasHole || blockHasHole[k];
+        tileMax = std::max( tileMax, m );
+      }
+    if ( tileHasHole && !std::isfinite( tileMax ) )
+      tileMax = std::numeric_limits<float>::infinity();
+    for ( size_t k = 0; k < t.blockMax.size(); ++k )
+      if ( blockHasHole[k] )
+        t.blockMax[k] = tileMax;
+    t.maxHeight = tileMax;
+  }
+
+  const Dem::Tile *Dem::readTile( int tileX, int tileY ) const
+  {
+    const int T = mOptions.tileSize, H = mOptions.holeFillHalo;
+    const int x0 = tileX * T, y0 = tileY * T;
+    // Read the tile with a halo, so holes near its edge see their neighbours.
+    // Filling runs H passes and a pass's error at the region's border moves
+    // in one cell per pass, so cells at least H in from the border come out
+    // as if the whole raster were filled: the tile and its extra last column
+    // and row (the neighbours' first ones) agree with the neighbouring tiles.
+    // (the region's buffer and an evicted tile's storage are reused: no allocation, no page faults per tile)
+    Region at;
+    long leftEmpty = readRegion( x0, y0, H, at, nullptr );
     // holes too large to fill: bridged where asked, from a region wide enough to hold their rims (the fill
     // gives the same cells from it: its reach is the smaller halo)
     const int bridge = mOptions.bridgeHolesUpToCells;
     std::vector<float> bridgeSigma;
     if ( bridge > 0 && leftEmpty > 0 )
     {
-      leftEmpty = readAndFill( std::max( bridge, H ), true );
-      bridgeSigma = bridgeHoles( region, original, rx0, ry0, rw, rh, x0, y0 );
+      std::vector<double> original; // the region as read, where holes are bridged
+      leftEmpty = readRegion( x0, y0, std::max( bridge, H ), at, &original );
+      bridgeSigma = bridgeHoles( mRegion, original, at.x0, at.y0, at.width, at.height, x0, y0 );
     }
-    mFilledCells += filledInTile;
+    mFilledCells += at.filledInTile;
 
     // the least recently used tile gives way when the cache is full
     std::unique_ptr<Tile> t;
@@ -202,43 +251,9 @@ namespace geostation
     t->vertices.assign( static_cast<size_t>( stride ) * stride, std::numeric_limits<float>::quiet_NaN() );
     for ( int row = y0; row <= std::min( y0 + T, mHeight - 1 ); ++row )
       for ( int col = x0; col <= std::min( x0 + T, mWidth - 1 ); ++col )
-        t->vertices[static_cast<size_t>( row - y0 ) * stride + ( col - x0 )] = static_cast<float>( region[static_cast<size_t>( row - ry0 ) * rw + ( col - rx0 )] );
+        t->vertices[static_cast<size_t>( row - y0 ) * stride + ( col - x0 )] = static_cast<float>( mRegion[static_cast<size_t>( row - at.y0 ) * at.width + ( col - at.x0 )] );
     t->bridgeSigma = std::move( bridgeSigma );
-
-    // Block maxima over the corners of each block's cells; blocks with holes
-    // take the tile's highest valid height (+inf if it has none).
-    const int B = kBlockSize, blocks = T / B;
-    t->blockMax.assign( static_cast<size_t>( blocks ) * blocks, 0.0f );
-    std::vector<char> blockHasHole( t->blockMax.size(), 0 );
-    float tileMax = -std::numeric_limits<float>::infinity();
-    bool tileHasHole = false;
-    for ( int by = 0; by < blocks; ++by )
-      for ( int bx = 0; bx < blocks; ++bx )
-      {
-        float m = -std::numeric_limits<float>::infinity();
-        bool hole = false, anyCell = false;
-        for ( int r = by * B; r <= by * B + B && y0 + r < mHeight; ++r )
-          for ( int c = bx * B; c <= bx * B + B && x0 + c < mWidth; ++c )
-          {
-            anyCell = true;
-            const float v = t->vertices[static_cast<size_t>( r ) * stride + c];
-            if ( std::isnan( v ) )
-              hole = true;
-            else
-              m = std::max( m, v );
-          }
-        const size_t k = static_cast<size_t>( by ) * blocks + bx;
-        t->blockMax[k] = m;
-        blockHasHole[k] = hole && anyCell;
-        tileHasHole = tileHasHole || blockHasHole[k];
-        tileMax = std::max( tileMax, m );
-      }
-    if ( tileHasHole && !std::isfinite( tileMax ) )
-      tileMax = std::numeric_limits<float>::infinity();
-    for ( size_t k = 0; k < t->blockMax.size(); ++k )
-      if ( blockHasHole[k] )
-        t->blockMax[k] = tileMax;
-    t->maxHeight = tileMax;
+    setBlockMaxima( *t, x0, y0 );
 
     t->index = static_cast<size_t>( tileY ) * mTilesX + tileX;
     t->lastUse = ++mClock;

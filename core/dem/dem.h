@@ -164,6 +164,21 @@ namespace geostation
       }
       //! Reads, fills and caches a tile of the DEM (in range).
       const Tile *readTile( int tileX, int tileY ) const;
+      //! The cells of the DEM read around a tile: width x height from column x0, row y0.
+      struct Region
+      {
+        int x0 = 0, y0 = 0, width = 0, height = 0;
+        long filledInTile = 0; //!< cells of the tile the fill gave a height
+      };
+      /**
+       * Reads the tile from cell (x0, y0) with `halo` cells around it into
+       * mRegion (`original`, if given, gets it as read), marks the empty
+       * cells and fills them (holeFillHalo passes); returns the cells of the
+       * tile (and its extra last row and column) left empty.
+       */
+      long readRegion( int x0, int y0, int halo, Region &at, std::vector<double> *original ) const;
+      //! The tile's block maxima and its highest height, from its vertices (tile from cell x0, y0).
+      void setBlockMaxima( Tile &t, int x0, int y0 ) const;
       /**
        * Bridges the holes of `region` (filled; rw x rh cells from column rx0,
        * row ry0; `original` as read) that the fill left partly empty, in the

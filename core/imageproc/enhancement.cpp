@@ -65,6 +65,70 @@ namespace geostation
           best = v;
       return best;
     }
+
+    /**
+     * The adaptive box filter (eqs. 6.2-6.8) of one band `g` (CV_64F) into
+     * `result` (a copy of it): a value farther from its box's mean than boxC
+     * sigma and boxT grey levels (8-bit levels times k) takes the mean of
+     * the others. Returns the pixels changed.
+     */
+    long replaceOutliers( const cv::Mat &g, cv::Mat &result, const EnhancementOptions &options, double k )
+    {
+      // box sums of the values and their squares (every value of the type is valid, eq. 6.1)
+      cv::Mat sum, sumSq, squares;
+      const cv::Size box( 2 * options.boxHalfWidth + 1, 2 * options.boxHalfHeight + 1 );
+      cv::boxFilter( g, sum, CV_64F, box, cv::Point( -1, -1 ), false, cv::BORDER_REFLECT );
+      cv::multiply( g, g, squares );
+      cv::boxFilter( squares, sumSq, CV_64F, box, cv::Point( -1, -1 ), false, cv::BORDER_REFLECT );
+      const double n = box.area();
+      long changed = 0;
+      for ( int r = 0; r < g.rows; ++r )
+        for ( int c = 0; c < g.cols; ++c )
+        {
+          const double v = g.at<double>( r, c ), S = sum.at<double>( r, c );
+          const double M = S / n;                                                  // eq. 6.5
+          const double sigma = std::sqrt( std::max( 0.0, sumSq.at<double>( r, c ) / n - M * M ) ); // eq. 6.7
+          if ( std::abs( v - M ) > options.boxC * sigma && std::abs( v - M ) > options.boxT * k ) // eq. 6.8
+          {
+            result.at<double>( r, c ) = ( S - v ) / ( n - 1 ); // eq. 6.6
+            ++changed;
+          }
+        }
+      return changed;
+    }
+
+    /**
+     * Edge enhancement by adding back (eqs. 4.13-4.16) of one band `g`
+     * (CV_64F) into `result` (a copy of it): the strongest Sobel gradient or
+     * the largest difference to the eight neighbours, scaled, added where it
+     * exceeds the threshold (8-bit levels times k). Returns the pixels changed.
+     */
+    long addBackEdges( const cv::Mat &g, cv::Mat &result, const EnhancementOptions &options, double k )
+    {
+      long changed = 0;
+      for ( int r = 0; r < g.rows; ++r )
+        for ( int c = 0; c < g.cols; ++c )
+        {
+          double G;
+          if ( options.method == EnhancementMethod::SobelAddBack )
+            G = strongestGradient( g, r, c ); // eq. 4.14
+          else
+          {
+            // eq. 4.15: the largest difference to the eight neighbours
+            G = -1e300;
+            for ( int dr = -1; dr <= 1; ++dr )
+              for ( int dc = -1; dc <= 1; ++dc )
+                if ( dr || dc )
+                  G = std::max( G, g.at<double>( r, c ) - g.at<double>( std::clamp( r + dr, 0, g.rows - 1 ), std::clamp( c + dc, 0, g.cols - 1 ) ) );
+          }
+          if ( std::abs( G ) > options.threshold * k ) // eqs. 4.13, 4.16
+          {
+            result.at<double>( r, c ) = g.at<double>( r, c ) + options.scale * G;
+            ++changed;
+          }
+        }
+      return changed;
+    }
   }
 
   std::string enhancementMethodName( EnhancementMethod method )
@@ -201,52 +265,7 @@ namespace geostation
           cv::Mat g;
           band.convertTo( g, CV_64F );
           cv::Mat result = g.clone();
-          if ( options.method == EnhancementMethod::AdaptiveBoxFilter )
-          {
-            // eqs. 6.2-6.8: box sums of the values and their squares (every value of the type is valid, eq. 6.1)
-            cv::Mat sum, sumSq, squares;
-            const cv::Size box( 2 * options.boxHalfWidth + 1, 2 * options.boxHalfHeight + 1 );
-            cv::boxFilter( g, sum, CV_64F, box, cv::Point( -1, -1 ), false, cv::BORDER_REFLECT );
-            cv::multiply( g, g, squares );
-            cv::boxFilter( squares, sumSq, CV_64F, box, cv::Point( -1, -1 ), false, cv::BORDER_REFLECT );
-            const double n = box.area();
-            for ( int r = 0; r < g.rows; ++r )
-              for ( int c = 0; c < g.cols; ++c )
-              {
-                const double v = g.at<double>( r, c ), S = sum.at<double>( r, c );
-                const double M = S / n;                                                  // eq. 6.5
-                const double sigma = std::sqrt( std::max( 0.0, sumSq.at<double>( r, c ) / n - M * M ) ); // eq. 6.7
-                if ( std::abs( v - M ) > options.boxC * sigma && std::abs( v - M ) > options.boxT * k ) // eq. 6.8
-                {
-                  result.at<double>( r, c ) = ( S - v ) / ( n - 1 ); // eq. 6.6
-                  ++s.changedPixels;
-                }
-              }
-          }
-          else
-          {
-            for ( int r = 0; r < g.rows; ++r )
-              for ( int c = 0; c < g.cols; ++c )
-              {
-                double G;
-                if ( options.method == EnhancementMethod::SobelAddBack )
-                  G = strongestGradient( g, r, c ); // eq. 4.14
-                else
-                {
-                  // eq. 4.15: the largest difference to the eight neighbours
-                  G = -1e300;
-                  for ( int dr = -1; dr <= 1; ++dr )
-                    for ( int dc = -1; dc <= 1; ++dc )
-                      if ( dr || dc )
-                        G = std::max( G, g.at<double>( r, c ) - g.at<double>( std::clamp( r + dr, 0, g.rows - 1 ), std::clamp( c + dc, 0, g.cols - 1 ) ) );
-                }
-                if ( std::abs( G ) > options.threshold * k ) // eqs. 4.13, 4.16
-                {
-                  result.at<double>( r, c ) = g.at<double>( r, c ) + options.scale * G;
-                  ++s.changedPixels;
-                }
-              }
-          }
+          s.changedPixels += options.method == EnhancementMethod::AdaptiveBoxFilter ? replaceOutliers( g, result, options, k ) : addBackEdges( g, result, options, k );
           result.convertTo( band, band.type() ); // rounds and saturates
         }
         cv::merge( bands, region );

@@ -143,7 +143,8 @@ namespace geostation
       const cv::Mat window = readWindow( ds.get(), windows[k], factor );
       if ( window.cols < smallTemplate.cols || window.rows < smallTemplate.rows )
       {
-        d.reason = "the corner window is smaller than the mark";
+        d.status = DetectedFiducial::Status::WindowTooSmall;
+        d.message = "the corner window is smaller than the mark";
         continue;
       }
       cv::Mat response;
@@ -154,7 +155,8 @@ namespace geostation
       d.score = best;
       if ( !( best >= options.minScore ) )
       {
-        d.reason = "no mark in the corner window (best correlation " + std::to_string( best ).substr( 0, 4 ) + ")";
+        d.status = DetectedFiducial::Status::NoMark;
+        d.message = "no mark in the corner window (best correlation " + std::to_string( best ).substr( 0, 4 ) + ")";
         continue;
       }
       // Approximate centre at full resolution, then a full-resolution patch of twice the mark's size.
@@ -176,12 +178,13 @@ namespace geostation
       }
       if ( !located )
       {
-        d.reason = "the mark near (" + std::to_string( static_cast<int>( approx.x() ) ) + ", " + std::to_string( static_cast<int>( approx.y() ) ) +
+        d.status = DetectedFiducial::Status::NoContrast;
+        d.message = "the mark near (" + std::to_string( static_cast<int>( approx.x() ) ) + ", " + std::to_string( static_cast<int>( approx.y() ) ) +
                    ") has no contrast against its background";
         continue;
       }
       d.pixelInImage = centre;
-      d.found = true;
+      d.status = DetectedFiducial::Status::Found;
     }
     return result;
   }

@@ -41,11 +41,20 @@ namespace geostation
 
   struct DetectedFiducial
   {
+    enum class Status
+    {
+      Found,
+      WindowTooSmall, //!< the corner window is smaller than the mark
+      NoMark,         //!< the best correlation in the window is below the threshold
+      NoContrast,     //!< the mark has no contrast against its background (no centre of gravity)
+    };
     Corner corner = Corner::TopLeft;
-    bool found = false;
-    std::string reason;        //!< why not found
+    Status status = Status::NoMark;
+    std::string message;       //!< why not found
     Eigen::Vector2d pixelInImage = Eigen::Vector2d::Zero();
     double score = 0.0;        //!< normalised cross-correlation of the match
+
+    bool found() const { return status == Status::Found; }
   };
 
   /**

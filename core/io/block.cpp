@@ -16,7 +16,7 @@
 
 #include "geometry/crs.h"
 #include "io/textfile.h"
-#include "io/jsonnode.h"
+#include "io/internal/jsonnode.h"
 
 namespace geostation
 {

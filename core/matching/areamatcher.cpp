@@ -174,23 +174,22 @@ namespace geostation
       if ( weakPeak && ( !options.lsm || !approximate || !options.lsmBelowThreshold ) )
       {
         result.status = MatchStatus::NoPeak;
-        result.reason = weakReason;
+        result.message = weakReason;
         return;
       }
       const bool ambiguous = result.secondScore > result.score - options.ambiguityMargin;
       const auto correlationOnly = [&]( const std::string &why )
       {
         result.sigmaPx = kCorrelationSigmaPx;
-        result.reason = why;
+        result.message = why;
         if ( ambiguous )
         {
           result.status = MatchStatus::Ambiguous;
-          result.reason = ( why.empty() ? std::string() : why + "; " ) + "a second peak scores " + std::to_string( result.secondScore ).substr( 0, 5 ) +
+          result.message = ( why.empty() ? std::string() : why + "; " ) + "a second peak scores " + std::to_string( result.secondScore ).substr( 0, 5 ) +
                           " against " + std::to_string( result.score ).substr( 0, 5 );
           return;
         }
         result.status = MatchStatus::Correlation;
-        result.matched = true;
       };
       if ( !options.lsm )
       {
@@ -229,8 +228,8 @@ namespace geostation
         {
           const LsmResult r = leastSquaresMatch( reference, pixelInReference, search, start, lsm );
           std::string rejected;
-          if ( !r.converged )
-            rejected = r.reason;
+          if ( !r.converged() )
+            rejected = r.message;
           else if ( const std::string bad = implausible( r, contrast, lsmOptions.initialAffine, options ); !bad.empty() )
             rejected = bad;
           else if ( approximate && ( r.pixelInImage - *approximate ).norm() > radiusPx + 0.5 )
@@ -240,7 +239,7 @@ namespace geostation
             return r;
           if ( regularStart )
           {
-            degenerate = degenerate && r.degenerate;
+            degenerate = degenerate && r.degenerate();
             why = rejected;
           }
           return std::nullopt;
@@ -271,7 +270,7 @@ namespace geostation
       if ( !best && weakPeak )
       {
         result.status = MatchStatus::NoPeak;
-        result.reason = weakReason + ", and least squares from the approximate position failed: " + why;
+        result.message = weakReason + ", and least squares from the approximate position failed: " + why;
         return;
       }
       if ( !best )
@@ -280,13 +279,13 @@ namespace geostation
         {
           // a line or an edge: least squares cannot fix the shift along it; the correlation peak stands, at its precision
           correlationOnly( "least-squares matching could not refine: " + why );
-          if ( result.lsm.reason.empty() )
-            result.lsm.reason = why;
+          if ( result.lsm.message.empty() )
+            result.lsm.message = why;
           return;
         }
         result.status = MatchStatus::Diverged;
-        result.reason = "least-squares matching failed from every start: " + why;
-        result.lsm.reason = why;
+        result.message = "least-squares matching failed from every start: " + why;
+        result.lsm.message = why;
         return;
       }
       result.lsm = *best;
@@ -298,16 +297,15 @@ namespace geostation
         LsmOptions back = usedPredicted ? adaptedToShape( options.lsmOptions, best->affine.inverse() ) : options.lsmOptions;
         back.initialAffine = best->affine.inverse();
         const LsmResult returned = leastSquaresMatch( search, best->pixelInImage, reference, pixelInReference, back );
-        if ( !returned.converged || ( returned.pixelInImage - pixelInReference ).norm() > consistencyPx )
+        if ( !returned.converged() || ( returned.pixelInImage - pixelInReference ).norm() > consistencyPx )
         {
           result.status = MatchStatus::Inconsistent;
-          result.reason = returned.converged ? "matching back returns " + std::to_string( ( returned.pixelInImage - pixelInReference ).norm() ).substr( 0, 4 ) +
-                          " px from the reference point" : "matching back does not converge: " + returned.reason;
+          result.message = returned.converged() ? "matching back returns " + std::to_string( ( returned.pixelInImage - pixelInReference ).norm() ).substr( 0, 4 ) +
+                          " px from the reference point" : "matching back does not converge: " + returned.message;
           return;
         }
       }
       result.status = MatchStatus::Lsm;
-      result.matched = true;
     }
 
     AreaMatch searchCandidates( const MatchImage &reference, const Eigen::Vector2d &pixelInReference, const MatchImage &search,
@@ -318,21 +316,21 @@ namespace geostation
       if ( !reference.canSample( pixelInReference.x(), pixelInReference.y() ) )
       {
         result.status = MatchStatus::Outside;
-        result.reason = "the point lies outside the reference image";
+        result.message = "the point lies outside the reference image";
         return result;
       }
       const int centreCol = static_cast<int>( std::floor( pixelInReference.x() ) ), centreRow = static_cast<int>( std::floor( pixelInReference.y() ) );
       const CorrelationTemplate square( reference, centreCol, centreRow, options.windowWidth, options.windowHeight, options.measure );
       if ( !square.valid() )
       {
-        result.status = square.reason().find( "flat" ) != std::string::npos ? MatchStatus::NoPeak : MatchStatus::Outside;
-        result.reason = square.reason();
+        result.status = square.flat() ? MatchStatus::NoPeak : MatchStatus::Outside;
+        result.message = square.reason();
         return result;
       }
       if ( candidates.empty() )
       {
         result.status = MatchStatus::Outside;
-        result.reason = "no search position in the search image";
+        result.message = "no search position in the search image";
         return result;
       }
       // the square window (the template is centred on the reference pixel's centre: the point's offset from it is
@@ -374,7 +372,7 @@ namespace geostation
       if ( !bestCandidate )
       {
         result.status = MatchStatus::Outside;
-        result.reason = "every search window leaves the search image or is flat";
+        result.message = "every search window leaves the search image or is flat";
         return result;
       }
       const WindowShape &shape = shapes[bestShape];
@@ -408,6 +406,8 @@ namespace geostation
     const auto odd = []( int w, int h ) { return w >= 1 && h >= 1 && w % 2 == 1 && h % 2 == 1 && w <= 101 && h <= 101; };
     if ( !odd( windowWidth, windowHeight ) || ( lsm && !odd( lsmOptions.windowWidth, lsmOptions.windowHeight ) ) )
       throw std::invalid_argument( "The window sizes must be odd (the point sits in the centre pixel) and at most 101 pixels." );
+    if ( lsm )
+      lsmOptions.check();
     if ( !( minScore >= -1.0 && minScore <= 1.0 ) )
       throw std::invalid_argument( "The minimum correlation must lie between -1 and 1." );
     if ( bandHalfWidthPx < 0 )

@@ -48,6 +48,9 @@ namespace geostation
   //! "lsm", "correlation", "no_peak", "ambiguous", "diverged", "inconsistent", "outside"
   std::string matchStatusName( MatchStatus status );
 
+  //! Lsm and Correlation are matches; the other statuses say why there is none.
+  inline bool isMatch( MatchStatus status ) { return status == MatchStatus::Lsm || status == MatchStatus::Correlation; }
+
   struct AreaMatchOptions
   {
     SimilarityMeasure measure = SimilarityMeasure::NCC;
@@ -97,9 +100,8 @@ namespace geostation
 
   struct AreaMatch
   {
-    bool matched = false;                                  //!< status is Lsm or Correlation
     MatchStatus status = MatchStatus::NoPeak;
-    std::string reason;                                    //!< why not, when not matched (or why LSM did not refine)
+    std::string message;                                   //!< why not, when not matched (or why LSM did not refine)
     Eigen::Vector2d pixelInImage = Eigen::Vector2d::Zero(); //!< the conjugate point (best guess even when not matched)
     double score = 0.0;                                    //!< best correlation
     double secondScore = 0.0;                              //!< best correlation of a separate peak (ambiguity)
@@ -110,6 +112,9 @@ namespace geostation
     std::vector<std::pair<Eigen::Vector2d, double>> peaks;
     LsmResult lsm;
     bool shapedWindow = false;                             //!< the predicted shape's template correlated better than the square one
+
+    //! Least squares or a correlation peak: a match (CONVENTIONS §8).
+    bool matched() const { return isMatch( status ); }
   };
 
   /**

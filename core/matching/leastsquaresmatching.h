@@ -54,24 +54,46 @@ namespace geostation
      * spoils the fit. 0: none.
      */
     double referenceBlurPx = 0.0;
+
+    //! Throws std::invalid_argument with one sentence for even or too small windows, no iterations, a non-positive convergence threshold or a negative blur.
+    void check() const;
   };
 
   struct LsmResult
   {
-    bool converged = false;
-    std::string reason;                                //!< why not, when not converged
+    enum class Status
+    {
+      NotRun,       //!< least squares was not tried
+      Converged,
+      Outside,      //!< the window leaves the reference or the search image
+      Flat,         //!< no texture, or a line or an edge whose shift along itself the window cannot fix (singular normal equations)
+      Diverged,     //!< a runaway, degenerate or non-finite solution, or one that left the search window
+      NotConverged, //!< the iterations ran out
+    };
+    Status status = Status::NotRun;
+    std::string message;                               //!< why not, when not converged
     Eigen::Vector2d pixelInImage = Eigen::Vector2d::Zero(); //!< (a0, b0) in the search image
     Eigen::Vector2d sigmaPx = Eigen::Vector2d::Zero();       //!< standard deviations of a0, b0
     double sigma0 = 0.0;                               //!< grey levels
     int iterations = 0;
     Eigen::Matrix2d affine = Eigen::Matrix2d::Identity(); //!< [a1 a2; b1 b2]
-    //! The least-squares system was singular: a line or an edge, whose shift along itself the window cannot fix (LSM not applicable).
-    bool degenerate = false;
     double h0 = 0.0, h1 = 1.0;
 
+    bool converged() const { return status == Status::Converged; }
+    //! A line or an edge, or no texture: LSM is not applicable (the correlation peak stands).
+    bool degenerate() const { return status == Status::Flat; }
     double sigmaPxMax() const { return sigmaPx.maxCoeff(); }
   };
 
+  //! "not_run", "converged", "outside", "flat", "diverged", "not_converged"
+  std::string lsmStatusName( LsmResult::Status status );
+
+  /**
+   * Matches the window around `pixelInReference` into `search`, starting at
+   * `approximateInSearch` with options.initialAffine. Expected failures
+   * (the window leaves an image, no texture, divergence) are returned in
+   * the status; invalid options throw std::invalid_argument (LsmOptions::check()).
+   */
   LsmResult leastSquaresMatch( const MatchImage &reference, const Eigen::Vector2d &pixelInReference, const MatchImage &search,
                                const Eigen::Vector2d &approximateInSearch, const LsmOptions &options = LsmOptions() );
 

@@ -4,6 +4,7 @@
 #include "matching/multiimagematcher.h"
 
 #include <cmath>
+#include <stdexcept>
 
 #include <Eigen/Dense>
 
@@ -47,15 +48,13 @@ namespace geostation
     result.pixels.assign( views.size(), std::nullopt );
     result.scores.assign( views.size(), 0.0 );
     if ( reference >= views.size() || master >= views.size() || reference == master )
-    {
-      result.reason = "the reference and master images must be two different views";
-      return result;
-    }
+      throw std::invalid_argument( "the reference and master images must be two different views" );
     const MatchView &ref = views[reference];
     const std::optional<Ray> referenceRay = ref.image->worldRayFromPixel( pixelInReference );
     if ( !referenceRay )
     {
-      result.reason = "the reference pixel has no ray (outside the lens field)";
+      result.status = MatchStatus::Outside;
+      result.message = "the reference pixel has no ray (outside the lens field)";
       return result;
     }
     const bool onEdge = options.edgeConstraint && edgeStrength( *ref.pixels, pixelInReference ) > options.edgeGradient;
@@ -70,7 +69,8 @@ namespace geostation
     const AreaMatch pair = matchAlongEpipolarBand( *ref.pixels, pixelInReference, *views[master].pixels, curve, correlation );
     if ( pair.peaks.empty() )
     {
-      result.reason = "master pair: " + pair.reason;
+      result.status = pair.status;
+      result.message = "master pair: " + pair.message;
       return result;
     }
     // the thesis' procedure as it stands: a candidate is refined from its peak and confirmed by the correlation
@@ -89,7 +89,7 @@ namespace geostation
       ++result.candidatesTried;
       // refine the master match around the peak
       const AreaMatch masterMatch = matchAroundPosition( *ref.pixels, pixelInReference, *views[master].pixels, peak, 1.5, confirm );
-      if ( !masterMatch.matched )
+      if ( !masterMatch.matched() )
         continue;
       if ( onEdge && edgeStrength( *views[master].pixels, masterMatch.pixelInImage ) < 0.5 * options.edgeGradient )
         continue;
@@ -121,7 +121,7 @@ namespace geostation
         if ( !projected.ok() || !projected.inFrame )
           continue; // the point is not in this image: it neither confirms nor refutes
         const AreaMatch other = matchAroundPosition( *ref.pixels, pixelInReference, *views[v].pixels, projected.pixelInImage, options.confirmRadiusPx, confirm );
-        if ( !other.matched || ( onEdge && edgeStrength( *views[v].pixels, other.pixelInImage ) < 0.5 * options.edgeGradient ) )
+        if ( !other.matched() || ( onEdge && edgeStrength( *views[v].pixels, other.pixelInImage ) < 0.5 * options.edgeGradient ) )
         {
           confirmed = false;
           break;
@@ -139,13 +139,16 @@ namespace geostation
       if ( !final )
         continue;
       bestTotal = total;
-      result.matched = true;
+      result.status = masterMatch.status;
       result.world = *final;
       result.pixels = pixels;
       result.scores = scores;
     }
-    if ( !result.matched )
-      result.reason = "no candidate of the master pair is confirmed by the other images";
+    if ( !result.matched() )
+    {
+      result.status = MatchStatus::Inconsistent;
+      result.message = "no candidate of the master pair is confirmed by the other images";
+    }
     return result;
   }
 

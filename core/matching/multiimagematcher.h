@@ -46,17 +46,26 @@ namespace geostation
 
   struct MultiImageMatch
   {
-    bool matched = false;
-    std::string reason;
+    //! The master pair's match status when confirmed; Outside (no ray), the master pair's failure, or Inconsistent (no candidate confirmed).
+    MatchStatus status = MatchStatus::NoPeak;
+    std::string message;                                     //!< why not, when not matched
     Eigen::Vector3d world = Eigen::Vector3d::Zero();         //!< block CRS
     std::vector<std::optional<Eigen::Vector2d>> pixels;      //!< per view (the reference's own pixel too)
     std::vector<double> scores;                              //!< per view (1 for the reference)
     int candidatesTried = 0;
+
+    bool matched() const { return isMatch( status ); }
   };
 
   //! The least-squares point nearest to all rays (origin + t direction, unit directions).
   std::optional<Eigen::Vector3d> nearestPointToRays( const std::vector<Ray> &rays );
 
+  /**
+   * Matches `pixelInReference` of view `reference` in the master view along
+   * its epipolar curve and keeps the candidate the other views confirm.
+   * Throws std::invalid_argument unless reference and master are two
+   * different views.
+   */
   MultiImageMatch matchMultiImage( const std::vector<MatchView> &views, size_t reference, size_t master, const Eigen::Vector2d &pixelInReference,
                                    const MultiImageMatchOptions &options );
 

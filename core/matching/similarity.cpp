@@ -162,7 +162,10 @@ namespace geostation
     mContrast = std::sqrt( std::max( 0.0, static_cast<double>( plainSq ) / n - ( static_cast<double>( plainSum ) / n ) * ( static_cast<double>( plainSum ) / n ) ) );
     const bool normalised = measure == SimilarityMeasure::NCC || measure == SimilarityMeasure::WNCC;
     if ( ( normalised && mContrast < 0.5 ) || ( !normalised && mSumSq <= 0.0 ) )
+    {
       mReason = "the window is flat (no texture to correlate)";
+      mFlat = true;
+    }
   }
 
   std::optional<double> CorrelationTemplate::score( const MatchImage &search, int centreCol, int centreRow ) const

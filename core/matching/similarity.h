@@ -65,6 +65,8 @@ namespace geostation
 
       bool valid() const { return mReason.empty(); }
       const std::string &reason() const { return mReason; }
+      //! Invalid because the window has no texture (rather than leaving the image or a bad size).
+      bool flat() const { return mFlat; }
       int width() const { return mWidth; }
       int height() const { return mHeight; }
       SimilarityMeasure measure() const { return mMeasure; }
@@ -98,6 +100,7 @@ namespace geostation
       int mWidth, mHeight;
       SimilarityMeasure mMeasure;
       std::string mReason;
+      bool mFlat = false;
       std::vector<int> mValues;     //!< template grey values, row by row
       int mPaddedWidth = 0;         //!< row length rounded up to 16, for the vectorised kernel
       std::vector<int16_t> mPadded; //!< values padded with zeros to mPaddedWidth per row

@@ -55,7 +55,7 @@ namespace geostation
         continue;
       if ( !views[i].image )
       {
-        p.reason = "the image is not oriented";
+        p.message = "the image is not oriented";
         continue;
       }
       p.curve = epipolarCurve( *views[reference].image, pixelInReference, *views[i].image, options.epipolar );
@@ -63,9 +63,9 @@ namespace geostation
         for ( const EpipolarVertex &v : piece )
           p.curveInFrame = p.curveInFrame || v.inFrame;
       if ( !p.curveInFrame )
-        p.reason = "the epipolar curve does not cross the image";
+        p.message = "the epipolar curve does not cross the image";
       else if ( !views[i].pixels || !views[reference].pixels )
-        p.reason = "the image cannot be read";
+        p.message = "the image cannot be read";
       else
         matchable.push_back( i );
     }
@@ -81,7 +81,7 @@ namespace geostation
       multi.area = options.area;
       multi.epipolar = options.epipolar;
       const MultiImageMatch m = matchMultiImage( matchViews, 0, 1, pixelInReference, multi );
-      if ( m.matched )
+      if ( m.matched() )
       {
         together = true;
         for ( size_t k = 0; k < matchable.size(); ++k )
@@ -89,11 +89,10 @@ namespace geostation
           ConjugateProposal &p = proposals[matchable[k]];
           if ( m.pixels[k + 1] )
           {
-            p.matched = true;
+            p.status = MatchStatus::Correlation;
             p.pixelInImage = *m.pixels[k + 1];
             p.score = m.scores[k + 1];
             p.sigmaPx = 0.5;
-            p.status = matchStatusName( MatchStatus::Correlation );
           }
         }
       }
@@ -102,34 +101,31 @@ namespace geostation
     for ( size_t i : matchable )
     {
       ConjugateProposal &p = proposals[i];
-      if ( together && !p.matched )
+      if ( together && !p.matched() )
         continue;
       const std::vector<Eigen::Vector2d> curve = curvePixels( p.curve );
       const AreaMatchOptions area = viewAreaOptions( views[reference], pixelInReference, views[i], options );
       const AreaMatch m = together
                           ? matchAroundPosition( *views[reference].pixels, pixelInReference, *views[i].pixels, p.pixelInImage, 1.5, area )
                           : matchAlongEpipolarBand( *views[reference].pixels, pixelInReference, *views[i].pixels, curve, area );
-      if ( m.matched )
+      if ( m.matched() )
       {
-        p.matched = true;
+        p.status = m.status;
         p.pixelInImage = m.pixelInImage;
         p.score = m.score;
         p.sigmaPx = std::max( 0.02, m.sigmaPx );
-        p.status = matchStatusName( m.status );
       }
       else if ( !together )
       {
-        p.matched = false;
-        p.reason = m.reason.empty() ? "no match" : m.reason;
-        p.status = matchStatusName( m.status );
+        p.status = m.status;
+        p.message = m.message.empty() ? "no match" : m.message;
       }
       // the conjugate point of an oriented pair lies on the epipolar curve (within the band and the orientation's error)
-      if ( p.matched && !p.curve.pieces.empty() )
+      if ( p.matched() && !p.curve.pieces.empty() )
         if ( const double off = p.curve.distanceToCurvePx( p.pixelInImage ); off > options.maxEpipolarDistancePx )
         {
-          p.matched = false;
-          p.status = matchStatusName( MatchStatus::Inconsistent );
-          p.reason = "the match lies " + std::to_string( off ).substr( 0, 4 ) + " px from the epipolar curve";
+          p.status = MatchStatus::Inconsistent;
+          p.message = "the match lies " + std::to_string( off ).substr( 0, 4 ) + " px from the epipolar curve";
         }
     }
     flagInconsistentProposals( views, reference, pixelInReference, options, proposals );
@@ -145,7 +141,7 @@ namespace geostation
       std::vector<RayObservation> rays { { views[reference].image, pixelInReference, 0.01 } };
       std::vector<size_t> of { reference };
       for ( size_t i = 0; i < proposals.size(); ++i )
-        if ( i != reference && proposals[i].matched )
+        if ( i != reference && proposals[i].matched() )
         {
           rays.push_back( { views[i].image, proposals[i].pixelInImage, std::max( 0.1, proposals[i].sigmaPx ) } );
           of.push_back( i );
@@ -176,16 +172,14 @@ namespace geostation
         for ( size_t k = 1; k < 3; ++k )
         {
           ConjugateProposal &p = proposals[of[k]];
-          p.matched = false;
-          p.status = matchStatusName( MatchStatus::Inconsistent );
-          p.reason = "the proposals of two images disagree (" + px + " px in the intersection): confirm one by hand";
+          p.status = MatchStatus::Inconsistent;
+          p.message = "the proposals of two images disagree (" + px + " px in the intersection): confirm one by hand";
         }
         return;
       }
       ConjugateProposal &p = proposals[of[worst]];
-      p.matched = false;
-      p.status = matchStatusName( MatchStatus::Inconsistent );
-      p.reason = "the other images' rays meet " + px + " px from the match";
+      p.status = MatchStatus::Inconsistent;
+      p.message = "the other images' rays meet " + px + " px from the match";
     }
   }
 
@@ -219,7 +213,7 @@ namespace geostation
       v.message = s.message;
       return v;
     }
-    v.ok = true;
+    v.status = MeasuredVertex::Status::Ok;
     v.point = s.point;
     v.sigmaM = s.sigmaM;
     v.rmsPx = s.rmsPx;
@@ -230,8 +224,11 @@ namespace geostation
       v.residualsPx.push_back( s.residuals[i].residualPx );
       v.rangeM = std::min( v.rangeM, s.residuals[i].rangeM );
       if ( s.residuals[i].suspect && s.grossError )
+      {
+        v.status = MeasuredVertex::Status::Suspect;
         v.message = "The ray of " + observations[i].imageId + " may carry a gross error (normalised residual "
                     + std::to_string( s.residuals[i].normalised ).substr( 0, 4 ) + ").";
+      }
     }
     return v;
   }
@@ -246,7 +243,7 @@ namespace geostation
       v.method = method;
       v.imageIds = { observation.imageId };
       v.residualsPx = { Eigen::Vector2d::Zero() };
-      v.ok = ok;
+      v.status = ok ? MeasuredVertex::Status::Ok : MeasuredVertex::Status::MissesSurface;
       if ( !ok )
         v.message = failure;
       else

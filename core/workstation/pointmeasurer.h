@@ -69,18 +69,20 @@ namespace geostation
     std::string imageId;
     EpipolarCurve curve;           //!< of the reference pixel, in this view
     bool curveInFrame = false;     //!< some of the curve lies in the frame
-    bool matched = false;
+    /**
+     * CONVENTIONS §8: Lsm (least squares converged and passed its checks),
+     * Correlation (a peak only: to be checked by the operator, never
+     * pre-accepted), or why there is no proposal (NoPeak, Ambiguous,
+     * Diverged, Inconsistent, Outside - also for a view that is not
+     * oriented, cannot be read or does not see the curve).
+     */
+    MatchStatus status = MatchStatus::Outside;
+    std::string message;           //!< why not matched
     Eigen::Vector2d pixelInImage = Eigen::Vector2d::Zero();
     double score = 0.0;
     double sigmaPx = 0.5;
-    std::string reason;            //!< why not matched
-    /**
-     * CONVENTIONS §8: "lsm" (least squares converged and passed its checks),
-     * "correlation" (a peak only: to be checked by the operator, never
-     * pre-accepted), or why there is no proposal ("no_peak", "ambiguous",
-     * "diverged", "inconsistent", "outside").
-     */
-    std::string status = "outside";
+
+    bool matched() const { return isMatch( status ); }
   };
 
   /**
@@ -126,8 +128,15 @@ namespace geostation
 
   struct MeasuredVertex
   {
-    bool ok = false;
-    std::string message;                       //!< one sentence when not ok; a warning (gross error) when ok
+    enum class Status
+    {
+      Ok,
+      Suspect,       //!< intersected, but one ray may carry a gross error (message names it)
+      NoIntersection, //!< the rays do not give a point (too few, parallel, singular)
+      MissesSurface, //!< the single ray does not meet the road plane or the DEM
+    };
+    Status status = Status::NoIntersection;
+    std::string message;                       //!< one sentence when not ok; the warning when Suspect
     VertexMethod method = VertexMethod::Intersection;
     Eigen::Vector3d point = Eigen::Vector3d::Zero();  //!< block CRS, metres
     Eigen::Vector3d sigmaM = Eigen::Vector3d::Zero();
@@ -136,6 +145,9 @@ namespace geostation
     double rmsPx = 0.0;
     double maxRayAngleDeg = 0.0;
     double rangeM = 0.0;                       //!< from the nearest projection centre
+
+    //! A point was measured (Suspect included).
+    bool ok() const { return status == Status::Ok || status == Status::Suspect; }
   };
 
   //! Two or more rays. Throws like intersectRays().

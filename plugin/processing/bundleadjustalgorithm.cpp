@@ -16,6 +16,9 @@
 #include "processingblock.h"
 #include "processingtables.h"
 
+namespace GeoStationProcessing
+{
+
 QString BundleAdjustAlgorithm::name() const
 {
   return QStringLiteral( "bundle_adjust" );
@@ -202,3 +205,5 @@ QVariantMap BundleAdjustAlgorithm::processGeoStation( const QVariantMap &paramet
   outputs.insert( QStringLiteral( "RMSE_CHECK_M" ), summary.checkCount ? QVariant( summary.rmseCheckM.norm() ) : QVariant() );
   return outputs;
 }
+
+} // namespace GeoStationProcessing

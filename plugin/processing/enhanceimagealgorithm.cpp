@@ -15,6 +15,9 @@
 #include "imageproc/enhancement.h"
 #include "io/rasterfile.h"
 
+namespace GeoStationProcessing
+{
+
 namespace
 {
   const QStringList kMethods { QStringLiteral( "equalise" ), QStringLiteral( "linear" ), QStringLiteral( "two_segment" ), QStringLiteral( "three_segment" ),
@@ -174,3 +177,5 @@ QVariantMap EnhanceImageAlgorithm::processGeoStation( const QVariantMap &paramet
   outputs.insert( QStringLiteral( "OUTPUT" ), output );
   return outputs;
 }
+
+} // namespace GeoStationProcessing

@@ -12,6 +12,9 @@
 #include "processingblock.h"
 #include "processingtables.h"
 
+namespace GeoStationProcessing
+{
+
 namespace
 {
   const QStringList sFormats { QStringLiteral( "colmap" ), QStringLiteral( "csv" ) };
@@ -116,3 +119,5 @@ QVariantMap ExportBlockAlgorithm::processGeoStation( const QVariantMap &paramete
   outputs.insert( QStringLiteral( "IMAGES_EXPORTED" ), summary.images );
   return outputs;
 }
+
+} // namespace GeoStationProcessing

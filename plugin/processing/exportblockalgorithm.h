@@ -11,6 +11,9 @@
 
 #include "geostation_processing_export.h"
 
+namespace GeoStationProcessing
+{
+
 class GEOSTATION_PROCESSING_EXPORT ExportBlockAlgorithm : public GeoStationAlgorithm
 {
   public:
@@ -26,5 +29,7 @@ class GEOSTATION_PROCESSING_EXPORT ExportBlockAlgorithm : public GeoStationAlgor
     void initAlgorithm( const QVariantMap &configuration = QVariantMap() ) override;
     QVariantMap processGeoStation( const QVariantMap &parameters, QgsProcessingContext &context, QgsProcessingFeedback *feedback ) override;
 };
+
+} // namespace GeoStationProcessing
 
 #endif // EXPORTBLOCKALGORITHM_H

@@ -26,6 +26,9 @@
 #include <qgsvectorfilewriter.h>
 #include <qgsvectorlayer.h>
 
+namespace GeoStationProcessing
+{
+
 namespace
 {
   //! The layers of a GeoPackage (name, has geometry).
@@ -232,3 +235,5 @@ QVariantMap ExportMeasurementsAlgorithm::processGeoStation( const QVariantMap &p
   outputs.insert( QStringLiteral( "FEATURES" ), static_cast<double>( features ) );
   return outputs;
 }
+
+} // namespace GeoStationProcessing

@@ -27,6 +27,9 @@
 #include "processingblock.h"
 #include "processingtables.h"
 
+namespace GeoStationProcessing
+{
+
 namespace
 {
   const QStringList kPolarities { QStringLiteral( "dark" ), QStringLiteral( "bright" ) };
@@ -250,3 +253,5 @@ QVariantMap ExtractRoadsAlgorithm::processGeoStation( const QVariantMap &paramet
                       .arg( s.extraction.linesB.size() ).arg( s.extraction.rounds.size() ).arg( s.seconds, 0, 'f', 2 ).arg( QString::fromStdString( s.mapping ) ) );
   return outputs;
 }
+
+} // namespace GeoStationProcessing

@@ -32,8 +32,8 @@ namespace GeoStationProcessing
     Eigen::Vector3d worst = Eigen::Vector3d::Zero(); //!< largest vertex sigmas (m)
     int vertices = 0;
     int bridged = 0;                           //!< vertices on bridged DEM cells
-    QString problem;
-    QString status;
+    QString problem {};
+    QString status {};
 
     //! Ready for the next feature: counts cleared, `problem` and `status` preset to `why` for a geometry type that cannot be monoplotted.
     void reset( const QString &why, const QString &statusName );

@@ -8,6 +8,9 @@
 
 #include <qgsprocessingfeedback.h>
 
+namespace GeoStationProcessing
+{
+
 QVariantMap GeoStationAlgorithm::processAlgorithm( const QVariantMap &parameters, QgsProcessingContext &context, QgsProcessingFeedback *feedback )
 {
   try
@@ -27,3 +30,5 @@ QVariantMap GeoStationAlgorithm::processAlgorithm( const QVariantMap &parameters
     throw QgsProcessingException( QObject::tr( "%1 stopped: %2" ).arg( displayName(), QString::fromStdString( e.what() ) ) );
   }
 }
+
+} // namespace GeoStationProcessing

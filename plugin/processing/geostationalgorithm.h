@@ -15,6 +15,9 @@
 
 #include "geostation_processing_export.h"
 
+namespace GeoStationProcessing
+{
+
 class GEOSTATION_PROCESSING_EXPORT GeoStationAlgorithm : public QgsProcessingAlgorithm
 {
   protected:
@@ -28,5 +31,7 @@ class GEOSTATION_PROCESSING_EXPORT GeoStationAlgorithm : public QgsProcessingAlg
      */
     QVariantMap processAlgorithm( const QVariantMap &parameters, QgsProcessingContext &context, QgsProcessingFeedback *feedback ) final;
 };
+
+} // namespace GeoStationProcessing
 
 #endif // GEOSTATIONALGORITHM_H

@@ -24,6 +24,9 @@
 #include "projecttoimagealgorithm.h"
 #include "resectionalgorithm.h"
 
+namespace GeoStationProcessing
+{
+
 namespace
 {
   const char *kProviderId = "geostation";
@@ -81,12 +84,14 @@ void GeoStationProvider::loadAlgorithms()
   addAlgorithm( new ExportBlockAlgorithm() );
 }
 
+} // namespace GeoStationProcessing
+
 bool registerGeoStationProvider()
 {
   QgsProcessingRegistry *registry = QgsApplication::processingRegistry();
-  if ( !registry || registry->providerById( QString::fromLatin1( kProviderId ) ) )
+  if ( !registry || registry->providerById( QString::fromLatin1( GeoStationProcessing::kProviderId ) ) )
     return false;
-  return registry->addProvider( new GeoStationProvider( registry ) );
+  return registry->addProvider( new GeoStationProcessing::GeoStationProvider( registry ) );
 }
 
 bool unregisterGeoStationProvider()
@@ -94,7 +99,7 @@ bool unregisterGeoStationProvider()
   QgsProcessingRegistry *registry = QgsApplication::processingRegistry();
   if ( !registry )
     return false;
-  QgsProcessingProvider *provider = registry->providerById( QString::fromLatin1( kProviderId ) );
+  QgsProcessingProvider *provider = registry->providerById( QString::fromLatin1( GeoStationProcessing::kProviderId ) );
   return provider && registry->removeProvider( provider );
 }
 

@@ -8,6 +8,9 @@
 
 #include "geostation_processing_export.h"
 
+namespace GeoStationProcessing
+{
+
 /**
  * Processing provider with id "geostation": every GeoStation capability as an
  * algorithm, so it runs from the toolbox, from models and headless through
@@ -30,6 +33,8 @@ class GEOSTATION_PROCESSING_EXPORT GeoStationProvider : public QgsProcessingProv
   protected:
     void loadAlgorithms() override;
 };
+
+} // namespace GeoStationProcessing
 
 /**
  * Adds the provider to QGIS's processing registry unless it is there already

@@ -18,6 +18,9 @@
 #include "io/textfile.h"
 #include "processingtables.h"
 
+namespace GeoStationProcessing
+{
+
 namespace
 {
   const QStringList sFormats { QStringLiteral( "auto" ), QStringLiteral( "colmap" ), QStringLiteral( "metashape" ), QStringLiteral( "opencv_trajectory" ) };
@@ -254,3 +257,5 @@ QVariantMap ImportBlockAlgorithm::processGeoStation( const QVariantMap &paramete
   outputs.insert( QStringLiteral( "GEOREFERENCE_RMS_M" ), import.georeference ? QVariant( import.georeference->rmsM ) : QVariant() );
   return outputs;
 }
+
+} // namespace GeoStationProcessing

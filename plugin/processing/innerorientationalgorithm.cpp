@@ -19,6 +19,9 @@
 #include "processingblock.h"
 #include "processingtables.h"
 
+namespace GeoStationProcessing
+{
+
 namespace
 {
   const char *kCornerNames[4] = { "top_left", "top_right", "bottom_right", "bottom_left" };
@@ -126,12 +129,12 @@ QVariantMap InnerOrientationAlgorithm::processGeoStation( const QVariantMap &par
     const std::array<std::string, 4> ids = geostation::cornerFiducialIds( camera.fiducials );
     for ( int k = 0; k < 4; ++k )
     {
-      detections.append( QJsonObject { { "corner", kCornerNames[k] }, { "fiducial_id", QString::fromStdString( ids[k] ) }, { "found", found[k].found },
-        { "col", found[k].pixelInImage.x() }, { "row", found[k].pixelInImage.y() }, { "score", found[k].score }, { "reason", QString::fromStdString( found[k].reason ) } } );
-      if ( found[k].found && !ids[k].empty() )
+      detections.append( QJsonObject { { "corner", kCornerNames[k] }, { "fiducial_id", QString::fromStdString( ids[k] ) }, { "found", found[k].found() },
+        { "col", found[k].pixelInImage.x() }, { "row", found[k].pixelInImage.y() }, { "score", found[k].score }, { "reason", QString::fromStdString( found[k].message ) } } );
+      if ( found[k].found() && !ids[k].empty() )
         measured.push_back( { ids[k], found[k].pixelInImage } );
       else
-        feedback->pushWarning( QObject::tr( "No fiducial in the %1 corner: %2" ).arg( kCornerNames[k], found[k].found ? QObject::tr( "the camera has no fiducial there" ) : QString::fromStdString( found[k].reason ) ) );
+        feedback->pushWarning( QObject::tr( "No fiducial in the %1 corner: %2" ).arg( kCornerNames[k], found[k].found() ? QObject::tr( "the camera has no fiducial there" ) : QString::fromStdString( found[k].message ) ) );
     }
   }
   else
@@ -188,3 +191,5 @@ QVariantMap InnerOrientationAlgorithm::processGeoStation( const QVariantMap &par
   outputs.insert( QStringLiteral( "AFFINITY_PCT" ), s.decomposition.affinityPct );
   return outputs;
 }
+
+} // namespace GeoStationProcessing

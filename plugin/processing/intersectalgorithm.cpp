@@ -18,6 +18,9 @@
 #include "processingblock.h"
 #include "processingtables.h"
 
+namespace GeoStationProcessing
+{
+
 QString IntersectAlgorithm::name() const
 {
   return QStringLiteral( "intersect" );
@@ -202,3 +205,5 @@ QVariantMap IntersectAlgorithm::processGeoStation( const QVariantMap &parameters
   outputs.insert( QStringLiteral( "SKIPPED_COUNT" ), skipped.size() );
   return outputs;
 }
+
+} // namespace GeoStationProcessing

@@ -10,6 +10,9 @@
 
 #include "geostation_processing_export.h"
 
+namespace GeoStationProcessing
+{
+
 class GEOSTATION_PROCESSING_EXPORT IntersectAlgorithm : public GeoStationAlgorithm
 {
   public:
@@ -25,5 +28,7 @@ class GEOSTATION_PROCESSING_EXPORT IntersectAlgorithm : public GeoStationAlgorit
     void initAlgorithm( const QVariantMap &configuration = QVariantMap() ) override;
     QVariantMap processGeoStation( const QVariantMap &parameters, QgsProcessingContext &context, QgsProcessingFeedback *feedback ) override;
 };
+
+} // namespace GeoStationProcessing
 
 #endif // INTERSECTALGORITHM_H

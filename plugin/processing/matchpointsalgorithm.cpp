@@ -28,6 +28,9 @@
 #include "processingblock.h"
 #include "processingtables.h"
 
+namespace GeoStationProcessing
+{
+
 QString MatchPointsAlgorithm::name() const
 {
   return QStringLiteral( "match_points" );
@@ -213,7 +216,7 @@ QVariantMap MatchPointsAlgorithm::processGeoStation( const QVariantMap &paramete
       geostation::AreaMatch m;
       m.status = geostation::MatchStatus::Outside;
       if ( !from || !to )
-        m.reason = "the image " + ( from ? target.id : reference.id ) + " cannot be read: " + unreadable[from ? target.id : reference.id];
+        m.message = "the image " + ( from ? target.id : reference.id ) + " cannot be read: " + unreadable[from ? target.id : reference.id];
       else if ( reference.exterior && target.exterior )
       {
         const geostation::OrientedImage referenceImage = block.orientedImage( reference ), targetImage = block.orientedImage( target );
@@ -235,13 +238,13 @@ QVariantMap MatchPointsAlgorithm::processGeoStation( const QVariantMap &paramete
         if ( okCol && okRow )
           m = geostation::matchAroundPosition( *from, r.pixel, *to, Eigen::Vector2d( col, row ), searchRadius, options );
         else
-          m.reason = "approx_col and approx_row are not numbers";
+          m.message = "approx_col and approx_row are not numbers";
       }
       else
-        m.reason = "the images are not both oriented and the table has no approx_col, approx_row";
-      const QString status = QString::fromStdString( geostation::matchStatusName( m.status ) ), reason = QString::fromStdString( m.reason );
+        m.message = "the images are not both oriented and the table has no approx_col, approx_row";
+      const QString status = QString::fromStdString( geostation::matchStatusName( m.status ) ), reason = QString::fromStdString( m.message );
       ++statusCounts[status];
-      if ( m.matched )
+      if ( m.matched() )
       {
         write( r.pointId, targetId, m.pixelInImage, std::max( 0.02, m.sigmaPx ), m.score, status, reason );
         ++matched;
@@ -264,3 +267,5 @@ QVariantMap MatchPointsAlgorithm::processGeoStation( const QVariantMap &paramete
   outputs.insert( QStringLiteral( "NO_MATCH_COUNT" ), static_cast<qlonglong>( unmatched ) );
   return outputs;
 }
+
+} // namespace GeoStationProcessing

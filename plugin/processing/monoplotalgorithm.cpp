@@ -19,6 +19,9 @@
 #include "geometrymonoplotter.h"
 #include "processingblock.h"
 
+namespace GeoStationProcessing
+{
+
 QString MonoplotAlgorithm::name() const
 {
   return QStringLiteral( "monoplot" );
@@ -222,3 +225,5 @@ QVariantMap MonoplotAlgorithm::processGeoStation( const QVariantMap &parameters,
   outputs.insert( QStringLiteral( "FAILED_COUNT" ), static_cast<double>( failed ) );
   return outputs;
 }
+
+} // namespace GeoStationProcessing

@@ -26,6 +26,9 @@
 #include "geometryprojector.h"
 #include "processingblock.h"
 
+namespace GeoStationProcessing
+{
+
 namespace
 {
   //! One input feature, projected, waiting to be written.
@@ -259,3 +262,5 @@ QVariantMap ProjectToImageAlgorithm::processGeoStation( const QVariantMap &param
   outputs.insert( QStringLiteral( "UNRESOLVED_COUNT" ), unresolvedCount );
   return outputs;
 }
+
+} // namespace GeoStationProcessing

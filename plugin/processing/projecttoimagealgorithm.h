@@ -12,6 +12,9 @@
 
 #include "geostation_processing_export.h"
 
+namespace GeoStationProcessing
+{
+
 class GEOSTATION_PROCESSING_EXPORT ProjectToImageAlgorithm : public GeoStationAlgorithm
 {
   public:
@@ -27,5 +30,7 @@ class GEOSTATION_PROCESSING_EXPORT ProjectToImageAlgorithm : public GeoStationAl
     void initAlgorithm( const QVariantMap &configuration = QVariantMap() ) override;
     QVariantMap processGeoStation( const QVariantMap &parameters, QgsProcessingContext &context, QgsProcessingFeedback *feedback ) override;
 };
+
+} // namespace GeoStationProcessing
 
 #endif // PROJECTTOIMAGEALGORITHM_H

@@ -15,6 +15,9 @@
 #include "processingblock.h"
 #include "processingtables.h"
 
+namespace GeoStationProcessing
+{
+
 namespace
 {
   const QString sAllInterior = QStringLiteral( "f,cx,cy,k1,k2,p1,p2,k3" );
@@ -239,3 +242,5 @@ QVariantMap ResectionAlgorithm::processGeoStation( const QVariantMap &parameters
   outputs.insert( QStringLiteral( "BLUNDERS" ), blunders.join( ',' ) );
   return outputs;
 }
+
+} // namespace GeoStationProcessing

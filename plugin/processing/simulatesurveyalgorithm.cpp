@@ -18,6 +18,9 @@
 
 #include "simulation/surveysimulator.h"
 
+namespace GeoStationProcessing
+{
+
 namespace
 {
   //! "path|layername=x" for OGR: the file and the layer, as the core reads them.
@@ -201,3 +204,5 @@ QVariantMap SimulateSurveyAlgorithm::processGeoStation( const QVariantMap &param
   outputs.insert( QStringLiteral( "IMAGES" ), summary.images );
   return outputs;
 }
+
+} // namespace GeoStationProcessing

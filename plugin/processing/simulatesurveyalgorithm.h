@@ -8,6 +8,9 @@
 
 #include "geostation_processing_export.h"
 
+namespace GeoStationProcessing
+{
+
 class GEOSTATION_PROCESSING_EXPORT SimulateSurveyAlgorithm : public GeoStationAlgorithm
 {
   public:
@@ -23,5 +26,7 @@ class GEOSTATION_PROCESSING_EXPORT SimulateSurveyAlgorithm : public GeoStationAl
     void initAlgorithm( const QVariantMap &configuration = QVariantMap() ) override;
     QVariantMap processGeoStation( const QVariantMap &parameters, QgsProcessingContext &context, QgsProcessingFeedback *feedback ) override;
 };
+
+} // namespace GeoStationProcessing
 
 #endif // SIMULATESURVEYALGORITHM_H

@@ -21,9 +21,13 @@
 #include <qgsrasterlayer.h>
 
 #include "dem/demintersection.h"
+#include "io/featureschema.h"
 #include "processingblock.h"
 #include "processingtables.h"
 #include "tracing/roadtracer.h"
+
+namespace GeoStationProcessing
+{
 
 namespace
 {
@@ -185,10 +189,11 @@ QVariantMap TraceRoadLinesAlgorithm::processGeoStation( const QVariantMap &param
   if ( !sink )
     throw QgsProcessingException( invalidSinkError( parameters, QStringLiteral( "OUTPUT" ) ) );
   QgsFields vertexFields;
-  for ( const auto &[name, type] : std::vector<std::pair<QString, QVariant::Type>> { { "seed_id", QVariant::String }, { "vertex", QVariant::Int }, { "X", QVariant::Double },
-        { "Y", QVariant::Double }, { "Z", QVariant::Double }, { "sx", QVariant::Double }, { "sy", QVariant::Double }, { "sz", QVariant::Double },
-        { "station", QVariant::String }, { "image_ids", QVariant::String }, { "residuals_px", QVariant::String } } )
-    vertexFields.append( QgsField( name, type ) );
+  namespace fs = geostation::featureschema;
+  for ( const auto &[name, type] : std::vector<std::pair<const char *, QVariant::Type>> { { "seed_id", QVariant::String }, { fs::kVertex, QVariant::Int }, { fs::kX, QVariant::Double },
+        { fs::kY, QVariant::Double }, { fs::kZ, QVariant::Double }, { fs::kSx, QVariant::Double }, { fs::kSy, QVariant::Double }, { fs::kSz, QVariant::Double },
+        { fs::kStation, QVariant::String }, { fs::kImageIds, QVariant::String }, { fs::kResidualsPx, QVariant::String } } )
+    vertexFields.append( QgsField( QString::fromLatin1( name ), type ) );
   QString vertexDestination;
   std::unique_ptr<QgsFeatureSink> vertexSink( parameterAsSink( parameters, QStringLiteral( "VERTICES" ), context, vertexDestination, vertexFields, QgsWkbTypes::NoGeometry, QgsCoordinateReferenceSystem() ) );
 
@@ -246,3 +251,5 @@ QVariantMap TraceRoadLinesAlgorithm::processGeoStation( const QVariantMap &param
   outputs.insert( QStringLiteral( "FAILED_COUNT" ), static_cast<int>( results.size() ) - traced );
   return outputs;
 }
+
+} // namespace GeoStationProcessing

@@ -35,7 +35,7 @@ namespace
     Camera ideal = c;
     ideal.distortion.model = DistortionModel::None;
     double worst = 0.0;
-    for ( const Eigen::Vector2d corner : { Eigen::Vector2d( 0, 0 ), Eigen::Vector2d( c.width, c.height ) } )
+    for ( const Eigen::Vector2d &corner : { Eigen::Vector2d( 0, 0 ), Eigen::Vector2d( c.width, c.height ) } )
     {
       const Eigen::Vector3d ray = *c.rayInCameraFromPixel( corner );
       worst = std::max( worst, ( ideal.pixelFromCamera( ray ).pixelInImage - corner ).norm() );
@@ -83,7 +83,9 @@ TEST_P( CameraRoundTrip, PixelRayPixelOverWholeFrame )
 {
   const Camera c = makeCamera( GetParam() );
   if ( GetParam() != DistortionModel::None )
+  {
     ASSERT_GT( maxDistortionPx( c ), 5.0 ) << "the test needs strong distortion";
+  }
   double worst = 0.0;
   for ( double row = 0.0; row <= c.height; row += 4.0 )
     for ( double col = 0.0; col <= c.width; col += 4.0 )
@@ -116,7 +118,7 @@ TEST_P( CameraRoundTrip, PrincipalPointIsTheAxis )
 TEST_P( CameraRoundTrip, BehindCameraIsReportedNeverProjected )
 {
   const Camera c = makeCamera( GetParam() );
-  for ( const Eigen::Vector3d p : { Eigen::Vector3d( 0.1, 0.2, 5.0 ), Eigen::Vector3d( 1.0, -1.0, 0.0 ), Eigen::Vector3d( 0, 0, 1e-12 ) } )
+  for ( const Eigen::Vector3d &p : { Eigen::Vector3d( 0.1, 0.2, 5.0 ), Eigen::Vector3d( 1.0, -1.0, 0.0 ), Eigen::Vector3d( 0, 0, 1e-12 ) } )
   {
     const PixelProjection pr = c.pixelFromCamera( p );
     EXPECT_EQ( pr.status, PixelProjection::Status::BehindCamera );
@@ -163,7 +165,7 @@ TEST_P( CameraRoundTrip, FarOutsideTheFieldIsNotProjected )
 TEST_P( CameraRoundTrip, PixelJacobianMatchesFiniteDifferences )
 {
   const Camera c = makeCamera( GetParam() );
-  for ( const Eigen::Vector2d pixel : { Eigen::Vector2d( 20.0, 30.0 ), Eigen::Vector2d( 322.3, 238.9 ), Eigen::Vector2d( 600.0, 450.0 ) } )
+  for ( const Eigen::Vector2d &pixel : { Eigen::Vector2d( 20.0, 30.0 ), Eigen::Vector2d( 322.3, 238.9 ), Eigen::Vector2d( 600.0, 450.0 ) } )
   {
     const Eigen::Vector3d ray = *c.rayInCameraFromPixel( pixel );
     const Eigen::Matrix2d jacobian = *c.pixelJacobianWrtIdeal( pixel );

@@ -3,7 +3,7 @@
 #include <ceres/gradient_checker.h>
 #include <gtest/gtest.h>
 
-#include "adjustment/collinearityerror.h"
+#include "adjustment/internal/collinearityerror.h"
 #include "vanrig.h"
 
 using namespace geostation;

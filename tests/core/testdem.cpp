@@ -224,7 +224,9 @@ TEST( DemIntersection, ARayInAnotherCrsIsFollowedByChordsToTheSameCrossing )
     const DemIntersection straight = intersectRayWithDem( ray, dem, same ), chords = intersectRayWithDem( ray, dem, other );
     ASSERT_EQ( straight.hit(), chords.hit() ) << "ray " << i << ": " << straight.message << " / " << chords.message;
     if ( straight.hit() )
+    {
       EXPECT_NEAR( straight.rangeM, chords.rangeM, 1e-3 ) << "ray " << i;
+    }
   }
   std::filesystem::remove( path );
 }
@@ -328,7 +330,9 @@ TEST( Dem, TinyTilesAndCacheGiveTheSameAnswers )
     const DemIntersection p = intersectRayWithDem( ray, big, same ), q = intersectRayWithDem( ray, small, same );
     ASSERT_EQ( p.hit(), q.hit() ) << i << ": " << p.message << " / " << q.message << " ranges " << p.rangeM << " " << q.rangeM << " steps " << p.steps << " " << q.steps;
     if ( p.hit() )
+    {
       EXPECT_NEAR( p.rangeM, q.rangeM, 2e-4 );
+    }
   }
   std::filesystem::remove( path );
 }

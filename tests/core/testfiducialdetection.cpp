@@ -72,7 +72,7 @@ namespace
     EXPECT_EQ( ids, ( std::array<std::string, 4> { "F1", "F2", "F3", "F4" } ) );
     for ( int k = 0; k < 4; ++k )
     {
-      ASSERT_TRUE( found[k].found ) << k << ": " << found[k].reason;
+      ASSERT_TRUE( found[k].found() ) << k << ": " << found[k].message;
       const Fiducial f = cornerFiducials()[k];
       EXPECT_LT( ( found[k].pixelInImage - pixelOf( f.photoMm ) ).norm(), tolerancePx ) << f.id << " found at " << found[k].pixelInImage.transpose() << " true " << pixelOf( f.photoMm ).transpose();
       EXPECT_GT( found[k].score, 0.7 );
@@ -125,8 +125,9 @@ TEST( FiducialDetection, AUserTemplateFindsCrossMarks )
   const std::array<DetectedFiducial, 4> none = detectCornerFiducials( path, wrong );
   for ( const DetectedFiducial &d : none )
   {
-    EXPECT_FALSE( d.found );
-    EXPECT_NE( d.reason.find( "no mark" ), std::string::npos );
+    EXPECT_FALSE( d.found() );
+    EXPECT_EQ( d.status, DetectedFiducial::Status::NoMark );
+    EXPECT_NE( d.message.find( "no mark" ), std::string::npos );
   }
   std::filesystem::remove( path );
 }

@@ -51,7 +51,9 @@ TEST( InnerOrientation, DecompositionFollowsThePaper )
     EXPECT_NEAR( d.betaDeg, beta, 1e-9 );
     EXPECT_NEAR( d.affinityPct, 100.0 * ( A / B - 1.0 ), 1e-8 );
     if ( A / B - 1.0 > 1e-4 ) // alpha is undefined for a similarity
+    {
       EXPECT_NEAR( d.alphaADeg, alpha, 1e-6 ) << A / B;
+    }
     EXPECT_NEAR( d.alphaBDeg, d.alphaADeg + 90.0, 1e-12 );
     // And the pieces compose back to the matrix.
     EXPECT_LT( ( compose( d.scaleA, d.scaleB, d.alphaADeg, d.betaDeg ) - compose( A, B, alpha, beta ) ).norm(), 1e-12 );

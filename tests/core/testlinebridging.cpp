@@ -103,7 +103,9 @@ TEST( LineBridging, AStartInAGapIsNotPartOfTheLine )
   EXPECT_TRUE( up.bridged[junction] ) << "the segment across the gap is bridged, not followed";
   for ( size_t i = 1; i < up.points.size(); ++i )
     if ( i != junction )
+    {
       EXPECT_FALSE( up.bridged[i] ) << i;
+    }
 }
 
 TEST( LineBridging, AWornCrackAtTheClickDoesNotTurnTheSeedDirection )

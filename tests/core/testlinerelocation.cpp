@@ -51,7 +51,7 @@ TEST( LineRelocation, ScaleAcrossALineIsFOverHeightFromNadir )
   const Eigen::Vector3d centre( 0.0, 0.0, kRoadZ + height );
   const OrientedImage nadir( camera, vanrig::lookAt( centre, centre + Eigen::Vector3d( 0.0, 1e-4, -height ) ) );
   const Eigen::Vector3d ground( 0.3, -0.2, kRoadZ );
-  for ( const Eigen::Vector3d along : { Eigen::Vector3d( 0, 1, 0 ), Eigen::Vector3d( 1, 1, 0.2 ), Eigen::Vector3d( -1, 0.1, 0 ) } )
+  for ( const Eigen::Vector3d &along : { Eigen::Vector3d( 0, 1, 0 ), Eigen::Vector3d( 1, 1, 0.2 ), Eigen::Vector3d( -1, 0.1, 0 ) } )
     EXPECT_NEAR( pixelsPerMetreAcross( nadir, ground, along ), camera.f / height, 1e-3 * camera.f / height );
   // a forward camera sees a line on the road foreshortened with range, and not at all behind it
   const Eigen::Vector3d van( 1.0, 0.0, kRoadZ + 2.65 );

@@ -242,13 +242,36 @@ TEST( Similarity, BadWindowsGiveReasonsNotScores )
   EXPECT_FALSE( CorrelationTemplate( image, 30, 20, 14, 15, SimilarityMeasure::NCC ).valid() );
   const MatchImage flat( cv::Mat( 40, 40, CV_8U, cv::Scalar( 90 ) ) );
   EXPECT_EQ( CorrelationTemplate( flat, 20, 20, 15, 15, SimilarityMeasure::NCC ).reason(), "the window is flat (no texture to correlate)" );
+  EXPECT_TRUE( CorrelationTemplate( flat, 20, 20, 15, 15, SimilarityMeasure::NCC ).flat() );
+  EXPECT_FALSE( CorrelationTemplate( image, 3, 20, 15, 15, SimilarityMeasure::NCC ).flat() );
   const CorrelationTemplate t( image, 30, 20, 15, 15, SimilarityMeasure::NCC );
   EXPECT_FALSE( t.score( image, 55, 20 ).has_value() ); // leaves the search image
   EXPECT_FALSE( t.score( flat, 20, 20 ).has_value() );  // flat search window
   EXPECT_THROW( MatchImage( cv::Mat( 10, 10, CV_32F ) ), std::invalid_argument );
   // LSM on a flat window, and a window leaving the image
-  EXPECT_FALSE( leastSquaresMatch( flat, { 20, 20 }, flat, { 20, 20 } ).converged );
-  EXPECT_EQ( leastSquaresMatch( image, { 2, 20 }, image, { 20, 20 } ).reason, "the window leaves the reference image" );
+  const LsmResult onFlat = leastSquaresMatch( flat, { 20, 20 }, flat, { 20, 20 } );
+  EXPECT_FALSE( onFlat.converged() );
+  EXPECT_EQ( onFlat.status, LsmResult::Status::Flat );
+  EXPECT_TRUE( onFlat.degenerate() );
+  const LsmResult leaving = leastSquaresMatch( image, { 2, 20 }, image, { 20, 20 } );
+  EXPECT_EQ( leaving.status, LsmResult::Status::Outside );
+  EXPECT_EQ( leaving.message, "the window leaves the reference image" );
+  EXPECT_EQ( lsmStatusName( leaving.status ), "outside" );
+  // the search window running off the search image
+  EXPECT_EQ( leastSquaresMatch( image, { 30, 20 }, image, { 56, 20 } ).status, LsmResult::Status::Outside );
+  // bad options are the caller's error: one sentence, thrown
+  LsmOptions even;
+  even.windowWidth = 8;
+  EXPECT_THROW( leastSquaresMatch( image, { 30, 20 }, image, { 30, 20 }, even ), std::invalid_argument );
+  LsmOptions noIterations;
+  noIterations.maxIterations = 0;
+  EXPECT_THROW( noIterations.check(), std::invalid_argument );
+  AreaMatchOptions area;
+  area.lsmOptions.windowWidth = 1;
+  area.lsmOptions.windowHeight = 1;
+  EXPECT_THROW( area.check(), std::invalid_argument );
+  area.lsm = false;
+  EXPECT_NO_THROW( area.check() );
 }
 
 TEST( Similarity, ParabolaFindsTheVertex )
@@ -288,7 +311,7 @@ TEST( LeastSquaresMatching, SubPixelAndConvergenceOnSimulatedAerialStereo )
     lsmOptions.windowWidth = lsmOptions.windowHeight = 25;
     lsmOptions.maxShiftPx = 4.0;
     const LsmResult lsm = leastSquaresMatch( *pair.leftMatch, p.left, *pair.rightMatch, start, lsmOptions );
-    if ( lsm.converged )
+    if ( lsm.converged() )
     {
       ++converged;
       lsmSq += ( lsm.pixelInImage - p.right ).squaredNorm();
@@ -296,7 +319,7 @@ TEST( LeastSquaresMatching, SubPixelAndConvergenceOnSimulatedAerialStereo )
     // the thesis' bilinear resampling, for comparison
     lsmOptions.resampling = LsmOptions::Resampling::Bilinear;
     const LsmResult bilinear = leastSquaresMatch( *pair.leftMatch, p.left, *pair.rightMatch, start, lsmOptions );
-    if ( bilinear.converged )
+    if ( bilinear.converged() )
     {
       ++bilinearConverged;
       bilinearSq += ( bilinear.pixelInImage - p.right ).squaredNorm();
@@ -345,7 +368,7 @@ TEST( AreaMatcher, EpipolarBandSearchFindsTheConjugatePoint )
       for ( const EpipolarVertex &v : piece )
         curve.push_back( v.pixelInImage );
     const AreaMatch m = matchAlongEpipolarBand( *pair.leftMatch, p.left, *pair.rightMatch, curve, options );
-    if ( !m.matched )
+    if ( !m.matched() )
       continue;
     ++matched;
     const double error = ( m.pixelInImage - p.right ).norm();
@@ -397,7 +420,7 @@ TEST( LeastSquaresMatching, RecoversAKnownAffineShift )
   LsmOptions options;
   options.windowWidth = options.windowHeight = 11;
   const LsmResult r = leastSquaresMatch( ref, centre, sea, centre + shift + Eigen::Vector2d( 1.2, -0.9 ), options );
-  ASSERT_TRUE( r.converged ) << r.reason;
+  ASSERT_TRUE( r.converged() ) << r.message;
   // bicubic resampling of sinusoids up to 0.3 cycles per pixel: 0.013 px
   EXPECT_LT( ( r.pixelInImage - ( centre + shift ) ).norm(), 0.02 ) << r.pixelInImage.transpose() << " iterations " << r.iterations;
   EXPECT_LT( ( r.affine - A ).norm(), 0.01 );
@@ -405,7 +428,7 @@ TEST( LeastSquaresMatching, RecoversAKnownAffineShift )
   // the thesis' bilinear resampling converges too, less precisely on this texture
   options.resampling = LsmOptions::Resampling::Bilinear;
   const LsmResult b = leastSquaresMatch( ref, centre, sea, centre + shift + Eigen::Vector2d( 1.2, -0.9 ), options );
-  ASSERT_TRUE( b.converged ) << b.reason << " after " << b.iterations << " iterations at " << b.pixelInImage.transpose() << " (truth " << ( centre + shift ).transpose() << ")";
+  ASSERT_TRUE( b.converged() ) << b.message << " after " << b.iterations << " iterations at " << b.pixelInImage.transpose() << " (truth " << ( centre + shift ).transpose() << ")";
   const double bilinearError = ( b.pixelInImage - ( centre + shift ) ).norm();
   std::cout << "LSM on exact sinusoids: B-spline " << ( r.pixelInImage - ( centre + shift ) ).norm() << " px, bilinear " << bilinearError << " px\n";
   EXPECT_LT( bilinearError, 0.15 );
@@ -503,7 +526,7 @@ TEST( MultiImageMatching, CutsWrongMatchesOnRepetitiveTexture )
       AreaMatchOptions options;
       options.measure = m;
       const AreaMatch single = matchAlongEpipolarBand( *strip.pixels[1], p, *strip.pixels[0], curve, options );
-      if ( single.matched )
+      if ( single.matched() )
       {
         ++pairCounts[similarityMeasureName( m )].first;
         pairCounts[similarityMeasureName( m )].second += ( single.pixelInImage - truthLeft ).norm() > 1.0 ? 1 : 0;
@@ -513,7 +536,7 @@ TEST( MultiImageMatching, CutsWrongMatchesOnRepetitiveTexture )
     options.epipolar = epipolar;
     const MultiImageMatch multi = matchMultiImage( { { strip.images[0].get(), strip.pixels[0].get() }, { strip.images[1].get(), strip.pixels[1].get() },
       { strip.images[2].get(), strip.pixels[2].get() } }, 1, 0, p, options );
-    if ( multi.matched )
+    if ( multi.matched() )
     {
       ++multiMatched;
       multiWrong += ( *multi.pixels[0] - truthLeft ).norm() > 1.0 || ( multi.world - ground ).norm() > 0.2 ? 1 : 0;

@@ -161,7 +161,9 @@ TEST( Monoplotter, LinesAreDensifiedBothWays )
     ASSERT_TRUE( draped[i].ok() );
     EXPECT_NEAR( draped[i].world.z(), *s.dem->heightAt( draped[i].world.x(), draped[i].world.y() ), 1e-3 );
     if ( i > 0 )
+    {
       EXPECT_LE( ( draped[i].pixelInImage - draped[i - 1].pixelInImage ).norm(), 5.0 + 1e-9 );
+    }
   }
 
   // A straight map line across the hills, draped: consecutive pixels within 4 px.

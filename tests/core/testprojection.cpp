@@ -113,7 +113,7 @@ TEST( Projection, OrientedImageAgreesWithTheFreeFunctions )
   eo.phiDeg = 3.0;
   eo.kappaDeg = -7.0;
   const OrientedImage image( c, eo );
-  for ( const Eigen::Vector3d offset : { Eigen::Vector3d( 1, 20, -1 ), Eigen::Vector3d( -3, 8, 0.5 ), Eigen::Vector3d( 0, -5, 0 ), Eigen::Vector3d( 30, 5, 0 ) } )
+  for ( const Eigen::Vector3d &offset : { Eigen::Vector3d( 1, 20, -1 ), Eigen::Vector3d( -3, 8, 0.5 ), Eigen::Vector3d( 0, -5, 0 ), Eigen::Vector3d( 30, 5, 0 ) } )
   {
     const GroundProjection a = image.projectGroundToPixel( eo.projectionCentre + offset );
     const GroundProjection b = projectGroundToPixel( c, eo, eo.projectionCentre + offset );

@@ -71,8 +71,8 @@ namespace
         continue;
       const Eigen::Vector2d approximate = truth + Eigen::Vector2d( within2( random ), within2( random ) );
       const AreaMatch m = matchAroundPosition( a, p, b, approximate, 3.0, options );
-      EXPECT_EQ( m.matched, m.status == MatchStatus::Lsm || m.status == MatchStatus::Correlation );
-      score.add( matchStatusName( m.status ), m.matched, ( m.pixelInImage - truth ).norm() );
+      EXPECT_TRUE( m.matched() || !m.message.empty() ) << "a failed match says why";
+      score.add( matchStatusName( m.status ), m.matched(), ( m.pixelInImage - truth ).norm() );
     }
     return score;
   }

@@ -582,7 +582,7 @@ TEST( RoadExtraction, PairMappingsFromControlPoints )
   h << 1.02, 0.05, -30, -0.03, 0.98, 12, 2e-5, -1e-5, 1;
   const auto project = [&]( const Eigen::Vector2d &p ) { const Eigen::Vector3d q = h * p.homogeneous(); return Eigen::Vector2d( q.head<2>() / q.z() ); };
   std::vector<ControlPair> pairs;
-  for ( const Eigen::Vector2d p : { Eigen::Vector2d( 50, 60 ), Eigen::Vector2d( 900, 80 ), Eigen::Vector2d( 880, 950 ), Eigen::Vector2d( 70, 900 ), Eigen::Vector2d( 500, 480 ) } )
+  for ( const Eigen::Vector2d &p : { Eigen::Vector2d( 50, 60 ), Eigen::Vector2d( 900, 80 ), Eigen::Vector2d( 880, 950 ), Eigen::Vector2d( 70, 900 ), Eigen::Vector2d( 500, 480 ) } )
     pairs.push_back( { "p", p, project( p ) } );
   RegistrationReport report;
   const ProjectiveMapping projective = ProjectiveMapping::fit( pairs, &report );

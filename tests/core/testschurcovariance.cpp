@@ -5,8 +5,8 @@
 #include <ceres/ceres.h>
 #include <gtest/gtest.h>
 
-#include "adjustment/collinearityerror.h"
-#include "adjustment/priors.h"
+#include "adjustment/internal/collinearityerror.h"
+#include "adjustment/internal/priors.h"
 #include "adjustment/schurcovariance.h"
 #include "vanrig.h"
 

@@ -61,9 +61,9 @@ namespace
            truth.pixelInImage.y() > b.height() - 25 )
         continue;
       const ConjugateProposal proposal = proposeConjugates( views, 0, p, options )[1];
-      if ( !proposal.matched && std::getenv( "GEOSTATION_SHAPE_DEBUG" ) )
-        std::printf( "  %s: %s\n", proposal.status.c_str(), proposal.reason.c_str() );
-      score.add( proposal.status, proposal.matched, ( proposal.pixelInImage - truth.pixelInImage ).norm() );
+      if ( !proposal.matched() && std::getenv( "GEOSTATION_SHAPE_DEBUG" ) )
+        std::printf( "  %s: %s\n", matchStatusName( proposal.status ).c_str(), proposal.message.c_str() );
+      score.add( matchStatusName( proposal.status ), proposal.matched(), ( proposal.pixelInImage - truth.pixelInImage ).norm() );
     }
     return score;
   }

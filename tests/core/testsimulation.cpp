@@ -626,7 +626,7 @@ TEST( SimulatedObliquePhoto, ScannedFilmInnerOrientationFromTheRenderedMarks )
   std::vector<FiducialMeasurement> measured;
   for ( int k = 0; k < 4; ++k )
   {
-    ASSERT_TRUE( found[k].found ) << "corner " << k << ": " << found[k].reason << " at " << found[k].pixelInImage.transpose() << " score " << found[k].score;
+    ASSERT_TRUE( found[k].found() ) << "corner " << k << ": " << found[k].message << " at " << found[k].pixelInImage.transpose() << " score " << found[k].score;
     measured.push_back( { ids[k], found[k].pixelInImage } );
     const Eigen::Vector2d photo = std::find_if( camera.fiducials.begin(), camera.fiducials.end(), [&]( const Fiducial &f ) { return f.id == ids[k]; } )->photoMm;
     const Eigen::Vector2d expected = truth.orientedImage( truthImage ).scanFromNominal(
@@ -637,7 +637,7 @@ TEST( SimulatedObliquePhoto, ScannedFilmInnerOrientationFromTheRenderedMarks )
   ASSERT_TRUE( io.ok() ) << io.message;
   // the estimated affine against the true one, over the whole frame (mm)
   double worstMm = 0.0;
-  for ( const Eigen::Vector2d corner : { Eigen::Vector2d( 0, 0 ), Eigen::Vector2d( camera.width, 0 ), Eigen::Vector2d( 0, camera.height ),
+  for ( const Eigen::Vector2d &corner : { Eigen::Vector2d( 0, 0 ), Eigen::Vector2d( camera.width, 0 ), Eigen::Vector2d( 0, camera.height ),
                                          Eigen::Vector2d( camera.width, camera.height ) } )
   {
     const Eigen::Vector3d h( corner.x(), corner.y(), 1.0 );

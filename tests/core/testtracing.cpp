@@ -169,7 +169,9 @@ TEST( Tracing, MethodsComparedPerLineType )
       std::printf( "%-16s %-14s %12.3f %12.3f %9.3f %12.0f  (%zu stations, %s)\n", c.name, traceMethodName( m ).c_str(), sc.buffer.completeness, sc.buffer.correctness, sc.rms15,
                    s.pixelsFollowed / seconds, s.stations.size(), traceStopName( s.stop ).c_str() );
       if ( m == TraceMethod::Polynomial || m == TraceMethod::Auto )
+      {
         EXPECT_GE( sc.buffer.correctness, 0.9 ) << c.name << " " << traceMethodName( m );
+      }
     }
 }
 

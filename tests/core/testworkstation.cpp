@@ -63,7 +63,9 @@ TEST( StationSequence, RunOrderNavigationAndPicking )
     EXPECT_EQ( run.at( i ).imageIds.size(), 3u );
     ASSERT_TRUE( run.at( i ).position.has_value() );
     if ( i > 0 )
+    {
       EXPECT_LT( run.at( i - 1 ).time, run.at( i ).time );
+    }
     // picking a station on the map: a point 1 m beside it finds it
     EXPECT_EQ( run.indexNearest( run.at( i ).position->head<2>() + Eigen::Vector2d( 0.7, 0.7 ) ), i );
     EXPECT_EQ( run.indexNearestTime( run.at( i ).time ), i );
@@ -162,36 +164,33 @@ TEST( PointMeasurer, ProposalsAndIntersectionAgreeWithTheTruth )
       const double roadZ = oriented[0].exterior().projectionCentre.z() - 2.65;
       onRoad.groundOfPixel = [roadZ]( const OrientedImage &image, const Eigen::Vector2d &pixel ) { return roadPlanePoint( image, pixel, roadZ ); };
       const ConjugateProposal shaped = proposeConjugates( views, 0, left->second, onRoad )[1];
-      shapedWithinPixel += shaped.matched && ( shaped.pixelInImage - right->second ).norm() < 1.0;
-      EXPECT_TRUE( !shaped.matched || ( shaped.pixelInImage - right->second ).norm() < 2.0 ) << id;
+      shapedWithinPixel += shaped.matched() && ( shaped.pixelInImage - right->second ).norm() < 1.0;
+      EXPECT_TRUE( !shaped.matched() || ( shaped.pixelInImage - right->second ).norm() < 2.0 ) << id;
       EXPECT_TRUE( proposals[1].curveInFrame );
       // the true conjugate lies on the epipolar curve (the orientation is exact)
       EXPECT_LT( proposals[1].curve.distanceToCurvePx( right->second ), 0.05 ) << id;
       const double errorPx = ( proposals[1].pixelInImage - right->second ).norm();
       if ( std::getenv( "GEOSTATION_DEBUG" ) )
-        std::cout << id << " " << station.id << " matched " << proposals[1].matched << " score " << proposals[1].score << " err " << errorPx << " reason " << proposals[1].reason
-                  << " third " << proposals[2].matched << " " << proposals[2].curveInFrame << " range " << ( point - oriented[0].exterior().projectionCentre ).norm() << "\n";
-      // every proposal says what it is (CONVENTIONS §8)
+        std::cout << id << " " << station.id << " matched " << proposals[1].matched() << " score " << proposals[1].score << " err " << errorPx << " reason " << proposals[1].message
+                  << " third " << proposals[2].matched() << " " << proposals[2].curveInFrame << " range " << ( point - oriented[0].exterior().projectionCentre ).norm() << "\n";
+      // every proposal says what it is (CONVENTIONS §8), and a failed one why
       for ( size_t i = 1; i < proposals.size(); ++i )
-      {
-        const std::string &status = proposals[i].status;
-        if ( proposals[i].matched )
-          EXPECT_TRUE( status == "lsm" || status == "correlation" ) << status;
-        else
-          EXPECT_TRUE( status == "no_peak" || status == "ambiguous" || status == "diverged" || status == "inconsistent" || status == "outside" ) << status;
-      }
-      if ( !proposals[1].matched )
+        if ( !proposals[i].matched() )
+        {
+          EXPECT_FALSE( proposals[i].message.empty() ) << matchStatusName( proposals[i].status );
+        }
+      if ( !proposals[1].matched() )
         continue;
       ++matchedCount;
-      lsmCount += proposals[1].status == "lsm";
+      lsmCount += proposals[1].status == MatchStatus::Lsm;
       sumSquaredErrorPx += errorPx * errorPx;
       proposedWithinPixel += errorPx < 1.0 ? 1 : 0;
       std::vector<VertexObservation> observations { { station.imageIds[0], &oriented[0], left->second, 0.5 } };
       for ( size_t i = 1; i < proposals.size(); ++i )
-        if ( proposals[i].matched )
+        if ( proposals[i].matched() )
           observations.push_back( { station.imageIds[i], &oriented[i], proposals[i].pixelInImage, 0.5 } );
       const MeasuredVertex v = intersectVertex( observations );
-      ASSERT_TRUE( v.ok ) << v.message;
+      ASSERT_TRUE( v.ok() ) << v.message;
       ++intersected;
       EXPECT_EQ( v.method, VertexMethod::Intersection );
       EXPECT_EQ( v.imageIds.size(), observations.size() );
@@ -229,8 +228,7 @@ TEST( PointMeasurer, ThirdRayFlagsProposalsAtAnotherDepth )
   for ( size_t i = 1; i < 3; ++i )
   {
     ASSERT_TRUE( oriented[i].projectGroundToPixel( point ).inFrame );
-    proposals[i].matched = true;
-    proposals[i].status = "lsm";
+    proposals[i].status = MatchStatus::Lsm;
     proposals[i].sigmaPx = 0.1;
     proposals[i].pixelInImage = oriented[i].projectGroundToPixel( point ).pixelInImage;
   }
@@ -238,7 +236,7 @@ TEST( PointMeasurer, ThirdRayFlagsProposalsAtAnotherDepth )
   ProposalOptions options;
   std::vector<ConjugateProposal> right = proposals;
   flagInconsistentProposals( views, 0, reference, options, right );
-  EXPECT_TRUE( right[1].matched && right[2].matched );
+  EXPECT_TRUE( right[1].matched() && right[2].matched() );
   // the same pixel at another depth, in view 2: on its epipolar curve, but not where view 1 says
   const Eigen::Vector3d deeper = point + 0.3 * ( point - oriented[0].exterior().projectionCentre );
   std::vector<ConjugateProposal> wrong = proposals;
@@ -246,10 +244,10 @@ TEST( PointMeasurer, ThirdRayFlagsProposalsAtAnotherDepth )
   ASSERT_GT( ( wrong[2].pixelInImage - proposals[2].pixelInImage ).norm(), 3.0 );
   flagInconsistentProposals( views, 0, reference, options, wrong );
   // with three rays the two proposals contradict each other, and either may be the wrong one: neither is taken
-  EXPECT_FALSE( wrong[1].matched );
-  EXPECT_FALSE( wrong[2].matched );
-  EXPECT_EQ( wrong[2].status, "inconsistent" );
-  EXPECT_NE( wrong[2].reason.find( "disagree" ), std::string::npos ) << wrong[2].reason;
+  EXPECT_FALSE( wrong[1].matched() );
+  EXPECT_FALSE( wrong[2].matched() );
+  EXPECT_EQ( wrong[2].status, MatchStatus::Inconsistent );
+  EXPECT_NE( wrong[2].message.find( "disagree" ), std::string::npos ) << wrong[2].message;
   // a fourth view that agrees with view 1 singles out the wrong one
   oriented.push_back( texturedground::lookingAt( camera, Eigen::Vector3d( 0.5, -3.0, 2.5 ), 0.0, 10.0 ) );
   views.clear();
@@ -257,20 +255,20 @@ TEST( PointMeasurer, ThirdRayFlagsProposalsAtAnotherDepth )
     views.push_back( MeasurementView { "view" + std::to_string( i ), &oriented[i], nullptr } );
   std::vector<ConjugateProposal> four = proposals;
   four[2] = wrong[2];
-  four[2].matched = true;
+  four[2].status = MatchStatus::Lsm;
   four.push_back( proposals[1] );
   four[3].pixelInImage = oriented[3].projectGroundToPixel( point ).pixelInImage;
   flagInconsistentProposals( views, 0, reference, options, four );
-  EXPECT_TRUE( four[1].matched );
-  EXPECT_FALSE( four[2].matched );
-  EXPECT_TRUE( four[3].matched );
+  EXPECT_TRUE( four[1].matched() );
+  EXPECT_FALSE( four[2].matched() );
+  EXPECT_TRUE( four[3].matched() );
   // two rays only: nothing to compare (the epipolar check is the test there)
   std::vector<ConjugateProposal> pair = { proposals[0], proposals[1], wrong[2] };
-  pair[1].matched = false;
-  pair[2].matched = true;
+  pair[1].status = MatchStatus::NoPeak;
+  pair[2].status = MatchStatus::Lsm;
   views.resize( 3 );
   flagInconsistentProposals( views, 0, reference, options, pair );
-  EXPECT_TRUE( pair[2].matched );
+  EXPECT_TRUE( pair[2].matched() );
 }
 
 TEST( PointMeasurer, SingleRayVerticesOnTheRoadPlane )
@@ -286,7 +284,7 @@ TEST( PointMeasurer, SingleRayVerticesOnTheRoadPlane )
     if ( pixel == truth.imageTruth.end() )
       continue;
     const MeasuredVertex v = roadPlaneVertex( VertexObservation { image.id, &oriented, pixel->second, 0.5 }, point.z(), 0.05 );
-    ASSERT_TRUE( v.ok ) << v.message;
+    ASSERT_TRUE( v.ok() ) << v.message;
     EXPECT_EQ( vertexMethodName( v.method ), "road-plane" );
     EXPECT_LT( ( v.point - point ).norm(), 1e-3 ) << id; // the plane through the point gives the point
     EXPECT_GT( v.sigmaM.z(), 0.04 );
@@ -295,7 +293,7 @@ TEST( PointMeasurer, SingleRayVerticesOnTheRoadPlane )
   EXPECT_GT( n, 2 );
   // a plane above the camera is behind it for a ray pointing down
   const MeasuredVertex sky = roadPlaneVertex( VertexObservation { image.id, &oriented, { 320, 470 }, 0.5 }, oriented.exterior().projectionCentre.z() + 5, 0.0 );
-  EXPECT_FALSE( sky.ok );
+  EXPECT_FALSE( sky.ok() );
   EXPECT_FALSE( sky.message.empty() );
 }
 

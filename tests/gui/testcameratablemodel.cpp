@@ -31,26 +31,27 @@ void TestCameraTableModel::showsEveryCameraWithItsInteriorOrientation()
   GeoStationCameraTableModel model;
   model.setBlock( &mBlock );
   QCOMPARE( model.rowCount(), 3 );
-  QCOMPARE( model.columnCount(), static_cast<int>( GeoStationCameraTableModel::ColumnCount ) );
-  QCOMPARE( model.headerData( GeoStationCameraTableModel::ColumnF, Qt::Horizontal ).toString(), QStringLiteral( "f [px]" ) );
+  QCOMPARE( model.columnCount(), GeoStationCameraTableModel::kColumnCount );
+  QCOMPARE( model.headerData( static_cast<int>( GeoStationCameraTableModel::Column::F ), Qt::Horizontal ).toString(), QStringLiteral( "f [px]" ) );
 
-  const auto cell = [&model]( int row, int column, int role = Qt::DisplayRole ) { return model.data( model.index( row, column ), role ); };
-  QCOMPARE( cell( 0, GeoStationCameraTableModel::ColumnId ).toString(), QStringLiteral( "left" ) );
-  QCOMPARE( cell( 0, GeoStationCameraTableModel::ColumnSize ).toString(), QStringLiteral( "640 × 480" ) );
-  QCOMPARE( cell( 0, GeoStationCameraTableModel::ColumnF ).toString(), QStringLiteral( "812.400" ) );
-  QCOMPARE( cell( 0, GeoStationCameraTableModel::ColumnF, Qt::EditRole ).toDouble(), 812.4 );
-  QCOMPARE( cell( 0, GeoStationCameraTableModel::ColumnModel ).toString(), QStringLiteral( "opencv" ) );
-  QCOMPARE( cell( 0, GeoStationCameraTableModel::ColumnK1, Qt::EditRole ).toDouble(), -0.21 );
-  QCOMPARE( cell( 0, GeoStationCameraTableModel::ColumnImages ).toInt(), 2 );
-  QCOMPARE( cell( 1, GeoStationCameraTableModel::ColumnModel ).toString(), QStringLiteral( "brown_photo" ) );
-  QCOMPARE( cell( 1, GeoStationCameraTableModel::ColumnP2, Qt::EditRole ).toDouble(), -2.0e-5 );
-  QCOMPARE( cell( 1, GeoStationCameraTableModel::ColumnImages ).toInt(), 1 );
+  using Column = GeoStationCameraTableModel::Column;
+  const auto cell = [&model]( int row, Column column, int role = Qt::DisplayRole ) { return model.data( model.index( row, static_cast<int>( column ) ), role ); };
+  QCOMPARE( cell( 0, Column::Id ).toString(), QStringLiteral( "left" ) );
+  QCOMPARE( cell( 0, Column::Size ).toString(), QStringLiteral( "640 × 480" ) );
+  QCOMPARE( cell( 0, Column::F ).toString(), QStringLiteral( "812.400" ) );
+  QCOMPARE( cell( 0, Column::F, Qt::EditRole ).toDouble(), 812.4 );
+  QCOMPARE( cell( 0, Column::Model ).toString(), QStringLiteral( "opencv" ) );
+  QCOMPARE( cell( 0, Column::K1, Qt::EditRole ).toDouble(), -0.21 );
+  QCOMPARE( cell( 0, Column::Images ).toInt(), 2 );
+  QCOMPARE( cell( 1, Column::Model ).toString(), QStringLiteral( "brown_photo" ) );
+  QCOMPARE( cell( 1, Column::P2, Qt::EditRole ).toDouble(), -2.0e-5 );
+  QCOMPARE( cell( 1, Column::Images ).toInt(), 1 );
   // no lens model: no coefficients shown, no pixel size given
-  QCOMPARE( cell( 2, GeoStationCameraTableModel::ColumnModel ).toString(), QStringLiteral( "none" ) );
-  QVERIFY( cell( 2, GeoStationCameraTableModel::ColumnK1 ).isNull() );
-  QVERIFY( cell( 2, GeoStationCameraTableModel::ColumnPixelSize ).isNull() );
-  QCOMPARE( cell( 2, GeoStationCameraTableModel::ColumnImages ).toInt(), 0 );
-  QVERIFY( !cell( 3, 0 ).isValid() );
+  QCOMPARE( cell( 2, Column::Model ).toString(), QStringLiteral( "none" ) );
+  QVERIFY( cell( 2, Column::K1 ).isNull() );
+  QVERIFY( cell( 2, Column::PixelSize ).isNull() );
+  QCOMPARE( cell( 2, Column::Images ).toInt(), 0 );
+  QVERIFY( !cell( 3, Column::Id ).isValid() );
 }
 
 void TestCameraTableModel::clearsWithoutABlock()

@@ -17,6 +17,7 @@
 #include "featureclass.h"
 #include "measurementstore.h"
 #include "multiviewsession.h"
+#include "reviewtool.h"
 #include "simulation/surveysimulator.h"
 
 class TestExtractionReview : public QObject
@@ -32,7 +33,7 @@ class TestExtractionReview : public QObject
   private:
     QgsVectorLayer *extractedLayer();
     QTemporaryDir mDir;
-    std::unique_ptr<GeoStationSession> mSession;
+    std::unique_ptr<GeoStationMultiviewSession> mSession;
     std::unique_ptr<GeoStationMeasurementStore> mStore;
 };
 
@@ -45,7 +46,7 @@ void TestExtractionReview::initTestCase()
   options.groundPixelSizeM = 1.0;
   options.outputDir = mDir.filePath( "pair" ).toStdString();
   geostation::simulateSurvey( options );
-  mSession = std::make_unique<GeoStationSession>();
+  mSession = std::make_unique<GeoStationMultiviewSession>();
   QString error;
   QVERIFY2( mSession->openBlock( mDir.filePath( "pair/block.geostation.json" ), &error ), qPrintable( error ) );
   mSession->setTargetGeoPackage( mDir.filePath( "measurements.gpkg" ) );

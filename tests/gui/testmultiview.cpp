@@ -31,6 +31,7 @@
 #include <qgsprocessingfeedback.h>
 
 #include "exportmeasurementsalgorithm.h"
+#include "featureclassmodel.h"
 #include "imageview.h"
 #include "measurementcontroller.h"
 #include "measurementstore.h"
@@ -91,7 +92,7 @@ class TestMultiview : public QObject
     QTemporaryDir mDir;
     QString mBlockPath;
     geostation::TruthTable mTruth;
-    std::unique_ptr<GeoStationSession> mSession;
+    std::unique_ptr<GeoStationMultiviewSession> mSession;
     std::unique_ptr<GeoStationMeasurementStore> mStore;
     std::unique_ptr<GeoStationMeasurementController> mController;
 };
@@ -116,7 +117,7 @@ void TestMultiview::init()
   mStore.reset();
   QgsProject::instance()->clear();
   QFile::remove( measurementsPath() );
-  mSession = std::make_unique<GeoStationSession>();
+  mSession = std::make_unique<GeoStationMultiviewSession>();
   QString error;
   QVERIFY2( mSession->openBlock( mBlockPath, &error ), qPrintable( error ) );
   mSession->setTargetGeoPackage( measurementsPath() );
@@ -203,7 +204,7 @@ void TestMultiview::navigationKeepsEachViewOnItsCamera()
   QCOMPARE( mSession->run().size(), 10 );
   QCOMPARE( mSession->viewCount(), 3 );
   QCOMPARE( mSession->viewImages(), QStringList( { "S0001_FL", "S0001_FR", "S0001_SR" } ) );
-  QSignalSpy changed( mSession.get(), &GeoStationSession::stationChanged );
+  QSignalSpy changed( mSession.get(), &GeoStationMultiviewSession::stationChanged );
   mSession->stepStation( 1 );
   QCOMPARE( mSession->viewImages(), QStringList( { "S0002_FL", "S0002_FR", "S0002_SR" } ) );
   mSession->stepStation( 10 );
@@ -236,7 +237,7 @@ void TestMultiview::sessionRoundTripsThroughTheProject()
 
   QgsProject reread;
   QVERIFY( reread.read( mDir.filePath( QStringLiteral( "session.qgz" ) ) ) );
-  GeoStationSession restored;
+  GeoStationMultiviewSession restored;
   QString error;
   QVERIFY( restored.readFromProject( &reread, &error ) );
   QVERIFY2( error.isEmpty(), qPrintable( error ) );
@@ -256,7 +257,7 @@ void TestMultiview::sessionRoundTripsThroughTheProject()
   QgsProject moved;
   mSession->writeToProject( &moved );
   moved.writeEntry( QStringLiteral( "GeoStation" ), QStringLiteral( "block" ), mDir.filePath( QStringLiteral( "gone.geostation.json" ) ) );
-  GeoStationSession orphan;
+  GeoStationMultiviewSession orphan;
   QVERIFY( orphan.readFromProject( &moved, &error ) );
   QVERIFY2( error.contains( QStringLiteral( "gone.geostation.json" ) ), qPrintable( error ) );
   QCOMPARE( orphan.featureClasses().size(), 2 );
@@ -276,9 +277,9 @@ void TestMultiview::featureClassesValidate()
   GeoStationFeatureClassModel model;
   model.setClasses( mSession->featureClasses() );
   QCOMPARE( model.rowCount(), 2 );
-  QCOMPARE( model.data( model.index( 0, GeoStationFeatureClassModel::Attributes ) ).toString(), QStringLiteral( "kind=pole" ) );
-  QVERIFY( model.setData( model.index( 1, GeoStationFeatureClassModel::Attributes ), QStringLiteral( "material=granite; height=0.15" ) ) );
-  QVERIFY( !model.setData( model.index( 1, GeoStationFeatureClassModel::Attributes ), QStringLiteral( "no equals sign" ) ) );
+  QCOMPARE( model.data( model.index( 0, static_cast<int>( GeoStationFeatureClassModel::Column::Attributes ) ) ).toString(), QStringLiteral( "kind=pole" ) );
+  QVERIFY( model.setData( model.index( 1, static_cast<int>( GeoStationFeatureClassModel::Column::Attributes ) ), QStringLiteral( "material=granite; height=0.15" ) ) );
+  QVERIFY( !model.setData( model.index( 1, static_cast<int>( GeoStationFeatureClassModel::Column::Attributes ) ), QStringLiteral( "no equals sign" ) ) );
   QCOMPARE( model.classes().at( 1 ).attributes.value( QStringLiteral( "height" ) ).toString(), QStringLiteral( "0.15" ) );
   const int row = model.addClass( GeoStationFeatureClass::Geometry::Polygon );
   QCOMPARE( model.classes().at( row ).name, QStringLiteral( "polygon_1" ) );
@@ -694,8 +695,8 @@ void TestMultiview::blockFileChangedOnDiskIsReadAgain()
   mSession->setCurrentStation( 3 );
   const QStringList images = mSession->viewImages();
   const Eigen::Vector3d centre = mSession->orientedImage( images.at( 0 ) )->exterior().projectionCentre;
-  QSignalSpy reloaded( mSession.get(), &GeoStationSession::blockReloaded );
-  QSignalSpy problems( mSession.get(), &GeoStationSession::blockFileProblem );
+  QSignalSpy reloaded( mSession.get(), &GeoStationMultiviewSession::blockReloaded );
+  QSignalSpy problems( mSession.get(), &GeoStationMultiviewSession::blockFileProblem );
 
   // a bundle adjustment writes the block again (atomically: a temporary file renamed into place), one image moved by 0.5 m
   geostation::Block block = geostation::Block::load( mBlockPath.toStdString() );
@@ -818,7 +819,7 @@ void TestMultiview::exportWritesShapefileAndDxfWithAttributesAndZ()
   const QgsPoint *p = qgsgeometry_cast<const QgsPoint *>( measuredGeometry.constGet() );
   QVERIFY( p );
 
-  std::unique_ptr<QgsProcessingAlgorithm> created( ExportMeasurementsAlgorithm().create() );
+  std::unique_ptr<QgsProcessingAlgorithm> created( GeoStationProcessing::ExportMeasurementsAlgorithm().create() );
   QgsProcessingAlgorithm &algorithm = *created;
   QgsProcessingContext context;
   QgsProcessingFeedback feedback;
@@ -905,7 +906,7 @@ void TestMultiview::overviewShowsRunStationsAndCones()
 {
   QgsMapCanvas canvas;
   canvas.resize( 600, 400 );
-  GeoStationOverview overview( mSession.get(), QgsProject::instance(), &canvas );
+  GeoStationOverviewLayers overview( mSession.get(), QgsProject::instance(), &canvas );
   overview.rebuild();
   QVERIFY( overview.stationsLayer() && overview.trajectoryLayer() && overview.conesLayer() );
   QCOMPARE( overview.stationsLayer()->featureCount(), 10L );
@@ -932,7 +933,7 @@ void TestMultiview::traceToolTracesStopsTakesBackAndWritesOneLine()
   window.addDockWidget( Qt::RightDockWidgetArea, dock );
   window.resize( 1400, 900 );
   window.show();
-  GeoStationOverview overview( mSession.get(), QgsProject::instance(), new QgsMapCanvas( &window ) );
+  GeoStationOverviewLayers overview( mSession.get(), QgsProject::instance(), new QgsMapCanvas( &window ) );
   connect( &trace, &GeoStationTraceController::lineChanged, &overview, [&]
   {
     QVector<QgsPoint> points;

@@ -1,7 +1,7 @@
 /***************************************************************************
   jsonnode.cpp - reading JSON with the path of every value, for messages
  ***************************************************************************/
-#include "io/jsonnode.h"
+#include "io/internal/jsonnode.h"
 
 #include <cmath>
 
