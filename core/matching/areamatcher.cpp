@@ -279,12 +279,13 @@ namespace geostation
         {
           // a line or an edge: least squares cannot fix the shift along it; the correlation peak stands, at its precision
           correlationOnly( "least-squares matching could not refine: " + why );
-          if ( result.lsm.message.empty() )
-            result.lsm.message = why;
+          result.lsm.status = LsmResult::Status::Flat;
+          result.lsm.message = why;
           return;
         }
         result.status = MatchStatus::Diverged;
         result.message = "least-squares matching failed from every start: " + why;
+        result.lsm.status = LsmResult::Status::Diverged;
         result.lsm.message = why;
         return;
       }
