@@ -8,8 +8,6 @@
 
 #include <qgsexception.h>
 #include <qgsgeometry.h>
-#include <qgsmapcanvas.h>
-#include <qgsmapmouseevent.h>
 #include <qgsvectordataprovider.h>
 #include <qgsvectorlayer.h>
 

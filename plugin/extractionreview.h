@@ -15,7 +15,6 @@
 #include <QObject>
 
 #include <qgsfeatureid.h>
-#include <qgsmaptool.h>
 
 class QgsVectorLayer;
 class GeoStationMeasurementStore;

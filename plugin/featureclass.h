@@ -9,7 +9,6 @@
 #ifndef GEOSTATIONFEATURECLASS_H
 #define GEOSTATIONFEATURECLASS_H
 
-#include <QAbstractTableModel>
 #include <QList>
 #include <QString>
 #include <QVariantMap>

@@ -9,7 +9,6 @@
 #include <qgslayertree.h>
 #include <qgslinestring.h>
 #include <qgsmapcanvas.h>
-#include <qgsmapmouseevent.h>
 #include <qgspolygon.h>
 #include <qgsproject.h>
 #include <qgsrasterdataprovider.h>

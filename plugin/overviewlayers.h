@@ -14,7 +14,6 @@
 #include <QObject>
 #include <QPointer>
 
-#include <qgsmaptool.h>
 #include <qgspoint.h>
 #include <qgspointxy.h>
 #include <qgsvectorlayer.h>
