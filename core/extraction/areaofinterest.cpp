@@ -2,6 +2,7 @@
   areaofinterest.cpp - sample lines across a rectangle
  ***************************************************************************/
 #include "extraction/areaofinterest.h"
+#include "geometry/rotation.h"
 
 #include <algorithm>
 #include <cmath>
@@ -18,8 +19,6 @@ namespace geostation
 
   namespace
   {
-    constexpr double kPi = 3.14159265358979323846;
-
     //! The best support for (line, offset) from the candidates of another line `gap` lines away.
     double support( const std::vector<AreaCandidate> &other, double offsetPx, int gap, double slopePerLine )
     {

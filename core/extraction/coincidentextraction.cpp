@@ -3,10 +3,11 @@
   verified in the partner
  ***************************************************************************/
 #include "extraction/coincidentextraction.h"
+#include "extraction/stopwatch.h"
+#include "geometry/rotation.h"
 
 #include "extraction/regionalextraction.h"
 
-#include <chrono>
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
@@ -28,9 +29,6 @@ namespace geostation
 
   namespace
   {
-    using Clock = std::chrono::steady_clock;
-    double since( Clock::time_point t ) { return std::chrono::duration<double>( Clock::now() - t ).count(); }
-
     double distanceToPolyline( const std::vector<Eigen::Vector2d> &line, const Eigen::Vector2d &p )
     {
       double best = std::numeric_limits<double>::infinity();
@@ -135,7 +133,7 @@ namespace geostation
     const CompilationSummary compiled = compileMaxLengthPolygons( matrix, symbols, false, 1 );
     const std::vector<DeadEnd> ends = openEnds( compiled.polygons );
     std::vector<bool> used( ends.size(), false );
-    const double cosLimit = std::cos( 25.0 * 3.14159265358979323846 / 180.0 );
+    const double cosLimit = std::cos( degToRad( 25.0 ) );
     int joins = 0;
     for ( size_t i = 0; i < ends.size(); ++i )
     {
@@ -269,7 +267,7 @@ namespace geostation
     for ( int round = 0; round < ( options.verify ? options.maxRounds : 1 ); ++round )
     {
       const int s = round % 2, t = 1 - s; // extract in s, verify in t
-      const Clock::time_point roundStart = Clock::now();
+      const Stopwatch roundStart;
       RoundReport report;
       report.round = round + 1;
       report.image = s == 0 ? "A" : "B";
@@ -295,9 +293,9 @@ namespace geostation
         summary.rounds.push_back( report );
         break;
       }
-      Clock::time_point t0 = Clock::now();
+      Stopwatch t0;
       const CompilationSummary compiled = compileMaxLengthPolygons( matrix[s], "S*+", true );
-      summary.compilationStage.seconds += since( t0 );
+      summary.compilationStage.seconds += t0.seconds();
       report.polygons = static_cast<int>( compiled.polygons.size() );
       const VerificationSummary verified = verifyPolygons( *grey[s], *grey[t], compiled.polygons, toOther[s], options.extraction.object, options.verification );
       summary.verificationStage.seconds += verified.seconds;
@@ -312,7 +310,7 @@ namespace geostation
         matrix[s].drawPolyline( part.inSource, ResultMatrix::kInternal );
       }
       continueFrom[t] = verified.continueFrom;
-      report.seconds = since( roundStart );
+      report.seconds = roundStart.seconds();
       summary.rounds.push_back( report );
       totalAccepted += verified.acceptedSourceLengthPx;
       if ( progress && !progress( ( round + 1.0 ) / options.maxRounds ) )
@@ -329,7 +327,7 @@ namespace geostation
     }
 
     // final processing: bridge small gaps and broken intersections, compile
-    const Clock::time_point t0 = Clock::now();
+    const Stopwatch t0;
     const std::string finalSymbols = options.verify ? "IE" : "S*+";
     const double widest = options.extraction.object.maxWidthPx;
     const double kiteLength = options.kiteLengthPx > 0.0 ? options.kiteLengthPx : std::max( 20.0, 2.0 * widest );
@@ -356,7 +354,7 @@ namespace geostation
     }
     CompilationSummary finalA = compileMaxLengthPolygons( matrix[0], finalSymbols, false );
     CompilationSummary finalB = compileMaxLengthPolygons( matrix[1], finalSymbols, false );
-    summary.compilationStage.seconds += since( t0 );
+    summary.compilationStage.seconds += t0.seconds();
     summary.linesA = std::move( finalA.polygons );
     summary.linesB = std::move( finalB.polygons );
     summary.intersectionsA = std::move( finalA.intersections );

@@ -2,8 +2,8 @@
   lineextractor.cpp - line extraction in one image
  ***************************************************************************/
 #include "extraction/lineextractor.h"
+#include "extraction/stopwatch.h"
 
-#include <chrono>
 #include <stdexcept>
 
 namespace geostation
@@ -23,9 +23,6 @@ namespace geostation
 
   namespace
   {
-    using Clock = std::chrono::steady_clock;
-    double since( Clock::time_point t ) { return std::chrono::duration<double>( Clock::now() - t ).count(); }
-
     struct Piece
     {
       std::vector<Eigen::Vector2d> pixels;
@@ -48,9 +45,9 @@ namespace geostation
       DeadEndKind stop = DeadEndKind::BreakOff;
       for ( int handover = 0; handover < options.maxHandovers; ++handover )
       {
-        Clock::time_point t = Clock::now();
+        Stopwatch t;
         const LemSummary lem = followLocally( grey, matrix, state, options.object, options.lem );
-        summary.lemStage.seconds += since( t );
+        summary.lemStage.seconds += t.seconds();
         summary.lemStage.linePx += polylineLength( lem.pixels );
         result.lemSteps += lem.steps;
         if ( lem.pixels.size() > 1 )
@@ -59,9 +56,9 @@ namespace geostation
         stop = lem.stop;
         if ( stop != DeadEndKind::BreakOff )
           break;
-        t = Clock::now();
+        t.restart();
         const RemSummary rem = followRegionally( grey, matrix, state, options.object, options.lem, options.rem );
-        summary.remStage.seconds += since( t );
+        summary.remStage.seconds += t.seconds();
         summary.remStage.linePx += polylineLength( rem.pixels );
         if ( rem.pixels.size() > 1 )
           result.pieces.push_back( { rem.pixels, ResultMatrix::kRegional } );
@@ -121,9 +118,9 @@ namespace geostation
           return summary;
         }
         const cv::Rect tile( tx * size, ty * size, std::min( size, grey.cols - tx * size ), std::min( size, grey.rows - ty * size ) );
-        Clock::time_point t = Clock::now();
+        Stopwatch t;
         const StartingPointSummary starts = findStartingPoints( grey, tile, options.object, options.start );
-        summary.startStage.seconds += since( t );
+        summary.startStage.seconds += t.seconds();
         summary.startStage.imagePixels += static_cast<long>( tile.area() );
         summary.startingPoints += static_cast<int>( starts.points.size() );
         for ( const LineState &start : starts.points )

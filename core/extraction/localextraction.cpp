@@ -2,6 +2,7 @@
   localextraction.cpp - LEM, the local extraction method
  ***************************************************************************/
 #include "extraction/localextraction.h"
+#include "geometry/rotation.h"
 
 #include <algorithm>
 #include <cmath>
@@ -9,11 +10,6 @@
 
 namespace geostation
 {
-
-  namespace
-  {
-    constexpr double kPi = 3.14159265358979323846;
-  }
 
   std::string deadEndKindName( DeadEndKind kind )
   {

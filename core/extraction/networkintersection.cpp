@@ -2,6 +2,7 @@
   networkintersection.cpp - the extracted network in 3-D
  ***************************************************************************/
 #include "extraction/networkintersection.h"
+#include "geometry/rotation.h"
 
 #include <cmath>
 #include <optional>
@@ -14,8 +15,6 @@ namespace geostation
 
   namespace
   {
-    constexpr double kPi = 3.14159265358979323846;
-
     //! Where segments p0-p1 and q0-q1 cross: the point and the sine of their angle.
     std::optional<std::pair<Eigen::Vector2d, double>> crossing( const Eigen::Vector2d &p0, const Eigen::Vector2d &p1, const Eigen::Vector2d &q0, const Eigen::Vector2d &q1 )
     {

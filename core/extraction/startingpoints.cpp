@@ -2,6 +2,7 @@
   startingpoints.cpp - starting points on sample rows and columns
  ***************************************************************************/
 #include "extraction/startingpoints.h"
+#include "geometry/rotation.h"
 
 #include <algorithm>
 #include <cmath>
@@ -12,8 +13,6 @@ namespace geostation
 
   namespace
   {
-    constexpr double kPi = 3.14159265358979323846;
-
     //! Mean grey (polarity applied) along a segment of `length` through `centre`, 2 px apart, and its standard deviation.
     std::pair<double, double> meanAlong( const cv::Mat &grey, const Eigen::Vector2d &centre, const Eigen::Vector2d &direction, double length, int polarity )
     {

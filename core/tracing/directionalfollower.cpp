@@ -2,6 +2,7 @@
   directionalfollower.cpp - directional-matrix line following (§6.3.1)
  ***************************************************************************/
 #include "tracing/directionalfollower.h"
+#include "geometry/rotation.h"
 
 #include <algorithm>
 #include <cmath>
@@ -16,8 +17,6 @@ namespace geostation
 {
   namespace
   {
-    constexpr double kPi = 3.14159265358979323846;
-
     double deviationDeg( const Eigen::Vector2d &offset, const Eigen::Vector2d &direction )
     {
       return std::acos( std::clamp( offset.normalized().dot( direction ), -1.0, 1.0 ) ) * 180.0 / kPi;

@@ -2,6 +2,7 @@
   leastsquaresfollower.cpp - least-squares line following (§6.3.2)
  ***************************************************************************/
 #include "tracing/leastsquaresfollower.h"
+#include "geometry/rotation.h"
 
 #include <cmath>
 #include <deque>
@@ -12,8 +13,6 @@ namespace geostation
 {
   namespace
   {
-    constexpr double kPi = 3.14159265358979323846;
-
     //! Pixel space seen as (across, step): rows are stepped for a steep line, columns otherwise.
     struct Frame
     {

@@ -2,6 +2,7 @@
   lineprofile.cpp - the road line across its direction
  ***************************************************************************/
 #include "tracing/lineprofile.h"
+#include "geometry/rotation.h"
 #include "tracing/linetrace.h"
 
 #include <algorithm>
@@ -15,8 +16,6 @@ namespace geostation
 {
   namespace
   {
-    constexpr double kPi = 3.14159265358979323846;
-
     //! Grey values at integer offsets -half..half across the line, averaged along it; NaN outside the image.
     std::vector<double> crossProfile( const cv::Mat &grey, const Eigen::Vector2d &centre, const Eigen::Vector2d &direction, int half, int alongSamples )
     {

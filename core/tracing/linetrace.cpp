@@ -2,6 +2,7 @@
   linetrace.cpp - names and directions shared by the road-line followers
  ***************************************************************************/
 #include "tracing/linetrace.h"
+#include "geometry/rotation.h"
 
 #include <algorithm>
 #include <cmath>
@@ -9,11 +10,6 @@
 
 namespace geostation
 {
-  namespace
-  {
-    constexpr double kPi = 3.14159265358979323846;
-  }
-
   std::string lineKindName( LineKind kind )
   {
     switch ( kind )

@@ -2,6 +2,7 @@
   polynomialfollower.cpp - polynomial edge fitting (§6.3.3)
  ***************************************************************************/
 #include "tracing/polynomialfollower.h"
+#include "geometry/rotation.h"
 
 #include <algorithm>
 #include <cmath>
@@ -16,8 +17,6 @@ namespace geostation
 {
   namespace
   {
-    constexpr double kPi = 3.14159265358979323846;
-
     struct Candidate
     {
       double u, v, width;

@@ -2,6 +2,7 @@
   stereolinematcher.cpp - a traced line found in the stereo partner, in 3-D
  ***************************************************************************/
 #include "tracing/stereolinematcher.h"
+#include "geometry/rotation.h"
 
 #include <cmath>
 
@@ -15,8 +16,6 @@ namespace geostation
 {
   namespace
   {
-    constexpr double kPi = 3.14159265358979323846;
-
     //! Grey values of a window sampled along (direction, its normal) around a centre; false outside.
     bool orientedWindow( const cv::Mat &grey, const Eigen::Vector2d &centre, const Eigen::Vector2d &direction, int along, int across, std::vector<double> &values )
     {
