@@ -66,6 +66,8 @@ namespace geostation
     const auto start = std::chrono::steady_clock::now();
     if ( imageA.empty() || imageB.empty() )
       throw std::invalid_argument( "both images of the pair are needed" );
+    if ( imageA.windowed() || imageB.windowed() )
+      throw std::invalid_argument( "road extraction needs the whole images, not windows of them" );
     if ( ( a == nullptr ) != ( b == nullptr ) )
       throw std::invalid_argument( "either both images of the pair are oriented or neither" );
     options.coincident.check();

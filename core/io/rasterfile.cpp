@@ -86,40 +86,70 @@ namespace geostation
     }
   }
 
+  namespace
+  {
+    std::unique_ptr<void, DatasetCloser> openRaster( const std::string &path )
+    {
+      GDALAllRegister();
+      CPLPushErrorHandler( CPLQuietErrorHandler );
+      std::unique_ptr<void, DatasetCloser> ds( GDALOpen( path.c_str(), GA_ReadOnly ) );
+      CPLPopErrorHandler();
+      if ( !ds )
+        throw std::invalid_argument( "cannot open the raster " + path );
+      return ds;
+    }
+
+    //! The pixels `window` (or all) of an open raster, georeferencing kept.
+    RasterImage readPixels( GDALDatasetH ds, const std::string &path, const std::optional<cv::Rect> &window )
+    {
+      const int bands = usedBands( ds, path );
+      const GDALDataType type = GDALGetRasterDataType( GDALGetRasterBand( ds, 1 ) );
+      if ( type != GDT_Byte && type != GDT_UInt16 )
+        throw std::invalid_argument( "the raster " + path + " is " + GDALGetDataTypeName( type ) + "; 8- and 16-bit unsigned images are supported" );
+      const cv::Rect all( 0, 0, GDALGetRasterXSize( ds ), GDALGetRasterYSize( ds ) );
+      const cv::Rect read = window.value_or( all );
+      if ( read.empty() || ( read & all ) != read )
+        throw std::invalid_argument( "the window asked of " + path + " does not lie in the raster" );
+      RasterImage image;
+      image.pixels = cv::Mat( read.height, read.width, CV_MAKETYPE( type == GDT_Byte ? CV_8U : CV_16U, bands ) );
+      std::vector<int> bandMap( bands );
+      for ( int b = 0; b < bands; ++b )
+        bandMap[b] = b + 1;
+      const int pixelBytes = static_cast<int>( image.pixels.elemSize() );
+      if ( GDALDatasetRasterIO( ds, GF_Read, read.x, read.y, read.width, read.height, image.pixels.data, read.width, read.height, type, bands, bandMap.data(),
+                                pixelBytes, static_cast<GSpacing>( image.pixels.step[0] ), static_cast<GSpacing>( image.pixels.elemSize1() ) ) != CE_None )
+        throw std::invalid_argument( "cannot read the raster " + path );
+      if ( GDALColorTableH table = paletteOf( ds ) )
+        image.pixels = expandPalette( image.pixels, table );
+      std::array<double, 6> gt;
+      if ( GDALGetGeoTransform( ds, gt.data() ) == CE_None )
+        image.geoTransform = gt;
+      if ( const char *wkt = GDALGetProjectionRef( ds ) )
+        image.crsWkt = wkt;
+      int hasNoData = 0;
+      const double noData = GDALGetRasterNoDataValue( GDALGetRasterBand( ds, 1 ), &hasNoData );
+      if ( hasNoData )
+        image.noData = noData;
+      return image;
+    }
+  }
+
   RasterImage readRaster( const std::string &path )
   {
-    GDALAllRegister();
-    CPLPushErrorHandler( CPLQuietErrorHandler );
-    std::unique_ptr<void, DatasetCloser> ds( GDALOpen( path.c_str(), GA_ReadOnly ) );
-    CPLPopErrorHandler();
-    if ( !ds )
-      throw std::invalid_argument( "cannot open the raster " + path );
-    const int bands = usedBands( ds.get(), path );
-    const GDALDataType type = GDALGetRasterDataType( GDALGetRasterBand( ds.get(), 1 ) );
-    if ( type != GDT_Byte && type != GDT_UInt16 )
-      throw std::invalid_argument( "the raster " + path + " is " + GDALGetDataTypeName( type ) + "; 8- and 16-bit unsigned images are supported" );
-    const int width = GDALGetRasterXSize( ds.get() ), height = GDALGetRasterYSize( ds.get() );
-    RasterImage image;
-    image.pixels = cv::Mat( height, width, CV_MAKETYPE( type == GDT_Byte ? CV_8U : CV_16U, bands ) );
-    std::vector<int> bandMap( bands );
-    for ( int b = 0; b < bands; ++b )
-      bandMap[b] = b + 1;
-    const int pixelBytes = static_cast<int>( image.pixels.elemSize() );
-    if ( GDALDatasetRasterIO( ds.get(), GF_Read, 0, 0, width, height, image.pixels.data, width, height, type, bands, bandMap.data(), pixelBytes,
-                              static_cast<GSpacing>( image.pixels.step[0] ), static_cast<GSpacing>( image.pixels.elemSize1() ) ) != CE_None )
-      throw std::invalid_argument( "cannot read the raster " + path );
-    if ( GDALColorTableH table = paletteOf( ds.get() ) )
-      image.pixels = expandPalette( image.pixels, table );
-    std::array<double, 6> gt;
-    if ( GDALGetGeoTransform( ds.get(), gt.data() ) == CE_None )
-      image.geoTransform = gt;
-    if ( const char *wkt = GDALGetProjectionRef( ds.get() ) )
-      image.crsWkt = wkt;
-    int hasNoData = 0;
-    const double noData = GDALGetRasterNoDataValue( GDALGetRasterBand( ds.get(), 1 ), &hasNoData );
-    if ( hasNoData )
-      image.noData = noData;
-    return image;
+    const auto ds = openRaster( path );
+    return readPixels( ds.get(), path, std::nullopt );
+  }
+
+  RasterImage readRasterWindow( const std::string &path, const cv::Rect &window )
+  {
+    const auto ds = openRaster( path );
+    return readPixels( ds.get(), path, window );
+  }
+
+  cv::Size rasterSize( const std::string &path )
+  {
+    const auto ds = openRaster( path );
+    return cv::Size( GDALGetRasterXSize( ds.get() ), GDALGetRasterYSize( ds.get() ) );
   }
 
   void writeGeoTiffLike( const std::string &path, const cv::Mat &pixels, const RasterImage &like )

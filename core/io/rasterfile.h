@@ -37,6 +37,16 @@ namespace geostation
   RasterImage readRaster( const std::string &path );
 
   /**
+   * The pixels `window` (raster pixels) of a raster, as readRaster() reads
+   * them all; the geotransform is the whole raster's. Throws like
+   * readRaster(), and if the window does not lie in the raster.
+   */
+  RasterImage readRasterWindow( const std::string &path, const cv::Rect &window );
+
+  //! The raster's size in pixels; throws std::invalid_argument naming the file if it cannot be opened.
+  cv::Size rasterSize( const std::string &path );
+
+  /**
    * Throws std::runtime_error naming the file; `like` supplies geotransform,
    * CRS and nodata (an empty RasterImage: pixel space). Images over 4 Mpx
    * get overviews (2-16), so QGIS draws them quickly. A "/vsimem/" path is

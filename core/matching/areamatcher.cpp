@@ -103,10 +103,11 @@ namespace geostation
     double windowContrast( const MatchImage &image, const Eigen::Vector2d &pixel, int width, int height )
     {
       const int c0 = static_cast<int>( std::floor( pixel.x() ) ) - width / 2, r0 = static_cast<int>( std::floor( pixel.y() ) ) - height / 2;
-      if ( c0 < 0 || r0 < 0 || c0 + width > image.width() || r0 + height > image.height() )
+      const cv::Rect window( c0, r0, width, height );
+      if ( !image.holds( window ) )
         return 0.0;
       cv::Scalar mean, sd;
-      cv::meanStdDev( image.value()( cv::Rect( c0, r0, width, height ) ), mean, sd );
+      cv::meanStdDev( image.valueIn( window ), mean, sd );
       return sd[0];
     }
 

@@ -39,20 +39,25 @@ namespace geostation
       if ( centreCol - hw < 0 || centreRow - hh < 0 || centreCol + hw >= reference.width() || centreRow + hh >= reference.height() )
         return false;
       const int blurRadius = options.referenceBlurPx > 0.0 ? static_cast<int>( std::ceil( 3.0 * options.referenceBlurPx ) ) : 0;
+      // the pixels read, the blur's reach included (clipped at the image's border, as the blur is)
+      const cv::Rect read = cv::Rect( centreCol - hw - blurRadius, centreRow - hh - blurRadius, 2 * ( hw + blurRadius ) + 1, 2 * ( hh + blurRadius ) + 1 )
+                            & cv::Rect( 0, 0, reference.width(), reference.height() );
+      if ( !reference.holds( read ) )
+        return false;
       std::vector<double> kernel( 2 * blurRadius + 1, 1.0 );
       for ( int i = -blurRadius; i <= blurRadius && blurRadius > 0; ++i )
         kernel[i + blurRadius] = std::exp( -0.5 * i * i / ( options.referenceBlurPx * options.referenceBlurPx ) );
       const auto referenceValue = [&]( int row, int col ) -> double
       {
         if ( blurRadius == 0 )
-          return reference.value().at<float>( row, col );
+          return reference.valueAt( col, row );
         double sum = 0.0, weights = 0.0;
         for ( int i = -blurRadius; i <= blurRadius; ++i )
           for ( int j = -blurRadius; j <= blurRadius; ++j )
             if ( row + i >= 0 && col + j >= 0 && row + i < reference.height() && col + j < reference.width() )
             {
               const double w = kernel[i + blurRadius] * kernel[j + blurRadius];
-              sum += w * reference.value().at<float>( row + i, col + j );
+              sum += w * reference.valueAt( col + j, row + i );
               weights += w;
             }
         return sum / weights;

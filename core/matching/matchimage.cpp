@@ -3,6 +3,7 @@
  ***************************************************************************/
 #include "matching/matchimage.h"
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 
@@ -12,6 +13,29 @@ namespace geostation
 {
 
   MatchImage::MatchImage( const cv::Mat &image )
+  {
+    prepare( image );
+    mImageSize = mGrey.size();
+    mOffered = cv::Rect( 0, 0, mImageSize.width, mImageSize.height );
+  }
+
+  MatchImage::MatchImage( const cv::Mat &window, const cv::Point &origin, const cv::Size &imageSize )
+  {
+    const cv::Rect held( origin, window.size() );
+    if ( window.empty() || ( held & cv::Rect( 0, 0, imageSize.width, imageSize.height ) ) != held )
+      throw std::invalid_argument( "the window does not lie in the image" );
+    prepare( window );
+    mOrigin = origin;
+    mImageSize = imageSize;
+    // the inner edges' margins are held, not offered; the image's own edges are offered as in a whole image
+    const int m = kWindowMarginPx;
+    const int left = held.x > 0 ? held.x + m : 0, top = held.y > 0 ? held.y + m : 0;
+    const int right = held.br().x < imageSize.width ? held.br().x - m : imageSize.width;
+    const int bottom = held.br().y < imageSize.height ? held.br().y - m : imageSize.height;
+    mOffered = cv::Rect( left, top, std::max( 0, right - left ), std::max( 0, bottom - top ) );
+  }
+
+  void MatchImage::prepare( const cv::Mat &image )
   {
     if ( image.empty() )
       throw std::invalid_argument( "the image is empty" );
@@ -93,7 +117,7 @@ namespace geostation
   {
     const auto at = [this]( double c, double r )
     {
-      const double x = c - 0.5, y = r - 0.5;
+      const double x = c - 0.5 - mOrigin.x, y = r - 0.5 - mOrigin.y;
       const int i = static_cast<int>( std::floor( x ) ), j = static_cast<int>( std::floor( y ) );
       const float fx = static_cast<float>( x - i ), fy = static_cast<float>( y - j );
       const float *top = mValue.ptr<float>( j ) + i, *bottom = mValue.ptr<float>( j + 1 ) + i;
@@ -108,7 +132,7 @@ namespace geostation
 
   float MatchImage::sampleCubic( double col, double row, float *dCol, float *dRow ) const
   {
-    const double x = col - 0.5, y = row - 0.5;
+    const double x = col - 0.5 - mOrigin.x, y = row - 0.5 - mOrigin.y;
     const int i = static_cast<int>( std::floor( x ) ), j = static_cast<int>( std::floor( y ) );
     float wx[4], dx[4], wy[4], dy[4];
     bspline( static_cast<float>( x - i ), wx, dx );

@@ -16,9 +16,9 @@ namespace geostation
     double edgeStrength( const MatchImage &image, const Eigen::Vector2d &pixel )
     {
       const int c = static_cast<int>( std::floor( pixel.x() ) ), r = static_cast<int>( std::floor( pixel.y() ) );
-      if ( c < 1 || r < 1 || c + 1 >= image.width() || r + 1 >= image.height() )
+      if ( c < 1 || r < 1 || c + 1 >= image.width() || r + 1 >= image.height() || !image.holds( cv::Rect( c - 1, r - 1, 3, 3 ) ) )
         return 0.0;
-      const auto g = [&]( int dr, int dc ) { return static_cast<double>( image.grey().at<uint8_t>( r + dr, c + dc ) ); };
+      const auto g = [&]( int dr, int dc ) { return static_cast<double>( *image.greyAt( c + dc, r + dr ) ); };
       const double gx = ( g( -1, 1 ) + 2 * g( 0, 1 ) + g( 1, 1 ) ) - ( g( -1, -1 ) + 2 * g( 0, -1 ) + g( 1, -1 ) );
       const double gy = ( g( 1, -1 ) + 2 * g( 1, 0 ) + g( 1, 1 ) ) - ( g( -1, -1 ) + 2 * g( -1, 0 ) + g( -1, 1 ) );
       return std::hypot( gx, gy );

@@ -69,14 +69,14 @@ namespace geostation
       return;
     }
     const int c0 = centreCol - width / 2, r0 = centreRow - height / 2;
-    if ( c0 < 0 || r0 < 0 || c0 + width > image.width() || r0 + height > image.height() )
+    if ( !image.holds( cv::Rect( c0, r0, width, height ) ) )
     {
       mReason = "the window leaves the reference image";
       return;
     }
     std::vector<int> values( static_cast<size_t>( width ) * height );
     for ( int r = 0; r < height; ++r )
-      std::copy( image.grey().ptr<uint8_t>( r0 + r ) + c0, image.grey().ptr<uint8_t>( r0 + r ) + c0 + width, values.begin() + static_cast<size_t>( r ) * width );
+      std::copy( image.greyAt( c0, r0 + r ), image.greyAt( c0, r0 + r ) + width, values.begin() + static_cast<size_t>( r ) * width );
     setValues( std::move( values ) );
   }
 
@@ -171,13 +171,14 @@ namespace geostation
   std::optional<double> CorrelationTemplate::score( const MatchImage &search, int centreCol, int centreRow ) const
   {
     const int c0 = centreCol - mWidth / 2, r0 = centreRow - mHeight / 2;
-    if ( !valid() || c0 < 0 || r0 < 0 || c0 + mWidth > search.width() || r0 + mHeight > search.height() )
+    if ( !valid() || !search.holds( cv::Rect( c0, r0, mWidth, mHeight ) ) )
       return std::nullopt;
     if ( mMeasure == SimilarityMeasure::CC || mMeasure == SimilarityMeasure::NCC )
     {
       // integer sums: exact; rows padded to 16 so the compiler vectorises them
       int64_t st = 0, s = 0, ss = 0;
-      if ( c0 + mPaddedWidth <= search.grey().cols )
+      // (the padded rows are read whole: they must lie in the pixels held)
+      if ( c0 - search.origin().x + mPaddedWidth <= search.grey().cols )
       {
 #ifdef __SSE2__
         // 16 pixels at a time: pmaddwd does eight multiply-adds into four 32-bit sums
@@ -191,7 +192,7 @@ namespace geostation
           const int16_t *t = mPadded.data() + c;
           for ( int r = 0; r < mHeight; ++r, t += mPaddedWidth )
           {
-            const __m128i v = _mm_loadu_si128( reinterpret_cast<const __m128i *>( search.grey().ptr<uint8_t>( r0 + r ) + c0 + c ) );
+            const __m128i v = _mm_loadu_si128( reinterpret_cast<const __m128i *>( search.greyAt( c0 + c, r0 + r ) ) );
             const __m128i lo = _mm_and_si128( _mm_unpacklo_epi8( v, zero ), maskLo ), hi = _mm_and_si128( _mm_unpackhi_epi8( v, zero ), maskHi );
             const __m128i tlo = _mm_loadu_si128( reinterpret_cast<const __m128i *>( t ) ), thi = _mm_loadu_si128( reinterpret_cast<const __m128i *>( t + 8 ) );
             accSt = _mm_add_epi32( accSt, _mm_add_epi32( _mm_madd_epi16( lo, tlo ), _mm_madd_epi16( hi, thi ) ) );
@@ -214,7 +215,7 @@ namespace geostation
         const int16_t *t = mPadded.data();
         for ( int r = 0; r < mHeight; ++r, t += mPaddedWidth )
         {
-          const uint8_t *row = search.grey().ptr<uint8_t>( r0 + r ) + c0;
+          const uint8_t *row = search.greyAt( c0, r0 + r );
           int32_t rowSt = 0, rowS = 0, rowSs = 0;
           for ( int c = 0; c < mPaddedWidth; ++c )
           {
@@ -239,7 +240,7 @@ namespace geostation
         const int *t = mValues.data();
         for ( int r = 0; r < mHeight; ++r, t += mWidth )
         {
-          const uint8_t *row = search.grey().ptr<uint8_t>( r0 + r ) + c0;
+          const uint8_t *row = search.greyAt( c0, r0 + r );
           for ( int c = 0; c < mWidth; ++c )
           {
             const int32_t v = row[c];
@@ -257,7 +258,7 @@ namespace geostation
     const double *w = mWeights.data();
     for ( int r = 0; r < mHeight; ++r, t += mWidth, w += mWidth )
     {
-      const uint8_t *row = search.grey().ptr<uint8_t>( r0 + r ) + c0;
+      const uint8_t *row = search.greyAt( c0, r0 + r );
       for ( int c = 0; c < mWidth; ++c )
       {
         const double v = row[c];
@@ -405,7 +406,8 @@ namespace geostation
       return scores;
     }
     // the centres whose windows lie in the image
-    const cv::Rect valid = centres & cv::Rect( halfW, halfH, grey.cols - mWidth + 1, grey.rows - mHeight + 1 );
+    const cv::Rect &offered = search.offered();
+    const cv::Rect valid = centres & cv::Rect( offered.x + halfW, offered.y + halfH, offered.width - mWidth + 1, offered.height - mHeight + 1 );
     if ( valid != centres )
       scores.setTo( std::numeric_limits<double>::quiet_NaN() ); // the centres without a whole window
     if ( valid.empty() )
@@ -413,11 +415,12 @@ namespace geostation
     // window sums from integral images of the pixels the windows cover
     const cv::Rect covered( valid.x - halfW, valid.y - halfH, valid.width + mWidth - 1, valid.height + mHeight - 1 );
     cv::Mat sum, sqsum;
-    cv::integral( grey( covered ), sum, sqsum, CV_32S, CV_64F );
+    const cv::Mat coveredGrey = grey( covered - search.origin() );
+    cv::integral( coveredGrey, sum, sqsum, CV_32S, CV_64F );
     // a 16-bit copy of the covered pixels, padded on the right for whole template rows
     cv::Mat area( covered.height, covered.width + mPaddedWidth - mWidth, CV_16S );
     area.colRange( covered.width, area.cols ).setTo( 0 );
-    grey( covered ).convertTo( area.colRange( 0, covered.width ), CV_16S );
+    coveredGrey.convertTo( area.colRange( 0, covered.width ), CV_16S );
     const size_t areaStep = area.step[0] / sizeof( int16_t );
     std::vector<int64_t> crossTerms( valid.width );
     const double n = static_cast<double>( mWidth ) * mHeight;

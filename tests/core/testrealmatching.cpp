@@ -173,3 +173,68 @@ TEST( RealMatching, PhotographsUnderKnownWarps )
     EXPECT_LE( s.wrongFraction(), 0.05 );
   }
 }
+
+TEST( RealMatching, WindowsOfTheImagesMatchLikeTheWholeImages )
+{
+  // an image too large to prepare whole is matched in windows of it (MatchImage( window, origin, size )): on the
+  // Graffiti pair every match from windows around the point agrees with the match in the whole images
+  const cv::Mat one = readRgb( "graf1.png" ), three = readRgb( "graf3.png" );
+  ASSERT_FALSE( one.empty() || three.empty() ) << kData << " (Debian package opencv-doc)";
+  cv::FileStorage storage( kData + "H1to3p.xml", cv::FileStorage::READ );
+  cv::Mat h;
+  storage["H13"] >> h;
+  const Eigen::Matrix3d truthMap = inOurPixels( h );
+  const MatchImage a( one ), b( three );
+  const auto windowOf = []( const cv::Mat &image, const Eigen::Vector2d &centre, int half )
+  {
+    const cv::Rect w = cv::Rect( static_cast<int>( centre.x() ) - half, static_cast<int>( centre.y() ) - half, 2 * half, 2 * half ) & cv::Rect( 0, 0, image.cols, image.rows );
+    return MatchImage( image( w ), w.tl(), image.size() );
+  };
+  std::vector<cv::Point2f> corners;
+  cv::goodFeaturesToTrack( a.grey(), corners, 200, 0.01, 10 );
+  int compared = 0, matched = 0;
+  double largest = 0.0;
+  for ( const cv::Point2f &corner : corners )
+  {
+    const Eigen::Vector2d p( corner.x + 0.5, corner.y + 0.5 );
+    const Eigen::Vector2d truth = ( truthMap * p.homogeneous() ).hnormalized();
+    if ( truth.x() < 0 || truth.y() < 0 || truth.x() > b.width() || truth.y() > b.height() )
+      continue;
+    const Eigen::Vector2d approximate = truth + Eigen::Vector2d( 1.3, -0.8 );
+    const AreaMatch whole = matchAroundPosition( a, p, b, approximate, 3.0, userOptions() );
+    const MatchImage aWindow = windowOf( one, p, 40 ), bWindow = windowOf( three, approximate, 48 );
+    ASSERT_TRUE( aWindow.windowed() );
+    const AreaMatch windowed = matchAroundPosition( aWindow, p, bWindow, approximate, 3.0, userOptions() );
+    ++compared;
+    EXPECT_EQ( windowed.status, whole.status ) << p.transpose() << ": " << windowed.message;
+    if ( whole.matched() && windowed.matched() )
+    {
+      ++matched;
+      largest = std::max( largest, ( windowed.pixelInImage - whole.pixelInImage ).norm() );
+      EXPECT_NEAR( windowed.score, whole.score, 1e-9 );
+    }
+  }
+  std::printf( "%d points compared, %d matched in both: largest difference %.2g px\n", compared, matched, largest );
+  EXPECT_GE( compared, 100 );
+  EXPECT_GE( matched, 60 );
+  EXPECT_LE( largest, 1e-3 );
+
+  // a window too small for the search says so, as the image's edge does
+  const Eigen::Vector2d p( 400.5, 300.5 );
+  const MatchImage tiny = windowOf( three, ( truthMap * p.homogeneous() ).hnormalized(), 12 );
+  const AreaMatch outside = matchAroundPosition( a, p, tiny, ( truthMap * p.homogeneous() ).hnormalized(), 3.0, userOptions() );
+  EXPECT_FALSE( outside.matched() );
+  EXPECT_FALSE( outside.message.empty() );
+  // sampling in the window is the whole image's, up to the prefilter's reach at the window's inner edges
+  const MatchImage window = windowOf( one, Eigen::Vector2d( 300, 200 ), 30 );
+  float worst = 0.0f;
+  for ( double row = window.offered().y + 1.5; row <= window.offered().br().y - 2.5; row += 0.37 )
+    for ( double col = window.offered().x + 1.5; col <= window.offered().br().x - 2.5; col += 0.41 )
+    {
+      ASSERT_TRUE( window.canSampleCubic( col, row ) );
+      worst = std::max( worst, std::abs( window.sampleCubic( col, row ) - a.sampleCubic( col, row ) ) );
+    }
+  EXPECT_LT( worst, 0.05f ) << "grey values";
+  EXPECT_FALSE( window.canSample( window.offered().x - 0.5, 200.0 ) );
+  EXPECT_THROW( MatchImage( one( cv::Rect( 0, 0, 10, 10 ) ), cv::Point( one.cols - 5, 0 ), one.size() ), std::invalid_argument );
+}
