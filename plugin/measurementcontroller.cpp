@@ -16,6 +16,7 @@
 #include "dem/monoplotter.h"
 #include "geometry/crs.h"
 #include "multiviewsession.h"
+#include "workstation/measurementwindows.h"
 
 GeoStationMeasurementController::GeoStationMeasurementController( GeoStationMultiviewSession *session, GeoStationMeasurementStore *store, QObject *parent )
   : QObject( parent )
@@ -97,9 +98,22 @@ void GeoStationMeasurementController::pick( int view, const QPointF &pixelInImag
   timer.start();
   resetViews();
   mReference = view;
+  // the correlation window's shape predicted from the surface the point lies on: the DEM layer, or the road plane
+  geostation::ProposalOptions options = mOptions;
+  QString demProblem;
+  const bool onDem = loadDem( &demProblem );
+  if ( onDem )
+    options.groundOfPixel = geostation::demGroundOfPixel( *mDem, *mBlockToDem );
+  else
+  {
+    const double roadZ = mSession->orientedImage( referenceId )->exterior().projectionCentre.z() - mSession->cameraHeightAboveRoadM();
+    options.groundOfPixel = [roadZ]( const geostation::OrientedImage & image, const Eigen::Vector2d & pixel ) { return geostation::roadPlanePoint( image, pixel, roadZ ); };
+  }
   std::vector<std::shared_ptr<const geostation::MatchImage>> pixels( mViews.size() );
   std::vector<geostation::MeasurementView> views( mViews.size() );
+  std::vector<geostation::MatchImageCache::Entry> entries( mViews.size() );
   QVector<QString> unreadable( mViews.size() ); // why a view's image cannot be read (deleted, moved, corrupt), empty if it can
+  bool windowsNeeded = false;
   for ( int i = 0; i < mViews.size(); ++i )
   {
     views[i].imageId = mViews[i].imageId.toStdString();
@@ -107,10 +121,29 @@ void GeoStationMeasurementController::pick( int view, const QPointF &pixelInImag
     const QString path = mSession->imagePath( mViews[i].imageId );
     if ( !path.isEmpty() )
     {
-      const geostation::MatchImageCache::Entry entry = mCache->get( path.toStdString() );
-      pixels[i] = entry.image;
-      unreadable[i] = QString::fromStdString( entry.error );
+      entries[i] = mCache->get( path.toStdString() );
+      unreadable[i] = QString::fromStdString( entries[i].error );
+      windowsNeeded = windowsNeeded || entries[i].needsWindow;
     }
+  }
+  // images too large to prepare whole: the windows this click's matching reads
+  if ( windowsNeeded )
+  {
+    std::vector<cv::Size> sizes( mViews.size() );
+    for ( int i = 0; i < mViews.size(); ++i )
+      sizes[i] = entries[i].imageSize;
+    const geostation::MeasurementWindowSummary windows = geostation::measurementWindows( views, sizes, view, Eigen::Vector2d( pixelInImage.x(), pixelInImage.y() ),
+        options, mCache->maxWholePixels() );
+    for ( int i = 0; i < mViews.size(); ++i )
+      if ( entries[i].needsWindow && windows.windows[i] )
+        entries[i] = mCache->get( mSession->imagePath( mViews[i].imageId ).toStdString(), *windows.windows[i] );
+    if ( !windows.cut.empty() )
+      emit message( tr( "The image of view %1 is too large to search along the whole epipolar line: searched around the point on the %2 only." )
+                    .arg( windows.cut.front() + 1 ).arg( onDem ? tr( "DEM" ) : tr( "road plane" ) ), false );
+  }
+  for ( int i = 0; i < mViews.size(); ++i )
+  {
+    pixels[i] = entries[i].image;
     views[i].pixels = pixels[i].get();
   }
   for ( int i = 0; i < mViews.size(); ++i )
@@ -120,16 +153,6 @@ void GeoStationMeasurementController::pick( int view, const QPointF &pixelInImag
                     .arg( i + 1 ).arg( mViews[i].imageId, i == view ? tr( "from it" ) : tr( "in it" ), unreadable[i] ), true );
       break;
     }
-  // the correlation window's shape predicted from the surface the point lies on: the DEM layer, or the road plane
-  geostation::ProposalOptions options = mOptions;
-  QString demProblem;
-  if ( loadDem( &demProblem ) )
-    options.groundOfPixel = geostation::demGroundOfPixel( *mDem, *mBlockToDem );
-  else
-  {
-    const double roadZ = mSession->orientedImage( referenceId )->exterior().projectionCentre.z() - mSession->cameraHeightAboveRoadM();
-    options.groundOfPixel = [roadZ]( const geostation::OrientedImage & image, const Eigen::Vector2d & pixel ) { return geostation::roadPlanePoint( image, pixel, roadZ ); };
-  }
   const std::vector<geostation::ConjugateProposal> proposals = geostation::proposeConjugates( views, view, Eigen::Vector2d( pixelInImage.x(), pixelInImage.y() ), options );
   for ( int i = 0; i < mViews.size(); ++i )
   {

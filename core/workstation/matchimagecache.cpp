@@ -12,10 +12,13 @@
 namespace geostation
 {
 
-  MatchImageCache::MatchImageCache( size_t capacity, size_t maxBytes )
+  MatchImageCache::MatchImageCache( size_t capacity, size_t maxBytes, long long maxWholePixels )
     : mCapacity( std::max<size_t>( 1, capacity ) )
     , mMaxBytes( maxBytes )
+    , mMaxWholePixels( maxWholePixels )
   {
+    if ( maxWholePixels < 1 )
+      throw std::invalid_argument( "MatchImageCache: the largest image prepared whole must have at least one pixel" );
   }
 
   size_t MatchImageCache::bytes() const
@@ -40,16 +43,69 @@ namespace geostation
 
   MatchImageCache::Entry MatchImageCache::get( const std::string &path )
   {
+    return fetch( path, std::nullopt );
+  }
+
+  MatchImageCache::Entry MatchImageCache::get( const std::string &path, const cv::Rect &window )
+  {
+    if ( static_cast<long long>( window.width ) * window.height > mMaxWholePixels )
+      throw std::invalid_argument( "a window of " + std::to_string( window.width ) + " x " + std::to_string( window.height ) + " pixels is larger than the " +
+                                   std::to_string( mMaxWholePixels ) + " pixels prepared at once" );
+    return fetch( path, window );
+  }
+
+  MatchImageCache::Entry MatchImageCache::read( const std::string &path, const std::optional<cv::Rect> &window ) const
+  {
+    Entry entry;
+    try
+    {
+      entry.imageSize = rasterSize( path );
+      const cv::Rect whole( 0, 0, entry.imageSize.width, entry.imageSize.height );
+      if ( static_cast<long long>( whole.width ) * whole.height <= mMaxWholePixels )
+        entry.image = std::make_shared<const MatchImage>( readRaster( path ).pixels );
+      else if ( const cv::Rect asked = window ? *window & whole : cv::Rect(); !asked.empty() )
+      {
+        // the margin MatchImage holds but does not offer, around the pixels asked for
+        const int m = MatchImage::kWindowMarginPx;
+        const cv::Rect held = cv::Rect( asked.x - m, asked.y - m, asked.width + 2 * m, asked.height + 2 * m ) & whole;
+        entry.image = std::make_shared<const MatchImage>( readRasterWindow( path, held ).pixels, held.tl(), entry.imageSize );
+        entry.needsWindow = true;
+      }
+      else
+        entry.needsWindow = true;
+    }
+    catch ( const std::exception &e )
+    {
+      entry = Entry();
+      entry.error = e.what();
+    }
+    return entry;
+  }
+
+  MatchImageCache::Entry MatchImageCache::fetch( const std::string &path, const std::optional<cv::Rect> &window )
+  {
     {
       std::unique_lock<std::mutex> lock( mMutex );
       mLoaded.wait( lock, [&] { return mLoading.count( path ) == 0; } );
       auto it = mEntries.find( path );
-      if ( it != mEntries.end() && !it->second.image && mErrorStamps[path] != fileStamp( path ) )
+      if ( it != mEntries.end() && !it->second.error.empty() && mErrorStamps[path] != fileStamp( path ) )
       {
         // the file was put back or rewritten since it failed: read it again
         mEntries.erase( it ); // (an error holds no bytes)
         mOrder.remove( path );
         it = mEntries.end();
+      }
+      // an image read in windows: the window kept serves if it holds the pixels asked for (or none are asked for)
+      if ( it != mEntries.end() && it->second.needsWindow && window )
+      {
+        const cv::Rect asked = *window & cv::Rect( 0, 0, it->second.imageSize.width, it->second.imageSize.height );
+        if ( !it->second.image || !it->second.image->holds( asked ) )
+        {
+          mBytes -= it->second.image ? it->second.image->bytes() : 0;
+          mEntries.erase( it );
+          mOrder.remove( path );
+          it = mEntries.end();
+        }
       }
       if ( it != mEntries.end() )
       {
@@ -59,22 +115,14 @@ namespace geostation
       }
       mLoading.insert( path );
     }
-    Entry entry;
     const std::string stamp = fileStamp( path );
-    try
-    {
-      entry.image = std::make_shared<const MatchImage>( readRaster( path ).pixels );
-    }
-    catch ( const std::exception &e )
-    {
-      entry.error = e.what();
-    }
+    const Entry entry = read( path, window );
     {
       std::lock_guard<std::mutex> lock( mMutex );
       mLoading.erase( path );
       mEntries[path] = entry;
       mBytes += entry.image ? entry.image->bytes() : 0;
-      if ( entry.image )
+      if ( entry.error.empty() )
         mErrorStamps.erase( path );
       else
         mErrorStamps[path] = stamp;

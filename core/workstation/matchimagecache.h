@@ -8,6 +8,13 @@
   recent image always kept: 1 GiB by default, about 55 full-HD frames, or
   the last image alone when it is larger). Safe to use from several
   threads: a second request for an image being loaded waits for the first.
+
+  An image over `maxWholePixels` (64 Mpx by default: 576 MB prepared) is
+  never prepared whole: get() only reads its size and says it needs a
+  window, and get( path, window ) prepares that window (and a margin) of
+  it, keeping the last window of each such image. A 20 000 x 20 000 image
+  then costs the windows a measurement reads (measurementWindows()), not
+  3.6 GB.
  ***************************************************************************/
 #ifndef GEOSTATION_WORKSTATION_MATCHIMAGECACHE_H
 #define GEOSTATION_WORKSTATION_MATCHIMAGECACHE_H
@@ -18,6 +25,7 @@
 #include <memory>
 #include <mutex>
 #include <set>
+#include <optional>
 #include <string>
 
 #include "matching/matchimage.h"
@@ -29,15 +37,17 @@ namespace geostation
   {
     public:
       //! At most `capacity` images and, beyond the most recent one, `maxBytes` of prepared pixels (MatchImage::bytes()).
-      explicit MatchImageCache( size_t capacity = 18, size_t maxBytes = size_t( 1 ) << 30 );
+      explicit MatchImageCache( size_t capacity = 18, size_t maxBytes = size_t( 1 ) << 30, long long maxWholePixels = 64'000'000 );
 
       //! Bytes of prepared pixels held now.
       size_t bytes() const;
 
       struct Entry
       {
-        std::shared_ptr<const MatchImage> image; //!< nullptr when it cannot be read
+        std::shared_ptr<const MatchImage> image; //!< nullptr when it cannot be read, or when a window is needed
         std::string error;                       //!< one sentence when it cannot be read
+        cv::Size imageSize { 0, 0 };             //!< the whole image's (pixels), when it could be opened
+        bool needsWindow = false;                //!< too large to prepare whole: ask for a window of it
       };
 
       /**
@@ -47,14 +57,28 @@ namespace geostation
        */
       Entry get( const std::string &path );
 
+      /**
+       * The same; for an image too large to prepare whole, a window holding
+       * the pixels `window` (image pixels, clipped to the image): the one
+       * kept if it holds them, else read now. Throws std::invalid_argument
+       * for a window over maxWholePixels.
+       */
+      Entry get( const std::string &path, const cv::Rect &window );
+
       //! Whether the file is prepared already (no reading).
       bool contains( const std::string &path ) const;
 
       void clear();
 
+      long long maxWholePixels() const { return mMaxWholePixels; }
+
     private:
+      Entry fetch( const std::string &path, const std::optional<cv::Rect> &window );
+      Entry read( const std::string &path, const std::optional<cv::Rect> &window ) const;
+
       size_t mCapacity;
       size_t mMaxBytes;
+      long long mMaxWholePixels;
       size_t mBytes = 0;
       mutable std::mutex mMutex;
       std::condition_variable mLoaded;

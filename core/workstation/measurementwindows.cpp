@@ -1,0 +1,132 @@
+/***************************************************************************
+  measurementwindows.cpp
+ ***************************************************************************/
+#include "workstation/measurementwindows.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+
+#include "geometry/epipolar.h"
+
+namespace geostation
+{
+  namespace
+  {
+    //! Pixels around a position that matching reads: the largest window, stretched as far as the predicted shape may, and least squares' movement.
+    int reachPx( const AreaMatchOptions &area )
+    {
+      const int side = std::max( { area.windowWidth, area.windowHeight, area.lsmOptions.windowWidth, area.lsmOptions.windowHeight } );
+      return static_cast<int>( std::ceil( std::max( 1.0, area.maxAffineScale ) * side ) ) + 8;
+    }
+
+    cv::Rect around( const Eigen::Vector2d &lo, const Eigen::Vector2d &hi, int reach, const cv::Size &size )
+    {
+      const int x0 = static_cast<int>( std::floor( lo.x() ) ) - reach, y0 = static_cast<int>( std::floor( lo.y() ) ) - reach;
+      const int x1 = static_cast<int>( std::ceil( hi.x() ) ) + reach, y1 = static_cast<int>( std::ceil( hi.y() ) ) + reach;
+      return cv::Rect( x0, y0, x1 - x0, y1 - y0 ) & cv::Rect( 0, 0, size.width, size.height );
+    }
+
+    long long area( const cv::Rect &r ) { return static_cast<long long>( r.width ) * r.height; }
+
+    /**
+     * The window around the curve's vertices [first, last]; grown vertex by
+     * vertex from `centre` while it stays within maxPixels.
+     */
+    cv::Rect windowAlong( const std::vector<Eigen::Vector2d> &curve, size_t centre, int reach, const cv::Size &size, long long maxPixels, bool &cut )
+    {
+      Eigen::Vector2d lo = curve[centre], hi = curve[centre];
+      cv::Rect window = around( lo, hi, reach, size );
+      size_t first = centre, last = centre;
+      cut = false;
+      while ( first > 0 || last + 1 < curve.size() )
+      {
+        bool grown = false;
+        for ( const bool down : { true, false } )
+        {
+          if ( down ? first == 0 : last + 1 == curve.size() )
+            continue;
+          const Eigen::Vector2d &p = curve[down ? first - 1 : last + 1];
+          const Eigen::Vector2d newLo = lo.cwiseMin( p ), newHi = hi.cwiseMax( p );
+          const cv::Rect grownWindow = around( newLo, newHi, reach, size );
+          if ( area( grownWindow ) > maxPixels )
+            continue;
+          lo = newLo;
+          hi = newHi;
+          window = grownWindow;
+          if ( down )
+            --first;
+          else
+            ++last;
+          grown = true;
+        }
+        if ( !grown )
+        {
+          cut = true;
+          break;
+        }
+      }
+      return window;
+    }
+  }
+
+  MeasurementWindowSummary measurementWindows( const std::vector<MeasurementView> &views, const std::vector<cv::Size> &imageSizes, size_t reference,
+      const Eigen::Vector2d &pixelInReference, const ProposalOptions &options, long long maxPixels )
+  {
+    if ( reference >= views.size() || !views[reference].image )
+      throw std::invalid_argument( "measurementWindows: the reference view must exist and be oriented" );
+    if ( imageSizes.size() != views.size() )
+      throw std::invalid_argument( "measurementWindows: one image size per view is needed" );
+    if ( maxPixels < 1 )
+      throw std::invalid_argument( "measurementWindows: a window must be allowed at least one pixel" );
+    const int reach = reachPx( options.area );
+    MeasurementWindowSummary summary;
+    summary.windows.resize( views.size() );
+    const cv::Rect referenceWindow = around( pixelInReference, pixelInReference, reach, imageSizes[reference] );
+    if ( !referenceWindow.empty() )
+      summary.windows[reference] = referenceWindow;
+    // the point predicted on the surface, where the windows are centred when they must be cut
+    std::optional<Eigen::Vector3d> predicted;
+    if ( options.groundOfPixel )
+      predicted = options.groundOfPixel( *views[reference].image, pixelInReference );
+    for ( size_t i = 0; i < views.size(); ++i )
+    {
+      if ( i == reference || !views[i].image )
+        continue;
+      const EpipolarCurve curve = epipolarCurve( *views[reference].image, pixelInReference, *views[i].image, options.epipolar );
+      // the curve within the frame and the band searched beside it
+      std::vector<Eigen::Vector2d> inFrame;
+      for ( const auto &piece : curve.pieces )
+        for ( const EpipolarVertex &v : piece )
+          if ( v.inFrame )
+            inFrame.push_back( v.pixelInImage );
+      if ( inFrame.empty() )
+        continue;
+      size_t centre = inFrame.size() / 2;
+      if ( predicted )
+      {
+        const GroundProjection p = views[i].image->projectGroundToPixel( *predicted );
+        if ( p.ok() )
+        {
+          double nearest = std::numeric_limits<double>::infinity();
+          for ( size_t k = 0; k < inFrame.size(); ++k )
+            if ( const double d = ( inFrame[k] - p.pixelInImage ).squaredNorm(); d < nearest )
+            {
+              nearest = d;
+              centre = k;
+            }
+        }
+      }
+      bool cut = false;
+      const cv::Rect window = windowAlong( inFrame, centre, reach + std::max( 0, options.area.bandHalfWidthPx ), imageSizes[i], maxPixels, cut );
+      if ( window.empty() )
+        continue;
+      summary.windows[i] = window;
+      if ( cut )
+        summary.cut.push_back( i );
+    }
+    return summary;
+  }
+
+} // namespace geostation
