@@ -11,6 +11,7 @@
 
 #include <optional>
 
+#include <functional>
 #include <map>
 
 #include <qgsexception.h>
@@ -23,8 +24,9 @@
 #include "dem/demintersection.h"
 #include "geometry/epipolar.h"
 #include "geometry/windowshape.h"
-#include "io/rasterfile.h"
 #include "matching/areamatcher.h"
+#include "workstation/matchimagecache.h"
+#include "workstation/measurementwindows.h"
 #include "processingblock.h"
 #include "processingtables.h"
 
@@ -145,25 +147,20 @@ QVariantMap MatchPointsAlgorithm::processGeoStation( const QVariantMap &paramete
   for ( const QString &id : targetIds )
     GeoStationProcessing::blockImage( block, id ); // unknown ids fail here, before any output
 
-  // images are decoded once; a failure is remembered as the reason for every point that needs the image
-  std::map<std::string, std::unique_ptr<geostation::MatchImage>> images;
+  // images are prepared once and kept within the cache's budget (the last 18, 1 GiB); a failure is remembered as the
+  // reason for every point that needs the image. An image too large to prepare whole is read in the window a match needs.
+  geostation::MatchImageCache cache;
   std::map<std::string, std::string> unreadable;
-  const auto imageFor = [&]( const geostation::BlockImage &image ) -> const geostation::MatchImage *
+  const auto imageFor = [&]( const geostation::BlockImage &image, const std::function<cv::Rect( const cv::Size & )> &window ) -> std::shared_ptr<const geostation::MatchImage>
   {
-    if ( images.count( image.id ) )
-      return images[image.id].get();
-    if ( unreadable.count( image.id ) )
-      return nullptr;
-    try
-    {
-      images[image.id] = std::make_unique<geostation::MatchImage>( geostation::readRaster( block.imageFilePath( image ).string() ).pixels );
-      return images[image.id].get();
-    }
-    catch ( const std::exception &e )
-    {
-      unreadable[image.id] = e.what();
-      return nullptr;
-    }
+    const std::string path = block.imageFilePath( image ).string();
+    geostation::MatchImageCache::Entry entry = cache.get( path );
+    if ( entry.needsWindow )
+      if ( const cv::Rect pixels = window( entry.imageSize ); !pixels.empty() )
+        entry = cache.get( path, pixels );
+    if ( !entry.error.empty() )
+      unreadable[image.id] = entry.error;
+    return entry.image;
   };
 
   QgsFields fields;
@@ -206,24 +203,45 @@ QVariantMap MatchPointsAlgorithm::processGeoStation( const QVariantMap &paramete
       for ( const geostation::BlockImage &other : block.images )
         if ( other.id != reference.id && !reference.stationId.empty() && other.stationId == reference.stationId )
           targets << QString::fromStdString( other.id );
-    const geostation::MatchImage *from = imageFor( reference );
+    const std::shared_ptr<const geostation::MatchImage> from = imageFor( reference, [&]( const cv::Size & size ) { return geostation::matchingWindowAround( r.pixel, 0.0, options, size ); } );
     for ( const QString &targetId : targets )
     {
       if ( targetId == r.imageId )
         continue;
       const geostation::BlockImage &target = GeoStationProcessing::blockImage( block, targetId );
-      const geostation::MatchImage *to = imageFor( target );
-      geostation::AreaMatch m;
-      m.status = geostation::MatchStatus::Outside;
-      if ( !from || !to )
-        m.message = "the image " + ( from ? target.id : reference.id ) + " cannot be read: " + unreadable[from ? target.id : reference.id];
-      else if ( reference.exterior && target.exterior )
-      {
-        const geostation::OrientedImage referenceImage = block.orientedImage( reference ), targetImage = block.orientedImage( target );
-        std::vector<Eigen::Vector2d> curve;
-        for ( const auto &piece : geostation::epipolarCurve( referenceImage, r.pixel, targetImage, epipolar ).pieces )
+      const bool oriented = reference.exterior && target.exterior;
+      std::vector<Eigen::Vector2d> curve;
+      if ( oriented )
+        for ( const auto &piece : geostation::epipolarCurve( block.orientedImage( reference ), r.pixel, block.orientedImage( target ), epipolar ).pieces )
           for ( const geostation::EpipolarVertex &v : piece )
             curve.push_back( v.pixelInImage );
+      std::optional<Eigen::Vector2d> approximate;
+      if ( !oriented && approxCol >= 0 && approxRow >= 0 )
+      {
+        bool okCol = false, okRow = false;
+        const double col = r.extra.value( approxCol ).toString().toDouble( &okCol ), row = r.extra.value( approxRow ).toString().toDouble( &okRow );
+        if ( okCol && okRow )
+          approximate = Eigen::Vector2d( col, row );
+      }
+      const std::shared_ptr<const geostation::MatchImage> to = imageFor( target, [&]( const cv::Size & size )
+      {
+        return oriented ? geostation::matchingWindowAlong( curve, options, size, cache.maxWholePixels() )
+        : approximate ? geostation::matchingWindowAround( *approximate, searchRadius, options, size ) : cv::Rect();
+      } );
+      geostation::AreaMatch m;
+      m.status = geostation::MatchStatus::Outside;
+      const std::string unreadableId = unreadable.count( reference.id ) ? reference.id : unreadable.count( target.id ) ? target.id : std::string();
+      if ( ( !from || !to ) && !unreadableId.empty() )
+        m.message = "the image " + unreadableId + " cannot be read: " + unreadable[unreadableId];
+      else if ( !from )
+        m.message = "the point lies outside its image";
+      else if ( oriented && !to )
+        m.message = "the epipolar curve does not cross the image";
+      else if ( approximate && !to )
+        m.message = "the approximate position lies outside the image";
+      else if ( oriented )
+      {
+        const geostation::OrientedImage referenceImage = block.orientedImage( reference ), targetImage = block.orientedImage( target );
         geostation::AreaMatchOptions pointOptions = options;
         if ( terrain )
           if ( const std::optional<geostation::PredictedWindow> w = geostation::predictWindowShape( referenceImage, r.pixel, targetImage, terrain,
@@ -231,15 +249,10 @@ QVariantMap MatchPointsAlgorithm::processGeoStation( const QVariantMap &paramete
             pointOptions.predictedShape = w->searchFromReference;
         m = geostation::matchAlongEpipolarBand( *from, r.pixel, *to, curve, pointOptions );
       }
+      else if ( approximate )
+        m = geostation::matchAroundPosition( *from, r.pixel, *to, *approximate, searchRadius, options );
       else if ( approxCol >= 0 && approxRow >= 0 )
-      {
-        bool okCol = false, okRow = false;
-        const double col = r.extra.value( approxCol ).toString().toDouble( &okCol ), row = r.extra.value( approxRow ).toString().toDouble( &okRow );
-        if ( okCol && okRow )
-          m = geostation::matchAroundPosition( *from, r.pixel, *to, Eigen::Vector2d( col, row ), searchRadius, options );
-        else
-          m.message = "approx_col and approx_row are not numbers";
-      }
+        m.message = "approx_col and approx_row are not numbers";
       else
         m.message = "the images are not both oriented and the table has no approx_col, approx_row";
       const QString status = QString::fromStdString( geostation::matchStatusName( m.status ) ), reason = QString::fromStdString( m.message );

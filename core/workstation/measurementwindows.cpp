@@ -71,6 +71,41 @@ namespace geostation
     }
   }
 
+  cv::Rect matchingWindowAround( const Eigen::Vector2d &pixelInImage, double radiusPx, const AreaMatchOptions &area, const cv::Size &imageSize )
+  {
+    return around( pixelInImage, pixelInImage, reachPx( area ) + static_cast<int>( std::ceil( std::max( 0.0, radiusPx ) ) ), imageSize );
+  }
+
+  cv::Rect matchingWindowAlong( const std::vector<Eigen::Vector2d> &curve, const AreaMatchOptions &area, const cv::Size &imageSize, long long maxPixels,
+                                const std::optional<Eigen::Vector2d> &centre, bool *cut )
+  {
+    if ( cut )
+      *cut = false;
+    const cv::Rect image( 0, 0, imageSize.width, imageSize.height );
+    std::vector<Eigen::Vector2d> inImage;
+    for ( const Eigen::Vector2d &p : curve )
+      if ( p.allFinite() && image.contains( cv::Point( static_cast<int>( std::floor( p.x() ) ), static_cast<int>( std::floor( p.y() ) ) ) ) )
+        inImage.push_back( p );
+    if ( inImage.empty() )
+      return cv::Rect();
+    size_t middle = inImage.size() / 2;
+    if ( centre )
+    {
+      double nearest = std::numeric_limits<double>::infinity();
+      for ( size_t k = 0; k < inImage.size(); ++k )
+        if ( const double d = ( inImage[k] - *centre ).squaredNorm(); d < nearest )
+        {
+          nearest = d;
+          middle = k;
+        }
+    }
+    bool wasCut = false;
+    const cv::Rect window = windowAlong( inImage, middle, reachPx( area ) + std::max( 0, area.bandHalfWidthPx ), imageSize, maxPixels, wasCut );
+    if ( cut )
+      *cut = wasCut;
+    return window;
+  }
+
   MeasurementWindowSummary measurementWindows( const std::vector<MeasurementView> &views, const std::vector<cv::Size> &imageSizes, size_t reference,
       const Eigen::Vector2d &pixelInReference, const ProposalOptions &options, long long maxPixels )
   {
@@ -80,10 +115,9 @@ namespace geostation
       throw std::invalid_argument( "measurementWindows: one image size per view is needed" );
     if ( maxPixels < 1 )
       throw std::invalid_argument( "measurementWindows: a window must be allowed at least one pixel" );
-    const int reach = reachPx( options.area );
     MeasurementWindowSummary summary;
     summary.windows.resize( views.size() );
-    const cv::Rect referenceWindow = around( pixelInReference, pixelInReference, reach, imageSizes[reference] );
+    const cv::Rect referenceWindow = matchingWindowAround( pixelInReference, 0.0, options.area, imageSizes[reference] );
     if ( !referenceWindow.empty() )
       summary.windows[reference] = referenceWindow;
     // the point predicted on the surface, where the windows are centred when they must be cut
@@ -101,25 +135,12 @@ namespace geostation
         for ( const EpipolarVertex &v : piece )
           if ( v.inFrame )
             inFrame.push_back( v.pixelInImage );
-      if ( inFrame.empty() )
-        continue;
-      size_t centre = inFrame.size() / 2;
+      std::optional<Eigen::Vector2d> centre;
       if ( predicted )
-      {
-        const GroundProjection p = views[i].image->projectGroundToPixel( *predicted );
-        if ( p.ok() )
-        {
-          double nearest = std::numeric_limits<double>::infinity();
-          for ( size_t k = 0; k < inFrame.size(); ++k )
-            if ( const double d = ( inFrame[k] - p.pixelInImage ).squaredNorm(); d < nearest )
-            {
-              nearest = d;
-              centre = k;
-            }
-        }
-      }
+        if ( const GroundProjection p = views[i].image->projectGroundToPixel( *predicted ); p.ok() )
+          centre = p.pixelInImage;
       bool cut = false;
-      const cv::Rect window = windowAlong( inFrame, centre, reach + std::max( 0, options.area.bandHalfWidthPx ), imageSizes[i], maxPixels, cut );
+      const cv::Rect window = matchingWindowAlong( inFrame, options.area, imageSizes[i], maxPixels, centre, &cut );
       if ( window.empty() )
         continue;
       summary.windows[i] = window;

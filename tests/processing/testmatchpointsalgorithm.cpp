@@ -6,7 +6,10 @@
 #include <QTextStream>
 #include <QtTest/QtTest>
 
+#include <sys/resource.h>
+
 #include <gdal.h>
+#include <opencv2/imgcodecs.hpp>
 #include <ogr_api.h>
 #include <qgsapplication.h>
 #include <qgsprocessingalgorithm.h>
@@ -29,6 +32,7 @@ class TestMatchPointsAlgorithm : public QObject
     void epipolarBandMatchesTheTruth();
     void twoDimensionalSearchForAnUnorientedTarget();
     void badInput();
+    void twentyThousandPixelFramesInWindows();
 
   private:
     QVariantMap run( const QVariantMap &parameters, bool *ok, RecordingFeedback *feedback );
@@ -198,3 +202,87 @@ int main( int argc, char **argv )
 }
 
 #include "testmatchpointsalgorithm.moc"
+
+void TestMatchPointsAlgorithm::twentyThousandPixelFramesInWindows()
+{
+  // two 20 000 x 20 000 nadir frames 500 m up and 100 m apart (sparse GeoTIFFs, a photograph's texture around
+  // the points): match_points reads windows of them, never a whole frame (3.6 GB prepared)
+  const cv::Mat photo = cv::imread( "/usr/share/doc/opencv-doc/examples/data/aero1.jpg", cv::IMREAD_GRAYSCALE );
+  QVERIFY2( !photo.empty(), "aero1.jpg (Debian package opencv-doc)" );
+  const int size = 20000;
+  geostation::Block block;
+  block.crs = "EPSG:25832";
+  geostation::Camera camera;
+  camera.id = "huge";
+  camera.width = camera.height = size;
+  camera.f = 20000.0;
+  camera.cx = camera.cy = size / 2.0;
+  block.cameras.push_back( camera );
+  const QString dir = mDir.filePath( "huge" );
+  QDir().mkpath( dir );
+  GDALAllRegister();
+  const char *creation[] = { "TILED=YES", "SPARSE_OK=TRUE", "COMPRESS=DEFLATE", nullptr };
+  std::vector<geostation::OrientedImage> oriented;
+  const Eigen::Vector3d grounds[3] = { { 130.0, -40.0, 0.0 }, { 60.0, 90.0, 0.0 }, { 20.0, -150.0, 0.0 } };
+  for ( int k = 0; k < 2; ++k )
+  {
+    geostation::BlockImage image;
+    image.id = k == 0 ? "L" : "R";
+    image.cameraId = "huge";
+    image.path = image.id + ".tif";
+    geostation::ExteriorOrientation eo;
+    eo.projectionCentre = Eigen::Vector3d( 100.0 * k, 0.0, 500.0 );
+    image.exterior = eo;
+    block.images.push_back( image );
+    oriented.emplace_back( camera, eo );
+    GDALDatasetH ds = GDALCreate( GDALGetDriverByName( "GTiff" ), ( dir + "/" + QString::fromStdString( image.path ) ).toUtf8().constData(), size, size, 1, GDT_Byte,
+                                  const_cast<char **>( creation ) );
+    QVERIFY( ds );
+    for ( const Eigen::Vector3d &ground : grounds )
+    {
+      // the same ground patch in both frames (they are shifted by a whole 4000 px)
+      const cv::Mat patch = photo( cv::Rect( 100, 50, 300, 300 ) ).clone();
+      const Eigen::Vector2d centre = oriented[k].projectGroundToPixel( ground ).pixelInImage;
+      const int x = static_cast<int>( std::floor( centre.x() ) ) - 150, y = static_cast<int>( std::floor( centre.y() ) ) - 150;
+      QCOMPARE( GDALRasterIO( GDALGetRasterBand( ds, 1 ), GF_Write, x, y, patch.cols, patch.rows, patch.data, patch.cols, patch.rows, GDT_Byte, 0, static_cast<int>( patch.step[0] ) ),
+                CE_None );
+    }
+    GDALClose( ds );
+  }
+  block.save( ( dir + "/block.geostation.json" ).toStdString() );
+  QFile file( dir + "/points.csv" );
+  QVERIFY( file.open( QIODevice::WriteOnly ) );
+  QTextStream out( &file );
+  out << "point_id,image_id,col,row\n";
+  std::vector<Eigen::Vector2d> truth;
+  for ( int p = 0; p < 3; ++p )
+  {
+    const Eigen::Vector2d click = oriented[0].projectGroundToPixel( grounds[p] ).pixelInImage + Eigen::Vector2d( 17.3, -11.6 );
+    truth.push_back( click + oriented[1].projectGroundToPixel( grounds[p] ).pixelInImage - oriented[0].projectGroundToPixel( grounds[p] ).pixelInImage );
+    out << "P" << p << ",L," << QString::number( click.x(), 'f', 3 ) << "," << QString::number( click.y(), 'f', 3 ) << "\n";
+  }
+  file.close();
+  bool ok = false;
+  RecordingFeedback feedback;
+  const QVariantMap result = run( { { "BLOCK", dir + "/block.geostation.json" }, { "OBSERVATIONS", file.fileName() }, { "TARGETS", "R" }, { "WINDOW_W", 21 }, { "WINDOW_H", 21 },
+    { "MIN_DEPTH_M", 100.0 }, { "MAX_DEPTH_M", 2000.0 }, { "OUTPUT", dir + "/matched.gpkg" } }, &ok, &feedback );
+  QVERIFY2( ok, qPrintable( feedback.errors.join( "; " ) ) );
+  QCOMPARE( result.value( "MATCHED_COUNT" ).toInt(), 3 );
+  QgsVectorLayer matched( dir + "/matched.gpkg", "matched", "ogr" );
+  QgsFeature f;
+  QgsFeatureIterator it = matched.getFeatures();
+  int checked = 0;
+  while ( it.nextFeature( f ) )
+    if ( f.attribute( "image_id" ).toString() == "R" )
+    {
+      const int p = f.attribute( "point_id" ).toString().mid( 1 ).toInt();
+      const double error = std::hypot( f.attribute( "col" ).toDouble() - truth[p].x(), f.attribute( "row" ).toDouble() - truth[p].y() );
+      QVERIFY2( error < 0.05, qPrintable( QStringLiteral( "P%1 %2 px from the truth" ).arg( p ).arg( error ) ) );
+      ++checked;
+    }
+  QCOMPARE( checked, 3 );
+  rusage usage {};
+  getrusage( RUSAGE_SELF, &usage );
+  qInfo() << "peak resident memory" << usage.ru_maxrss / 1024 << "MB";
+  QVERIFY2( usage.ru_maxrss / 1024 < 1500, "a whole frame would be 3.6 GB prepared" );
+}
