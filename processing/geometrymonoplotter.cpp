@@ -3,6 +3,8 @@
  ***************************************************************************/
 #include "geometrymonoplotter.h"
 
+#include <tuple>
+
 #include <QObject>
 
 #include "dem/demintersection.h"
@@ -15,6 +17,7 @@ namespace GeoStationProcessing
     worst.setZero();
     vertices = 0;
     bridged = 0;
+    cutVertices = 0;
     fail( why, statusName );
   }
 
@@ -56,15 +59,25 @@ namespace GeoStationProcessing
       }
       pixels.emplace_back( in.xAt( i ), -in.yAt( i ) );
     }
-    QVector<QgsPoint> out;
-    for ( const geostation::MonoplotPoint &g : monoplotter.imageLineToGround( pixels, densifyPx ) )
-    {
+    const std::vector<geostation::MonoplotPoint> ground = monoplotter.imageLineToGround( pixels, densifyPx );
+    size_t first = 0, last = ground.empty() ? 0 : ground.size() - 1;
+    for ( const geostation::MonoplotPoint &g : ground )
       if ( !g.ok() )
       {
         fail( QObject::tr( "pixel (%1, %2): %3" ).arg( g.pixelInImage.x(), 0, 'f', 1 ).arg( g.pixelInImage.y(), 0, 'f', 1 ).arg( QString::fromStdString( g.message ) ),
               QString::fromStdString( geostation::demIntersectionStatusName( g.status ) ) );
-        return nullptr;
+        // a ring cannot be cut; a line keeps its longest resolved part
+        const std::vector<std::pair<size_t, size_t>> runs = geostation::resolvedRuns( ground );
+        if ( closed || runs.empty() )
+          return nullptr;
+        std::tie( first, last ) = runs.front();
+        cutVertices += static_cast<int>( ground.size() - ( last - first + 1 ) );
+        break;
       }
+    QVector<QgsPoint> out;
+    for ( size_t k = first; k <= last && k < ground.size(); ++k )
+    {
+      const geostation::MonoplotPoint &g = ground[k];
       worst = worst.cwiseMax( g.sigmaM );
       ++vertices;
       bridged += g.onBridgedCells() ? 1 : 0;

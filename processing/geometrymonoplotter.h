@@ -22,7 +22,9 @@ namespace GeoStationProcessing
    * over the terrain. geometry() fills `worst` with the largest vertex sigmas
    * and counts the vertices; when the geometry cannot be monoplotted it
    * returns nullptr with `problem` (one sentence) and `status` (outside_image,
-   * misses_dem, below_dem, dem_hole).
+   * misses_dem, below_dem, dem_hole). A line (not a ring) that meets a hole
+   * or the horizon part-way keeps its longest resolved part: the geometry is
+   * returned with `cutVertices` > 0 and `problem` and `status` saying why.
    */
   struct GeometryMonoplotter
   {
@@ -32,6 +34,7 @@ namespace GeoStationProcessing
     Eigen::Vector3d worst = Eigen::Vector3d::Zero(); //!< largest vertex sigmas (m)
     int vertices = 0;
     int bridged = 0;                           //!< vertices on bridged DEM cells
+    int cutVertices = 0;                       //!< densified vertices of lines cut away (not resolved, or off the kept part)
     QString problem {};
     QString status {};
 

@@ -64,7 +64,9 @@ QString MonoplotAlgorithm::shortHelpString() const
                       "Every feature gets a status: ok, or why it cannot be monoplotted - outside_image (a vertex outside "
                       "the frame), misses_dem (a ray above the horizon or past the DEM), below_dem, dem_hole (a nodata hole "
                       "too large to fill) - with the sentence in message; such a feature keeps its attributes with an empty "
-                      "geometry. The run fails only when no feature can be monoplotted." );
+                      "geometry. A line (not a polygon) that meets a hole or the horizon part-way keeps its longest resolved "
+                      "part, with the status saying why it was cut (CUT_COUNT counts them). The run fails only when no "
+                      "feature can be monoplotted." );
 }
 
 MonoplotAlgorithm *MonoplotAlgorithm::createInstance() const
@@ -90,6 +92,7 @@ void MonoplotAlgorithm::initAlgorithm( const QVariantMap & )
   addOutput( new QgsProcessingOutputNumber( QStringLiteral( "BRIDGED_VERTICES" ), QObject::tr( "Vertices on bridged DEM cells" ) ) );
   addOutput( new QgsProcessingOutputNumber( QStringLiteral( "MONOPLOTTED_COUNT" ), QObject::tr( "Features monoplotted" ) ) );
   addOutput( new QgsProcessingOutputNumber( QStringLiteral( "FAILED_COUNT" ), QObject::tr( "Features that cannot be monoplotted" ) ) );
+  addOutput( new QgsProcessingOutputNumber( QStringLiteral( "CUT_COUNT" ), QObject::tr( "Lines kept in part (their longest resolved part)" ) ) );
 }
 
 QVariantMap MonoplotAlgorithm::processGeoStation( const QVariantMap &parameters, QgsProcessingContext &context, QgsProcessingFeedback *feedback )
@@ -149,7 +152,7 @@ QVariantMap MonoplotAlgorithm::processGeoStation( const QVariantMap &parameters,
   // status; the run fails only when no feature at all can be monoplotted, and then leaves no file.
   QVector<QgsFeature> features;
   QMap<QString, long> statusCounts;
-  long resolved = 0, failed = 0, bridgedVertices = 0;
+  long resolved = 0, failed = 0, cut = 0, bridgedVertices = 0;
   QString firstProblem;
   constexpr int kWarningsShown = 20;
   const double step = source->featureCount() > 0 ? 90.0 / source->featureCount() : 0.0;
@@ -169,6 +172,14 @@ QVariantMap MonoplotAlgorithm::processGeoStation( const QVariantMap &parameters,
       {
         out.setGeometry( QgsGeometry( std::move( g ) ) );
         ++resolved;
+        if ( mono.cutVertices > 0 )
+        {
+          status = mono.status;
+          message = QObject::tr( "Feature %1 is monoplotted in part: %2; its longest resolved part is kept (%3 of %4 densified vertices cut away)." )
+                    .arg( f.id() ).arg( mono.problem ).arg( mono.cutVertices ).arg( mono.vertices + mono.cutVertices );
+          if ( ++cut + failed <= kWarningsShown )
+            feedback->pushWarning( message );
+        }
       }
       else
       {
@@ -176,12 +187,12 @@ QVariantMap MonoplotAlgorithm::processGeoStation( const QVariantMap &parameters,
         message = QObject::tr( "Feature %1 cannot be monoplotted: %2" ).arg( f.id() ).arg( mono.problem );
         if ( firstProblem.isEmpty() )
           firstProblem = message;
-        if ( ++failed <= kWarningsShown )
+        if ( ++failed + cut <= kWarningsShown )
           feedback->pushWarning( message );
       }
     }
     ++statusCounts[status];
-    const bool ok = status == QLatin1String( "ok" );
+    const bool ok = out.hasGeometry(); // monoplotted, perhaps in part
     const QVariant none;
     attributes << ( ok ? QVariant( mono.worst.x() ) : none ) << ( ok ? QVariant( mono.worst.y() ) : none ) << ( ok ? QVariant( mono.worst.z() ) : none )
                << mono.vertices << ( ok ? QVariant( mono.bridged ) : none ) << QStringLiteral( "monoplot-DEM" ) << status << ( message.isEmpty() ? none : QVariant( message ) );
@@ -193,8 +204,8 @@ QVariantMap MonoplotAlgorithm::processGeoStation( const QVariantMap &parameters,
 
   if ( failed > 0 && resolved == 0 )
     throw QgsProcessingException( failed == 1 ? firstProblem : QObject::tr( "None of the %1 features can be monoplotted; the first: %2" ).arg( failed ).arg( firstProblem ) );
-  if ( failed > kWarningsShown )
-    feedback->pushWarning( QObject::tr( "… and %1 more features that cannot be monoplotted (see their status and message)." ).arg( failed - kWarningsShown ) );
+  if ( failed + cut > kWarningsShown )
+    feedback->pushWarning( QObject::tr( "… and %1 more features that cannot be monoplotted, or only in part (see their status and message)." ).arg( failed + cut - kWarningsShown ) );
   QStringList counts;
   for ( auto c = statusCounts.constBegin(); c != statusCounts.constEnd(); ++c )
     counts << QStringLiteral( "%1 %2" ).arg( c.key() ).arg( c.value() );
@@ -223,6 +234,7 @@ QVariantMap MonoplotAlgorithm::processGeoStation( const QVariantMap &parameters,
   outputs.insert( QStringLiteral( "BRIDGED_VERTICES" ), static_cast<double>( bridgedVertices ) );
   outputs.insert( QStringLiteral( "MONOPLOTTED_COUNT" ), static_cast<double>( resolved ) );
   outputs.insert( QStringLiteral( "FAILED_COUNT" ), static_cast<double>( failed ) );
+  outputs.insert( QStringLiteral( "CUT_COUNT" ), static_cast<double>( cut ) );
   return outputs;
 }
 

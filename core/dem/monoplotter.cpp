@@ -3,6 +3,7 @@
  ***************************************************************************/
 #include "dem/monoplotter.h"
 
+#include <algorithm>
 #include <cmath>
 
 namespace geostation
@@ -155,6 +156,34 @@ namespace geostation
     for ( const Eigen::Vector3d &p : densifyForImage( mImage, vertices, densifyPx, drape ? std::function<std::optional<double>( const Eigen::Vector3d & )>( demHeight ) : nullptr ) )
       out.push_back( groundToImage( p ) );
     return out;
+  }
+
+  std::vector<std::pair<size_t, size_t>> resolvedRuns( const std::vector<MonoplotPoint> &line )
+  {
+    std::vector<std::pair<size_t, size_t>> runs;
+    for ( size_t i = 0; i < line.size(); )
+    {
+      if ( !line[i].ok() )
+      {
+        ++i;
+        continue;
+      }
+      size_t last = i;
+      while ( last + 1 < line.size() && line[last + 1].ok() )
+        ++last;
+      if ( last > i )
+        runs.emplace_back( i, last );
+      i = last + 1;
+    }
+    const auto length = [&line]( const std::pair<size_t, size_t> &run )
+    {
+      double sum = 0.0;
+      for ( size_t k = run.first; k < run.second; ++k )
+        sum += ( line[k + 1].world - line[k].world ).norm();
+      return sum;
+    };
+    std::stable_sort( runs.begin(), runs.end(), [&]( const auto &a, const auto &b ) { return length( a ) > length( b ); } );
+    return runs;
   }
 
   GroundPointViewer featureViewer( const OrientedImage &image, const Monoplotter *monoplotter )

@@ -11,6 +11,7 @@
 #ifndef GEOSTATION_DEM_MONOPLOTTER_H
 #define GEOSTATION_DEM_MONOPLOTTER_H
 
+#include <utility>
 #include <vector>
 
 #include <Eigen/Core>
@@ -51,6 +52,14 @@ namespace geostation
     GroundProjection projection;
     bool visible = false; //!< projected, in the frame, and not hidden by the terrain
   };
+
+  /**
+   * The runs of consecutive resolved points of a monoplotted line (index
+   * ranges [first, last] of at least two points), the longest on the ground
+   * first: what of a line that meets a DEM hole or the horizon part-way can
+   * be kept. Empty if no two consecutive points are resolved.
+   */
+  std::vector<std::pair<size_t, size_t>> resolvedRuns( const std::vector<MonoplotPoint> &line );
 
   class Monoplotter
   {

@@ -174,3 +174,24 @@ TEST( Monoplotter, LinesAreDensifiedBothWays )
     EXPECT_LE( ( curve[i].projection.pixelInImage - curve[i - 1].projection.pixelInImage ).norm(), 4.0 + 1e-9 );
   EXPECT_THROW( mono.imageLineToGround( { { 1, 1 }, { 2, 2 } }, 0.0 ), std::invalid_argument );
 }
+
+TEST( Monoplotter, ResolvedRunsOfACutLineLongestFirst )
+{
+  // x along the ground (m); false: the ray met a hole
+  const std::vector<std::pair<double, bool>> points { { 0, true }, { 1, true }, { 2, false }, { 3, true }, { 4, true }, { 10, true }, { 11, false },
+    { 12, true }, { 13, false } };
+  std::vector<MonoplotPoint> line;
+  for ( const auto &[x, hit] : points )
+  {
+    MonoplotPoint p;
+    p.status = hit ? DemIntersection::Status::Hit : DemIntersection::Status::Hole;
+    p.world = Eigen::Vector3d( x, 0, 0 );
+    line.push_back( p );
+  }
+  const std::vector<std::pair<size_t, size_t>> runs = resolvedRuns( line );
+  // 3-4-10 (7 m), then 0-1 (1 m); the lone resolved point 12 is no run
+  ASSERT_EQ( runs.size(), 2u );
+  EXPECT_EQ( runs[0], std::make_pair( size_t( 3 ), size_t( 5 ) ) );
+  EXPECT_EQ( runs[1], std::make_pair( size_t( 0 ), size_t( 1 ) ) );
+  EXPECT_TRUE( resolvedRuns( std::vector<MonoplotPoint>( 3 ) ).empty() );
+}

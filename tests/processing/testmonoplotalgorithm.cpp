@@ -52,6 +52,7 @@ class TestMonoplotAlgorithm : public QObject
     void badInput();
     void keepsGoingPastFeaturesItCannotResolve();
     void bridgesLargerHolesWhenAsked();
+    void cutsALineAtAHoleAndKeepsItsLongestPart();
     void corruptDemStopsWithOneSentenceAndNoFile();
 
   private:
@@ -611,4 +612,43 @@ void TestMonoplotAlgorithm::corruptDemStopsWithOneSentenceAndNoFile()
   QCOMPARE( feedback.errors.size(), 1 );
   QVERIFY2( feedback.errors.at( 0 ).contains( "Monoplot image features onto a DEM stopped: reading the DEM failed" ), qPrintable( feedback.errors.at( 0 ) ) );
   QVERIFY( !QFile::exists( output ) );
+}
+
+void TestMonoplotAlgorithm::cutsALineAtAHoleAndKeepsItsLongestPart()
+{
+  // a line across the 100 m nodata hole along the view, 50 m of it before the hole and 30 m beyond: the near part
+  // (the longer, with the filled rim) is kept, with the status saying why the line was cut
+  const QString dem = mDir.filePath( "dem-hole.tif" );
+  if ( !QFile::exists( dem ) )
+    syntheticterrain::writeTerrain( dem.toStdString(), 500, kX0, "EPSG:32633", 0.05, []( int c, int r ) { return c >= 215 && c < 265 && r >= 365 && r < 415; } );
+  const double x = kX0 + 480.0, nearY = kY0 - 880.0, farY = kY0 - 700.0, holeSouth = kY0 - 830.0;
+  const Eigen::Vector3d from( x, nearY, terrain( x, nearY ) ), to( x, farY, terrain( x, farY ) );
+  const Eigen::Vector2d a = mImage->projectGroundToPixel( from ).pixelInImage, b = mImage->projectGroundToPixel( to ).pixelInImage;
+  bool ok = false;
+  RecordingFeedback feedback;
+  const QString output = mDir.filePath( "hole-cut.gpkg" );
+  const QVariantMap result = run( { { "BLOCK", mBlock }, { "IMAGE", "P1" }, { "DEM", dem }, { "INPUT", pixelLayer( "across-hole", { qMakePair( QStringLiteral( "across" ), std::vector<Eigen::Vector2d> { a, b } ) }, true ) },
+    { "OUTPUT", output } }, &ok, &feedback );
+  QVERIFY2( ok, qPrintable( feedback.errors.join( '\n' ) ) );
+  QCOMPARE( result.value( "MONOPLOTTED_COUNT" ).toInt(), 1 );
+  QCOMPARE( result.value( "CUT_COUNT" ).toInt(), 1 );
+  QCOMPARE( result.value( "FAILED_COUNT" ).toInt(), 0 );
+  const QgsFeature f = featuresByName( output ).value( "across" );
+  QCOMPARE( f.attribute( "status" ).toString(), QStringLiteral( "dem_hole" ) );
+  QVERIFY2( f.attribute( "message" ).toString().contains( "longest resolved part is kept" ), qPrintable( f.attribute( "message" ).toString() ) );
+  QVERIFY( !f.attribute( "sigma_z" ).isNull() );
+  const QgsGeometry g = f.geometry();
+  QVERIFY( !g.isEmpty() );
+  // it starts where the line starts, and ends where the fill of the hole's rim stops (DemOptions::holeFillHalo,
+  // 16 cells of 2 m: up to 32 m into the hole)
+  const QgsPoint first = *g.vertices_begin();
+  QGSCOMPARENEAR( first.x(), x, 1.0 );
+  QGSCOMPARENEAR( first.y(), nearY, 1.0 );
+  QGSCOMPARENEAR( first.z(), from.z(), 0.5 );
+  double maxY = -1e300;
+  for ( auto v = g.vertices_begin(); v != g.vertices_end(); ++v )
+    maxY = std::max( maxY, ( *v ).y() );
+  QVERIFY2( maxY > holeSouth - 6.0 && maxY < holeSouth + 38.0, qPrintable( QStringLiteral( "the kept part ends %1 m from the hole's rim" ).arg( maxY - holeSouth ) ) );
+  QVERIFY2( g.length() > 44.0 && g.length() < 90.0, qPrintable( QStringLiteral( "%1 m kept" ).arg( g.length() ) ) );
+  QCOMPARE( feedback.warnings.size(), 1 );
 }
