@@ -44,7 +44,8 @@ namespace geostation
 
       struct Entry
       {
-        std::shared_ptr<const MatchImage> image; //!< nullptr when it cannot be read, or when a window is needed
+        //! nullptr when it cannot be read; for an image too large to prepare whole, the window last read of it (or nullptr)
+        std::shared_ptr<const MatchImage> image;
         std::string error;                       //!< one sentence when it cannot be read
         cv::Size imageSize { 0, 0 };             //!< the whole image's (pixels), when it could be opened
         bool needsWindow = false;                //!< too large to prepare whole: ask for a window of it
