@@ -128,7 +128,7 @@ namespace geostation
     return joins;
   }
 
-  int bridgeFacingEnds( ResultMatrix &matrix, const cv::Mat &grey, const std::string &symbols, uint8_t symbol, const LineObjectOptions &object, double maxDistancePx )
+  int bridgeFacingEnds( ResultMatrix &matrix, const GreyTiles &image, const std::string &symbols, uint8_t symbol, const LineObjectOptions &object, double maxDistancePx )
   {
     const CompilationSummary compiled = compileMaxLengthPolygons( matrix, symbols, false, 1 );
     const std::vector<DeadEnd> ends = openEnds( compiled.polygons );
@@ -153,12 +153,17 @@ namespace geostation
         if ( ends[i].state.direction.dot( d ) < cosLimit * distance || ends[k].state.direction.dot( -d ) < cosLimit * distance )
           continue;
         // nothing extracted along the line between them (the join would cross another line)
-        const Eigen::Vector2d p0 = ends[i].state.pixelInImage, axis = d / distance, normal = normalOf( axis );
+        const Eigen::Vector2d axis = d / distance, normal = normalOf( axis );
         bool crosses = false;
         for ( double t = 3.0; t < distance - 3.0 && !crosses; t += 1.0 )
-          crosses = matrix.nearestSymbol( p0 + t * axis, 1.0 ).has_value();
+          crosses = matrix.nearestSymbol( ends[i].state.pixelInImage + t * axis, 1.0 ).has_value();
         if ( crosses )
           continue;
+        // the pixels between the ends: the band's offset (at most 15 % of the way) and a profile of 3 widths across
+        const GreyWindow window = image.covering( ends[i].state.pixelInImage, ends[k].state.pixelInImage,
+                                                  static_cast<int>( std::ceil( 0.15 * distance + 3.0 * object.maxWidthPx ) ) + 24 );
+        const cv::Mat &grey = window.pixels;
+        const Eigen::Vector2d p0 = window.toWindow( ends[i].state.pixelInImage );
         const std::optional<CrossSection> atEnd = refineAcross( grey, p0 - 4.0 * axis, axis, 0.5 * ( object.minWidthPx + object.maxWidthPx ), object, 3.0 );
         const double width = atEnd ? atEnd->widthPx : 0.5 * ( object.minWidthPx + object.maxWidthPx );
         const int half = static_cast<int>( std::ceil( width ) ) + 6;
@@ -195,7 +200,21 @@ namespace geostation
         const bool arrives = std::abs( offset ) <= 0.5 * width;
         if ( samples == 0 || !( mostly || brieflyInterrupted ) || !arrives )
           continue;
-        centres.push_back( ends[k].state.pixelInImage );
+        centres.push_back( window.toWindow( ends[k].state.pixelInImage ) );
+        for ( Eigen::Vector2d &c : centres )
+          c = window.toImage( c );
+        // and the band is not a line already there: a join along the road beside a line that wanders off the chord
+        // would draw the road twice
+        const double clear = std::max( 2.0, 0.5 * width );
+        bool alongside = false;
+        for ( const Eigen::Vector2d &c : densifyPolyline( centres, 1.0 ) )
+          if ( ( c - centres.front() ).norm() > clear + 2.0 && ( c - centres.back() ).norm() > clear + 2.0 && matrix.nearestSymbol( c, clear ) )
+          {
+            alongside = true;
+            break;
+          }
+        if ( alongside )
+          continue;
         bestDistance = distance;
         best = k;
         bestPath = centres;
@@ -253,12 +272,18 @@ namespace geostation
   CoincidentExtractionSummary extractCoincident( const cv::Mat &greyA, const cv::Mat &greyB, const PairMapping &mapping,
                                                  const CoincidentExtractionOptions &options, const ExtractionProgress &progress )
   {
-    options.check();
     if ( greyA.empty() || greyB.empty() || greyA.type() != CV_8UC1 || greyB.type() != CV_8UC1 )
       throw std::invalid_argument( "coincident extraction needs two 8-bit single-band images" );
+    return extractCoincident( GreyTiles( greyA ), GreyTiles( greyB ), mapping, options, progress );
+  }
+
+  CoincidentExtractionSummary extractCoincident( const GreyTiles &greyA, const GreyTiles &greyB, const PairMapping &mapping,
+                                                 const CoincidentExtractionOptions &options, const ExtractionProgress &progress )
+  {
+    options.check();
     CoincidentExtractionSummary summary;
-    ResultMatrix matrix[2] = { ResultMatrix( greyA.cols, greyA.rows ), ResultMatrix( greyB.cols, greyB.rows ) };
-    const cv::Mat *grey[2] = { &greyA, &greyB };
+    ResultMatrix matrix[2] = { ResultMatrix( greyA.width(), greyA.height() ), ResultMatrix( greyB.width(), greyB.height() ) };
+    const GreyTiles *grey[2] = { &greyA, &greyB };
     const PixelMap toOther[2] = { [&]( const Eigen::Vector2d &p ) { return mapping.toB( p ); }, [&]( const Eigen::Vector2d &p ) { return mapping.toA( p ); } };
     std::vector<DeadEnd> continueFrom[2];
     bool searched[2] = { false, false };
@@ -284,6 +309,8 @@ namespace geostation
       add( summary.startStage, extracted.startStage );
       add( summary.lemStage, extracted.lemStage );
       add( summary.remStage, extracted.remStage );
+      summary.subImages += extracted.subImages;
+      summary.temporaryDeadEnds += extracted.temporaryDeadEnds;
       report.startingPoints = extracted.startingPoints;
       report.linesStarted = extracted.linesStarted;
       report.continued = extracted.continued;
@@ -367,3 +394,4 @@ namespace geostation
   }
 
 } // namespace geostation
+

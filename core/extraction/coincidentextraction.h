@@ -64,14 +64,21 @@ namespace geostation
     StageCounts startStage, lemStage, remStage, verificationStage, compilationStage;
     int bridged = 0;                                   //!< gaps and intersections closed by the final processing
     int pruned = 0;                                    //!< spurs removed by the final processing
+    int subImages = 0;                                 //!< sub-images processed, all rounds and runs
+    int temporaryDeadEnds = 0;                         //!< lines continued across sub-image borders
     bool cancelled = false;
   };
 
   /**
-   * Runs the coincident procedure on grey images A and B (CV_8UC1). Throws
-   * std::invalid_argument for bad images or options; cancelling returns
-   * with `cancelled` and no lines.
+   * Runs the coincident procedure on images A and B, read a window at a
+   * time (only the two result matrices, one byte per pixel, are held
+   * whole). Throws std::invalid_argument for bad options; reader errors
+   * propagate; cancelling returns with `cancelled` and no lines.
    */
+  CoincidentExtractionSummary extractCoincident( const GreyTiles &greyA, const GreyTiles &greyB, const PairMapping &mapping,
+                                                 const CoincidentExtractionOptions &options, const ExtractionProgress &progress = nullptr );
+
+  //! The same for images held in memory (CV_8UC1); std::invalid_argument for other images.
   CoincidentExtractionSummary extractCoincident( const cv::Mat &greyA, const cv::Mat &greyB, const PairMapping &mapping,
                                                  const CoincidentExtractionOptions &options, const ExtractionProgress &progress = nullptr );
 
@@ -96,7 +103,7 @@ namespace geostation
    * beside it). The join is drawn along the band's centre. Returns the
    * number of joins.
    */
-  int bridgeFacingEnds( ResultMatrix &matrix, const cv::Mat &grey, const std::string &symbols, uint8_t symbol, const LineObjectOptions &object, double maxDistancePx );
+  int bridgeFacingEnds( ResultMatrix &matrix, const GreyTiles &grey, const std::string &symbols, uint8_t symbol, const LineObjectOptions &object, double maxDistancePx );
 
   /**
    * Removes spurs: lines of `symbols` shorter than `maxLengthPx` that run from

@@ -4,6 +4,9 @@
 #include "extraction/lineextractor.h"
 #include "extraction/stopwatch.h"
 
+#include <algorithm>
+#include <cmath>
+#include <optional>
 #include <stdexcept>
 
 namespace geostation
@@ -19,6 +22,10 @@ namespace geostation
       throw std::invalid_argument( "sub-images must be at least 64 px" );
     if ( minSteps < 1 || maxHandovers < 1 )
       throw std::invalid_argument( "a line needs at least one step and one hand-over" );
+    if ( subImageOverlapPx < 0 || subImageOverlapPx > subImageSizePx / 2 )
+      throw std::invalid_argument( "the sub-images' overlap must be 0 (automatic) to half their size" );
+    if ( maxSubImageRuns < 1 )
+      throw std::invalid_argument( "the extraction needs at least one run through the sub-images" );
   }
 
   namespace
@@ -34,6 +41,7 @@ namespace geostation
       std::vector<Piece> pieces;
       DeadEnd end;
       int lemSteps = 0;
+      std::optional<LineState> remFrom; //!< where the REM that ended the line in a final break-off started (its piece is the last)
     };
 
     //! LEM, REM at its break-offs, LEM again where REM finds the line ideal; until a final stop.
@@ -62,6 +70,12 @@ namespace geostation
         summary.remStage.linePx += polylineLength( rem.pixels );
         if ( rem.pixels.size() > 1 )
           result.pieces.push_back( { rem.pixels, ResultMatrix::kRegional } );
+        if ( rem.stop == DeadEndKind::FinalBreakOff )
+        {
+          result.remFrom = state;
+          if ( rem.pixels.size() <= 1 )
+            result.pieces.push_back( { { state.pixelInImage }, ResultMatrix::kRegional } ); // so that the last piece is REM's
+        }
         state = rem.end;
         stop = rem.stop;
         if ( stop != DeadEndKind::Ideal )
@@ -73,6 +87,17 @@ namespace geostation
       return result;
     }
 
+    //! Moves a follow's pieces and end from window to image pixels.
+    void toImage( FollowResult &line, const GreyWindow &window )
+    {
+      for ( Piece &piece : line.pieces )
+        for ( Eigen::Vector2d &p : piece.pixels )
+          p = window.toImage( p );
+      line.end.state.pixelInImage = window.toImage( line.end.state.pixelInImage );
+      if ( line.remFrom )
+        line.remFrom->pixelInImage = window.toImage( line.remFrom->pixelInImage );
+    }
+
     void draw( ResultMatrix &matrix, const FollowResult &line, LineExtractionSummary &summary )
     {
       for ( const Piece &piece : line.pieces )
@@ -81,72 +106,230 @@ namespace geostation
         summary.linePx += polylineLength( piece.pixels );
       }
     }
+
+    //! The report's mosaic: sub-images of `size` px in raster order, each read with `overlap` px around it.
+    class Mosaic
+    {
+      public:
+        Mosaic( const cv::Size &image, int size, int overlap )
+          : mImage( image ), mSize( size ), mOverlap( overlap ), mColumns( ( image.width + size - 1 ) / size ), mRows( ( image.height + size - 1 ) / size )
+        {}
+        int count() const { return mColumns * mRows; }
+        cv::Rect core( int index ) const
+        {
+          const int c = index % mColumns, r = index / mColumns;
+          return cv::Rect( c * mSize, r * mSize, mSize, mSize ) & cv::Rect( cv::Point(), mImage );
+        }
+        cv::Rect window( int index ) const
+        {
+          const cv::Rect c = core( index );
+          return cv::Rect( c.x - mOverlap, c.y - mOverlap, c.width + 2 * mOverlap, c.height + 2 * mOverlap ) & cv::Rect( cv::Point(), mImage );
+        }
+        int indexOf( const Eigen::Vector2d &pixelInImage ) const
+        {
+          const int c = std::clamp( static_cast<int>( std::floor( pixelInImage.x() / mSize ) ), 0, mColumns - 1 );
+          const int r = std::clamp( static_cast<int>( std::floor( pixelInImage.y() / mSize ) ), 0, mRows - 1 );
+          return r * mColumns + c;
+        }
+
+      private:
+        cv::Size mImage;
+        int mSize, mOverlap, mColumns, mRows;
+    };
+
+    //! One extraction: the mosaic, the temporary dead ends waiting in each sub-image, the summary.
+    class MosaicExtraction
+    {
+      public:
+        MosaicExtraction( const GreyTiles &grey, ResultMatrix &matrix, const LineExtractionOptions &options )
+          : mGrey( grey ), mMatrix( matrix ), mOptions( options ), mMosaic( grey.size(), options.subImageSizePx, options.overlapPx() ), mWaiting( mMosaic.count() )
+        {}
+
+        void wait( const DeadEnd &deadEnd ) { mWaiting[mMosaic.indexOf( deadEnd.state.pixelInImage )].push_back( deadEnd ); }
+        bool waiting( int index ) const { return !mWaiting[index].empty(); }
+        bool anyWaiting() const
+        {
+          return std::any_of( mWaiting.begin(), mWaiting.end(), []( const std::vector<DeadEnd> &w ) { return !w.empty(); } );
+        }
+        int count() const { return mMosaic.count(); }
+        LineExtractionSummary &summary() { return mSummary; }
+
+        //! Continues the lines waiting in sub-image `index`, then (with `search`) follows its starting points.
+        void process( int index, bool search )
+        {
+          const GreyWindow window = mGrey.window( mMosaic.window( index ) );
+          // lines already known a little beyond the window (the matrix is held whole): a line ending at the window's
+          // edge next to one is joined to it here, not continued past it in the next sub-image
+          const cv::Rect wider( window.origin.x - mOptions.overlapPx(), window.origin.y - mOptions.overlapPx(), window.pixels.cols + 2 * mOptions.overlapPx(),
+                                window.pixels.rows + 2 * mOptions.overlapPx() );
+          const ResultMatrix known = mMatrix.view( wider, window.origin );
+          ++mSummary.subImages;
+          std::vector<DeadEnd> waiting;
+          waiting.swap( mWaiting[index] );
+          for ( const DeadEnd &deadEnd : waiting )
+          {
+            LineState s = deadEnd.state;
+            s.pixelInImage = window.toWindow( s.pixelInImage );
+            FollowResult line = follow( window.pixels, known, s, mOptions, mSummary );
+            toImage( line, window );
+            ++mSummary.continued;
+            // a line continued here that got no further does not wait again
+            const bool moved = line.lemSteps > 0 || ( line.end.state.pixelInImage - deadEnd.state.pixelInImage ).norm() >= 1.0;
+            const std::optional<int> next = settle( line, index, window.rect(), deadEnd.kind != DeadEndKind::SubImageBorder || moved );
+            finish( line, next );
+          }
+          if ( !search )
+            return;
+          const cv::Rect core = mMosaic.core( index );
+          Stopwatch t;
+          const StartingPointSummary starts = findStartingPoints( window.pixels, core - window.origin, mOptions.object, mOptions.start );
+          mSummary.startStage.seconds += t.seconds();
+          mSummary.startStage.imagePixels += static_cast<long>( core.area() );
+          mSummary.startingPoints += static_cast<int>( starts.points.size() );
+          for ( const LineState &start : starts.points )
+          {
+            if ( known.nearestSymbol( start.pixelInImage, std::max( start.widthPx, 6.0 ) ) )
+              continue; // on a known line
+            LineState backwards = start;
+            backwards.direction = -start.direction;
+            FollowResult ahead = follow( window.pixels, known, start, mOptions, mSummary );
+            FollowResult behind = follow( window.pixels, known, backwards, mOptions, mSummary );
+            if ( ahead.lemSteps + behind.lemSteps < mOptions.minSteps )
+            {
+              ++mSummary.startsRejected;
+              continue;
+            }
+            toImage( ahead, window );
+            toImage( behind, window );
+            ++mSummary.linesStarted;
+            mMatrix.drawPolyline( { window.toImage( start.pixelInImage ) }, ResultMatrix::kStart, true );
+            const std::optional<int> nextAhead = settle( ahead, index, window.rect(), true ), nextBehind = settle( behind, index, window.rect(), true );
+            finish( ahead, nextAhead );
+            finish( behind, nextBehind );
+          }
+        }
+
+        //! What is left waiting after the last run stays where it is, as a dead end.
+        void giveUp()
+        {
+          for ( std::vector<DeadEnd> &waiting : mWaiting )
+          {
+            mSummary.deadEnds.insert( mSummary.deadEnds.end(), waiting.begin(), waiting.end() );
+            waiting.clear();
+          }
+        }
+
+      private:
+        /**
+         * Where a line that stopped goes on. At its window's edge inside the image: in the sub-image it points
+         * into. A final break-off of REM whose area of interest reached to the window's edge (the profiles
+         * there cut, where the whole image would have shown the line), or that lies in the overlap, may be the
+         * window's doing: REM's piece is taken back and the line goes on from where REM started, in the
+         * sub-image that holds that point or the one REM's area reaches into - whose window sees all around
+         * it - once; a line that gets no further there ends. Nothing: the stop is final.
+         */
+        std::optional<int> settle( FollowResult &line, int index, const cv::Rect &window, bool mayWait ) const
+        {
+          const LineState &s = line.end.state;
+          const cv::Size image = mGrey.size();
+          if ( line.end.kind == DeadEndKind::ImageBorder && !nearImageBorder( image, s.pixelInImage + lemStepPx( mOptions.lem, s.widthPx ) * s.direction, s.widthPx ) )
+          {
+            int next = mMosaic.indexOf( s.pixelInImage );
+            if ( next == index ) // stopped inside this sub-image's core (a long jump of REM): the one it points into
+              next = mMosaic.indexOf( s.pixelInImage + mOptions.overlapPx() * s.direction );
+            if ( next == index )
+            {
+              line.end.kind = DeadEndKind::FinalBreakOff;
+              return std::nullopt;
+            }
+            return next;
+          }
+          if ( line.end.kind != DeadEndKind::FinalBreakOff || !line.remFrom || !mayWait )
+            return std::nullopt;
+          const LineState &from = *line.remFrom;
+          const Eigen::Vector2d reach = from.pixelInImage + ( mOptions.rem.areaAhead( from ).lengthPx + from.widthPx ) * from.direction;
+          std::optional<int> next;
+          if ( mMosaic.indexOf( from.pixelInImage ) != index )
+            next = mMosaic.indexOf( from.pixelInImage );
+          else if ( nearImageBorder( window.size(), reach - Eigen::Vector2d( window.x, window.y ), from.widthPx ) && !nearImageBorder( image, reach, from.widthPx ) )
+            next = mMosaic.indexOf( reach );
+          if ( !next || *next == index )
+            return std::nullopt;
+          line.pieces.pop_back();
+          line.end.state = from;
+          return next;
+        }
+
+        //! Draws a line and records or queues its end.
+        void finish( FollowResult &line, const std::optional<int> &next )
+        {
+          draw( mMatrix, line, mSummary );
+          if ( !next )
+          {
+            mSummary.deadEnds.push_back( line.end );
+            return;
+          }
+          line.end.kind = DeadEndKind::SubImageBorder;
+          ++mSummary.temporaryDeadEnds;
+          mWaiting[*next].push_back( line.end );
+        }
+
+        const GreyTiles &mGrey;
+        ResultMatrix &mMatrix;
+        const LineExtractionOptions &mOptions;
+        Mosaic mMosaic;
+        std::vector<std::vector<DeadEnd>> mWaiting; //!< temporary and given dead ends, by sub-image (image pixels)
+        LineExtractionSummary mSummary;
+    };
   } // namespace
 
-  LineExtractionSummary extractLines( const cv::Mat &grey, ResultMatrix &matrix, const std::vector<DeadEnd> &continueFrom, bool searchStartingPoints,
+  int LineExtractionOptions::overlapPx() const
+  {
+    return subImageOverlapPx > 0 ? subImageOverlapPx : std::max( 32, static_cast<int>( std::ceil( 3.0 * object.maxWidthPx ) ) + 16 );
+  }
+
+  LineExtractionSummary extractLines( const GreyTiles &grey, ResultMatrix &matrix, const std::vector<DeadEnd> &continueFrom, bool searchStartingPoints,
                                       const LineExtractionOptions &options, const ExtractionProgress &progress )
   {
     options.check();
-    if ( grey.empty() || grey.type() != CV_8UC1 )
-      throw std::invalid_argument( "line extraction needs an 8-bit single-band image" );
-    if ( matrix.width() != grey.cols || matrix.height() != grey.rows )
+    if ( matrix.width() != grey.width() || matrix.height() != grey.height() )
       throw std::invalid_argument( "the result matrix must have the image's size" );
-    LineExtractionSummary summary;
-
-    // continuation from given dead ends
+    MosaicExtraction extraction( grey, matrix, options );
     for ( const DeadEnd &deadEnd : continueFrom )
+      if ( !nearImageBorder( grey.size(), deadEnd.state.pixelInImage, deadEnd.state.widthPx ) )
+        extraction.wait( deadEnd );
+    LineExtractionSummary &summary = extraction.summary();
+    for ( int run = 0; run < options.maxSubImageRuns; ++run )
     {
-      const LineState &s = deadEnd.state;
-      if ( nearImageBorder( grey, s.pixelInImage, s.widthPx ) )
-        continue;
-      const FollowResult line = follow( grey, matrix, s, options, summary );
-      ++summary.continued;
-      draw( matrix, line, summary );
-      summary.deadEnds.push_back( line.end );
-    }
-    if ( !searchStartingPoints )
-      return summary;
-
-    const int size = options.subImageSizePx;
-    const int tilesX = ( grey.cols + size - 1 ) / size, tilesY = ( grey.rows + size - 1 ) / size;
-    for ( int ty = 0; ty < tilesY; ++ty )
-      for ( int tx = 0; tx < tilesX; ++tx )
+      const bool search = searchStartingPoints && run == 0;
+      if ( !search && !extraction.anyWaiting() )
+        break;
+      ++summary.subImageRuns;
+      for ( int index = 0; index < extraction.count(); ++index )
       {
-        if ( progress && !progress( static_cast<double>( ty * tilesX + tx ) / ( tilesX * tilesY ) ) )
+        if ( !search && !extraction.waiting( index ) )
+          continue;
+        // the first run is most of the work; later runs only finish lines
+        if ( progress && !progress( 0.95 * ( run == 0 ? static_cast<double>( index ) / extraction.count() : 1.0 ) ) )
         {
           summary.cancelled = true;
           return summary;
         }
-        const cv::Rect tile( tx * size, ty * size, std::min( size, grey.cols - tx * size ), std::min( size, grey.rows - ty * size ) );
-        Stopwatch t;
-        const StartingPointSummary starts = findStartingPoints( grey, tile, options.object, options.start );
-        summary.startStage.seconds += t.seconds();
-        summary.startStage.imagePixels += static_cast<long>( tile.area() );
-        summary.startingPoints += static_cast<int>( starts.points.size() );
-        for ( const LineState &start : starts.points )
-        {
-          if ( matrix.nearestSymbol( start.pixelInImage, std::max( start.widthPx, 6.0 ) ) )
-            continue; // on a known line
-          LineState backwards = start;
-          backwards.direction = -start.direction;
-          const FollowResult ahead = follow( grey, matrix, start, options, summary );
-          const FollowResult behind = follow( grey, matrix, backwards, options, summary );
-          if ( ahead.lemSteps + behind.lemSteps < options.minSteps )
-          {
-            ++summary.startsRejected;
-            continue;
-          }
-          ++summary.linesStarted;
-          matrix.drawPolyline( { start.pixelInImage }, ResultMatrix::kStart, true );
-          draw( matrix, ahead, summary );
-          draw( matrix, behind, summary );
-          summary.deadEnds.push_back( ahead.end );
-          summary.deadEnds.push_back( behind.end );
-        }
+        extraction.process( index, search );
       }
+    }
+    extraction.giveUp();
     if ( progress )
       progress( 1.0 );
     return summary;
   }
 
+  LineExtractionSummary extractLines( const cv::Mat &grey, ResultMatrix &matrix, const std::vector<DeadEnd> &continueFrom, bool searchStartingPoints,
+                                      const LineExtractionOptions &options, const ExtractionProgress &progress )
+  {
+    return extractLines( GreyTiles( grey ), matrix, continueFrom, searchStartingPoints, options, progress );
+  }
+
 } // namespace geostation
+
+

@@ -5,9 +5,17 @@
   starting point not on a known line is followed in both directions, LEM
   and REM handing over to each other, and the result is drawn into the
   result matrix (S, *, +) as it is found, so later lines stop where they
-  meet it. Starting points are searched sub-image by sub-image in raster
-  order (the report's 1024 x 1024 mosaic); lines are followed across
-  sub-image borders directly, since the image is held whole.
+  meet it.
+
+  The image is processed by sub-images (the report's mosaic of 1024 x 1024
+  pixels, overlapping): each is read as a window, starting points are
+  searched in it, and LEM and REM follow lines within it. A line reaching
+  the window's edge leaves a temporary dead end there, continued when the
+  adjacent sub-image is processed: first in raster order, then in further
+  runs through the sub-images that have temporary dead ends left (lines
+  pointing back into sub-images already processed), without starting
+  points, until none are left. Only the result matrix is held whole (one
+  byte per pixel); the image is read a window at a time (greytiles.h).
 
   A continuation run starts from given dead ends (the verification dead
   ends of the coincident procedure) and may skip the starting points.
@@ -20,6 +28,7 @@
 
 #include <opencv2/core.hpp>
 
+#include "extraction/greytiles.h"
 #include "extraction/localextraction.h"
 #include "extraction/regionalextraction.h"
 #include "extraction/resultmatrix.h"
@@ -35,11 +44,15 @@ namespace geostation
     LemOptions lem;
     RemOptions rem;
     int subImageSizePx = 1024;
+    int subImageOverlapPx = 0; //!< each side of a sub-image's window; 0: 3 x the widest road + 16, at least 32 (a line stops within that of the window's edge)
+    int maxSubImageRuns = 6;   //!< runs through the sub-images; temporary dead ends left after the last become final
     int minSteps = 3;      //!< a starting point is kept only when LEM makes this many steps from it (both directions together)
     int maxHandovers = 40; //!< LEM / REM alternations on one line
 
     //! Throws std::invalid_argument naming the first bad value.
     void check() const;
+    //! The overlap in use (subImageOverlapPx, or its automatic value).
+    int overlapPx() const;
   };
 
   //! Time and pixels of line per stage (the benchmark's pixels per second).
@@ -56,6 +69,9 @@ namespace geostation
     int linesStarted = 0;    //!< starting points followed (not on a known line, enough steps)
     int startsRejected = 0;  //!< fewer than minSteps
     int continued = 0;       //!< dead ends continued
+    int subImages = 0;       //!< sub-images processed (counted once per run)
+    int subImageRuns = 0;    //!< runs through the sub-images
+    int temporaryDeadEnds = 0; //!< lines continued across a sub-image border
     std::vector<DeadEnd> deadEnds; //!< where the lines stopped (final kinds; both ends of a line)
     StageCounts startStage, lemStage, remStage;
     double linePx = 0.0;     //!< total length drawn
@@ -66,9 +82,15 @@ namespace geostation
   using ExtractionProgress = std::function<bool( double fraction )>;
 
   /**
-   * Extracts lines into `matrix` (same size as `grey`, CV_8UC1). Throws
-   * std::invalid_argument for a bad image or options.
+   * Extracts lines into `matrix` (the image's size) from the image `grey`
+   * is read through; `continueFrom` and the summary are in image pixels.
+   * Throws std::invalid_argument for bad options or a matrix of another
+   * size; reader errors propagate.
    */
+  LineExtractionSummary extractLines( const GreyTiles &grey, ResultMatrix &matrix, const std::vector<DeadEnd> &continueFrom, bool searchStartingPoints,
+                                      const LineExtractionOptions &options, const ExtractionProgress &progress = nullptr );
+
+  //! The same for an image held in memory (CV_8UC1).
   LineExtractionSummary extractLines( const cv::Mat &grey, ResultMatrix &matrix, const std::vector<DeadEnd> &continueFrom, bool searchStartingPoints,
                                       const LineExtractionOptions &options, const ExtractionProgress &progress = nullptr );
 

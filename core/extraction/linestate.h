@@ -32,9 +32,10 @@ namespace geostation
     Ideal,         //!< REM reached a stretch LEM can follow again
     Verification,  //!< end of an accepted part near the end of the verified polygon: continue extracting here
     Unverified,    //!< final: verification did not confirm the line beyond here
+    SubImageBorder, //!< temporary: the line leaves the sub-image; continued in the adjacent one
   };
 
-  //! "image_border", "known_road", "break_off", "final_break_off", "ideal", "verification", "unverified"
+  //! "image_border", "known_road", "break_off", "final_break_off", "ideal", "verification", "unverified", "sub_image_border"
   std::string deadEndKindName( DeadEndKind kind );
 
   struct DeadEnd

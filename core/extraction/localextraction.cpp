@@ -29,6 +29,8 @@ namespace geostation
         return "verification";
       case DeadEndKind::Unverified:
         return "unverified";
+      case DeadEndKind::SubImageBorder:
+        return "sub_image_border";
     }
     return "unknown";
   }
@@ -56,8 +58,13 @@ namespace geostation
 
   bool nearImageBorder( const cv::Mat &grey, const Eigen::Vector2d &pixelInImage, double widthPx )
   {
+    return nearImageBorder( grey.size(), pixelInImage, widthPx );
+  }
+
+  bool nearImageBorder( const cv::Size &size, const Eigen::Vector2d &pixelInImage, double widthPx )
+  {
     const double margin = 0.5 * widthPx + std::max( 2.0, 0.5 * widthPx ) + 3.0;
-    return pixelInImage.x() < margin || pixelInImage.y() < margin || pixelInImage.x() > grey.cols - margin || pixelInImage.y() > grey.rows - margin;
+    return pixelInImage.x() < margin || pixelInImage.y() < margin || pixelInImage.x() > size.width - margin || pixelInImage.y() > size.height - margin;
   }
 
   std::optional<Eigen::Vector2d> knownLineAhead( const ResultMatrix &matrix, const Eigen::Vector2d &pixelInImage, const Eigen::Vector2d &behind,
@@ -67,8 +74,9 @@ namespace geostation
     const int cc = static_cast<int>( std::floor( pixelInImage.x() ) ), rc = static_cast<int>( std::floor( pixelInImage.y() ) );
     std::optional<Eigen::Vector2d> best;
     double bestD2 = radiusPx * radiusPx;
-    for ( int row = std::max( 0, rc - r ); row <= std::min( matrix.height() - 1, rc + r ); ++row )
-      for ( int col = std::max( 0, cc - r ); col <= std::min( matrix.width() - 1, cc + r ); ++col )
+    // (a view of the matrix may begin off its origin: at() is 0 outside what it holds)
+    for ( int row = rc - r; row <= rc + r; ++row )
+      for ( int col = cc - r; col <= cc + r; ++col )
       {
         if ( !matrix.at( col, row ) )
           continue;

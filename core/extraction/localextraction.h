@@ -73,6 +73,8 @@ namespace geostation
 
   //! Whether a point is too close to the border to take a profile of a line this wide.
   bool nearImageBorder( const cv::Mat &grey, const Eigen::Vector2d &pixelInImage, double widthPx );
+  //! The same for an image of `size`.
+  bool nearImageBorder( const cv::Size &size, const Eigen::Vector2d &pixelInImage, double widthPx );
 
   /**
    * A known line ahead: the nearest result-matrix pixel within `radiusPx` of

@@ -19,8 +19,20 @@ namespace geostation
     mSymbols = cv::Mat::zeros( height, width, CV_8UC1 );
   }
 
+  ResultMatrix ResultMatrix::view( const cv::Rect &rect, const cv::Point &origin ) const
+  {
+    ResultMatrix part;
+    const cv::Rect clipped = rect & cv::Rect( mShift, mSymbols.size() );
+    if ( !clipped.empty() )
+      part.mSymbols = mSymbols( clipped - mShift );
+    part.mShift = clipped.tl() - origin;
+    return part;
+  }
+
   uint8_t ResultMatrix::at( int col, int row ) const
   {
+    col -= mShift.x;
+    row -= mShift.y;
     if ( col < 0 || row < 0 || col >= mSymbols.cols || row >= mSymbols.rows )
       return 0;
     return mSymbols.at<uint8_t>( row, col );
@@ -30,7 +42,7 @@ namespace geostation
   {
     if ( pixelsInImage.empty() )
       return;
-    const auto cell = []( const Eigen::Vector2d &p ) { return cv::Point( static_cast<int>( std::floor( p.x() ) ), static_cast<int>( std::floor( p.y() ) ) ); };
+    const auto cell = [this]( const Eigen::Vector2d &p ) { return cv::Point( static_cast<int>( std::floor( p.x() ) ), static_cast<int>( std::floor( p.y() ) ) ) - mShift; };
     const auto put = [&]( const cv::Point &c )
     {
       if ( c.x < 0 || c.y < 0 || c.x >= mSymbols.cols || c.y >= mSymbols.rows )
@@ -50,8 +62,9 @@ namespace geostation
     }
   }
 
-  std::optional<Eigen::Vector2i> ResultMatrix::nearestSymbol( const Eigen::Vector2d &pixelInImage, double radiusPx, const std::string &symbols ) const
+  std::optional<Eigen::Vector2i> ResultMatrix::nearestSymbol( const Eigen::Vector2d &pixelInView, double radiusPx, const std::string &symbols ) const
   {
+    const Eigen::Vector2d pixelInImage = pixelInView - Eigen::Vector2d( mShift.x, mShift.y ); // in the pixels held
     const int r = static_cast<int>( std::ceil( radiusPx ) );
     const int cc = static_cast<int>( std::floor( pixelInImage.x() ) ), rc = static_cast<int>( std::floor( pixelInImage.y() ) );
     std::optional<Eigen::Vector2i> best;
@@ -72,6 +85,8 @@ namespace geostation
         }
       }
     }
+    if ( best )
+      *best += Eigen::Vector2i( mShift.x, mShift.y );
     return best;
   }
 

@@ -37,6 +37,14 @@ namespace geostation
       const cv::Mat &symbols() const { return mSymbols; }
 
       /**
+       * The part `rect` (clipped) of this matrix, sharing its pixels, in
+       * coordinates whose origin is `origin` of this matrix (pixelInWindow =
+       * pixelInImage - origin): what a sub-image's extraction reads, in the
+       * coordinates of its grey window, a little beyond that window.
+       */
+      ResultMatrix view( const cv::Rect &rect, const cv::Point &origin ) const;
+
+      /**
        * Draws the polyline with `symbol`; pixels already holding a symbol
        * keep it unless `overwrite`. Pixels off the matrix are skipped.
        */
@@ -56,6 +64,7 @@ namespace geostation
 
     private:
       cv::Mat mSymbols; // CV_8UC1
+      cv::Point mShift; // a view's coordinates of its first pixel
   };
 
   //! Polyline length in pixels.

@@ -49,7 +49,7 @@ namespace geostation
     };
 
     //! The band's width and contrast along a source polygon (medians of up to 7 profiles).
-    std::pair<double, double> measureBand( const cv::Mat &grey, const std::vector<Eigen::Vector2d> &line, const LineObjectOptions &object )
+    std::pair<double, double> measureBand( const GreyTiles &grey, const std::vector<Eigen::Vector2d> &line, const LineObjectOptions &object )
     {
       std::vector<double> widths, contrasts;
       for ( int k = 1; k <= 7 && line.size() > 2; ++k )
@@ -57,7 +57,9 @@ namespace geostation
         const size_t i = std::min( line.size() - 2, line.size() * k / 8 );
         const Eigen::Vector2d d = ( line[i + 1] - line[i] ).normalized();
         const int half = static_cast<int>( std::ceil( object.maxWidthPx ) ) + 6;
-        const std::vector<double> profile = sampleCrossProfile( grey, line[i], d, half, object.polarity, 2.0, 3 );
+        // the profile's pixels: half across, 2 along, 2 for interpolation
+        const GreyWindow w = grey.around( line[i], half + 6 );
+        const std::vector<double> profile = sampleCrossProfile( w.pixels, w.toWindow( line[i] ), d, half, object.polarity, 2.0, 3 );
         std::optional<CrossSection> best;
         for ( const CrossSection &s : findCrossSections( profile, object.minWidthPx, object.maxWidthPx, object.minContrast, object.maxVariation ) )
           if ( std::abs( s.offsetPx ) <= 3.0 && ( !best || std::abs( s.offsetPx ) < std::abs( best->offsetPx ) ) )
@@ -87,7 +89,7 @@ namespace geostation
     }
 
     //! Verifies one run of a polygon whose mapping is defined throughout.
-    void verifyRun( const cv::Mat &targetGrey, const std::vector<Eigen::Vector2d> &source, const std::vector<Eigen::Vector2d> &mapped,
+    void verifyRun( const GreyTiles &targetGrey, const std::vector<Eigen::Vector2d> &source, const std::vector<Eigen::Vector2d> &mapped,
                     double widthPx, double contrast, const LineObjectOptions &object, const VerificationOptions &options, VerificationSummary &summary )
     {
       std::vector<double> u( mapped.size(), 0.0 );
@@ -119,7 +121,13 @@ namespace geostation
         area.origin = a - spacing * area.axis + offset * normalOf( area.axis );
         area.lengthPx = ( b - a ).norm() + spacing;
         area.halfWidthPx = tracking ? options.trackingHalfWidthPx : options.misregistrationPx;
-        const std::vector<ChainLink> chain = bestChain( analyseArea( targetGrey, area, analysis ), area, analysis, std::nullopt );
+        // the area's pixels: its profiles (half-width + width + 3 across, half a spacing along) and the refinement of
+        // its chain's points (1.6 widths + 6 across), read as one window
+        const GreyWindow w = targetGrey.covering( area.origin, area.origin + area.lengthPx * area.axis,
+                                                  static_cast<int>( std::ceil( area.halfWidthPx + 2.0 * widthPx + area.spacingPx ) ) + 12 );
+        AreaOfInterest local = area;
+        local.origin = w.toWindow( area.origin );
+        const std::vector<ChainLink> chain = bestChain( analyseArea( w.pixels, local, analysis ), local, analysis, std::nullopt );
         double mean = 0.0;
         for ( const ChainLink &link : chain )
           mean += link.confidence / chain.size();
@@ -132,10 +140,10 @@ namespace geostation
           int counted = 0;
           for ( size_t k = 0; k < chain.size(); ++k )
           {
-            Eigen::Vector2d p = area.pointOn( chain[k].line, chain[k].offsetPx );
-            if ( const std::optional<CrossSection> refined = refineAcross( targetGrey, p, area.axis, widthPx, object, 2.0 ) )
+            Eigen::Vector2d p = local.pointOn( chain[k].line, chain[k].offsetPx );
+            if ( const std::optional<CrossSection> refined = refineAcross( w.pixels, p, area.axis, widthPx, object, 2.0 ) )
               p += refined->offsetPx * normalOf( area.axis );
-            interval.target.push_back( p );
+            interval.target.push_back( w.toImage( p ) );
             if ( k + 3 >= chain.size() )
             {
               lastOffsets += chain[k].offsetPx;
@@ -206,10 +214,16 @@ namespace geostation
   VerificationSummary verifyPolygons( const cv::Mat &sourceGrey, const cv::Mat &targetGrey, const std::vector<CompiledPolygon> &polygons,
                                       const PixelMap &sourceToTarget, const LineObjectOptions &object, const VerificationOptions &options )
   {
-    options.check();
-    object.check();
     if ( sourceGrey.type() != CV_8UC1 || targetGrey.type() != CV_8UC1 )
       throw std::invalid_argument( "verification needs 8-bit single-band images" );
+    return verifyPolygons( GreyTiles( sourceGrey ), GreyTiles( targetGrey ), polygons, sourceToTarget, object, options );
+  }
+
+  VerificationSummary verifyPolygons( const GreyTiles &sourceGrey, const GreyTiles &targetGrey, const std::vector<CompiledPolygon> &polygons,
+                                      const PixelMap &sourceToTarget, const LineObjectOptions &object, const VerificationOptions &options )
+  {
+    options.check();
+    object.check();
     const auto start = std::chrono::steady_clock::now();
     VerificationSummary summary;
     for ( const CompiledPolygon &polygon : polygons )
@@ -231,7 +245,7 @@ namespace geostation
       for ( const Eigen::Vector2d &p : source )
       {
         const std::optional<Eigen::Vector2d> q = sourceToTarget( p );
-        if ( q && q->x() >= 0 && q->y() >= 0 && q->x() <= targetGrey.cols && q->y() <= targetGrey.rows )
+        if ( q && q->x() >= 0 && q->y() >= 0 && q->x() <= targetGrey.width() && q->y() <= targetGrey.height() )
         {
           runSource.push_back( p );
           runTarget.push_back( *q );

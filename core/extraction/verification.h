@@ -25,6 +25,7 @@
 #include <opencv2/core.hpp>
 
 #include "extraction/crossprofile.h"
+#include "extraction/greytiles.h"
 #include "extraction/linestate.h"
 #include "extraction/resultmatrix.h"
 
@@ -69,6 +70,10 @@ namespace geostation
    * Verifies `polygons` of the source image in the target image. The band's
    * width and contrast are measured on the source image along each polygon.
    */
+  VerificationSummary verifyPolygons( const GreyTiles &sourceGrey, const GreyTiles &targetGrey, const std::vector<CompiledPolygon> &polygons,
+                                      const PixelMap &sourceToTarget, const LineObjectOptions &object, const VerificationOptions &options );
+
+  //! The same for images held in memory (CV_8UC1).
   VerificationSummary verifyPolygons( const cv::Mat &sourceGrey, const cv::Mat &targetGrey, const std::vector<CompiledPolygon> &polygons,
                                       const PixelMap &sourceToTarget, const LineObjectOptions &object, const VerificationOptions &options );
 
