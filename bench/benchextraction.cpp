@@ -9,16 +9,24 @@
 // images (what the Processing algorithm does first). Pixels per second are
 // printed per stage, so the slowest stage shows, and the peak resident
 // memory from the end of the simulation to the end of the extraction.
+// The whole procedure (terrain height, extraction, 3-D lines) is also run
+// from the files, read a window at a time and decoded whole, with the
+// memory each adds.
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <memory>
 #include <string>
+#include <stdexcept>
+#include <sys/wait.h>
 #include <unistd.h>
 
 #include <opencv2/imgproc.hpp>
 
 #include "benchutils.h"
+#include "extraction/greytiles.h"
+#include "extraction/pairmatchwindows.h"
 #include "extraction/roadnetworkextractor.h"
 #include "io/block.h"
 #include "io/rasterfile.h"
@@ -108,6 +116,89 @@ namespace
     state.SetLabel( std::to_string( p.last.linesA.size() ) + " lines" );
   }
 
+  long residentKb()
+  {
+    std::ifstream status( "/proc/self/status" );
+    std::string line;
+    while ( std::getline( status, line ) )
+      if ( line.rfind( "VmRSS:", 0 ) == 0 )
+        return std::atol( line.c_str() + 6 );
+    return -1;
+  }
+
+  RoadNetworkOptions networkOptions()
+  {
+    RoadNetworkOptions o;
+    o.coincident = options();
+    return o;
+  }
+
+  //! Memory the whole procedure added to what the process held before it (kB), and its 3-D vertices; by how the images were read.
+  struct FromFiles
+  {
+    long addedKb = -1;
+    int vertices = 0;
+    long windows = 0;
+  } windowed, whole;
+
+  /**
+   * The whole procedure from the two image files, as geostation:extract_roads
+   * runs it: terrain height by matching, extraction, 3-D lines. `inWindows`:
+   * read a window at a time (8-bit images); else decoded whole first.
+   */
+  void runFromFiles( benchmark::State &state, bool inWindows, FromFiles &out )
+  {
+    Pair &p = pair();
+    const OrientedImage a = p.block.orientedImage( p.block.images.at( 0 ) ), b = p.block.orientedImage( p.block.images.at( 1 ) );
+    const std::string left = p.block.imageFilePath( p.block.images.at( 0 ) ).string(), right = p.block.imageFilePath( p.block.images.at( 1 ) ).string();
+    for ( auto _ : state )
+    {
+      // in a child process of its own, so that its peak memory is its own (not the heap earlier runs left behind)
+      int channel[2];
+      if ( ::pipe( channel ) != 0 )
+        throw std::runtime_error( "no pipe" );
+      const pid_t child = ::fork();
+      if ( child == 0 )
+      {
+        ::close( channel[0] );
+        const long before = residentKb();
+        RoadNetworkSummary s;
+        long windows = 0;
+        if ( inWindows )
+        {
+          const auto readerLeft = std::make_shared<const RasterReader>( left ), readerRight = std::make_shared<const RasterReader>( right );
+          PairMatchWindows matching( matchWindowsOf( readerLeft, readerRight ), readerLeft->size(), readerRight->size() );
+          s = extractRoadNetwork( greyTilesOf( readerLeft ), greyTilesOf( readerRight ), matching, &a, &b, networkOptions() );
+          windows = matching.windowsRead();
+        }
+        else
+          s = extractRoadNetwork( MatchImage( readRaster( left ).pixels ), MatchImage( readRaster( right ).pixels ), &a, &b, networkOptions() );
+        const long result[3] = { peakResidentKb() - before, s.network.vertices - s.network.unmatched, windows };
+        const ssize_t written = ::write( channel[1], result, sizeof( result ) );
+        ::_exit( written == sizeof( result ) ? 0 : 1 );
+      }
+      ::close( channel[1] );
+      long result[3] = { -1, 0, 0 };
+      const ssize_t got = ::read( channel[0], result, sizeof( result ) );
+      ::close( channel[0] );
+      int status = 0;
+      ::waitpid( child, &status, 0 );
+      if ( got != sizeof( result ) || !WIFEXITED( status ) || WEXITSTATUS( status ) != 0 )
+      {
+        state.SkipWithError( "the run in the child process failed" );
+        return;
+      }
+      out.addedKb = result[0];
+      out.vertices = static_cast<int>( result[1] );
+      out.windows = result[2];
+    }
+    state.SetItemsProcessed( state.iterations() * 2 * static_cast<int64_t>( p.left.total() ) );
+    state.SetLabel( std::to_string( out.vertices ) + " 3-D vertices" );
+  }
+
+  void BM_NetworkFromFilesInWindows( benchmark::State &state ) { runFromFiles( state, true, windowed ); }
+  void BM_NetworkFromFilesWhole( benchmark::State &state ) { runFromFiles( state, false, whole ); }
+
   void BM_BaselineSobel( benchmark::State &state )
   {
     Pair &p = pair();
@@ -132,6 +223,8 @@ namespace
 }
 
 BENCHMARK( BM_ExtractPair )->Unit( benchmark::kMillisecond );
+BENCHMARK( BM_NetworkFromFilesInWindows )->Unit( benchmark::kMillisecond )->Iterations( 1 )->UseRealTime();
+BENCHMARK( BM_NetworkFromFilesWhole )->Unit( benchmark::kMillisecond )->Iterations( 1 )->UseRealTime();
 BENCHMARK( BM_BaselineSobel )->Unit( benchmark::kMillisecond );
 BENCHMARK( BM_BaselineDecode )->Unit( benchmark::kMillisecond );
 
@@ -157,5 +250,13 @@ int main( int argc, char **argv )
     line( "verification", s.verificationStage, false );
     std::printf( "  %-16s %8.3f s\n", "compilation", s.compilationStage.seconds );
     std::printf( "Peak resident memory during the extraction (the two grey images held): %.0f MB (target <= 2048 MB)\n", extractionPeakKb / 1024.0 );
+    const double inWindows = benchutils::rate( rates, "BM_NetworkFromFilesInWindows" ), wholeImages = benchutils::rate( rates, "BM_NetworkFromFilesWhole" );
+    std::printf( "\nThe whole procedure from the files (terrain height, extraction, 3-D lines):\n"
+                 "  read in windows: %.1f s, %.0f MB of memory added (%ld matching windows), %d 3-D vertices\n"
+                 "  decoded whole:   %.1f s, %.0f MB of memory added, %d 3-D vertices\n"
+                 "  windows: x%.2f the time, x%.2f the memory\n",
+                 inWindows > 0 ? 2.0 * n * n / inWindows : 0.0, windowed.addedKb / 1024.0, windowed.windows, windowed.vertices,
+                 wholeImages > 0 ? 2.0 * n * n / wholeImages : 0.0, whole.addedKb / 1024.0, whole.vertices,
+                 inWindows > 0 ? wholeImages / inWindows : 0.0, whole.addedKb > 0 ? static_cast<double>( windowed.addedKb ) / whole.addedKb : 0.0 );
   } );
 }

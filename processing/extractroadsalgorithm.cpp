@@ -11,6 +11,8 @@
 #include "extractroadsalgorithm.h"
 
 
+#include <memory>
+
 #include <qgsexception.h>
 #include <qgsfeaturesink.h>
 #include <qgsgeometry.h>
@@ -21,6 +23,8 @@
 #include <qgsprocessingparameters.h>
 #include <qgsrasterlayer.h>
 
+#include "extraction/greytiles.h"
+#include "extraction/pairmatchwindows.h"
 #include "extraction/roadnetworkextractor.h"
 #include "io/rasterfile.h"
 #include "extractroadsreport.h"
@@ -46,6 +50,12 @@ namespace
     {
       throw QgsProcessingException( QString::fromStdString( e.what() ) );
     }
+  }
+
+  std::shared_ptr<const geostation::RasterReader> openImage( const geostation::Block &block, const geostation::BlockImage &image )
+  {
+    GeoStationProcessing::requireImageFile( block, image );
+    return std::make_shared<const geostation::RasterReader>( block.imageFilePath( image ).string() );
   }
 
   QgsGeometry imageSpaceLine( const std::vector<Eigen::Vector2d> &pixels )
@@ -152,15 +162,22 @@ QVariantMap ExtractRoadsAlgorithm::processGeoStation( const QVariantMap &paramet
       return dem.dem->heightAt( inDem.x(), inDem.y() );
     };
   }
-  const geostation::MatchImage imageLeft = readImage( block, left ), imageRight = readImage( block, right );
-
   geostation::RoadNetworkSummary s;
   try
   {
-    s = geostation::extractRoadNetwork( imageLeft, imageRight, orientedLeft ? &*orientedLeft : nullptr, orientedRight ? &*orientedRight : nullptr, options,
-                                        [feedback]( double f ) { feedback->setProgress( 100.0 * f ); return !feedback->isCanceled(); } );
+    const geostation::ExtractionProgress progress = [feedback]( double f ) { feedback->setProgress( 100.0 * f ); return !feedback->isCanceled(); };
+    const geostation::OrientedImage *a = orientedLeft ? &*orientedLeft : nullptr, *b = orientedRight ? &*orientedRight : nullptr;
+    const auto readerLeft = openImage( block, left ), readerRight = openImage( block, right );
+    if ( readerLeft->eightBit() && readerRight->eightBit() )
+    {
+      // read a window at a time: memory does not grow with the images (beyond a byte a pixel for the result matrices)
+      geostation::PairMatchWindows matching( geostation::matchWindowsOf( readerLeft, readerRight ), readerLeft->size(), readerRight->size() );
+      s = geostation::extractRoadNetwork( geostation::greyTilesOf( readerLeft ), geostation::greyTilesOf( readerRight ), matching, a, b, options, progress );
+    }
+    else // 16-bit images are scaled by their whole range: read whole
+      s = geostation::extractRoadNetwork( readImage( block, left ), readImage( block, right ), a, b, options, progress );
   }
-  catch ( const std::invalid_argument &e )
+  catch ( const std::exception &e ) // bad input (invalid_argument) or an image that cannot be read (runtime_error)
   {
     throw QgsProcessingException( QString::fromStdString( e.what() ) );
   }

@@ -8,6 +8,10 @@
 #include <stdexcept>
 #include <string>
 
+#include <opencv2/imgproc.hpp>
+
+#include "io/rasterfile.h"
+
 namespace geostation
 {
 
@@ -101,6 +105,26 @@ namespace geostation
     const int x0 = clampPx( std::floor( lo.x() ) ) - marginPx, y0 = clampPx( std::floor( lo.y() ) ) - marginPx;
     const int x1 = clampPx( std::ceil( hi.x() ) ) + marginPx, y1 = clampPx( std::ceil( hi.y() ) ) + marginPx;
     return window( cv::Rect( cv::Point( x0, y0 ), cv::Point( x1 + 1, y1 + 1 ) ) );
+  }
+
+  GreyTiles greyTilesOf( std::shared_ptr<const RasterReader> reader, size_t maxCachedBytes )
+  {
+    if ( !reader )
+      throw std::invalid_argument( "no raster to read" );
+    if ( !reader->eightBit() )
+      throw std::invalid_argument( "a 16-bit raster is not read in tiles (its grey levels are scaled by the whole image's range)" );
+    return GreyTiles(
+      reader->size(),
+      [reader]( const cv::Rect &rect )
+      {
+        const cv::Mat pixels = reader->read( rect ).pixels;
+        if ( pixels.channels() == 1 )
+          return pixels;
+        cv::Mat grey;
+        cv::cvtColor( pixels, grey, pixels.channels() == 4 ? cv::COLOR_RGBA2GRAY : cv::COLOR_RGB2GRAY );
+        return grey;
+      },
+      maxCachedBytes );
   }
 
 } // namespace geostation

@@ -19,6 +19,7 @@
 #include <functional>
 #include <list>
 #include <map>
+#include <memory>
 #include <utility>
 
 #include <Eigen/Core>
@@ -91,6 +92,16 @@ namespace geostation
       mutable size_t mCachedBytes = 0, mPeakCachedBytes = 0;
       mutable long mTilesRead = 0;
   };
+
+  class RasterReader;
+
+  /**
+   * An 8-bit raster (grey, RGB or palette) read tile by tile, its grey levels
+   * as MatchImage makes them (RGB to grey). Throws std::invalid_argument for
+   * a 16-bit raster: its grey levels are scaled by the whole image's range,
+   * which windows do not know.
+   */
+  GreyTiles greyTilesOf( std::shared_ptr<const RasterReader> reader, size_t maxCachedBytes = size_t( 96 ) << 20 );
 
 } // namespace geostation
 

@@ -9,12 +9,16 @@
 
 #include "adjustment/intersection.h"
 #include "extraction/verification.h"
+#include "matching/matchingwindows.h"
 
 namespace geostation
 {
 
   namespace
   {
+    //! A band is a short stretch of curve: its window stays far below this.
+    constexpr long long kMaxBandWindowPixels = 4LL << 20;
+
     //! Where segments p0-p1 and q0-q1 cross: the point and the sine of their angle.
     std::optional<std::pair<Eigen::Vector2d, double>> crossing( const Eigen::Vector2d &p0, const Eigen::Vector2d &p1, const Eigen::Vector2d &q0, const Eigen::Vector2d &q1 )
     {
@@ -33,6 +37,14 @@ namespace geostation
 
   NetworkIntersectionSummary intersectNetwork( const OrientedPairMapping &mapping, const std::vector<CompiledPolygon> &linesA,
                                                const std::vector<CompiledPolygon> &linesB, const MatchImage &imageA, const MatchImage &imageB,
+                                               const NetworkIntersectionOptions &options )
+  {
+    PairMatchWindows images( imageA, imageB );
+    return intersectNetwork( mapping, linesA, linesB, images, options );
+  }
+
+  NetworkIntersectionSummary intersectNetwork( const OrientedPairMapping &mapping, const std::vector<CompiledPolygon> &linesA,
+                                               const std::vector<CompiledPolygon> &linesB, PairMatchWindows &images,
                                                const NetworkIntersectionOptions &options )
   {
     NetworkIntersectionSummary summary;
@@ -99,7 +111,7 @@ namespace geostation
               sigmaB = options.lineSigmaPx / bestSine;
               method = "line_crossing";
             }
-            else if ( !imageA.empty() && !imageB.empty() )
+            else if ( images.available() )
             {
               // along the epipolar direction: area matching on the curve near the prediction
               haveB = false;
@@ -109,6 +121,9 @@ namespace geostation
                   band.push_back( c );
               if ( band.size() >= 3 )
               {
+                // the pixels this match reads, in windows when the images are not held whole
+                const MatchImage &imageA = images.holding( 0, matchingWindowAround( p, 0.0, options.areaMatch, images.size( 0 ) ) );
+                const MatchImage &imageB = images.holding( 1, matchingWindowAlong( band, options.areaMatch, images.size( 1 ), kMaxBandWindowPixels ) );
                 const AreaMatch m = matchAlongEpipolarBand( imageA, p, imageB, band, options.areaMatch );
                 if ( m.status == MatchStatus::Lsm || m.status == MatchStatus::Correlation )
                 {

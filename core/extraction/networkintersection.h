@@ -19,6 +19,7 @@
 #include <Eigen/Core>
 
 #include "extraction/pairmapping.h"
+#include "extraction/pairmatchwindows.h"
 #include "extraction/resultmatrix.h"
 #include "matching/areamatcher.h"
 #include "matching/matchimage.h"
@@ -67,9 +68,16 @@ namespace geostation
   };
 
   /**
-   * 3-D lines from the final networks of A and B. `imageA` / `imageB` may be
-   * empty, then vertices along the epipolar direction stay unmatched.
+   * 3-D lines from the final networks of A and B, matching along the
+   * epipolar direction in the pixels `images` provides (in windows for
+   * images too large to hold whole); without them (not available()) such
+   * vertices stay unmatched. Read errors propagate.
    */
+  NetworkIntersectionSummary intersectNetwork( const OrientedPairMapping &mapping, const std::vector<CompiledPolygon> &linesA,
+                                               const std::vector<CompiledPolygon> &linesB, PairMatchWindows &images,
+                                               const NetworkIntersectionOptions &options = NetworkIntersectionOptions() );
+
+  //! The same over two whole images; `imageA` / `imageB` may be empty.
   NetworkIntersectionSummary intersectNetwork( const OrientedPairMapping &mapping, const std::vector<CompiledPolygon> &linesA,
                                                const std::vector<CompiledPolygon> &linesB, const MatchImage &imageA, const MatchImage &imageB,
                                                const NetworkIntersectionOptions &options = NetworkIntersectionOptions() );

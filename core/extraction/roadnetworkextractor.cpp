@@ -11,12 +11,21 @@
 #include "adjustment/intersection.h"
 #include "geometry/epipolar.h"
 #include "matching/areamatcher.h"
+#include "matching/matchingwindows.h"
 
 namespace geostation
 {
 
   std::optional<TerrainHeightEstimate> estimateTerrainHeight( const OrientedImage &a, const OrientedImage &b, const MatchImage &imageA, const MatchImage &imageB )
   {
+    PairMatchWindows images( imageA, imageB );
+    return estimateTerrainHeight( a, b, images );
+  }
+
+  std::optional<TerrainHeightEstimate> estimateTerrainHeight( const OrientedImage &a, const OrientedImage &b, PairMatchWindows &images )
+  {
+    if ( !images.available() )
+      return std::nullopt;
     EpipolarOptions epipolar;
     epipolar.minDistanceM = 1.0;
     epipolar.maxDistanceM = 100000.0;
@@ -29,7 +38,7 @@ namespace geostation
     for ( int r = 1; r <= n; ++r )
       for ( int c = 1; c <= n; ++c )
       {
-        const Eigen::Vector2d p( imageA.width() * c / ( n + 1.0 ), imageA.height() * r / ( n + 1.0 ) );
+        const Eigen::Vector2d p( images.size( 0 ).width * c / ( n + 1.0 ), images.size( 0 ).height * r / ( n + 1.0 ) );
         const EpipolarCurve curve = epipolarCurve( a, p, b, epipolar );
         std::vector<Eigen::Vector2d> band;
         for ( const auto &piece : curve.pieces )
@@ -38,6 +47,10 @@ namespace geostation
               band.push_back( v.pixelInImage );
         if ( band.size() < 3 )
           continue;
+        // the curve may cross the whole partner: its window is cut to the part around the curve's middle past this
+        // (grid points lie far apart: their windows are not grown)
+        const MatchImage &imageA = images.holding( 0, matchingWindowAround( p, 0.0, match, images.size( 0 ) ), 0 );
+        const MatchImage &imageB = images.holding( 1, matchingWindowAlong( band, match, images.size( 1 ), 16LL << 20 ), 0 );
         const AreaMatch m = matchAlongEpipolarBand( imageA, p, imageB, band, match );
         if ( m.status != MatchStatus::Lsm )
           continue;
@@ -63,11 +76,20 @@ namespace geostation
   RoadNetworkSummary extractRoadNetwork( const MatchImage &imageA, const MatchImage &imageB, const OrientedImage *a, const OrientedImage *b,
                                          const RoadNetworkOptions &options, const ExtractionProgress &progress )
   {
-    const auto start = std::chrono::steady_clock::now();
     if ( imageA.empty() || imageB.empty() )
       throw std::invalid_argument( "both images of the pair are needed" );
     if ( imageA.windowed() || imageB.windowed() )
       throw std::invalid_argument( "road extraction needs the whole images, not windows of them" );
+    PairMatchWindows matching( imageA, imageB );
+    return extractRoadNetwork( GreyTiles( imageA.grey() ), GreyTiles( imageB.grey() ), matching, a, b, options, progress );
+  }
+
+  RoadNetworkSummary extractRoadNetwork( const GreyTiles &greyA, const GreyTiles &greyB, PairMatchWindows &matching, const OrientedImage *a, const OrientedImage *b,
+                                         const RoadNetworkOptions &options, const ExtractionProgress &progress )
+  {
+    const auto start = std::chrono::steady_clock::now();
+    if ( greyA.size() != matching.size( 0 ) || greyB.size() != matching.size( 1 ) )
+      throw std::invalid_argument( "the grey images and the matching images of the pair must have the same sizes" );
     if ( ( a == nullptr ) != ( b == nullptr ) )
       throw std::invalid_argument( "either both images of the pair are oriented or neither" );
     options.coincident.check();
@@ -91,7 +113,7 @@ namespace geostation
         summary.meanHeightM = *options.meanHeightM;
       else
       {
-        summary.terrainEstimate = estimateTerrainHeight( *a, *b, imageA, imageB );
+        summary.terrainEstimate = estimateTerrainHeight( *a, *b, matching );
         if ( !summary.terrainEstimate && !options.terrain )
           throw std::invalid_argument( "the terrain height could not be estimated by matching (the images do not overlap, or have no texture): give a DEM or a mean terrain height" );
         summary.meanHeightM = summary.terrainEstimate ? summary.terrainEstimate->heightM : 0.0;
@@ -105,16 +127,16 @@ namespace geostation
       bool overlap = false;
       for ( int r = 0; r <= 8 && !overlap; ++r )
         for ( int c = 0; c <= 8 && !overlap; ++c )
-          if ( const std::optional<Eigen::Vector2d> q = oriented->toB( Eigen::Vector2d( imageA.width() * c / 8.0, imageA.height() * r / 8.0 ) ) )
-            overlap = q->x() >= 0 && q->y() >= 0 && q->x() <= imageB.width() && q->y() <= imageB.height();
+          if ( const std::optional<Eigen::Vector2d> q = oriented->toB( Eigen::Vector2d( greyA.width() * c / 8.0, greyA.height() * r / 8.0 ) ) )
+            overlap = q->x() >= 0 && q->y() >= 0 && q->x() <= greyB.width() && q->y() <= greyB.height();
       if ( !overlap )
         throw std::invalid_argument( "the two images do not overlap (at the terrain height of " + std::to_string( static_cast<int>( std::lround( summary.meanHeightM ) ) ) + " m): no stereo pair" );
     }
     const PairMapping &registration = mapping ? *mapping : static_cast<const PairMapping &>( *oriented );
     summary.mapping = registration.name();
-    summary.extraction = extractCoincident( imageA.grey(), imageB.grey(), registration, options.coincident, progress );
+    summary.extraction = extractCoincident( greyA, greyB, registration, options.coincident, progress );
     if ( oriented && !summary.extraction.cancelled )
-      summary.network = intersectNetwork( *oriented, summary.extraction.linesA, summary.extraction.linesB, imageA, imageB, options.network );
+      summary.network = intersectNetwork( *oriented, summary.extraction.linesA, summary.extraction.linesB, matching, options.network );
     summary.seconds = std::chrono::duration<double>( std::chrono::steady_clock::now() - start ).count();
     return summary;
   }

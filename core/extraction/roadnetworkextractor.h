@@ -18,6 +18,7 @@
 #include "extraction/coincidentextraction.h"
 #include "extraction/networkintersection.h"
 #include "extraction/pairmapping.h"
+#include "extraction/pairmatchwindows.h"
 #include "geometry/projection.h"
 #include "matching/matchimage.h"
 
@@ -51,6 +52,8 @@ namespace geostation
    * The median height of a 9 x 9 grid of points of A matched in B along
    * their epipolar curves (LSM only); nothing when fewer than 5 match.
    */
+  std::optional<TerrainHeightEstimate> estimateTerrainHeight( const OrientedImage &a, const OrientedImage &b, PairMatchWindows &images );
+  //! The same over two whole images.
   std::optional<TerrainHeightEstimate> estimateTerrainHeight( const OrientedImage &a, const OrientedImage &b, const MatchImage &imageA, const MatchImage &imageB );
 
   struct RoadNetworkSummary
@@ -67,10 +70,19 @@ namespace geostation
 
   /**
    * `a` and `b` are the pair's orientations, or both null for an unoriented
-   * pair (then `options.control` is required). Throws std::invalid_argument
-   * with one sentence for bad input (images, options, control points, no
-   * terrain height to be had); a pair without roads gives an empty result.
+   * pair (then `options.control` is required). The images are read a window
+   * at a time: grey levels for the extraction through `greyA` / `greyB`,
+   * matching pixels for the terrain height and the 3-D lines through
+   * `matching` (of the same sizes), so memory does not grow with the images
+   * beyond the result matrices (a byte a pixel). Throws
+   * std::invalid_argument with one sentence for bad input (sizes, options,
+   * control points, no terrain height to be had); read errors propagate; a
+   * pair without roads gives an empty result.
    */
+  RoadNetworkSummary extractRoadNetwork( const GreyTiles &greyA, const GreyTiles &greyB, PairMatchWindows &matching, const OrientedImage *a,
+                                         const OrientedImage *b, const RoadNetworkOptions &options, const ExtractionProgress &progress = nullptr );
+
+  //! The same for two images held whole (not windows of them).
   RoadNetworkSummary extractRoadNetwork( const MatchImage &imageA, const MatchImage &imageB, const OrientedImage *a, const OrientedImage *b,
                                          const RoadNetworkOptions &options, const ExtractionProgress &progress = nullptr );
 

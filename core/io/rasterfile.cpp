@@ -152,6 +152,25 @@ namespace geostation
     return cv::Size( GDALGetRasterXSize( ds.get() ), GDALGetRasterYSize( ds.get() ) );
   }
 
+  RasterReader::RasterReader( const std::string &path )
+    : mPath( path )
+  {
+    auto ds = openRaster( path );
+    mSize = cv::Size( GDALGetRasterXSize( ds.get() ), GDALGetRasterYSize( ds.get() ) );
+    mEightBit = GDALGetRasterDataType( GDALGetRasterBand( ds.get(), 1 ) ) == GDT_Byte;
+    mDataset = ds.release();
+  }
+
+  RasterReader::~RasterReader()
+  {
+    DatasetCloser()( mDataset );
+  }
+
+  RasterImage RasterReader::read( const cv::Rect &window ) const
+  {
+    return readPixels( mDataset, mPath, window );
+  }
+
   void writeGeoTiffLike( const std::string &path, const cv::Mat &pixels, const RasterImage &like )
   {
     GDALAllRegister();

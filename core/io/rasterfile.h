@@ -47,6 +47,32 @@ namespace geostation
   cv::Size rasterSize( const std::string &path );
 
   /**
+   * One raster kept open for reading window after window (readRasterWindow()
+   * opens it for every window). Not thread-safe: one reader per thread.
+   */
+  class RasterReader
+  {
+    public:
+      //! Throws std::invalid_argument naming the file if it cannot be opened.
+      explicit RasterReader( const std::string &path );
+      ~RasterReader();
+      RasterReader( const RasterReader & ) = delete;
+      RasterReader &operator=( const RasterReader & ) = delete;
+
+      cv::Size size() const { return mSize; }
+      //! Whether the pixels are 8-bit (else 16-bit).
+      bool eightBit() const { return mEightBit; }
+      //! Like readRasterWindow(); throws like it.
+      RasterImage read( const cv::Rect &window ) const;
+
+    private:
+      std::string mPath;
+      void *mDataset = nullptr;
+      cv::Size mSize;
+      bool mEightBit = true;
+  };
+
+  /**
    * Throws std::runtime_error naming the file; `like` supplies geotransform,
    * CRS and nodata (an empty RasterImage: pixel space). Images over 4 Mpx
    * get overviews (2-16), so QGIS draws them quickly. A "/vsimem/" path is

@@ -16,6 +16,7 @@
 #include <Eigen/Core>
 #include <opencv2/core.hpp>
 
+#include "matching/matchingwindows.h"
 #include "workstation/pointmeasurer.h"
 
 namespace geostation
@@ -32,25 +33,6 @@ namespace geostation
      */
     std::vector<size_t> cut;
   };
-
-  /**
-   * The pixels matching reads around `pixelInImage` (image pixels): a
-   * reference point's window, or matchAroundPosition()'s search within
-   * `radiusPx` of an approximate position; the largest window of `area`
-   * stretched by up to AreaMatchOptions::maxAffineScale, and a few pixels
-   * of least squares' movement. Clipped to the image (empty outside it).
-   */
-  cv::Rect matchingWindowAround( const Eigen::Vector2d &pixelInImage, double radiusPx, const AreaMatchOptions &area, const cv::Size &imageSize );
-
-  /**
-   * The pixels matchAlongEpipolarBand() reads along `curve` (image pixels,
-   * ordered along it), band and windows included; over maxPixels, only the
-   * part of the curve around its vertex nearest to `centre` (default: its
-   * middle vertex) that fits, and `cut` (if given) is set. Empty for an
-   * empty curve or one outside the image.
-   */
-  cv::Rect matchingWindowAlong( const std::vector<Eigen::Vector2d> &curve, const AreaMatchOptions &area, const cv::Size &imageSize, long long maxPixels,
-                                const std::optional<Eigen::Vector2d> &centre = std::nullopt, bool *cut = nullptr );
 
   /**
    * The pixels of each view that proposeConjugates( views, reference,

@@ -138,3 +138,26 @@ TEST( RasterFile, SixteenBitsAndExifOrientationAsStored )
   EXPECT_NEAR( rotated.pixels.at<uchar>( 3, 30 ), value( 0, 30, 3 ), 3 ); // not rotated: (col 30, row 3) as written
   fs::remove_all( dir );
 }
+
+TEST( RasterFile, AReaderKeptOpenReadsWindowsLikeReadRasterWindow )
+{
+  const fs::path dir = freshTestFolder( "rasterreader" );
+  writeRaster( dir / "rgb.tif", "GTiff", { GCI_RedBand, GCI_GreenBand, GCI_BlueBand } );
+  writeRaster( dir / "deep.tif", "GTiff", { GCI_GrayIndex }, GDT_UInt16 );
+  const RasterReader rgb( ( dir / "rgb.tif" ).string() ), deep( ( dir / "deep.tif" ).string() );
+  EXPECT_EQ( rgb.size(), cv::Size( kWidth, kHeight ) );
+  EXPECT_TRUE( rgb.eightBit() );
+  EXPECT_FALSE( deep.eightBit() );
+  for ( const cv::Rect &window : { cv::Rect( 0, 0, kWidth, kHeight ), cv::Rect( 7, 3, 11, 9 ), cv::Rect( kWidth - 1, kHeight - 1, 1, 1 ) } )
+  {
+    const cv::Mat a = rgb.read( window ).pixels, b = readRasterWindow( ( dir / "rgb.tif" ).string(), window ).pixels;
+    ASSERT_EQ( a.size(), window.size() );
+    EXPECT_EQ( cv::norm( a, b, cv::NORM_INF ), 0.0 );
+    EXPECT_EQ( a.at<cv::Vec3b>( window.height - 1, window.width - 1 )[2], value( 2, window.br().x - 1, window.br().y - 1 ) );
+  }
+  EXPECT_EQ( deep.read( cv::Rect( 5, 5, 2, 2 ) ).pixels.at<uint16_t>( 1, 1 ), value( 0, 6, 6 ) * 257 );
+  const std::string outside = errorOf( [&] { rgb.read( cv::Rect( kWidth - 2, 0, 5, 5 ) ); } );
+  EXPECT_NE( outside.find( "does not lie in the raster" ), std::string::npos ) << outside;
+  const std::string missing = errorOf( [&] { RasterReader( ( dir / "missing.tif" ).string() ); } );
+  EXPECT_NE( missing.find( "missing.tif" ), std::string::npos ) << missing;
+}

@@ -6,6 +6,8 @@
 #include <algorithm>
 #include <cstdio>
 #include <cstdlib>
+#include <limits>
+#include <memory>
 #include <tuple>
 #include <stdexcept>
 
@@ -18,6 +20,9 @@
 #include "extraction/greytiles.h"
 #include "extraction/lineextractor.h"
 #include "extraction/pairmapping.h"
+#include "extraction/pairmatchwindows.h"
+#include "extraction/roadnetworkextractor.h"
+#include "matching/matchimage.h"
 
 using namespace geostation;
 using namespace geostation::testing;
@@ -224,4 +229,60 @@ TEST( RoadExtraction, SubImagesOfPairsGiveTheWholePairsNetworks )
   EXPECT_GT( parts.completeness, 0.90 );
   EXPECT_GT( parts.correctness, 0.95 );
   EXPECT_LE( peakCache, ( 256u << 10 ) + GreyTiles::kTilePx * GreyTiles::kTilePx );
+}
+
+TEST( RoadExtraction, APairReadInWindowsGivesTheSame3DNetwork )
+{
+  // the whole procedure - terrain height by matching, extraction, 3-D lines - on images held whole, and on the same
+  // images read in windows: grey tiles through 1 MiB of cache, matching windows grown 128 px around what a match needs
+  const AerialPair &pair = aerialPair();
+  const OrientedImage a = pair.block.orientedImage( pair.block.images.at( 0 ) ), b = pair.block.orientedImage( pair.block.images.at( 1 ) );
+  RoadNetworkOptions options;
+  options.coincident.extraction = aerialOptions();
+  const MatchImage wholeA( pair.left ), wholeB( pair.right );
+  const RoadNetworkSummary whole = extractRoadNetwork( wholeA, wholeB, &a, &b, options );
+
+  long readA = 0, readB = 0;
+  const GreyTiles greyA = readThroughTiles( pair.left, 1 << 20, &readA ), greyB = readThroughTiles( pair.right, 1 << 20, &readB );
+  long matchPixelsRead = 0;
+  const MatchWindowSource source = [&]( int image, const cv::Rect &window )
+  {
+    const cv::Mat &pixels = image == 0 ? pair.left : pair.right;
+    const int m = MatchImage::kWindowMarginPx;
+    const cv::Rect held = cv::Rect( window.x - m, window.y - m, window.width + 2 * m, window.height + 2 * m ) & cv::Rect( cv::Point(), pixels.size() );
+    matchPixelsRead += held.area();
+    return std::make_shared<const MatchImage>( pixels( held ).clone(), held.tl(), pixels.size() );
+  };
+  PairMatchWindows matching( source, pair.left.size(), pair.right.size(), 128 );
+  const RoadNetworkSummary windowed = extractRoadNetwork( greyA, greyB, matching, &a, &b, options );
+
+  // the 3-D vertices of the windowed run against the whole run's
+  std::vector<Eigen::Vector3d> wholePoints;
+  for ( const NetworkLine &line : whole.network.lines )
+    for ( const NetworkVertex &v : line.vertices )
+      wholePoints.push_back( v.point );
+  int same = 0, vertices = 0;
+  double worst = 0.0;
+  for ( const NetworkLine &line : windowed.network.lines )
+    for ( const NetworkVertex &v : line.vertices )
+    {
+      double nearest = std::numeric_limits<double>::infinity();
+      for ( const Eigen::Vector3d &p : wholePoints )
+        nearest = std::min( nearest, ( p - v.point ).norm() );
+      ++vertices;
+      same += nearest < 0.02;
+      worst = std::max( worst, nearest );
+    }
+  const size_t wholeBytes = wholeA.bytes() + wholeB.bytes();
+  std::printf( "windows: terrain %.2f m (whole %.2f m); %d 3-D vertices (whole %zu), %d within 2 cm of the whole run's, worst %.3f m; %d by area matching "
+               "(whole %d); %ld matching windows, %.1f Mpx read, peak %.1f MB held (the whole images: %.1f MB)\n",
+               windowed.meanHeightM, whole.meanHeightM, vertices, wholePoints.size(), same, worst, windowed.network.byArea, whole.network.byArea,
+               matching.windowsRead(), matchPixelsRead / 1e6, matching.peakBytes() / 1e6, wholeBytes / 1e6 );
+  EXPECT_NEAR( windowed.meanHeightM, whole.meanHeightM, 0.05 );
+  EXPECT_EQ( windowed.extraction.linesA.size(), whole.extraction.linesA.size() );
+  EXPECT_EQ( static_cast<size_t>( vertices ), wholePoints.size() );
+  EXPECT_GE( same, 0.98 * vertices );
+  EXPECT_GT( windowed.network.byArea, 0.9 * whole.network.byArea );
+  EXPECT_GT( matching.windowsRead(), 4 );
+  EXPECT_LT( matching.peakBytes(), wholeBytes / 2 );
 }
