@@ -22,7 +22,10 @@ namespace GeoStationProcessing
       { "intersections_right", static_cast<int>( s.extraction.intersectionsB.size() ) }, { "gaps_bridged", s.extraction.bridged },
       { "stages", QJsonObject { { "starting_points", stage( s.extraction.startStage ) }, { "lem", stage( s.extraction.lemStage ) }, { "rem", stage( s.extraction.remStage ) },
           { "verification", stage( s.extraction.verificationStage ) }, { "compilation", stage( s.extraction.compilationStage ) } } },
-      { "seconds", s.seconds }, { "empty", s.extraction.linesA.empty() } };
+      { "seconds", s.seconds }, { "empty", s.extraction.linesA.empty() },
+      { "reading", QJsonObject { { "in_windows", s.reading.inWindows }, { "sub_images", s.extraction.subImages },
+          { "temporary_dead_ends", s.extraction.temporaryDeadEnds }, { "grey_tiles_read", static_cast<double>( s.reading.greyTilesRead ) },
+          { "matching_windows", static_cast<double>( s.reading.matchingWindows ) }, { "peak_matching_mb", s.reading.peakMatchingBytes / 1048576.0 } } } };
     if ( s.oriented )
     {
       report.insert( "mean_height_m", s.meanHeightM );

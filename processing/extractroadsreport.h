@@ -15,8 +15,10 @@ namespace GeoStationProcessing
 {
   /**
    * The rounds (extracted, accepted, rejected per round), line and
-   * intersection counts, the time per stage, the 3-D vertices of an oriented
-   * pair, and the registration's misregistration per control pair.
+   * intersection counts, the time per stage, how the pair was read (in
+   * windows: sub-images, lines continued across their borders, tiles and
+   * matching windows read), the 3-D vertices of an oriented pair, and the
+   * registration's misregistration per control pair.
    */
   QJsonObject extractRoadsReport( const geostation::RoadNetworkSummary &s, const QString &leftId, const QString &rightId,
                                   const std::vector<geostation::ControlPair> &control );

@@ -137,6 +137,10 @@ namespace geostation
     summary.extraction = extractCoincident( greyA, greyB, registration, options.coincident, progress );
     if ( oriented && !summary.extraction.cancelled )
       summary.network = intersectNetwork( *oriented, summary.extraction.linesA, summary.extraction.linesB, matching, options.network );
+    summary.reading.inWindows = !greyA.whole() || !greyB.whole();
+    summary.reading.greyTilesRead = greyA.tilesRead() + greyB.tilesRead();
+    summary.reading.matchingWindows = matching.windowsRead();
+    summary.reading.peakMatchingBytes = matching.peakBytes();
     summary.seconds = std::chrono::duration<double>( std::chrono::steady_clock::now() - start ).count();
     return summary;
   }

@@ -56,6 +56,15 @@ namespace geostation
   //! The same over two whole images.
   std::optional<TerrainHeightEstimate> estimateTerrainHeight( const OrientedImage &a, const OrientedImage &b, const MatchImage &imageA, const MatchImage &imageB );
 
+  //! How the pair was read.
+  struct PairReading
+  {
+    bool inWindows = false;     //!< read a window at a time (else held whole)
+    long greyTilesRead = 0;     //!< 256 px tiles of grey levels read, both images
+    long matchingWindows = 0;   //!< matching windows prepared
+    size_t peakMatchingBytes = 0; //!< the most matching pixel data held at once
+  };
+
   struct RoadNetworkSummary
   {
     std::string mapping;                            //!< "orientation", "projective", "multiquadric"
@@ -65,6 +74,7 @@ namespace geostation
     CoincidentExtractionSummary extraction;
     NetworkIntersectionSummary network;            //!< empty for an unoriented pair
     bool oriented = false;
+    PairReading reading;
     double seconds = 0.0;
   };
 

@@ -59,16 +59,18 @@ namespace geostation
     Entry entry;
     try
     {
-      entry.imageSize = rasterSize( path );
+      // opened once: its size decides between the whole image and a window of it
+      const RasterReader raster( path );
+      entry.imageSize = raster.size();
       const cv::Rect whole( 0, 0, entry.imageSize.width, entry.imageSize.height );
       if ( static_cast<long long>( whole.width ) * whole.height <= mMaxWholePixels )
-        entry.image = std::make_shared<const MatchImage>( readRaster( path ).pixels );
+        entry.image = std::make_shared<const MatchImage>( raster.read( whole ).pixels );
       else if ( const cv::Rect asked = window ? *window & whole : cv::Rect(); !asked.empty() )
       {
         // the margin MatchImage holds but does not offer, around the pixels asked for
         const int m = MatchImage::kWindowMarginPx;
         const cv::Rect held = cv::Rect( asked.x - m, asked.y - m, asked.width + 2 * m, asked.height + 2 * m ) & whole;
-        entry.image = std::make_shared<const MatchImage>( readRasterWindow( path, held ).pixels, held.tl(), entry.imageSize );
+        entry.image = std::make_shared<const MatchImage>( raster.read( held ).pixels, held.tl(), entry.imageSize );
         entry.needsWindow = true;
       }
       else
