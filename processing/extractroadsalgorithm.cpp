@@ -12,6 +12,8 @@
 
 
 #include <memory>
+#include <optional>
+#include <utility>
 
 #include <qgsexception.h>
 #include <qgsfeaturesink.h>
@@ -38,19 +40,6 @@ namespace
 {
   const QStringList kPolarities { QStringLiteral( "dark" ), QStringLiteral( "bright" ) };
   const QStringList kMappings { QStringLiteral( "multiquadric" ), QStringLiteral( "projective" ) };
-
-  geostation::MatchImage readImage( const geostation::Block &block, const geostation::BlockImage &image )
-  {
-    GeoStationProcessing::requireImageFile( block, image );
-    try
-    {
-      return geostation::MatchImage( geostation::readRaster( block.imageFilePath( image ).string() ).pixels );
-    }
-    catch ( const std::exception &e )
-    {
-      throw QgsProcessingException( QString::fromStdString( e.what() ) );
-    }
-  }
 
   std::shared_ptr<const geostation::RasterReader> openImage( const geostation::Block &block, const geostation::BlockImage &image )
   {
@@ -168,14 +157,14 @@ QVariantMap ExtractRoadsAlgorithm::processGeoStation( const QVariantMap &paramet
     const geostation::ExtractionProgress progress = [feedback]( double f ) { feedback->setProgress( 100.0 * f ); return !feedback->isCanceled(); };
     const geostation::OrientedImage *a = orientedLeft ? &*orientedLeft : nullptr, *b = orientedRight ? &*orientedRight : nullptr;
     const auto readerLeft = openImage( block, left ), readerRight = openImage( block, right );
-    if ( readerLeft->eightBit() && readerRight->eightBit() )
-    {
-      // read a window at a time: memory does not grow with the images (beyond a byte a pixel for the result matrices)
-      geostation::PairMatchWindows matching( geostation::matchWindowsOf( readerLeft, readerRight ), readerLeft->size(), readerRight->size() );
-      s = geostation::extractRoadNetwork( geostation::greyTilesOf( readerLeft ), geostation::greyTilesOf( readerRight ), matching, a, b, options, progress );
-    }
-    else // 16-bit images are scaled by their whole range: read whole
-      s = geostation::extractRoadNetwork( readImage( block, left ), readImage( block, right ), a, b, options, progress );
+    // read a window at a time: memory does not grow with the images (beyond a byte a pixel for the result matrices);
+    // a 16-bit image's grey range is read once first (its grey levels are scaled by the whole image's range)
+    using Range = std::optional<std::pair<double, double>>;
+    const auto range = []( const geostation::RasterReader &r ) { return r.eightBit() ? Range() : Range( geostation::greyRangeOf( r ) ); };
+    const Range rangeLeft = range( *readerLeft ), rangeRight = range( *readerRight );
+    geostation::PairMatchWindows matching( geostation::matchWindowsOf( readerLeft, readerRight, rangeLeft, rangeRight ), readerLeft->size(), readerRight->size() );
+    s = geostation::extractRoadNetwork( geostation::greyTilesOf( readerLeft, rangeLeft ), geostation::greyTilesOf( readerRight, rangeRight ), matching, a, b,
+                                        options, progress );
   }
   catch ( const std::exception &e ) // bad input (invalid_argument) or an image that cannot be read (runtime_error)
   {

@@ -11,6 +11,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "io/rasterfile.h"
+#include "matching/matchimage.h"
 
 namespace geostation
 {
@@ -107,22 +108,24 @@ namespace geostation
     return window( cv::Rect( cv::Point( x0, y0 ), cv::Point( x1 + 1, y1 + 1 ) ) );
   }
 
-  GreyTiles greyTilesOf( std::shared_ptr<const RasterReader> reader, size_t maxCachedBytes )
+  GreyTiles greyTilesOf( std::shared_ptr<const RasterReader> reader, const std::optional<std::pair<double, double>> &range16, size_t maxCachedBytes )
   {
     if ( !reader )
       throw std::invalid_argument( "no raster to read" );
-    if ( !reader->eightBit() )
-      throw std::invalid_argument( "a 16-bit raster is not read in tiles (its grey levels are scaled by the whole image's range)" );
+    const std::optional<std::pair<double, double>> range = reader->eightBit() ? std::nullopt : std::optional( range16 ? *range16 : greyRangeOf( *reader ) );
     return GreyTiles(
       reader->size(),
-      [reader]( const cv::Rect &rect )
+      [reader, range]( const cv::Rect &rect )
       {
-        const cv::Mat pixels = reader->read( rect ).pixels;
-        if ( pixels.channels() == 1 )
-          return pixels;
-        cv::Mat grey;
-        cv::cvtColor( pixels, grey, pixels.channels() == 4 ? cv::COLOR_RGBA2GRAY : cv::COLOR_RGB2GRAY );
-        return grey;
+        const cv::Mat grey = matchingGrey( reader->read( rect ).pixels );
+        if ( !range )
+          return grey;
+        // as MatchImage: scaled to 0..255 in floating point, then rounded
+        const double scale = range->second > range->first ? 255.0 / ( range->second - range->first ) : 1.0;
+        cv::Mat value, out;
+        grey.convertTo( value, CV_32F, scale, -range->first * scale );
+        value.convertTo( out, CV_8U );
+        return out;
       },
       maxCachedBytes );
   }

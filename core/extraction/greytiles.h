@@ -20,6 +20,7 @@
 #include <list>
 #include <map>
 #include <memory>
+#include <optional>
 #include <utility>
 
 #include <Eigen/Core>
@@ -96,12 +97,13 @@ namespace geostation
   class RasterReader;
 
   /**
-   * An 8-bit raster (grey, RGB or palette) read tile by tile, its grey levels
-   * as MatchImage makes them (RGB to grey). Throws std::invalid_argument for
-   * a 16-bit raster: its grey levels are scaled by the whole image's range,
-   * which windows do not know.
+   * A raster (grey, RGB or palette; 8- or 16-bit) read tile by tile, its grey
+   * levels as MatchImage makes them of the whole image: RGB to grey, and a
+   * 16-bit image scaled by `range16`, its whole grey range (greyRangeOf(),
+   * computed here when not given).
    */
-  GreyTiles greyTilesOf( std::shared_ptr<const RasterReader> reader, size_t maxCachedBytes = size_t( 96 ) << 20 );
+  GreyTiles greyTilesOf( std::shared_ptr<const RasterReader> reader, const std::optional<std::pair<double, double>> &range16 = std::nullopt,
+                         size_t maxCachedBytes = size_t( 96 ) << 20 );
 
 } // namespace geostation
 

@@ -13,16 +13,20 @@
 namespace geostation
 {
 
-  MatchWindowSource matchWindowsOf( std::shared_ptr<const RasterReader> a, std::shared_ptr<const RasterReader> b )
+  MatchWindowSource matchWindowsOf( std::shared_ptr<const RasterReader> a, std::shared_ptr<const RasterReader> b,
+                                    const std::optional<std::pair<double, double>> &rangeA16, const std::optional<std::pair<double, double>> &rangeB16 )
   {
     if ( !a || !b )
       throw std::invalid_argument( "matching windows need both rasters" );
-    return [a, b]( int image, const cv::Rect &window )
+    using Range = std::optional<std::pair<double, double>>;
+    const Range rangeA = a->eightBit() ? Range() : Range( rangeA16 ? *rangeA16 : greyRangeOf( *a ) );
+    const Range rangeB = b->eightBit() ? Range() : Range( rangeB16 ? *rangeB16 : greyRangeOf( *b ) );
+    return [a, b, rangeA, rangeB]( int image, const cv::Rect &window )
     {
       const RasterReader &reader = image == 0 ? *a : *b;
       const int m = MatchImage::kWindowMarginPx;
       const cv::Rect held = cv::Rect( window.x - m, window.y - m, window.width + 2 * m, window.height + 2 * m ) & cv::Rect( cv::Point(), reader.size() );
-      return std::make_shared<const MatchImage>( reader.read( held ).pixels, held.tl(), reader.size() );
+      return std::make_shared<const MatchImage>( reader.read( held ).pixels, held.tl(), reader.size(), image == 0 ? rangeA : rangeB );
     };
   }
 

@@ -16,6 +16,8 @@
 
 #include <functional>
 #include <memory>
+#include <optional>
+#include <utility>
 
 #include <opencv2/core.hpp>
 
@@ -35,10 +37,13 @@ namespace geostation
 
   /**
    * Windows of two rasters, each read with the margin MatchImage keeps
-   * along a window's inner edges. Throws std::invalid_argument without
-   * both readers.
+   * along a window's inner edges; a 16-bit raster's windows scaled by its
+   * whole grey range (greyRangeOf(), computed here when not given). Throws
+   * std::invalid_argument without both readers.
    */
-  MatchWindowSource matchWindowsOf( std::shared_ptr<const RasterReader> a, std::shared_ptr<const RasterReader> b );
+  MatchWindowSource matchWindowsOf( std::shared_ptr<const RasterReader> a, std::shared_ptr<const RasterReader> b,
+                                    const std::optional<std::pair<double, double>> &rangeA16 = std::nullopt,
+                                    const std::optional<std::pair<double, double>> &rangeB16 = std::nullopt );
 
   class PairMatchWindows
   {

@@ -5,9 +5,13 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <stdexcept>
+#include <tuple>
 
 #include <opencv2/imgproc.hpp>
+
+#include "io/rasterfile.h"
 
 namespace geostation
 {
@@ -19,12 +23,12 @@ namespace geostation
     mOffered = cv::Rect( 0, 0, mImageSize.width, mImageSize.height );
   }
 
-  MatchImage::MatchImage( const cv::Mat &window, const cv::Point &origin, const cv::Size &imageSize )
+  MatchImage::MatchImage( const cv::Mat &window, const cv::Point &origin, const cv::Size &imageSize, const std::optional<std::pair<double, double>> &range )
   {
     const cv::Rect held( origin, window.size() );
     if ( window.empty() || ( held & cv::Rect( 0, 0, imageSize.width, imageSize.height ) ) != held )
       throw std::invalid_argument( "the window does not lie in the image" );
-    prepare( window );
+    prepare( window, range );
     mOrigin = origin;
     mImageSize = imageSize;
     // the inner edges' margins are held, not offered; the image's own edges are offered as in a whole image
@@ -35,7 +39,7 @@ namespace geostation
     mOffered = cv::Rect( left, top, std::max( 0, right - left ), std::max( 0, bottom - top ) );
   }
 
-  void MatchImage::prepare( const cv::Mat &image )
+  cv::Mat matchingGrey( const cv::Mat &image )
   {
     if ( image.empty() )
       throw std::invalid_argument( "the image is empty" );
@@ -56,6 +60,27 @@ namespace geostation
       default:
         throw std::invalid_argument( "matching needs a grey, RGB or RGBA image" );
     }
+    return grey;
+  }
+
+  std::pair<double, double> greyRangeOf( const RasterReader &reader )
+  {
+    const cv::Size size = reader.size();
+    double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+    constexpr int kStripRows = 256;
+    for ( int row = 0; row < size.height; row += kStripRows )
+    {
+      double a = 0, b = 0;
+      cv::minMaxLoc( matchingGrey( reader.read( cv::Rect( 0, row, size.width, std::min( kStripRows, size.height - row ) ) ).pixels ), &a, &b );
+      lo = std::min( lo, a );
+      hi = std::max( hi, b );
+    }
+    return { lo, hi };
+  }
+
+  void MatchImage::prepare( const cv::Mat &image, const std::optional<std::pair<double, double>> &range )
+  {
+    const cv::Mat grey = matchingGrey( image );
     if ( grey.cols < 3 || grey.rows < 3 )
       throw std::invalid_argument( "the image is smaller than 3 x 3 pixels" );
     if ( grey.depth() == CV_8U )
@@ -63,7 +88,10 @@ namespace geostation
     else
     {
       double lo = 0, hi = 0;
-      cv::minMaxLoc( grey, &lo, &hi );
+      if ( range )
+        std::tie( lo, hi ) = *range;
+      else
+        cv::minMaxLoc( grey, &lo, &hi );
       const double scale = hi > lo ? 255.0 / ( hi - lo ) : 1.0;
       grey.convertTo( mValue, CV_32F, scale, -lo * scale );
     }

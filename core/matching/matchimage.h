@@ -21,6 +21,9 @@
 #ifndef GEOSTATION_MATCHING_MATCHIMAGE_H
 #define GEOSTATION_MATCHING_MATCHIMAGE_H
 
+#include <optional>
+#include <utility>
+
 #include <Eigen/Core>
 #include <opencv2/core.hpp>
 
@@ -42,11 +45,14 @@ namespace geostation
 
       /**
        * From the pixels `window` of an image of `imageSize` whose top-left
-       * pixel is `origin` (image pixels). A 16-bit window is scaled by its
-       * own range. Throws std::invalid_argument like the above, or if the
-       * window does not lie in the image.
+       * pixel is `origin` (image pixels). A 16-bit window is scaled by
+       * `range` - the whole image's grey range (greyRangeOf()), so that its
+       * values are the whole image's - or, without it, by its own range.
+       * Throws std::invalid_argument like the above, or if the window does
+       * not lie in the image.
        */
-      MatchImage( const cv::Mat &window, const cv::Point &origin, const cv::Size &imageSize );
+      MatchImage( const cv::Mat &window, const cv::Point &origin, const cv::Size &imageSize,
+                  const std::optional<std::pair<double, double>> &range = std::nullopt );
 
       //! The whole image's size, windowed or not.
       int width() const { return mImageSize.width; }
@@ -98,7 +104,7 @@ namespace geostation
       float sampleBilinear( double col, double row, float *dCol = nullptr, float *dRow = nullptr ) const;
 
     private:
-      void prepare( const cv::Mat &image );
+      void prepare( const cv::Mat &image, const std::optional<std::pair<double, double>> &range = std::nullopt );
 
       cv::Mat mGrey, mValue;
       cv::Mat mCoefficients; //!< cubic B-spline coefficients of mValue
@@ -106,6 +112,22 @@ namespace geostation
       cv::Size mImageSize { 0, 0 }; //!< the whole image
       cv::Rect mOffered;            //!< image pixels offered
   };
+
+  /**
+   * The grey levels matching makes of an image: 1 channel as it is, RGB or
+   * RGBA to grey (8- or 16-bit, as the input). Throws std::invalid_argument
+   * for anything else.
+   */
+  cv::Mat matchingGrey( const cv::Mat &image );
+
+  class RasterReader;
+
+  /**
+   * The range of the grey levels of a whole raster (what MatchImage scales a
+   * 16-bit image by), read strip by strip (bounded memory). Throws like
+   * RasterReader::read().
+   */
+  std::pair<double, double> greyRangeOf( const RasterReader &reader );
 
 } // namespace geostation
 

@@ -22,6 +22,7 @@
 #include "extraction/pairmapping.h"
 #include "extraction/pairmatchwindows.h"
 #include "extraction/roadnetworkextractor.h"
+#include "io/rasterfile.h"
 #include "matching/matchimage.h"
 
 using namespace geostation;
@@ -285,4 +286,45 @@ TEST( RoadExtraction, APairReadInWindowsGivesTheSame3DNetwork )
   EXPECT_GT( windowed.network.byArea, 0.9 * whole.network.byArea );
   EXPECT_GT( matching.windowsRead(), 4 );
   EXPECT_LT( matching.peakBytes(), wholeBytes / 2 );
+}
+
+TEST( RoadExtraction, ASixteenBitPairReadInWindowsIsScaledLikeTheWholeImages )
+{
+  // the preset pair as 16-bit GeoTIFFs (grey x 200 + 1000): read in windows, each tile and matching window is scaled by
+  // the image's whole grey range, read once first - the same grey levels, so the same network, as decoding them whole
+  const AerialPair &pair = aerialPair();
+  const std::string left = ( pair.dir / "left16.tif" ).string(), right = ( pair.dir / "right16.tif" ).string();
+  for ( const auto &[grey, path] : { std::pair( &pair.left, left ), std::pair( &pair.right, right ) } )
+  {
+    cv::Mat deep;
+    grey->convertTo( deep, CV_16U, 200.0, 1000.0 );
+    writeGeoTiffLike( path, deep, RasterImage() );
+  }
+  const OrientedImage a = pair.block.orientedImage( pair.block.images.at( 0 ) ), b = pair.block.orientedImage( pair.block.images.at( 1 ) );
+  RoadNetworkOptions options;
+  options.coincident.extraction = aerialOptions();
+  const RoadNetworkSummary whole = extractRoadNetwork( MatchImage( readRaster( left ).pixels ), MatchImage( readRaster( right ).pixels ), &a, &b, options );
+
+  const auto readerLeft = std::make_shared<const RasterReader>( left ), readerRight = std::make_shared<const RasterReader>( right );
+  ASSERT_FALSE( readerLeft->eightBit() );
+  const std::pair<double, double> range = greyRangeOf( *readerLeft );
+  double lo = 0, hi = 0;
+  cv::minMaxLoc( pair.left, &lo, &hi );
+  EXPECT_EQ( range.first, lo * 200 + 1000 );
+  EXPECT_EQ( range.second, hi * 200 + 1000 );
+  // small tiles and windows, so that they are many
+  PairMatchWindows matching( matchWindowsOf( readerLeft, readerRight ), readerLeft->size(), readerRight->size(), 128 );
+  const RoadNetworkSummary windowed = extractRoadNetwork( greyTilesOf( readerLeft, std::nullopt, 1 << 20 ), greyTilesOf( readerRight, std::nullopt, 1 << 20 ),
+                                                          matching, &a, &b, options );
+  std::printf( "16 bits: whole %zu + %zu lines, %d 3-D vertices, terrain %.2f m; in windows %zu + %zu lines, %d 3-D vertices, terrain %.2f m (%ld matching windows)\n",
+               whole.extraction.linesA.size(), whole.extraction.linesB.size(), whole.network.vertices - whole.network.unmatched, whole.meanHeightM,
+               windowed.extraction.linesA.size(), windowed.extraction.linesB.size(), windowed.network.vertices - windowed.network.unmatched, windowed.meanHeightM,
+               windowed.reading.matchingWindows );
+  EXPECT_TRUE( windowed.reading.inWindows );
+  EXPECT_GT( windowed.reading.matchingWindows, 4 );
+  EXPECT_NEAR( windowed.meanHeightM, whole.meanHeightM, 0.05 );
+  ASSERT_EQ( windowed.extraction.linesA.size(), whole.extraction.linesA.size() );
+  for ( size_t i = 0; i < whole.extraction.linesA.size(); ++i )
+    EXPECT_EQ( windowed.extraction.linesA[i].pixels, whole.extraction.linesA[i].pixels ) << "line " << i;
+  EXPECT_EQ( windowed.network.vertices - windowed.network.unmatched, whole.network.vertices - whole.network.unmatched );
 }
