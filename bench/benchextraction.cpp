@@ -95,15 +95,8 @@ namespace
 
   long extractionPeakKb = -1;
 
-  long peakResidentKb()
-  {
-    std::ifstream status( "/proc/self/status" );
-    std::string line;
-    while ( std::getline( status, line ) )
-      if ( line.rfind( "VmHWM:", 0 ) == 0 )
-        return std::atol( line.c_str() + 6 );
-    return -1;
-  }
+  long peakResidentKb() { return benchutils::statusKb( "VmHWM:" ); }
+  long residentKb() { return benchutils::statusKb( "VmRSS:" ); }
 
   void BM_ExtractPair( benchmark::State &state )
   {
@@ -114,16 +107,6 @@ namespace
     extractionPeakKb = peakResidentKb();
     state.SetItemsProcessed( state.iterations() * 2 * static_cast<int64_t>( p.left.total() ) );
     state.SetLabel( std::to_string( p.last.linesA.size() ) + " lines" );
-  }
-
-  long residentKb()
-  {
-    std::ifstream status( "/proc/self/status" );
-    std::string line;
-    while ( std::getline( status, line ) )
-      if ( line.rfind( "VmRSS:", 0 ) == 0 )
-        return std::atol( line.c_str() + 6 );
-    return -1;
   }
 
   RoadNetworkOptions networkOptions()

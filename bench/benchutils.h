@@ -4,6 +4,8 @@
 #ifndef GEOSTATION_BENCHUTILS_H
 #define GEOSTATION_BENCHUTILS_H
 
+#include <cstdlib>
+#include <fstream>
 #include <functional>
 #include <map>
 #include <string>
@@ -49,6 +51,17 @@ namespace benchutils
   }
 
   //! The rate of the first result whose name starts with `prefix`, or 0.
+  //! A field of /proc/self/status in kB ("VmRSS:" resident now, "VmHWM:" its peak); -1 where there is none (not Linux).
+  inline long statusKb( const std::string &field )
+  {
+    std::ifstream status( "/proc/self/status" );
+    std::string line;
+    while ( std::getline( status, line ) )
+      if ( line.rfind( field, 0 ) == 0 )
+        return std::atol( line.c_str() + field.size() );
+    return -1;
+  }
+
   inline double rate( const Rates &rates, const std::string &prefix )
   {
     for ( const auto &[name, value] : rates )

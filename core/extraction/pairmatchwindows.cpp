@@ -30,10 +30,11 @@ namespace geostation
     };
   }
 
-  PairMatchWindows::PairMatchWindows( MatchWindowSource source, const cv::Size &sizeA, const cv::Size &sizeB, int growPx )
+  PairMatchWindows::PairMatchWindows( MatchWindowSource source, const cv::Size &sizeA, const cv::Size &sizeB, int growPx, long long wholeBelowPixels )
     : mSource( std::move( source ) )
     , mSize { sizeA, sizeB }
     , mGrowPx( std::max( 0, growPx ) )
+    , mWholeBelowPixels( wholeBelowPixels )
   {
     if ( !mSource )
       throw std::invalid_argument( "matching windows need a source of pixels" );
@@ -64,7 +65,7 @@ namespace geostation
     const int grow = growPx < 0 ? mGrowPx : growPx;
     cv::Rect window = cv::Rect( wanted.x - grow, wanted.y - grow, wanted.width + 2 * grow, wanted.height + 2 * grow ) & bounds;
     // a window of most of the image: the whole image, read once instead of window after window
-    if ( 2 * static_cast<long long>( window.area() ) > static_cast<long long>( bounds.area() ) )
+    if ( 2 * static_cast<long long>( window.area() ) > static_cast<long long>( bounds.area() ) || static_cast<long long>( bounds.area() ) <= mWholeBelowPixels )
       window = bounds;
     std::shared_ptr<const MatchImage> pixels = mSource( image, window );
     ++mWindowsRead;

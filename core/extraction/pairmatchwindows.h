@@ -8,8 +8,9 @@
   it keeps the last window of each image and asks for a new one - what a
   match needs, grown by growPx on every side, so that the next points
   along a line fall in it too - only when a match needs pixels it does not
-  hold; a window of more than half the image becomes the whole image. Over
-  two whole images it asks for nothing.
+  hold; a window of more than half the image, or any window of a small
+  image, becomes the whole image. Over two whole images it asks for
+  nothing.
  ***************************************************************************/
 #ifndef GEOSTATION_EXTRACTION_PAIRMATCHWINDOWS_H
 #define GEOSTATION_EXTRACTION_PAIRMATCHWINDOWS_H
@@ -48,8 +49,13 @@ namespace geostation
   class PairMatchWindows
   {
     public:
-      //! Windows of images of `sizeA` and `sizeB` from `source`. Throws std::invalid_argument for empty sizes or no source.
-      PairMatchWindows( MatchWindowSource source, const cv::Size &sizeA, const cv::Size &sizeB, int growPx = 384 );
+      /**
+       * Windows of images of `sizeA` and `sizeB` from `source`; an image of
+       * at most `wholeBelowPixels` is asked for whole (once: cheaper than
+       * many windows, and small). Throws std::invalid_argument for empty
+       * sizes or no source.
+       */
+      PairMatchWindows( MatchWindowSource source, const cv::Size &sizeA, const cv::Size &sizeB, int growPx = 384, long long wholeBelowPixels = 4LL << 20 );
 
       //! Two whole images (not copied: they must outlive this); empty images: no area matching.
       PairMatchWindows( const MatchImage &a, const MatchImage &b );
@@ -77,6 +83,7 @@ namespace geostation
       cv::Size mSize[2];
       std::shared_ptr<const MatchImage> mCurrent[2];
       int mGrowPx = 0;
+      long long mWholeBelowPixels = 0;
       bool mAvailable = true;
       long mWindowsRead = 0;
       size_t mPeakBytes = 0;

@@ -254,7 +254,7 @@ TEST( RoadExtraction, APairReadInWindowsGivesTheSame3DNetwork )
     matchPixelsRead += held.area();
     return std::make_shared<const MatchImage>( pixels( held ).clone(), held.tl(), pixels.size() );
   };
-  PairMatchWindows matching( source, pair.left.size(), pair.right.size(), 128 );
+  PairMatchWindows matching( source, pair.left.size(), pair.right.size(), 128, 0 ); // windows even of these small images
   const RoadNetworkSummary windowed = extractRoadNetwork( greyA, greyB, matching, &a, &b, options );
 
   // the 3-D vertices of the windowed run against the whole run's
@@ -313,7 +313,7 @@ TEST( RoadExtraction, ASixteenBitPairReadInWindowsIsScaledLikeTheWholeImages )
   EXPECT_EQ( range.first, lo * 200 + 1000 );
   EXPECT_EQ( range.second, hi * 200 + 1000 );
   // small tiles and windows, so that they are many
-  PairMatchWindows matching( matchWindowsOf( readerLeft, readerRight ), readerLeft->size(), readerRight->size(), 128 );
+  PairMatchWindows matching( matchWindowsOf( readerLeft, readerRight ), readerLeft->size(), readerRight->size(), 128, 0 );
   const RoadNetworkSummary windowed = extractRoadNetwork( greyTilesOf( readerLeft, std::nullopt, 1 << 20 ), greyTilesOf( readerRight, std::nullopt, 1 << 20 ),
                                                           matching, &a, &b, options );
   std::printf( "16 bits: whole %zu + %zu lines, %d 3-D vertices, terrain %.2f m; in windows %zu + %zu lines, %d 3-D vertices, terrain %.2f m (%ld matching windows)\n",
