@@ -8,8 +8,6 @@
 #include <stdexcept>
 #include <string>
 
-#include <opencv2/imgproc.hpp>
-
 #include "io/rasterfile.h"
 #include "matching/matchimage.h"
 
@@ -117,15 +115,12 @@ namespace geostation
       reader->size(),
       [reader, range]( const cv::Rect &rect )
       {
-        const cv::Mat grey = matchingGrey( reader->read( rect ).pixels );
+        const cv::Mat pixels = reader->read( rect ).pixels;
         if ( !range )
-          return grey;
-        // as MatchImage: scaled to 0..255 in floating point, then rounded
-        const double scale = range->second > range->first ? 255.0 / ( range->second - range->first ) : 1.0;
-        cv::Mat value, out;
-        grey.convertTo( value, CV_32F, scale, -range->first * scale );
-        value.convertTo( out, CV_8U );
-        return out;
+          return matchingGrey( pixels );
+        cv::Mat grey;
+        matchingValues( pixels, range ).convertTo( grey, CV_8U ); // as MatchImage::grey(): rounded
+        return grey;
       },
       maxCachedBytes );
   }

@@ -24,8 +24,7 @@ namespace geostation
     return [a, b, rangeA, rangeB]( int image, const cv::Rect &window )
     {
       const RasterReader &reader = image == 0 ? *a : *b;
-      const int m = MatchImage::kWindowMarginPx;
-      const cv::Rect held = cv::Rect( window.x - m, window.y - m, window.width + 2 * m, window.height + 2 * m ) & cv::Rect( cv::Point(), reader.size() );
+      const cv::Rect held = matchingWindowToRead( window, reader.size() );
       return std::make_shared<const MatchImage>( reader.read( held ).pixels, held.tl(), reader.size(), image == 0 ? rangeA : rangeB );
     };
   }

@@ -78,13 +78,12 @@ namespace geostation
     return { lo, hi };
   }
 
-  void MatchImage::prepare( const cv::Mat &image, const std::optional<std::pair<double, double>> &range )
+  cv::Mat matchingValues( const cv::Mat &image, const std::optional<std::pair<double, double>> &range )
   {
     const cv::Mat grey = matchingGrey( image );
-    if ( grey.cols < 3 || grey.rows < 3 )
-      throw std::invalid_argument( "the image is smaller than 3 x 3 pixels" );
+    cv::Mat values;
     if ( grey.depth() == CV_8U )
-      grey.convertTo( mValue, CV_32F );
+      grey.convertTo( values, CV_32F );
     else
     {
       double lo = 0, hi = 0;
@@ -93,8 +92,22 @@ namespace geostation
       else
         cv::minMaxLoc( grey, &lo, &hi );
       const double scale = hi > lo ? 255.0 / ( hi - lo ) : 1.0;
-      grey.convertTo( mValue, CV_32F, scale, -lo * scale );
+      grey.convertTo( values, CV_32F, scale, -lo * scale );
     }
+    return values;
+  }
+
+  cv::Rect matchingWindowToRead( const cv::Rect &offered, const cv::Size &imageSize )
+  {
+    const int m = MatchImage::kWindowMarginPx;
+    return cv::Rect( offered.x - m, offered.y - m, offered.width + 2 * m, offered.height + 2 * m ) & cv::Rect( 0, 0, imageSize.width, imageSize.height );
+  }
+
+  void MatchImage::prepare( const cv::Mat &image, const std::optional<std::pair<double, double>> &range )
+  {
+    mValue = matchingValues( image, range );
+    if ( mValue.cols < 3 || mValue.rows < 3 )
+      throw std::invalid_argument( "the image is smaller than 3 x 3 pixels" );
     mValue.convertTo( mGrey, CV_8U ); // rounds
     // cubic B-spline coefficients (Unser's recursive prefilter, mirror boundaries), so that
     // sampleCubic() interpolates the pixel values exactly with the spline's flat frequency response

@@ -120,6 +120,19 @@ namespace geostation
    */
   cv::Mat matchingGrey( const cv::Mat &image );
 
+  /**
+   * Matching's grey values of an image (CV_32F, 0..255): matchingGrey(),
+   * a 16-bit image scaled by `range` (the whole image's) or by its own
+   * range. MatchImage::grey() is these rounded to 8 bits.
+   */
+  cv::Mat matchingValues( const cv::Mat &image, const std::optional<std::pair<double, double>> &range = std::nullopt );
+
+  /**
+   * The pixels to read for a windowed MatchImage that offers `offered`:
+   * `offered` with MatchImage::kWindowMarginPx around it, within the image.
+   */
+  cv::Rect matchingWindowToRead( const cv::Rect &offered, const cv::Size &imageSize );
+
   class RasterReader;
 
   /**

@@ -68,8 +68,7 @@ namespace geostation
       else if ( const cv::Rect asked = window ? *window & whole : cv::Rect(); !asked.empty() )
       {
         // the margin MatchImage holds but does not offer, around the pixels asked for
-        const int m = MatchImage::kWindowMarginPx;
-        const cv::Rect held = cv::Rect( asked.x - m, asked.y - m, asked.width + 2 * m, asked.height + 2 * m ) & whole;
+        const cv::Rect held = matchingWindowToRead( asked, entry.imageSize );
         entry.image = std::make_shared<const MatchImage>( raster.read( held ).pixels, held.tl(), entry.imageSize );
         entry.needsWindow = true;
       }

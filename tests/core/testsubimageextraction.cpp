@@ -249,8 +249,7 @@ TEST( RoadExtraction, APairReadInWindowsGivesTheSame3DNetwork )
   const MatchWindowSource source = [&]( int image, const cv::Rect &window )
   {
     const cv::Mat &pixels = image == 0 ? pair.left : pair.right;
-    const int m = MatchImage::kWindowMarginPx;
-    const cv::Rect held = cv::Rect( window.x - m, window.y - m, window.width + 2 * m, window.height + 2 * m ) & cv::Rect( cv::Point(), pixels.size() );
+    const cv::Rect held = matchingWindowToRead( window, pixels.size() );
     matchPixelsRead += held.area();
     return std::make_shared<const MatchImage>( pixels( held ).clone(), held.tl(), pixels.size() );
   };
