@@ -83,7 +83,9 @@ QString ExtractRoadsAlgorithm::shortHelpString() const
                       "both sides by at least MIN_CONTRAST grey levels. An oriented pair is registered through its "
                       "orientation and the DEM, or a mean terrain height (MEAN_HEIGHT_M, otherwise estimated by matching); "
                       "an unoriented pair needs CONTROL (point_id, col_left, row_left, col_right, row_right) and is "
-                      "registered by the MAPPING, and then only the image-space outputs are written.\n\n"
+                      "registered by the MAPPING, and then only the image-space outputs are written; the verification then searches "
+                      "as far either side of a mapped line as the control points' misregistration calls for. Starting points are "
+                      "sought on sample lines START_SPACING_PX apart: closer lines find more of the short roads of a small image.\n\n"
                       "OUTPUT: 3-D lines in the block CRS (line_id, accepted_in, length_m, sigma_max); OUTPUT_LEFT and "
                       "OUTPUT_RIGHT: the lines in each image (x = col, y = -row); DEAD_ENDS: open ends in the left image "
                       "(kind); REPORT: JSON with the rounds, counts, registration and times per stage." );
@@ -102,6 +104,10 @@ void ExtractRoadsAlgorithm::initAlgorithm( const QVariantMap & )
   addParameter( new QgsProcessingParameterNumber( QStringLiteral( "ROAD_WIDTH_MAX_PX" ), QObject::tr( "Widest road (px)" ), QgsProcessingParameterNumber::Double, 20.0, false, 2.0, 200.0 ) );
   addParameter( new QgsProcessingParameterEnum( QStringLiteral( "POLARITY" ), QObject::tr( "Roads are" ), kPolarities, false, QStringLiteral( "dark" ), false, true ) );
   addParameter( new QgsProcessingParameterNumber( QStringLiteral( "MIN_CONTRAST" ), QObject::tr( "Minimum contrast (grey levels)" ), QgsProcessingParameterNumber::Double, 25.0, false, 1.0, 255.0 ) );
+  auto spacing = std::make_unique<QgsProcessingParameterNumber>( QStringLiteral( "START_SPACING_PX" ), QObject::tr( "Starting-point sample lines every (px)" ),
+                                                                  QgsProcessingParameterNumber::Integer, 48, false, 4, 1000 );
+  spacing->setFlags( spacing->flags() | QgsProcessingParameterDefinition::FlagAdvanced );
+  addParameter( spacing.release() );
   addParameter( new QgsProcessingParameterFeatureSource( QStringLiteral( "CONTROL" ), QObject::tr( "Control-point pairs (unoriented pair)" ), QList<int>() << QgsProcessing::TypeVector, QVariant(), true ) );
   addParameter( new QgsProcessingParameterEnum( QStringLiteral( "MAPPING" ), QObject::tr( "Mapping from control points" ), kMappings, false, QStringLiteral( "multiquadric" ), false, true ) );
   addParameter( new QgsProcessingParameterFeatureSink( QStringLiteral( "OUTPUT" ), QObject::tr( "Road network (3-D)" ), QgsProcessing::TypeVectorLine, QVariant(), true ) );
@@ -126,6 +132,7 @@ QVariantMap ExtractRoadsAlgorithm::processGeoStation( const QVariantMap &paramet
   object.minContrast = parameterAsDouble( parameters, QStringLiteral( "MIN_CONTRAST" ), context );
   object.minWidthPx = parameterAsDouble( parameters, QStringLiteral( "ROAD_WIDTH_MIN_PX" ), context );
   object.maxWidthPx = parameterAsDouble( parameters, QStringLiteral( "ROAD_WIDTH_MAX_PX" ), context );
+  options.coincident.extraction.start.sampleSpacingPx = parameterAsInt( parameters, QStringLiteral( "START_SPACING_PX" ), context );
   if ( parameters.value( QStringLiteral( "MEAN_HEIGHT_M" ) ).isValid() && !parameters.value( QStringLiteral( "MEAN_HEIGHT_M" ) ).toString().isEmpty() )
     options.meanHeightM = parameterAsDouble( parameters, QStringLiteral( "MEAN_HEIGHT_M" ), context );
   if ( std::unique_ptr<QgsProcessingFeatureSource> control { parameterAsSource( parameters, QStringLiteral( "CONTROL" ), context ) } )

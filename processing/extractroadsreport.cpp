@@ -3,6 +3,8 @@
  ***************************************************************************/
 #include "extractroadsreport.h"
 
+#include <cmath>
+
 #include <QJsonArray>
 
 namespace GeoStationProcessing
@@ -22,7 +24,7 @@ namespace GeoStationProcessing
       { "intersections_right", static_cast<int>( s.extraction.intersectionsB.size() ) }, { "gaps_bridged", s.extraction.bridged },
       { "stages", QJsonObject { { "starting_points", stage( s.extraction.startStage ) }, { "lem", stage( s.extraction.lemStage ) }, { "rem", stage( s.extraction.remStage ) },
           { "verification", stage( s.extraction.verificationStage ) }, { "compilation", stage( s.extraction.compilationStage ) } } },
-      { "seconds", s.seconds }, { "empty", s.extraction.linesA.empty() },
+      { "seconds", s.seconds }, { "empty", s.extraction.linesA.empty() }, { "verification_search_px", s.verificationSearchPx },
       { "reading", QJsonObject { { "in_windows", s.reading.inWindows }, { "sub_images", s.extraction.subImages },
           { "temporary_dead_ends", s.extraction.temporaryDeadEnds }, { "grey_tiles_read", static_cast<double>( s.reading.greyTilesRead ) },
           { "matching_windows", static_cast<double>( s.reading.matchingWindows ) }, { "peak_matching_mb", s.reading.peakMatchingBytes / 1048576.0 } } } };
@@ -40,7 +42,8 @@ namespace GeoStationProcessing
       for ( size_t i = 0; i < s.registration->residualsPx.size(); ++i )
         residuals.append( QJsonObject { { "point_id", QString::fromStdString( control[i].id ) }, { "misregistration_px", s.registration->residualsPx[i] } } );
       report.insert( "registration", QJsonObject { { "method", QString::fromStdString( s.registration->method ) }, { "rms_px", s.registration->rmsPx },
-        { "max_px", s.registration->maxPx }, { "points", residuals } } );
+        { "max_px", s.registration->maxPx }, { "expected_px", std::isfinite( s.registration->expectedPx ) ? QJsonValue( s.registration->expectedPx ) : QJsonValue() },
+        { "points", residuals } } );
     }
     return report;
   }

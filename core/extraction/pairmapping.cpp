@@ -144,6 +144,11 @@ namespace geostation
       residuals.push_back( q ? ( *q - p.inB ).norm() : std::numeric_limits<double>::infinity() );
     }
     fillReport( report, "projective", residuals );
+    if ( report && pairs.size() > 4 )
+    {
+      const double equations = 2.0 * pairs.size();
+      report->expectedPx = report->maxPx * std::sqrt( equations / ( equations - 8.0 ) );
+    }
     return m;
   }
 
@@ -195,6 +200,19 @@ namespace geostation
       }
     }
     fillReport( report, "multiquadric", residuals );
+    if ( report && pairs.size() >= 4 )
+    {
+      double worst = 0.0;
+      int judged = 0;
+      for ( double r : residuals )
+        if ( std::isfinite( r ) )
+        {
+          worst = std::max( worst, r );
+          ++judged;
+        }
+      if ( judged >= 3 )
+        report->expectedPx = worst;
+    }
     return m;
   }
 

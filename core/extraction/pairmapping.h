@@ -20,6 +20,7 @@
 #define GEOSTATION_EXTRACTION_PAIRMAPPING_H
 
 #include <functional>
+#include <limits>
 #include <optional>
 #include <string>
 #include <vector>
@@ -57,6 +58,10 @@ namespace geostation
     std::vector<double> residualsPx; //!< per pair, in input order
     double rmsPx = 0.0;
     double maxPx = 0.0;
+    //! The misregistration to expect away from the control points: the projective's largest residual scaled by
+    //! sqrt(2n / (2n - 8)) for its redundancy, the multiquadric's largest leave-one-out residual; NaN where the
+    //! points cannot tell (4 projective pairs, fewer than 4 multiquadric).
+    double expectedPx = std::numeric_limits<double>::quiet_NaN();
   };
 
   class ProjectiveMapping : public PairMapping

@@ -16,6 +16,13 @@
 namespace geostation
 {
 
+  double verificationSearchPx( const RegistrationReport &registration, double ceilingPx )
+  {
+    if ( !std::isfinite( registration.expectedPx ) )
+      return ceilingPx;
+    return std::clamp( 2.0 * registration.expectedPx + 2.0, std::min( 3.0, ceilingPx ), ceilingPx );
+  }
+
   std::optional<TerrainHeightEstimate> estimateTerrainHeight( const OrientedImage &a, const OrientedImage &b, const MatchImage &imageA, const MatchImage &imageB )
   {
     PairMatchWindows images( imageA, imageB );
@@ -134,7 +141,11 @@ namespace geostation
     }
     const PairMapping &registration = mapping ? *mapping : static_cast<const PairMapping &>( *oriented );
     summary.mapping = registration.name();
-    summary.extraction = extractCoincident( greyA, greyB, registration, options.coincident, progress );
+    CoincidentExtractionOptions coincident = options.coincident;
+    if ( summary.registration )
+      coincident.verification.misregistrationPx = verificationSearchPx( *summary.registration, coincident.verification.misregistrationPx );
+    summary.verificationSearchPx = coincident.verification.misregistrationPx;
+    summary.extraction = extractCoincident( greyA, greyB, registration, coincident, progress );
     if ( oriented && !summary.extraction.cancelled )
       summary.network = intersectNetwork( *oriented, summary.extraction.linesA, summary.extraction.linesB, matching, options.network );
     summary.reading.inWindows = !greyA.whole() || !greyB.whole();

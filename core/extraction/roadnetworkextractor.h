@@ -69,6 +69,7 @@ namespace geostation
   {
     std::string mapping;                            //!< "orientation", "projective", "multiquadric"
     std::optional<RegistrationReport> registration; //!< control-point mappings
+    double verificationSearchPx = 0.0;              //!< the verification's search either side of the mapped line (verificationSearchPx())
     std::optional<TerrainHeightEstimate> terrainEstimate;
     double meanHeightM = 0.0;
     CoincidentExtractionSummary extraction;
@@ -77,6 +78,17 @@ namespace geostation
     PairReading reading;
     double seconds = 0.0;
   };
+
+  /**
+   * The verification's search either side of a mapped line for a pair
+   * registered by control points: twice the misregistration to expect
+   * (RegistrationReport::expectedPx) plus 2 px, within 3 px and
+   * `ceilingPx` (VerificationOptions::misregistrationPx); the ceiling where
+   * the points cannot tell. A narrow search keeps verification from
+   * accepting a parallel line beside the mapped one (a row of buildings, a
+   * field's edge), which a real photograph has everywhere.
+   */
+  double verificationSearchPx( const RegistrationReport &registration, double ceilingPx );
 
   /**
    * `a` and `b` are the pair's orientations, or both null for an unoriented

@@ -115,12 +115,27 @@ namespace geostation
         const Eigen::Vector2d a = pointAt( mapped, u, from ), b = pointAt( mapped, u, to );
         if ( ( b - a ).norm() < 1.0 )
           break;
+        // around the mapped line within the misregistration; once found, around the line, but never further from
+        // the mapped line than the misregistration (tracking must not walk off onto a line beside it)
+        double centre = 0.0, halfWidth = options.misregistrationPx;
+        if ( tracking )
+        {
+          const double low = std::max( offset - options.trackingHalfWidthPx, -options.misregistrationPx );
+          const double high = std::min( offset + options.trackingHalfWidthPx, options.misregistrationPx );
+          centre = 0.5 * ( low + high );
+          halfWidth = 0.5 * ( high - low );
+          if ( halfWidth < 1.0 )
+          {
+            centre = 0.0;
+            halfWidth = options.misregistrationPx;
+          }
+        }
         AreaOfInterest area;
         area.axis = ( b - a ).normalized();
         area.spacingPx = spacing;
-        area.origin = a - spacing * area.axis + offset * normalOf( area.axis );
+        area.origin = a - spacing * area.axis + centre * normalOf( area.axis );
         area.lengthPx = ( b - a ).norm() + spacing;
-        area.halfWidthPx = tracking ? options.trackingHalfWidthPx : options.misregistrationPx;
+        area.halfWidthPx = halfWidth;
         // the area's pixels: its profiles (half-width + width + 3 across, half a spacing along) and the refinement of
         // its chain's points (1.6 widths + 6 across), read as one window
         const GreyWindow w = targetGrey.covering( area.origin, area.origin + area.lengthPx * area.axis,
@@ -150,7 +165,7 @@ namespace geostation
               ++counted;
             }
           }
-          offset += lastOffsets / counted;
+          offset = centre + lastOffsets / counted;
           tracking = true;
           found.push_back( std::move( interval ) );
         }

@@ -378,6 +378,22 @@ TEST( RoadExtraction, PairMappingsFromControlPoints )
   EXPECT_LT( worstMq, 1.5 );
   EXPECT_GT( projectiveReport.rmsPx, 2.0 );
   EXPECT_LT( multiquadricReport.rmsPx, 2.0 );
+  // the misregistration to expect away from the points, and the verification's search from it
+  std::printf( "expected misregistration: projective %.2f px, multiquadric %.2f px\n", projectiveReport.expectedPx, multiquadricReport.expectedPx );
+  EXPECT_GT( projectiveReport.expectedPx, 0.9 * worstPlane );
+  EXPECT_GT( multiquadricReport.expectedPx, worstMq ); // leave-one-out at the grid's edge: on the safe side
+  // the search covers the misregistration the mappings actually have between the points
+  EXPECT_GE( verificationSearchPx( projectiveReport, 100.0 ), worstPlane + 2.0 );
+  EXPECT_GE( verificationSearchPx( multiquadricReport, 100.0 ), worstMq + 2.0 );
+  EXPECT_LT( report.expectedPx, 1e-5 ); // five exact pairs
+  RegistrationReport four;
+  ProjectiveMapping::fit( { pairs[0], pairs[1], pairs[2], pairs[3] }, &four );
+  EXPECT_TRUE( std::isnan( four.expectedPx ) ); // no redundancy: the points cannot tell
+  EXPECT_DOUBLE_EQ( verificationSearchPx( four, 12.0 ), 12.0 );
+  EXPECT_DOUBLE_EQ( verificationSearchPx( report, 12.0 ), 3.0 );
+  EXPECT_DOUBLE_EQ( verificationSearchPx( multiquadricReport, 12.0 ), std::clamp( 2.0 * multiquadricReport.expectedPx + 2.0, 3.0, 12.0 ) );
+  EXPECT_DOUBLE_EQ( verificationSearchPx( projectiveReport, 12.0 ), 12.0 );
+  EXPECT_DOUBLE_EQ( verificationSearchPx( report, 2.0 ), 2.0 ); // never wider than asked for
 
   // too few or collinear points: one clear sentence
   const std::vector<ControlPair> three( pairs.begin(), pairs.begin() + 3 );

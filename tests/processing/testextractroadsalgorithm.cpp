@@ -2,6 +2,7 @@
 // in both images and in 3-D against the truth centre lines, the same pair
 // registered from control points instead of its orientation, and bad
 // input failing with one sentence and no file.
+#include <algorithm>
 #include <QFile>
 #include <QJsonArray>
 #include <QJsonDocument>
@@ -164,11 +165,15 @@ void TestExtractRoadsAlgorithm::registersFromControlPoints()
   RecordingFeedback feedback;
   bool ok = false;
   run( { { "BLOCK", mRun + "/block.geostation.json" }, { "LEFT", "S0001" }, { "RIGHT", "S0002" }, { "CONTROL", table }, { "OUTPUT", out }, { "OUTPUT_LEFT", left },
-    { "OUTPUT_RIGHT", right }, { "REPORT", json } }, &ok, &feedback );
+    { "OUTPUT_RIGHT", right }, { "REPORT", json }, { "START_SPACING_PX", 32 } }, &ok, &feedback );
   QVERIFY2( ok, qPrintable( feedback.errors.join( '\n' ) ) );
   const QJsonObject rep = report( json );
   QCOMPARE( rep.value( "mapping" ).toString(), QStringLiteral( "multiquadric" ) );
   QCOMPARE( rep.value( "registration" ).toObject().value( "points" ).toArray().size(), pairs );
+  // the verification searches as far as the control points' leave-one-out misregistration calls for
+  const double expectedPx = rep.value( "registration" ).toObject().value( "expected_px" ).toDouble();
+  QVERIFY( expectedPx > 0.0 );
+  QCOMPARE( rep.value( "verification_search_px" ).toDouble(), std::clamp( 2.0 * expectedPx + 2.0, 3.0, 12.0 ) );
   QVERIFY( !QFile::exists( out ) ); // registered by control points: image-space outputs only
   QgsVectorLayer leftLines( left, "left", "ogr" );
   QVERIFY( leftLines.featureCount() >= 3 );
