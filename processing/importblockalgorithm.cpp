@@ -3,6 +3,8 @@
  ***************************************************************************/
 #include "importblockalgorithm.h"
 
+#include <memory>
+
 #include <QFile>
 #include <QFileInfo>
 
@@ -110,7 +112,12 @@ QString ImportBlockAlgorithm::shortHelpString() const
                       "per station: time, station, X, Y, Z (block CRS) or latitude, longitude, height (WGS 84), and "
                       "roll, pitch, heading (the vehicle, heading from true north) or omega, phi, kappa (one camera's own "
                       "orientation), plus image or image_<camera id> columns where there is no pattern. ANGLES says "
-                      "whether the table's angles are degrees (default) or radians; radians read as degrees are refused." );
+                      "whether the table's angles are degrees (default) or radians; radians read as degrees are refused.\n\n"
+                      "A high-rate GNSS/INS trajectory (rows at its own times, a time column) with EVENTS, a CSV of the "
+                      "exposures (time on the trajectory's clock, station, image or image_<camera id> columns or the "
+                      "patterns): each event becomes a station whose pose is interpolated at its time (positions by cubic "
+                      "Hermite curves, attitudes by slerp). Events outside the trajectory or in a gap longer than MAX_GAP_S "
+                      "are left out and listed in the report." );
 }
 
 ImportBlockAlgorithm *ImportBlockAlgorithm::createInstance() const
@@ -124,6 +131,12 @@ void ImportBlockAlgorithm::initAlgorithm( const QVariantMap & )
   addParameter( new QgsProcessingParameterEnum( QStringLiteral( "FORMAT" ), QObject::tr( "Format" ), sFormats, false, QStringLiteral( "auto" ), false, true ) );
   addParameter( new QgsProcessingParameterFile( QStringLiteral( "TRAJECTORY" ), QObject::tr( "Trajectory table (calibration + trajectory)" ), QgsProcessingParameterFile::File,
                 QString(), QVariant(), true, QObject::tr( "CSV (*.csv *.txt)" ) ) );
+  addParameter( new QgsProcessingParameterFile( QStringLiteral( "EVENTS" ), QObject::tr( "Exposure events (time, image names) to interpolate in the trajectory" ),
+                QgsProcessingParameterFile::File, QString(), QVariant(), true, QObject::tr( "CSV (*.csv *.txt)" ) ) );
+  auto maxGap = std::make_unique<QgsProcessingParameterNumber>( QStringLiteral( "MAX_GAP_S" ), QObject::tr( "Largest trajectory gap to interpolate across (s)" ),
+                                                                QgsProcessingParameterNumber::Double, 1.0, false, 1e-3, 3600.0 );
+  maxGap->setFlags( maxGap->flags() | QgsProcessingParameterDefinition::FlagAdvanced );
+  addParameter( maxGap.release() );
   addParameter( new QgsProcessingParameterEnum( QStringLiteral( "ANGLES" ), QObject::tr( "Angles of the trajectory table" ), sAngleUnits, false, QStringLiteral( "degrees" ), false, true ) );
   addParameter( new QgsProcessingParameterFile( QStringLiteral( "IMAGES" ), QObject::tr( "Image folder" ), QgsProcessingParameterFile::Folder, QString(), QVariant(), true ) );
   addParameter( new QgsProcessingParameterCrs( QStringLiteral( "CRS" ), QObject::tr( "Block CRS" ) ) );
@@ -205,6 +218,8 @@ QVariantMap ImportBlockAlgorithm::processGeoStation( const QVariantMap &paramete
       options.crs = blockCrs;
       options.imageFolder = imageFolder;
       options.anglesInRadians = parameterAsEnumString( parameters, QStringLiteral( "ANGLES" ), context ) == QLatin1String( "radians" );
+      options.eventsCsv = parameterAsFile( parameters, QStringLiteral( "EVENTS" ), context ).toStdString();
+      options.maxTrajectoryGapS = parameterAsDouble( parameters, QStringLiteral( "MAX_GAP_S" ), context );
       import = geostation::importTrajectory( geostation::readOpenCvCalibration( input.toStdString() ), trajectory.toStdString(), options );
     }
     feedback->setProgress( 70 );

@@ -17,7 +17,7 @@ seconds="${1:-60}"
 shift || true
 targets=("$@")
 if [ "${#targets[@]}" = 0 ]; then
-  targets=(block_json colmap_text colmap_binary trajectory_csv metashape_xml opencv_calibration raster dem)
+  targets=(block_json colmap_text colmap_binary trajectory_csv events_csv metashape_xml opencv_calibration raster dem)
 fi
 command -v clang++ > /dev/null || sudo apt-get install -y clang
 mkdir -p "$build_dir"

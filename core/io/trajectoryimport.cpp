@@ -3,7 +3,9 @@
  ***************************************************************************/
 #include "io/trajectoryimport.h"
 
+#include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <fstream>
 #include <map>
 #include <optional>
@@ -12,6 +14,8 @@
 
 #include "geometry/crs.h"
 #include "geometry/rotation.h"
+#include "geometry/trajectoryinterpolation.h"
+#include "io/internal/csvtable.h"
 #include "io/textfile.h"
 
 namespace fs = std::filesystem;
@@ -20,101 +24,6 @@ namespace geostation
 {
   namespace
   {
-    std::string trim( const std::string &s )
-    {
-      const size_t a = s.find_first_not_of( " \t\r\n" );
-      if ( a == std::string::npos )
-        return {};
-      return s.substr( a, s.find_last_not_of( " \t\r\n" ) - a + 1 );
-    }
-
-    //! One CSV record (RFC 4180 quotes; a quoted field may not span lines here).
-    std::vector<std::string> splitCsv( const std::string &line )
-    {
-      std::vector<std::string> fields( 1 );
-      bool quoted = false;
-      for ( size_t i = 0; i < line.size(); ++i )
-      {
-        const char c = line[i];
-        if ( quoted )
-        {
-          if ( c == '"' && i + 1 < line.size() && line[i + 1] == '"' )
-            fields.back() += '"', ++i;
-          else if ( c == '"' )
-            quoted = false;
-          else
-            fields.back() += c;
-        }
-        else if ( c == '"' )
-          quoted = true;
-        else if ( c == ',' || c == ';' || c == '\t' )
-          fields.emplace_back();
-        else
-          fields.back() += c;
-      }
-      for ( std::string &f : fields )
-        f = trim( f );
-      return fields;
-    }
-
-    struct Table
-    {
-      fs::path file;
-      std::vector<std::string> header;
-      std::vector<std::vector<std::string>> rows;
-
-      std::optional<size_t> column( std::initializer_list<const char *> names ) const
-      {
-        for ( const char *name : names )
-          for ( size_t i = 0; i < header.size(); ++i )
-            if ( asciiLower( header[i] ) == name )
-              return i;
-        return std::nullopt;
-      }
-
-      double number( size_t row, size_t column ) const
-      {
-        const std::string &text = column < rows[row].size() ? rows[row][column] : std::string();
-        char *end = nullptr;
-        const double v = std::strtod( text.c_str(), &end );
-        if ( text.empty() || *end != '\0' || !std::isfinite( v ) )
-          throw std::invalid_argument( "the trajectory table " + file.string() + ", row " + std::to_string( row + 1 ) + ": \"" + header[column] + "\" is \"" + text + "\", not a number" );
-        return v;
-      }
-
-      std::string text( size_t row, size_t column ) const { return column < rows[row].size() ? rows[row][column] : std::string(); }
-
-      std::string headerList() const
-      {
-        std::string s;
-        for ( const std::string &h : header )
-          s += ( s.empty() ? "" : ", " ) + h;
-        return s;
-      }
-    };
-
-    Table readTable( const fs::path &file )
-    {
-      std::ifstream in( file );
-      if ( !in )
-        throw std::invalid_argument( "the trajectory table " + file.string() + " does not exist or cannot be read" );
-      Table t;
-      t.file = file;
-      std::string line;
-      while ( std::getline( in, line ) )
-      {
-        if ( trim( line ).empty() || trim( line )[0] == '#' )
-          continue;
-        if ( t.header.empty() )
-          t.header = splitCsv( line );
-        else
-          t.rows.push_back( splitCsv( line ) );
-      }
-      if ( t.header.empty() || t.rows.empty() )
-        throw std::invalid_argument( "the trajectory table " + file.string() + " has no rows" );
-      return t;
-    }
-
     std::string replaceAll( std::string s, const std::string &what, const std::string &with )
     {
       for ( size_t p = s.find( what ); p != std::string::npos; p = s.find( what, p + with.size() ) )
@@ -169,7 +78,7 @@ namespace geostation
       return rz * ry * rx;
     }
 
-    void refuseRadiansAsDegrees( const Table &t, size_t roll, size_t pitch, size_t heading )
+    void refuseRadiansAsDegrees( const CsvTable &t, size_t roll, size_t pitch, size_t heading )
     {
       if ( t.rows.size() < 10 )
         return;
@@ -200,6 +109,117 @@ namespace geostation
     return worldFromBody( rollPitchHeadingDeg, convergenceDeg ) * rollPitchHeading( camera.boresightDeg ) * kBodyFromForwardCamera;
   }
 
+  namespace
+  {
+    //! One station to be: where, how it was turned, and its images (one per rig camera).
+    struct StationSource
+    {
+      std::string id, timeText;
+      size_t row = 0; //!< 0-based row of the table that gives the station (the trajectory's, or the events')
+      Eigen::Vector3d position = Eigen::Vector3d::Zero(); //!< block CRS
+      std::optional<Eigen::Vector3d> rollPitchHeadingDeg;  //!< the body's attitude
+      std::optional<Eigen::Matrix3d> worldFromCamera;      //!< or the one camera's own orientation
+    };
+
+    //! Roll, pitch, heading (degrees) of rollPitchHeading()'s rotation.
+    Eigen::Vector3d rollPitchHeadingOf( const Eigen::Matrix3d &r )
+    {
+      return Eigen::Vector3d( radToDeg( std::atan2( r( 2, 1 ), r( 2, 2 ) ) ), radToDeg( -std::asin( std::clamp( r( 2, 0 ), -1.0, 1.0 ) ) ), radToDeg( std::atan2( r( 1, 0 ), r( 0, 0 ) ) ) );
+    }
+
+    //! Each camera's image column of the table (image, or image_<camera id>), or nothing where the camera has a pattern.
+    std::vector<std::optional<size_t>> imageColumns( const CsvTable &t, const std::vector<RigCamera> &rig )
+    {
+      std::vector<std::optional<size_t>> columns;
+      for ( const RigCamera &c : rig )
+      {
+        std::optional<size_t> column;
+        for ( size_t i = 0; i < t.header.size(); ++i )
+          if ( asciiLower( t.header[i] ) == asciiLower( "image_" + c.camera.id ) || ( rig.size() == 1 && asciiLower( t.header[i] ) == "image" ) )
+            column = i;
+        if ( !column && c.imagePattern.empty() )
+          throw std::invalid_argument( "camera \"" + c.camera.id + "\" has no image names: give the table a column \"" + ( rig.size() == 1 ? std::string( "image" ) : "image_" + c.camera.id )
+                                       + "\" or the camera an image_pattern (" + t.name + " has: " + t.headerList() + ")" );
+        columns.push_back( column );
+      }
+      return columns;
+    }
+
+    std::string stationIdOf( const CsvTable &t, std::optional<size_t> column, size_t row, size_t number )
+    {
+      char fallback[32];
+      std::snprintf( fallback, sizeof( fallback ), "S%04zu", number );
+      return column && !t.text( row, *column ).empty() ? t.text( row, *column ) : std::string( fallback );
+    }
+
+    //! The events (exposure times) as stations, their poses interpolated in the trajectory's samples.
+    std::vector<StationSource> interpolatedStations( const std::vector<StationSource> &samples, const CsvTable &trajectory, std::optional<size_t> trajectoryTime,
+                                                     const CsvTable &events, const TrajectoryImportOptions &options, BlockImportSummary &import )
+    {
+      if ( !trajectoryTime )
+        throw std::invalid_argument( "the trajectory table needs a time column (time, timestamp, gps_time) to interpolate the events at (it has: " + trajectory.headerList() + ")" );
+      const std::optional<size_t> eventTime = events.column( { "time", "timestamp", "gps_time", "utc" } );
+      if ( !eventTime )
+        throw std::invalid_argument( "the events table needs a time column (time, timestamp, gps_time) on the trajectory's clock (it has: " + events.headerList() + ")" );
+      const bool body = samples.front().rollPitchHeadingDeg.has_value();
+      std::vector<TrajectoryPose> poses;
+      for ( const StationSource &s : samples )
+        poses.push_back( { trajectory.seconds( s.row, *trajectoryTime ), s.position, body ? rollPitchHeading( *s.rollPitchHeadingDeg ) : *s.worldFromCamera } );
+      const TrajectoryInterpolator trajectoryAt = [&] {
+        try
+        {
+          return TrajectoryInterpolator( std::move( poses ), options.maxTrajectoryGapS );
+        }
+        catch ( const std::invalid_argument &e )
+        {
+          throw std::invalid_argument( "the trajectory table " + trajectory.file.string() + ": " + e.what() );
+        }
+      }();
+      const std::optional<size_t> station = events.column( { "station", "station_id", "id" } );
+      std::vector<StationSource> out;
+      int outside = 0, inGap = 0;
+      for ( size_t r = 0; r < events.rows.size(); ++r )
+      {
+        const double t = events.seconds( r, *eventTime );
+        const TrajectoryLookup at = trajectoryAt.at( t );
+        if ( at.status != TrajectoryLookup::Status::Interpolated )
+        {
+          const bool gap = at.status == TrajectoryLookup::Status::InGap;
+          ( gap ? inGap : outside ) += 1;
+          if ( inGap + outside <= 10 )
+            import.dropped.push_back( "event row " + std::to_string( r + 1 ) + " (time " + events.text( r, *eventTime ) + "): "
+                                      + ( gap ? "the trajectory has a gap of " + std::to_string( at.gapS ) + " s there (more than " + std::to_string( options.maxTrajectoryGapS ) + " s)"
+                                              : "outside the trajectory's time span" ) );
+          continue;
+        }
+        StationSource s;
+        s.row = r;
+        s.id = stationIdOf( events, station, r, out.size() + 1 );
+        s.timeText = events.text( r, *eventTime );
+        s.position = at.pose.position;
+        if ( body )
+          s.rollPitchHeadingDeg = rollPitchHeadingOf( at.pose.attitude );
+        else
+          s.worldFromCamera = at.pose.attitude;
+        out.push_back( s );
+      }
+      if ( inGap + outside > 10 )
+        import.dropped.push_back( "... " + std::to_string( inGap + outside - 10 ) + " more event row(s) not interpolated" );
+      char span[96];
+      std::snprintf( span, sizeof( span ), "%.3f to %.3f s", trajectoryAt.startS(), trajectoryAt.endS() );
+      if ( out.empty() )
+        throw std::invalid_argument( "none of the " + std::to_string( events.rows.size() ) + " events of " + events.file.string() + " can be interpolated in the trajectory (" + span + ", gaps up to "
+                                     + std::to_string( options.maxTrajectoryGapS ) + " s): are both on the same clock?" );
+      char rate[64];
+      std::snprintf( rate, sizeof( rate ), "%.1f Hz", 1.0 / trajectoryAt.medianIntervalS() );
+      import.converted.push_back( std::to_string( out.size() ) + " event(s) interpolated in the trajectory's " + std::to_string( samples.size() ) + " samples (" + span + ", " + rate
+                                  + "): positions by cubic Hermite curves, attitudes by slerp" );
+      if ( outside + inGap > 0 )
+        import.warnings.push_back( std::to_string( outside ) + " event(s) outside the trajectory's time span and " + std::to_string( inGap ) + " in its gaps were left out" );
+      return out;
+    }
+  } // namespace
+
   BlockImportSummary importTrajectory( const std::vector<RigCamera> &rig, const fs::path &trajectoryCsv, const TrajectoryImportOptions &options )
   {
     if ( options.crs.empty() )
@@ -207,7 +227,7 @@ namespace geostation
     requireProjectedMetricCrs( options.crs );
     if ( rig.empty() )
       throw std::invalid_argument( "the calibration holds no camera" );
-    const Table t = readTable( trajectoryCsv );
+    const CsvTable t = readCsvTable( trajectoryCsv, "the trajectory table" );
     const std::string have = " (the table has: " + t.headerList() + ")";
 
     // positions
@@ -233,26 +253,44 @@ namespace geostation
     if ( body && !options.anglesInRadians )
       refuseRadiansAsDegrees( t, *roll, *pitch, *heading );
     auto time = t.column( { "time", "timestamp", "gps_time", "utc" } ), station = t.column( { "station", "station_id", "id" } );
-    std::vector<std::optional<size_t>> imageColumn;
-    for ( const RigCamera &c : rig )
-    {
-      std::optional<size_t> column;
-      for ( size_t i = 0; i < t.header.size(); ++i )
-        if ( asciiLower( t.header[i] ) == asciiLower( "image_" + c.camera.id ) || ( rig.size() == 1 && asciiLower( t.header[i] ) == "image" ) )
-          column = i;
-      if ( !column && c.imagePattern.empty() )
-        throw std::invalid_argument( "camera \"" + c.camera.id + "\" has no image names: give the table a column \"" + ( rig.size() == 1 ? std::string( "image" ) : "image_" + c.camera.id )
-                                     + "\" or the camera an image_pattern" + have );
-      imageColumn.push_back( column );
-    }
 
     std::unique_ptr<CrsTransform> fromWgs84;
     if ( geographic )
       fromWgs84 = std::make_unique<CrsTransform>( "EPSG:4326", options.crs );
     const Convergence convergence( options.crs );
 
+    // the trajectory's rows: the stations, or the samples the events are interpolated in
+    std::vector<StationSource> rows;
+    for ( size_t r = 0; r < t.rows.size(); ++r )
+    {
+      StationSource s;
+      s.row = r;
+      s.id = stationIdOf( t, station, r, r + 1 );
+      s.timeText = time ? t.text( r, *time ) : std::string();
+      if ( geographic )
+      {
+        s.position = fromWgs84->transform( { t.number( r, *lon ), t.number( r, *lat ), t.number( r, *z ) } );
+        if ( !s.position.allFinite() )
+          throw std::invalid_argument( "the trajectory table, row " + std::to_string( r + 1 ) + ": latitude/longitude cannot be brought into " + options.crs );
+      }
+      else
+        s.position = { t.number( r, *x ), t.number( r, *y ), t.number( r, *z ) };
+      if ( body )
+        s.rollPitchHeadingDeg = Eigen::Vector3d( t.number( r, *roll ) * toDeg, t.number( r, *pitch ) * toDeg, t.number( r, *heading ) * toDeg );
+      else
+        s.worldFromCamera = worldFromCameraRotationDeg( t.number( r, *omega ) * toDeg, t.number( r, *phi ) * toDeg, t.number( r, *kappa ) * toDeg );
+      rows.push_back( s );
+    }
+
     BlockImportSummary import;
     import.format = "opencv-trajectory";
+    std::optional<CsvTable> events;
+    if ( !options.eventsCsv.empty() )
+      events = readCsvTable( options.eventsCsv, "the events table" );
+    const CsvTable &namesTable = events ? *events : t;
+    const std::vector<std::optional<size_t>> imageColumn = imageColumns( namesTable, rig );
+    const std::vector<StationSource> stations = events ? interpolatedStations( rows, t, time, *events, options, import ) : rows;
+
     Block &block = import.block;
     block.crs = options.crs;
     for ( const RigCamera &c : rig )
@@ -261,25 +299,15 @@ namespace geostation
       import.converted.push_back( "camera \"" + c.camera.id + "\" from the OpenCV calibration (principal point + 0.5 px: OpenCV's pixel centres are integers), lever arm "
                                   + std::to_string( c.leverArmM.x() ) + ", " + std::to_string( c.leverArmM.y() ) + ", " + std::to_string( c.leverArmM.z() ) + " m" );
     }
-    for ( size_t r = 0; r < t.rows.size(); ++r )
+    const std::string rowName = events ? "the events table" : "the trajectory table";
+    for ( const StationSource &source : stations )
     {
       Station s;
-      char fallback[32];
-      std::snprintf( fallback, sizeof( fallback ), "S%04zu", r + 1 );
-      s.id = station && !t.text( r, *station ).empty() ? t.text( r, *station ) : fallback;
+      s.id = source.id;
       if ( block.findStation( s.id ) )
-        throw std::invalid_argument( "the trajectory table, row " + std::to_string( r + 1 ) + ": station \"" + s.id + "\" is there twice" );
-      s.time = time ? t.text( r, *time ) : std::string();
-      Eigen::Vector3d position;
-      if ( geographic )
-      {
-        position = fromWgs84->transform( { t.number( r, *lon ), t.number( r, *lat ), t.number( r, *z ) } );
-        if ( !position.allFinite() )
-          throw std::invalid_argument( "the trajectory table, row " + std::to_string( r + 1 ) + ": latitude/longitude cannot be brought into " + options.crs );
-      }
-      else
-        position = { t.number( r, *x ), t.number( r, *y ), t.number( r, *z ) };
-      const double gamma = convergence.degreesAt( position );
+        throw std::invalid_argument( rowName + ", row " + std::to_string( source.row + 1 ) + ": station \"" + s.id + "\" is there twice" );
+      s.time = source.timeText;
+      const double gamma = convergence.degreesAt( source.position );
       block.stations.push_back( s );
       for ( size_t c = 0; c < rig.size(); ++c )
       {
@@ -287,22 +315,21 @@ namespace geostation
         image.cameraId = rig[c].camera.id;
         image.stationId = s.id;
         image.id = rig.size() == 1 ? s.id : s.id + "_" + rig[c].camera.id;
-        image.path = imageColumn[c] ? t.text( r, *imageColumn[c] )
-                                    : replaceAll( replaceAll( replaceAll( rig[c].imagePattern, "{station}", s.id ), "{row}", std::to_string( r + 1 ) ), "{time}", s.time );
+        image.path = imageColumn[c] ? namesTable.text( source.row, *imageColumn[c] )
+                                    : replaceAll( replaceAll( replaceAll( rig[c].imagePattern, "{station}", s.id ), "{row}", std::to_string( source.row + 1 ) ), "{time}", s.time );
         if ( image.path.empty() )
-          throw std::invalid_argument( "the trajectory table, row " + std::to_string( r + 1 ) + ": no image name for camera \"" + rig[c].camera.id + "\"" );
+          throw std::invalid_argument( rowName + ", row " + std::to_string( source.row + 1 ) + ": no image name for camera \"" + rig[c].camera.id + "\"" );
         ExteriorOrientation eo;
         Eigen::Matrix3d worldFromCamera;
-        if ( body )
+        if ( source.rollPitchHeadingDeg )
         {
-          const Eigen::Vector3d rph( t.number( r, *roll ) * toDeg, t.number( r, *pitch ) * toDeg, t.number( r, *heading ) * toDeg );
-          eo.projectionCentre = position + worldFromBody( rph, gamma ) * rig[c].leverArmM;
-          worldFromCamera = worldFromRigCamera( rph, rig[c], gamma );
+          eo.projectionCentre = source.position + worldFromBody( *source.rollPitchHeadingDeg, gamma ) * rig[c].leverArmM;
+          worldFromCamera = worldFromRigCamera( *source.rollPitchHeadingDeg, rig[c], gamma );
         }
         else
         {
-          eo.projectionCentre = position;
-          worldFromCamera = worldFromCameraRotationDeg( t.number( r, *omega ) * toDeg, t.number( r, *phi ) * toDeg, t.number( r, *kappa ) * toDeg );
+          eo.projectionCentre = source.position;
+          worldFromCamera = *source.worldFromCamera;
         }
         const Eigen::Vector3d opk = omegaPhiKappaDegFromRotation( worldFromCamera );
         eo.omegaDeg = opk.x();
@@ -313,12 +340,15 @@ namespace geostation
         block.images.push_back( image );
       }
     }
-    import.converted.push_back( std::to_string( block.stations.size() ) + " trajectory row(s) became stations with " + std::to_string( block.images.size() ) + " image(s)" );
+    if ( !events )
+      import.converted.push_back( std::to_string( block.stations.size() ) + " trajectory row(s) became stations with " + std::to_string( block.images.size() ) + " image(s)" );
+    else
+      import.converted.push_back( std::to_string( block.stations.size() ) + " event(s) became stations with " + std::to_string( block.images.size() ) + " image(s)" );
     if ( body )
       import.converted.push_back( convergence.available() ? "headings turned from true to grid north by the meridian convergence at each station"
                                                           : "the CRS has no geographic relation: headings are taken as grid headings" );
 
-    const fs::path folder = options.imageFolder.empty() ? fs::absolute( trajectoryCsv ).parent_path() : fs::absolute( options.imageFolder );
+    const fs::path folder = options.imageFolder.empty() ? fs::absolute( events ? options.eventsCsv : trajectoryCsv ).parent_path() : fs::absolute( options.imageFolder );
     block.sourceFile = folder / "trajectory-import.geostation.json";
     if ( options.requireImageFiles )
       for ( const BlockImage &image : block.images )

@@ -1,7 +1,12 @@
 /***************************************************************************
   trajectoryimport.h - a mapping van's calibration plus trajectory as a block
   -------------------------------------------------------------------------
-  The trajectory is a CSV table, one row per exposure station. Columns are
+  The trajectory is a CSV table, one row per exposure station; or, with an
+  events table (time; station; image or image_<camera id>), a high-rate
+  GNSS/INS solution sampled at its own times, in which each event's pose is
+  interpolated (geometry/trajectoryinterpolation.h: cubic Hermite
+  positions, slerp attitudes; events outside the trajectory or in a gap
+  longer than maxTrajectoryGapS are left out and reported). Columns are
   matched by name, case-insensitively:
     time        time, timestamp, gps_time, utc (optional, kept as text)
     station     station, station_id, id (optional; default S0001, S0002, ...)
@@ -45,6 +50,10 @@ namespace geostation
     bool anglesInRadians = false;        //!< the table's angles are radians
     std::filesystem::path imageFolder;   //!< image names resolve here; empty: the trajectory file's folder
     bool requireImageFiles = true;       //!< every image must exist, decode and have its camera's size
+    //! Exposure events (time, and image names or the rig's patterns): each becomes a station whose pose is
+    //! interpolated in the trajectory (a high-rate GNSS/INS solution) at its time; empty: one station per row.
+    std::filesystem::path eventsCsv;
+    double maxTrajectoryGapS = 1.0;      //!< events between trajectory samples further apart are left out
   };
 
   /**

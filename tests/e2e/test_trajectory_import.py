@@ -49,6 +49,17 @@ def rot_z(deg):
     return np.array([[math.cos(a), -math.sin(a), 0], [math.sin(a), math.cos(a), 0], [0, 0, 1]])
 
 
+def iso_seconds(text):
+    """2026-05-04T10:00:00.417Z as seconds since 1970-01-01."""
+    import datetime
+    return datetime.datetime.strptime(text, "%Y-%m-%dT%H:%M:%S.%fZ").replace(tzinfo=datetime.timezone.utc).timestamp()
+
+
+def iso_text(seconds):
+    import datetime
+    return datetime.datetime.fromtimestamp(seconds, datetime.timezone.utc).strftime("%Y-%m-%dT%H:%M:%S.%f") + "Z"
+
+
 class TrajectoryImportTest(unittest.TestCase):
     @classmethod
     def setUpClass(cls):
@@ -103,6 +114,25 @@ class TrajectoryImportTest(unittest.TestCase):
                     rph = roll_pitch_heading(ENU_FROM_NED.T @ rot_z(gamma).T @ wfb)
                     position = centre if variant == "grid" else (lat, lon, centre[2])
                     f.write("%s,%s,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g\n" % ((st["time"], s) + tuple(position) + rph))
+        # a high-rate solution: the stations' own epochs and four samples between each two (linear between them),
+        # and the exposure events at the stations' times plus one before the solution starts
+        with open(os.path.join(cls.sim, "trajectory-grid.csv")) as f:
+            rows = [line.rstrip("\n").split(",") for line in f][1:]
+        with open(os.path.join(cls.sim, "ins-dense.csv"), "w") as f:
+            f.write("time,X,Y,Z,roll,pitch,heading\n")
+            for a, b in zip(rows, rows[1:] + [None]):
+                f.write(",".join([a[0]] + a[2:]) + "\n")
+                if b is None:
+                    break
+                ta, tb = iso_seconds(a[0]), iso_seconds(b[0])
+                for k in range(1, 5):
+                    w = k / 5.0
+                    values = [(1 - w) * float(x) + w * float(y) for x, y in zip(a[2:5], b[2:5])] + [float(x) for x in a[5:8]]
+                    f.write(iso_text(ta + w * (tb - ta)) + "," + ",".join("%.17g" % v for v in values) + "\n")
+        with open(os.path.join(cls.sim, "events.csv"), "w") as f:
+            f.write("time,station\n2026-05-04T09:59:00.000Z,EARLY\n")
+            for r in rows:
+                f.write("%s,%s\n" % (r[0], r[1]))
         with open(os.path.join(cls.sim, "rig.yaml"), "w") as f:
             f.write("%YAML:1.0\ncameras:\n")
             for cam, (lever, bore) in cls.rig.items():
@@ -123,10 +153,11 @@ class TrajectoryImportTest(unittest.TestCase):
         args = ["qgis_process.bin", "run", "geostation:" + algorithm, "--"] + ["%s=%s" % kv for kv in params.items()]
         return subprocess.run(args, env=qgis_env(self.home), capture_output=True, text=True, timeout=300)
 
-    def check_variant(self, variant):
+    def check_variant(self, variant, **extra):
         output = os.path.join(self.tmp, variant + ".geostation.json")
-        result = self.qgis_process("import_block", INPUT=os.path.join(self.sim, "rig.yaml"), TRAJECTORY=os.path.join(self.sim, "trajectory-%s.csv" % variant),
-                                   CRS=CRS, OUTPUT_BLOCK=output, REPORT=os.path.join(self.tmp, variant + "-report.json"))
+        trajectory = "ins-dense.csv" if variant == "events" else "trajectory-%s.csv" % variant
+        result = self.qgis_process("import_block", INPUT=os.path.join(self.sim, "rig.yaml"), TRAJECTORY=os.path.join(self.sim, trajectory),
+                                   CRS=CRS, OUTPUT_BLOCK=output, REPORT=os.path.join(self.tmp, variant + "-report.json"), **extra)
         self.assertEqual(result.returncode, 0, result.stdout + result.stderr)
         with open(output) as f:
             block = json.load(f)
@@ -157,6 +188,17 @@ class TrajectoryImportTest(unittest.TestCase):
         worst_m, worst_r = self.check_variant("geographic")
         self.assertLess(worst_m, 1e-8)  # latitude/longitude through PROJ and back
         self.assertLess(worst_r, 1e-10)
+
+    def test_events_in_a_high_rate_trajectory_reproduce_the_truth(self):
+        # the events fall on the solution's own epochs: the poses there are the samples' (interpolation's maths: core tests)
+        worst_m, worst_r = self.check_variant("events", EVENTS=os.path.join(self.sim, "events.csv"))
+        self.assertLess(worst_m, 1e-8)
+        self.assertLess(worst_r, 1e-12)
+        with open(os.path.join(self.tmp, "events-report.json")) as f:
+            report = json.load(f)
+        self.assertEqual(len(report["dropped"]), 1)
+        self.assertIn("event row 1 (time 2026-05-04T09:59:00.000Z): outside the trajectory's time span", report["dropped"][0])
+        self.assertTrue(any("interpolated in the trajectory's %d samples" % (5 * len(self.stations) - 4) in c for c in report["converted"]), report["converted"])
 
     def test_missing_trajectory_or_images_write_nothing(self):
         output = os.path.join(self.tmp, "bad.geostation.json")

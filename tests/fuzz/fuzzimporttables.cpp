@@ -3,6 +3,7 @@
   -------------------------------------------------------------------------
   trajectory_csv: a trajectory table for a one-camera rig
   (importTrajectory(), image files not required).
+  events_csv: an events table interpolated in a fixed 10 Hz trajectory.
   metashape_xml: Metashape's camera XML (importMetashapeCameras(), image
   files not required).
   opencv_calibration: an OpenCV calibration file, YAML (input starting with
@@ -79,6 +80,40 @@ GEOSTATION_FUZZ_TARGET( trajectory_csv )
     {
       fuzz::requireMessage( error );
     }
+  }
+  return 0;
+}
+
+GEOSTATION_FUZZ_TARGET( events_csv )
+{
+  // the input is the events table; the trajectory is fixed: 10 Hz over one second, in UTC
+  const std::filesystem::path folder = fuzz::scratchFolder( "events_csv" );
+  fuzz::writeBytes( folder / "events.csv", data, size );
+  {
+    std::string trajectory = "time,X,Y,Z,roll,pitch,heading\n";
+    for ( int i = 0; i <= 10; ++i )
+      trajectory += "2026-05-04T10:00:0" + std::string( i == 10 ? "1.0" : "0." + std::to_string( i ) ) + "Z," + std::to_string( 560000 + i ) + ",4400000,200,0.5,-0.5," + std::to_string( 355 + i ) + "\n";
+    fuzz::writeBytes( folder / "trajectory.csv", reinterpret_cast<const uint8_t *>( trajectory.data() ), trajectory.size() );
+  }
+  geostation::RigCamera camera;
+  camera.camera.id = "front";
+  camera.camera.width = 64;
+  camera.camera.height = 48;
+  camera.camera.f = 50;
+  camera.camera.cx = 32;
+  camera.camera.cy = 24;
+  camera.imagePattern = "img/{station}_{time}.png";
+  geostation::TrajectoryImportOptions options;
+  options.crs = "EPSG:32617";
+  options.requireImageFiles = false;
+  options.eventsCsv = folder / "events.csv";
+  try
+  {
+    requireCompleteBlock( geostation::importTrajectory( { camera }, folder / "trajectory.csv", options ).block );
+  }
+  catch ( const std::invalid_argument &error )
+  {
+    fuzz::requireMessage( error );
   }
   return 0;
 }

@@ -109,6 +109,18 @@ def trajectory_csv():
           '"S 1",500100,4400200,310,0,0,"90"\n')
 
 
+def events_csv():
+    write("events_csv", "iso.csv",
+          "time,station\n"
+          "2026-05-04T10:00:00.050Z,A\n"
+          "2026-05-04 11:00:00.500+01:00,B\n"
+          "2026-05-04T10:00:01.000Z,C\n")
+    write("events_csv", "outside_and_image_column.csv",
+          "gps_time;id;image\n"
+          "2026-05-04T09:00:00Z;early;a.png\n"
+          "2026-05-04T10:00:00.3Z;ok;b.png\n")
+
+
 def metashape_xml():
     sensor = ('<sensor id="0" label="cam0" type="frame">\n<resolution width="600" height="400"/>\n'
               '<calibration type="frame" class="adjusted">\n<resolution width="600" height="400"/>\n'
@@ -205,6 +217,7 @@ if __name__ == "__main__":
     colmap_text()
     colmap_binary()
     trajectory_csv()
+    events_csv()
     metashape_xml()
     opencv_calibration()
     raster()
