@@ -150,9 +150,8 @@ namespace
         if ( inWindows )
         {
           const auto readerLeft = std::make_shared<const RasterReader>( left ), readerRight = std::make_shared<const RasterReader>( right );
-          PairMatchWindows matching( matchWindowsOf( readerLeft, readerRight ), readerLeft->size(), readerRight->size() );
-          s = extractRoadNetwork( greyTilesOf( readerLeft ), greyTilesOf( readerRight ), matching, &a, &b, networkOptions() );
-          windows = matching.windowsRead();
+          s = extractRoadNetwork( readerLeft, readerRight, &a, &b, networkOptions() );
+          windows = s.reading.matchingWindows;
         }
         else
           s = extractRoadNetwork( MatchImage( readRaster( left ).pixels ), MatchImage( readRaster( right ).pixels ), &a, &b, networkOptions() );

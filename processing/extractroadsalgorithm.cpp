@@ -10,10 +10,8 @@
  ***************************************************************************/
 #include "extractroadsalgorithm.h"
 
-
 #include <memory>
 #include <optional>
-#include <utility>
 
 #include <qgsexception.h>
 #include <qgsfeaturesink.h>
@@ -25,8 +23,7 @@
 #include <qgsprocessingparameters.h>
 #include <qgsrasterlayer.h>
 
-#include "extraction/greytiles.h"
-#include "extraction/pairmatchwindows.h"
+#include "dem/demintersection.h"
 #include "extraction/roadnetworkextractor.h"
 #include "io/rasterfile.h"
 #include "extractroadsreport.h"
@@ -150,28 +147,16 @@ QVariantMap ExtractRoadsAlgorithm::processGeoStation( const QVariantMap &paramet
     throw QgsProcessingException( QObject::tr( "The pair is not oriented: give CONTROL, a table of point pairs (point_id, col_left, row_left, col_right, row_right)." ) );
   GeoStationProcessing::LoadedDem dem;
   if ( QgsRasterLayer *demLayer = parameterAsRasterLayer( parameters, QStringLiteral( "DEM" ), context ) )
-  {
     dem = GeoStationProcessing::loadDem( demLayer->source(), block );
-    options.terrain = [&dem]( double x, double y )
-    {
-      const Eigen::Vector3d inDem = dem.blockToDem->transform( Eigen::Vector3d( x, y, 0 ) );
-      return dem.dem->heightAt( inDem.x(), inDem.y() );
-    };
-  }
+  if ( dem.dem )
+    options.terrain = geostation::demHeightAt( *dem.dem, *dem.blockToDem );
   geostation::RoadNetworkSummary s;
   try
   {
     const geostation::ExtractionProgress progress = [feedback]( double f ) { feedback->setProgress( 100.0 * f ); return !feedback->isCanceled(); };
     const geostation::OrientedImage *a = orientedLeft ? &*orientedLeft : nullptr, *b = orientedRight ? &*orientedRight : nullptr;
-    const auto readerLeft = openImage( block, left ), readerRight = openImage( block, right );
-    // read a window at a time: memory does not grow with the images (beyond a byte a pixel for the result matrices);
-    // a 16-bit image's grey range is read once first (its grey levels are scaled by the whole image's range)
-    using Range = std::optional<std::pair<double, double>>;
-    const auto range = []( const geostation::RasterReader &r ) { return r.eightBit() ? Range() : Range( geostation::greyRangeOf( r ) ); };
-    const Range rangeLeft = range( *readerLeft ), rangeRight = range( *readerRight );
-    geostation::PairMatchWindows matching( geostation::matchWindowsOf( readerLeft, readerRight, rangeLeft, rangeRight ), readerLeft->size(), readerRight->size() );
-    s = geostation::extractRoadNetwork( geostation::greyTilesOf( readerLeft, rangeLeft ), geostation::greyTilesOf( readerRight, rangeRight ), matching, a, b,
-                                        options, progress );
+    // read a window at a time: memory does not grow with the images (beyond a byte a pixel for the result matrices)
+    s = geostation::extractRoadNetwork( openImage( block, left ), openImage( block, right ), a, b, options, progress );
   }
   catch ( const std::exception &e ) // bad input (invalid_argument) or an image that cannot be read (runtime_error)
   {
@@ -220,19 +205,14 @@ QVariantMap ExtractRoadsAlgorithm::processGeoStation( const QVariantMap &paramet
       for ( const geostation::NetworkLine &line : s.network.lines )
       {
         QVector<double> x, y, z;
-        double sigmaMax = 0.0, length = 0.0;
-        for ( size_t k = 0; k < line.vertices.size(); ++k )
+        for ( const geostation::NetworkVertex &v : line.vertices )
         {
-          const geostation::NetworkVertex &v = line.vertices[k];
           x << v.point.x();
           y << v.point.y();
           z << v.point.z();
-          sigmaMax = std::max( sigmaMax, v.sigmaM.maxCoeff() );
-          if ( k > 0 )
-            length += ( v.point - line.vertices[k - 1].point ).norm();
         }
         QgsFeature f( fields );
-        f.setAttributes( QgsAttributes() << line.sourceLine + 1 << acceptedIn( s.extraction.linesA[line.sourceLine].symbols, true ) << length << sigmaMax );
+        f.setAttributes( QgsAttributes() << line.sourceLine + 1 << acceptedIn( s.extraction.linesA[line.sourceLine].symbols, true ) << line.lengthM() << line.sigmaMaxM() );
         f.setGeometry( QgsGeometry( new QgsLineString( x, y, z ) ) );
         if ( !sink->addFeature( f, QgsFeatureSink::FastInsert ) )
           throw QgsProcessingException( writeFeatureError( sink.get(), parameters, QStringLiteral( "OUTPUT" ) ) );

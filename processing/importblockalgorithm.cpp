@@ -18,6 +18,7 @@
 #include "io/opencvcalibration.h"
 #include "io/trajectoryimport.h"
 #include "io/textfile.h"
+#include "processingblock.h"
 #include "processingtables.h"
 
 namespace GeoStationProcessing
@@ -27,12 +28,6 @@ namespace
 {
   const QStringList sFormats { QStringLiteral( "auto" ), QStringLiteral( "colmap" ), QStringLiteral( "metashape" ), QStringLiteral( "opencv_trajectory" ) };
   const QStringList sAngleUnits { QStringLiteral( "degrees" ), QStringLiteral( "radians" ) };
-
-  //! The block CRS as core wants it: the authority id when QGIS has one, else WKT.
-  std::string crsDefinition( const QgsCoordinateReferenceSystem &crs )
-  {
-    return ( crs.authid().isEmpty() ? crs.toWkt( QgsCoordinateReferenceSystem::WKT_PREFERRED ) : crs.authid() ).toStdString();
-  }
 
   /**
    * INPUT: a file or a folder. A COLMAP model is a folder, which
@@ -52,38 +47,13 @@ namespace
         return input.isValid() && !input.toString().trimmed().isEmpty();
       }
   };
-
-  void removeIfWritten( const QString &path )
-  {
-    if ( !path.isEmpty() )
-      QFile::remove( path );
-  }
 } // namespace
 
-QString ImportBlockAlgorithm::name() const
-{
-  return QStringLiteral( "import_block" );
-}
-
-QString ImportBlockAlgorithm::displayName() const
-{
-  return QObject::tr( "Import block (COLMAP, Metashape, calibration + trajectory)" );
-}
-
-QStringList ImportBlockAlgorithm::tags() const
-{
-  return QObject::tr( "photogrammetry,import,colmap,structure from motion,sfm,block,orientation,georeference,opencv,calibration,trajectory,gnss,ins,mobile mapping" ).split( ',' );
-}
-
-QString ImportBlockAlgorithm::group() const
-{
-  return QObject::tr( "Block" );
-}
-
-QString ImportBlockAlgorithm::groupId() const
-{
-  return QStringLiteral( "block" );
-}
+QString ImportBlockAlgorithm::name() const { return QStringLiteral( "import_block" ); }
+QString ImportBlockAlgorithm::displayName() const { return QObject::tr( "Import block (COLMAP, Metashape, calibration + trajectory)" ); }
+QStringList ImportBlockAlgorithm::tags() const { return QObject::tr( "photogrammetry,import,colmap,structure from motion,sfm,block,orientation,georeference,opencv,calibration,trajectory,gnss,ins,mobile mapping" ).split( ',' ); }
+QString ImportBlockAlgorithm::group() const { return QObject::tr( "Block" ); }
+QString ImportBlockAlgorithm::groupId() const { return QStringLiteral( "block" ); }
 
 QString ImportBlockAlgorithm::shortHelpString() const
 {
@@ -120,10 +90,7 @@ QString ImportBlockAlgorithm::shortHelpString() const
                       "are left out and listed in the report." );
 }
 
-ImportBlockAlgorithm *ImportBlockAlgorithm::createInstance() const
-{
-  return new ImportBlockAlgorithm();
-}
+ImportBlockAlgorithm *ImportBlockAlgorithm::createInstance() const { return new ImportBlockAlgorithm(); }
 
 void ImportBlockAlgorithm::initAlgorithm( const QVariantMap & )
 {
@@ -176,7 +143,7 @@ QVariantMap ImportBlockAlgorithm::processGeoStation( const QVariantMap &paramete
   if ( !crs.isValid() )
     throw QgsProcessingException( QObject::tr( "CRS: give the CRS the block is to be in (projected, or a local engineering CRS, in metres)." ) );
 
-  const std::string blockCrs = crsDefinition( crs );
+  const std::string blockCrs = blockCrsDefinition( crs );
   const std::string imageFolder = parameterAsFile( parameters, QStringLiteral( "IMAGES" ), context ).toStdString();
 
   geostation::KnownPositions known;

@@ -3,6 +3,7 @@
  ***************************************************************************/
 #include "processingblock.h"
 
+#include <QFile>
 #include <QJsonDocument>
 #include <QObject>
 #include <QSaveFile>
@@ -84,6 +85,17 @@ namespace GeoStationProcessing
     if ( !crs.createFromUserInput( QString::fromStdString( block.crs ) ) || !crs.isValid() )
       throw QgsProcessingException( QObject::tr( "QGIS cannot read the block CRS \"%1\"." ).arg( QString::fromStdString( block.crs ) ) );
     return crs;
+  }
+
+  std::string blockCrsDefinition( const QgsCoordinateReferenceSystem &crs )
+  {
+    return ( crs.authid().isEmpty() ? crs.toWkt( QgsCoordinateReferenceSystem::WKT_PREFERRED ) : crs.authid() ).toStdString();
+  }
+
+  void removeIfWritten( const QString &path )
+  {
+    if ( !path.isEmpty() )
+      QFile::remove( path );
   }
 
   void markPixelSpaceOutput( const QString &destination )

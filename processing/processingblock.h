@@ -13,6 +13,7 @@
 #include <qgscoordinatereferencesystem.h>
 
 #include <memory>
+#include <string>
 
 #include "dem/dem.h"
 #include "geometry/crs.h"
@@ -42,6 +43,8 @@ namespace GeoStationProcessing
 
   //! The block CRS as a QGIS CRS; throws QgsProcessingException if QGIS cannot read it.
   QgsCoordinateReferenceSystem blockCrs( const geostation::Block &block );
+  //! A QGIS CRS as a block's CRS: the authority id when QGIS has one, else WKT.
+  std::string blockCrsDefinition( const QgsCoordinateReferenceSystem &crs );
 
   /**
    * Marks a written image-space output as Cartesian without CRS where the
@@ -59,6 +62,8 @@ namespace GeoStationProcessing
   void writeBlockAndReport( const geostation::Block &block, const QString &blockPath, const QJsonObject &report, const QString &reportPath );
   //! Writes a JSON report atomically (a temporary file renamed); throws QgsProcessingException with one sentence.
   void writeReport( const QJsonObject &report, const QString &reportPath );
+  //! Removes an output a failed run had begun to write (nothing for an empty path).
+  void removeIfWritten( const QString &path );
   //! A DEM and the transform from the block CRS to its CRS.
   struct LoadedDem
   {

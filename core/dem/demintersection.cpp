@@ -520,4 +520,13 @@ namespace geostation
     };
   }
 
+  std::function<std::optional<double>( double x, double y )> demHeightAt( const Dem &dem, const CrsTransform &blockToDem )
+  {
+    return [&dem, &blockToDem]( double x, double y )
+    {
+      const Eigen::Vector3d inDem = blockToDem.transform( Eigen::Vector3d( x, y, 0.0 ) );
+      return dem.heightAt( inDem.x(), inDem.y() );
+    };
+  }
+
 } // namespace geostation

@@ -20,6 +20,8 @@
 #ifndef GEOSTATION_DEM_DEMINTERSECTION_H
 #define GEOSTATION_DEM_DEMINTERSECTION_H
 
+#include <functional>
+#include <optional>
 #include <string>
 
 #include <Eigen/Core>
@@ -76,6 +78,13 @@ namespace geostation
    * transform are referenced, not copied: they must outlive the function.
    */
   GroundOfPixel demGroundOfPixel( const Dem &dem, const CrsTransform &blockToDem, const DemIntersectionOptions &options = DemIntersectionOptions() );
+
+  /**
+   * The DEM's height at a point (x, y) of the block CRS (e.g. the terrain
+   * of a stereo pair's mapping); nothing outside the DEM or in a hole. The
+   * DEM and the transform are referenced: they must outlive the function.
+   */
+  std::function<std::optional<double>( double x, double y )> demHeightAt( const Dem &dem, const CrsTransform &blockToDem );
 
 } // namespace geostation
 

@@ -4,6 +4,7 @@
 #include "extraction/networkintersection.h"
 #include "geometry/rotation.h"
 
+#include <algorithm>
 #include <cmath>
 #include <optional>
 
@@ -13,6 +14,23 @@
 
 namespace geostation
 {
+
+  double NetworkLine::lengthM() const
+  {
+    double length = 0.0;
+    for ( size_t k = 1; k < vertices.size(); ++k )
+      length += ( vertices[k].point - vertices[k - 1].point ).norm();
+    return length;
+  }
+
+  double NetworkLine::sigmaMaxM() const
+  {
+    double sigma = 0.0;
+    for ( const NetworkVertex &v : vertices )
+      sigma = std::max( sigma, v.sigmaM.maxCoeff() );
+    return sigma;
+  }
+
 
   namespace
   {

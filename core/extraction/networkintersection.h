@@ -59,6 +59,11 @@ namespace geostation
   {
     std::vector<NetworkVertex> vertices;
     int sourceLine = 0; //!< index into the lines of A
+
+    //! Along the vertices, in 3-D (m).
+    double lengthM() const;
+    //! The largest vertex sigma of any coordinate (m).
+    double sigmaMaxM() const;
   };
 
   struct NetworkIntersectionSummary

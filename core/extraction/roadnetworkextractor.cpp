@@ -9,6 +9,7 @@
 #include <stdexcept>
 
 #include "adjustment/intersection.h"
+#include "extraction/greytiles.h"
 #include "geometry/epipolar.h"
 #include "matching/areamatcher.h"
 #include "matching/matchingwindows.h"
@@ -154,6 +155,16 @@ namespace geostation
     summary.reading.peakMatchingBytes = matching.peakBytes();
     summary.seconds = std::chrono::duration<double>( std::chrono::steady_clock::now() - start ).count();
     return summary;
+  }
+
+  RoadNetworkSummary extractRoadNetwork( std::shared_ptr<const RasterReader> readerA, std::shared_ptr<const RasterReader> readerB, const OrientedImage *a,
+                                         const OrientedImage *b, const RoadNetworkOptions &options, const ExtractionProgress &progress )
+  {
+    using Range = std::optional<std::pair<double, double>>;
+    const auto range = []( const RasterReader &r ) { return r.eightBit() ? Range() : Range( greyRangeOf( r ) ); };
+    const Range rangeA = range( *readerA ), rangeB = range( *readerB );
+    PairMatchWindows matching( matchWindowsOf( readerA, readerB, rangeA, rangeB ), readerA->size(), readerB->size() );
+    return extractRoadNetwork( greyTilesOf( readerA, rangeA ), greyTilesOf( readerB, rangeB ), matching, a, b, options, progress );
   }
 
 } // namespace geostation

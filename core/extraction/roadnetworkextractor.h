@@ -19,6 +19,7 @@
 #include "extraction/networkintersection.h"
 #include "extraction/pairmapping.h"
 #include "extraction/pairmatchwindows.h"
+#include "io/rasterfile.h"
 #include "geometry/projection.h"
 #include "matching/matchimage.h"
 
@@ -102,6 +103,14 @@ namespace geostation
    * pair without roads gives an empty result.
    */
   RoadNetworkSummary extractRoadNetwork( const GreyTiles &greyA, const GreyTiles &greyB, PairMatchWindows &matching, const OrientedImage *a,
+                                         const OrientedImage *b, const RoadNetworkOptions &options, const ExtractionProgress &progress = nullptr );
+
+  /**
+   * The same for a pair of raster files, read a window at a time through
+   * the readers (a 16-bit image's grey range is read first, strip by strip,
+   * and its grey levels scaled by it).
+   */
+  RoadNetworkSummary extractRoadNetwork( std::shared_ptr<const RasterReader> readerA, std::shared_ptr<const RasterReader> readerB, const OrientedImage *a,
                                          const OrientedImage *b, const RoadNetworkOptions &options, const ExtractionProgress &progress = nullptr );
 
   //! The same for two images held whole (not windows of them).

@@ -152,6 +152,13 @@ namespace geostation
       return column && !t.text( row, *column ).empty() ? t.text( row, *column ) : std::string( fallback );
     }
 
+    std::string seconds( double s )
+    {
+      char text[32];
+      std::snprintf( text, sizeof( text ), "%.3g s", s );
+      return text;
+    }
+
     //! The events (exposure times) as stations, their poses interpolated in the trajectory's samples.
     std::vector<StationSource> interpolatedStations( const std::vector<StationSource> &samples, const CsvTable &trajectory, std::optional<size_t> trajectoryTime,
                                                      const CsvTable &events, const TrajectoryImportOptions &options, BlockImportSummary &import )
@@ -188,7 +195,7 @@ namespace geostation
           ( gap ? inGap : outside ) += 1;
           if ( inGap + outside <= 10 )
             import.dropped.push_back( "event row " + std::to_string( r + 1 ) + " (time " + events.text( r, *eventTime ) + "): "
-                                      + ( gap ? "the trajectory has a gap of " + std::to_string( at.gapS ) + " s there (more than " + std::to_string( options.maxTrajectoryGapS ) + " s)"
+                                      + ( gap ? "the trajectory has a gap of " + seconds( at.gapS ) + " there (more than " + seconds( options.maxTrajectoryGapS ) + ")"
                                               : "outside the trajectory's time span" ) );
           continue;
         }
@@ -209,7 +216,7 @@ namespace geostation
       std::snprintf( span, sizeof( span ), "%.3f to %.3f s", trajectoryAt.startS(), trajectoryAt.endS() );
       if ( out.empty() )
         throw std::invalid_argument( "none of the " + std::to_string( events.rows.size() ) + " events of " + events.file.string() + " can be interpolated in the trajectory (" + span + ", gaps up to "
-                                     + std::to_string( options.maxTrajectoryGapS ) + " s): are both on the same clock?" );
+                                     + seconds( options.maxTrajectoryGapS ) + "): are both on the same clock?" );
       char rate[64];
       std::snprintf( rate, sizeof( rate ), "%.1f Hz", 1.0 / trajectoryAt.medianIntervalS() );
       import.converted.push_back( std::to_string( out.size() ) + " event(s) interpolated in the trajectory's " + std::to_string( samples.size() ) + " samples (" + span + ", " + rate

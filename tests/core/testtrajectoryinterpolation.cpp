@@ -208,7 +208,7 @@ TEST( TrajectoryImport, EventsAreInterpolatedInAHighRateTrajectory )
   // left out and said so: 2 events before the solution, 1 after, 5 in its gap
   EXPECT_EQ( import.dropped.size(), 8u );
   EXPECT_NE( import.dropped.front().find( "outside the trajectory's time span" ), std::string::npos ) << import.dropped.front();
-  EXPECT_NE( import.dropped[2].find( "gap of 2.0" ), std::string::npos ) << import.dropped[2];
+  EXPECT_NE( import.dropped[2].find( "gap of 2 s there (more than 1 s)" ), std::string::npos ) << import.dropped[2];
   ASSERT_FALSE( import.warnings.empty() );
   EXPECT_NE( import.warnings.back().find( "3 event(s) outside the trajectory's time span and 5 in its gaps" ), std::string::npos ) << import.warnings.back();
   bool reported = false;
