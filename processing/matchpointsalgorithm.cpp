@@ -9,10 +9,8 @@
  ***************************************************************************/
 #include "matchpointsalgorithm.h"
 
+#include <memory>
 #include <optional>
-
-#include <functional>
-#include <map>
 
 #include <qgsexception.h>
 #include <qgsfeaturesink.h>
@@ -22,41 +20,18 @@
 #include <qgsrasterlayer.h>
 
 #include "dem/demintersection.h"
-#include "geometry/epipolar.h"
-#include "geometry/windowshape.h"
-#include "matching/areamatcher.h"
-#include "workstation/matchimagecache.h"
-#include "workstation/measurementwindows.h"
+#include "workstation/pointmatcher.h"
 #include "processingblock.h"
 #include "processingtables.h"
 
 namespace GeoStationProcessing
 {
 
-QString MatchPointsAlgorithm::name() const
-{
-  return QStringLiteral( "match_points" );
-}
-
-QString MatchPointsAlgorithm::displayName() const
-{
-  return QObject::tr( "Match points into other images" );
-}
-
-QStringList MatchPointsAlgorithm::tags() const
-{
-  return QObject::tr( "matching,correlation,ncc,least squares,lsm,epipolar,conjugate,tie points" ).split( ',' );
-}
-
-QString MatchPointsAlgorithm::group() const
-{
-  return QObject::tr( "Image processing" );
-}
-
-QString MatchPointsAlgorithm::groupId() const
-{
-  return QStringLiteral( "imageprocessing" );
-}
+QString MatchPointsAlgorithm::name() const { return QStringLiteral( "match_points" ); }
+QString MatchPointsAlgorithm::displayName() const { return QObject::tr( "Match points into other images" ); }
+QStringList MatchPointsAlgorithm::tags() const { return QObject::tr( "matching,correlation,ncc,least squares,lsm,epipolar,conjugate,tie points" ).split( ',' ); }
+QString MatchPointsAlgorithm::group() const { return QObject::tr( "Image processing" ); }
+QString MatchPointsAlgorithm::groupId() const { return QStringLiteral( "imageprocessing" ); }
 
 QString MatchPointsAlgorithm::shortHelpString() const
 {
@@ -78,10 +53,7 @@ QString MatchPointsAlgorithm::shortHelpString() const
                       "with the reason). geostation:intersect reads it as it is and leaves the failed rows out." );
 }
 
-MatchPointsAlgorithm *MatchPointsAlgorithm::createInstance() const
-{
-  return new MatchPointsAlgorithm();
-}
+MatchPointsAlgorithm *MatchPointsAlgorithm::createInstance() const { return new MatchPointsAlgorithm(); }
 
 void MatchPointsAlgorithm::initAlgorithm( const QVariantMap & )
 {
@@ -115,53 +87,42 @@ QVariantMap MatchPointsAlgorithm::processGeoStation( const QVariantMap &paramete
   const GeoStationProcessing::ObservationTable table = GeoStationProcessing::readObservations( source.get(), QObject::tr( "OBSERVATIONS" ), feedback );
   const int approxCol = table.extraFields.lookupField( QStringLiteral( "approx_col" ) ), approxRow = table.extraFields.lookupField( QStringLiteral( "approx_row" ) );
 
-  geostation::AreaMatchOptions options;
-  options.measure = *geostation::similarityMeasureFromName( parameterAsEnumString( parameters, QStringLiteral( "METHOD" ), context ).toStdString() );
-  options.windowWidth = parameterAsInt( parameters, QStringLiteral( "WINDOW_W" ), context );
-  options.windowHeight = parameterAsInt( parameters, QStringLiteral( "WINDOW_H" ), context );
-  options.lsm = parameterAsBool( parameters, QStringLiteral( "LSM" ), context );
-  options.minScore = parameterAsDouble( parameters, QStringLiteral( "MIN_SCORE" ), context );
-  options.bandHalfWidthPx = parameterAsInt( parameters, QStringLiteral( "BAND_PX" ), context );
-  try
-  {
-    options.check();
-  }
-  catch ( const std::invalid_argument &e )
-  {
-    throw QgsProcessingException( QString::fromStdString( e.what() ) );
-  }
+  geostation::PointMatchOptions options;
+  geostation::AreaMatchOptions &area = options.area;
+  area.measure = *geostation::similarityMeasureFromName( parameterAsEnumString( parameters, QStringLiteral( "METHOD" ), context ).toStdString() );
+  area.windowWidth = parameterAsInt( parameters, QStringLiteral( "WINDOW_W" ), context );
+  area.windowHeight = parameterAsInt( parameters, QStringLiteral( "WINDOW_H" ), context );
+  area.lsm = parameterAsBool( parameters, QStringLiteral( "LSM" ), context );
+  area.minScore = parameterAsDouble( parameters, QStringLiteral( "MIN_SCORE" ), context );
+  area.bandHalfWidthPx = parameterAsInt( parameters, QStringLiteral( "BAND_PX" ), context );
+  options.epipolar.minDistanceM = parameterAsDouble( parameters, QStringLiteral( "MIN_DEPTH_M" ), context );
+  options.epipolar.maxDistanceM = parameterAsDouble( parameters, QStringLiteral( "MAX_DEPTH_M" ), context );
+  if ( !( options.epipolar.maxDistanceM > options.epipolar.minDistanceM ) )
+    throw QgsProcessingException( QObject::tr( "MAX_DEPTH_M must be larger than MIN_DEPTH_M." ) );
+  options.searchRadiusPx = parameterAsDouble( parameters, QStringLiteral( "SEARCH_RADIUS" ), context );
   GeoStationProcessing::LoadedDem dem;
   if ( QgsRasterLayer *demLayer = parameterAsRasterLayer( parameters, QStringLiteral( "DEM" ), context ) )
     dem = GeoStationProcessing::loadDem( demLayer->source(), block );
-  const geostation::GroundOfPixel terrain = dem.dem ? geostation::demGroundOfPixel( *dem.dem, *dem.blockToDem ) : geostation::GroundOfPixel();
-  geostation::EpipolarOptions epipolar;
-  epipolar.minDistanceM = parameterAsDouble( parameters, QStringLiteral( "MIN_DEPTH_M" ), context );
-  epipolar.maxDistanceM = parameterAsDouble( parameters, QStringLiteral( "MAX_DEPTH_M" ), context );
-  if ( !( epipolar.maxDistanceM > epipolar.minDistanceM ) )
-    throw QgsProcessingException( QObject::tr( "MAX_DEPTH_M must be larger than MIN_DEPTH_M." ) );
-  const double searchRadius = parameterAsDouble( parameters, QStringLiteral( "SEARCH_RADIUS" ), context );
+  if ( dem.dem )
+    options.terrain = geostation::demGroundOfPixel( *dem.dem, *dem.blockToDem );
   const double referenceSigma = parameterAsDouble( parameters, QStringLiteral( "REFERENCE_SIGMA_PX" ), context );
   QStringList targetIds;
   for ( const QString &id : parameterAsString( parameters, QStringLiteral( "TARGETS" ), context ).split( ',', Qt::SkipEmptyParts ) )
     targetIds << id.trimmed();
   for ( const QString &id : targetIds )
     GeoStationProcessing::blockImage( block, id ); // unknown ids fail here, before any output
-
-  // images are prepared once and kept within the cache's budget (the last 18, 1 GiB); a failure is remembered as the
-  // reason for every point that needs the image. An image too large to prepare whole is read in the window a match needs.
+  // images are prepared once and kept within the cache's budget (the last 18, 1 GiB); an image too large to prepare
+  // whole is read in the window a match needs
   geostation::MatchImageCache cache;
-  std::map<std::string, std::string> unreadable;
-  const auto imageFor = [&]( const geostation::BlockImage &image, const std::function<cv::Rect( const cv::Size & )> &window ) -> std::shared_ptr<const geostation::MatchImage>
+  std::unique_ptr<geostation::PointMatcher> matcher;
+  try
   {
-    const std::string path = block.imageFilePath( image ).string();
-    geostation::MatchImageCache::Entry entry = cache.get( path );
-    if ( entry.needsWindow )
-      if ( const cv::Rect pixels = window( entry.imageSize ); !pixels.empty() )
-        entry = cache.get( path, pixels );
-    if ( !entry.error.empty() )
-      unreadable[image.id] = entry.error;
-    return entry.image;
-  };
+    matcher = std::make_unique<geostation::PointMatcher>( block, options, cache );
+  }
+  catch ( const std::invalid_argument &e )
+  {
+    throw QgsProcessingException( QString::fromStdString( e.what() ) );
+  }
 
   QgsFields fields;
   fields.append( QgsField( QStringLiteral( "point_id" ), QVariant::String ) );
@@ -203,58 +164,27 @@ QVariantMap MatchPointsAlgorithm::processGeoStation( const QVariantMap &paramete
       for ( const geostation::BlockImage &other : block.images )
         if ( other.id != reference.id && !reference.stationId.empty() && other.stationId == reference.stationId )
           targets << QString::fromStdString( other.id );
-    const std::shared_ptr<const geostation::MatchImage> from = imageFor( reference, [&]( const cv::Size & size ) { return geostation::matchingWindowAround( r.pixel, 0.0, options, size ); } );
     for ( const QString &targetId : targets )
     {
       if ( targetId == r.imageId )
         continue;
       const geostation::BlockImage &target = GeoStationProcessing::blockImage( block, targetId );
-      const bool oriented = reference.exterior && target.exterior;
-      std::vector<Eigen::Vector2d> curve;
-      if ( oriented )
-        for ( const auto &piece : geostation::epipolarCurve( block.orientedImage( reference ), r.pixel, block.orientedImage( target ), epipolar ).pieces )
-          for ( const geostation::EpipolarVertex &v : piece )
-            curve.push_back( v.pixelInImage );
       std::optional<Eigen::Vector2d> approximate;
-      if ( !oriented && approxCol >= 0 && approxRow >= 0 )
+      if ( approxCol >= 0 && approxRow >= 0 )
       {
         bool okCol = false, okRow = false;
         const double col = r.extra.value( approxCol ).toString().toDouble( &okCol ), row = r.extra.value( approxRow ).toString().toDouble( &okRow );
         if ( okCol && okRow )
           approximate = Eigen::Vector2d( col, row );
       }
-      const std::shared_ptr<const geostation::MatchImage> to = imageFor( target, [&]( const cv::Size & size )
-      {
-        return oriented ? geostation::matchingWindowAlong( curve, options, size, cache.maxWholePixels() )
-        : approximate ? geostation::matchingWindowAround( *approximate, searchRadius, options, size ) : cv::Rect();
-      } );
       geostation::AreaMatch m;
-      m.status = geostation::MatchStatus::Outside;
-      const std::string unreadableId = unreadable.count( reference.id ) ? reference.id : unreadable.count( target.id ) ? target.id : std::string();
-      if ( ( !from || !to ) && !unreadableId.empty() )
-        m.message = "the image " + unreadableId + " cannot be read: " + unreadable[unreadableId];
-      else if ( !from )
-        m.message = "the point lies outside its image";
-      else if ( oriented && !to )
-        m.message = "the epipolar curve does not cross the image";
-      else if ( approximate && !to )
-        m.message = "the approximate position lies outside the image";
-      else if ( oriented )
+      if ( !( reference.exterior && target.exterior ) && approxCol >= 0 && approxRow >= 0 && !approximate )
       {
-        const geostation::OrientedImage referenceImage = block.orientedImage( reference ), targetImage = block.orientedImage( target );
-        geostation::AreaMatchOptions pointOptions = options;
-        if ( terrain )
-          if ( const std::optional<geostation::PredictedWindow> w = geostation::predictWindowShape( referenceImage, r.pixel, targetImage, terrain,
-               std::max( 1.0, std::max( options.windowWidth, options.windowHeight ) / 4.0 ) ) )
-            pointOptions.predictedShape = w->searchFromReference;
-        m = geostation::matchAlongEpipolarBand( *from, r.pixel, *to, curve, pointOptions );
-      }
-      else if ( approximate )
-        m = geostation::matchAroundPosition( *from, r.pixel, *to, *approximate, searchRadius, options );
-      else if ( approxCol >= 0 && approxRow >= 0 )
+        m.status = geostation::MatchStatus::Outside;
         m.message = "approx_col and approx_row are not numbers";
+      }
       else
-        m.message = "the images are not both oriented and the table has no approx_col, approx_row";
+        m = matcher->match( reference, r.pixel, target, approximate );
       const QString status = QString::fromStdString( geostation::matchStatusName( m.status ) ), reason = QString::fromStdString( m.message );
       ++statusCounts[status];
       if ( m.matched() )

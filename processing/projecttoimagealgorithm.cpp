@@ -45,30 +45,11 @@ namespace
   };
 } // namespace
 
-QString ProjectToImageAlgorithm::name() const
-{
-  return QStringLiteral( "project_to_image" );
-}
-
-QString ProjectToImageAlgorithm::displayName() const
-{
-  return QObject::tr( "Project map features to image" );
-}
-
-QStringList ProjectToImageAlgorithm::tags() const
-{
-  return QObject::tr( "photogrammetry,collinearity,image,pixel,back-projection,monoplotting" ).split( ',' );
-}
-
-QString ProjectToImageAlgorithm::group() const
-{
-  return QObject::tr( "Monoplotting" );
-}
-
-QString ProjectToImageAlgorithm::groupId() const
-{
-  return QStringLiteral( "monoplotting" );
-}
+QString ProjectToImageAlgorithm::name() const { return QStringLiteral( "project_to_image" ); }
+QString ProjectToImageAlgorithm::displayName() const { return QObject::tr( "Project map features to image" ); }
+QStringList ProjectToImageAlgorithm::tags() const { return QObject::tr( "photogrammetry,collinearity,image,pixel,back-projection,monoplotting" ).split( ',' ); }
+QString ProjectToImageAlgorithm::group() const { return QObject::tr( "Monoplotting" ); }
+QString ProjectToImageAlgorithm::groupId() const { return QStringLiteral( "monoplotting" ); }
 
 QString ProjectToImageAlgorithm::shortHelpString() const
 {
@@ -93,10 +74,7 @@ QString ProjectToImageAlgorithm::shortHelpString() const
                       "others go on. The run fails only when no feature is projected because of such problems." );
 }
 
-ProjectToImageAlgorithm *ProjectToImageAlgorithm::createInstance() const
-{
-  return new ProjectToImageAlgorithm();
-}
+ProjectToImageAlgorithm *ProjectToImageAlgorithm::createInstance() const { return new ProjectToImageAlgorithm(); }
 
 void ProjectToImageAlgorithm::initAlgorithm( const QVariantMap & )
 {

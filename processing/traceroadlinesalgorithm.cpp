@@ -34,30 +34,11 @@ namespace
   const QStringList kMethods { QStringLiteral( "auto" ), QStringLiteral( "directional" ), QStringLiteral( "least_squares" ), QStringLiteral( "polynomial" ) };
 }
 
-QString TraceRoadLinesAlgorithm::name() const
-{
-  return QStringLiteral( "trace_road_lines" );
-}
-
-QString TraceRoadLinesAlgorithm::displayName() const
-{
-  return QObject::tr( "Trace road lines through the run" );
-}
-
-QStringList TraceRoadLinesAlgorithm::tags() const
-{
-  return QObject::tr( "road,lane,marking,kerb,edge,tracing,following,mobile mapping,3d,stereo" ).split( ',' );
-}
-
-QString TraceRoadLinesAlgorithm::group() const
-{
-  return QObject::tr( "Image processing" );
-}
-
-QString TraceRoadLinesAlgorithm::groupId() const
-{
-  return QStringLiteral( "imageprocessing" );
-}
+QString TraceRoadLinesAlgorithm::name() const { return QStringLiteral( "trace_road_lines" ); }
+QString TraceRoadLinesAlgorithm::displayName() const { return QObject::tr( "Trace road lines through the run" ); }
+QStringList TraceRoadLinesAlgorithm::tags() const { return QObject::tr( "road,lane,marking,kerb,edge,tracing,following,mobile mapping,3d,stereo" ).split( ',' ); }
+QString TraceRoadLinesAlgorithm::group() const { return QObject::tr( "Image processing" ); }
+QString TraceRoadLinesAlgorithm::groupId() const { return QStringLiteral( "imageprocessing" ); }
 
 QString TraceRoadLinesAlgorithm::shortHelpString() const
 {
@@ -75,10 +56,7 @@ QString TraceRoadLinesAlgorithm::shortHelpString() const
                       "seed_id, vertex, X, Y, Z, sx, sy, sz, station, image_ids, residuals_px." );
 }
 
-TraceRoadLinesAlgorithm *TraceRoadLinesAlgorithm::createInstance() const
-{
-  return new TraceRoadLinesAlgorithm();
-}
+TraceRoadLinesAlgorithm *TraceRoadLinesAlgorithm::createInstance() const { return new TraceRoadLinesAlgorithm(); }
 
 void TraceRoadLinesAlgorithm::initAlgorithm( const QVariantMap & )
 {
