@@ -9,6 +9,7 @@
 
 #include <gtest/gtest.h>
 
+#include "rigcameras.h"
 #include "testfiles.h"
 #include <opencv2/core/persistence.hpp>
 #include <opencv2/imgcodecs.hpp>
@@ -28,17 +29,7 @@ namespace fs = std::filesystem;
 
 namespace
 {
-  RigCamera forwardCamera()
-  {
-    RigCamera c;
-    c.camera.id = "front";
-    c.camera.width = 64;
-    c.camera.height = 48;
-    c.camera.f = 50;
-    c.camera.cx = 32;
-    c.camera.cy = 24;
-    return c;
-  }
+  RigCamera forwardCamera() { return geostation::testing::forwardRigCamera(); }
 
   Eigen::Vector3d axis( const Eigen::Matrix3d &worldFromCamera, int column ) { return worldFromCamera.col( column ); }
   Eigen::Vector3d viewing( const Eigen::Matrix3d &worldFromCamera ) { return -worldFromCamera.col( 2 ); }

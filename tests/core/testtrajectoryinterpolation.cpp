@@ -12,6 +12,7 @@
 #include <gtest/gtest.h>
 #include <opencv2/imgcodecs.hpp>
 
+#include "rigcameras.h"
 #include "testfiles.h"
 #include "geometry/rotation.h"
 #include "geometry/trajectoryinterpolation.h"
@@ -239,14 +240,7 @@ TEST( TrajectoryImport, IsoTimesOnBothTables )
 {
   // a trajectory in UTC and events written with a zone offset: the same instants
   const fs::path dir = freshTestFolder( "trajectory-iso" );
-  RigCamera camera;
-  camera.camera.id = "front";
-  camera.camera.width = 64;
-  camera.camera.height = 48;
-  camera.camera.f = 50;
-  camera.camera.cx = 32;
-  camera.camera.cy = 24;
-  camera.imagePattern = "{station}.png";
+  const RigCamera camera = geostation::testing::forwardRigCamera( "{station}.png" );
   std::ofstream( dir / "ins.csv" ) << "time,X,Y,Z,roll,pitch,heading\n"
                                       "2026-05-04T09:59:59.900Z,560000,4400000,200,0,0,90\n"
                                       "2026-05-04T10:00:00.000Z,560001,4400000,200,0,0,90\n"

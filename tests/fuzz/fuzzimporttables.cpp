@@ -21,6 +21,7 @@
 #include "io/metashapeimport.h"
 #include "io/opencvcalibration.h"
 #include "io/trajectoryimport.h"
+#include "rigcameras.h"
 
 namespace
 {
@@ -55,15 +56,8 @@ GEOSTATION_FUZZ_TARGET( trajectory_csv )
 {
   const std::filesystem::path folder = fuzz::scratchFolder( "trajectory_csv" );
   fuzz::writeBytes( folder / "trajectory.csv", data, size );
-  geostation::RigCamera front;
-  front.camera.id = "front";
-  front.camera.width = 64;
-  front.camera.height = 48;
-  front.camera.f = 50;
-  front.camera.cx = 32;
-  front.camera.cy = 24;
+  geostation::RigCamera front = geostation::testing::forwardRigCamera( "img/{station}_front.png" );
   front.leverArmM = Eigen::Vector3d( 1.0, 0.0, -2.0 );
-  front.imagePattern = "img/{station}_front.png";
   geostation::TrajectoryImportOptions options;
   options.crs = "EPSG:32617";
   options.requireImageFiles = false;
@@ -95,14 +89,7 @@ GEOSTATION_FUZZ_TARGET( events_csv )
       trajectory += "2026-05-04T10:00:0" + std::string( i == 10 ? "1.0" : "0." + std::to_string( i ) ) + "Z," + std::to_string( 560000 + i ) + ",4400000,200,0.5,-0.5," + std::to_string( 355 + i ) + "\n";
     fuzz::writeBytes( folder / "trajectory.csv", reinterpret_cast<const uint8_t *>( trajectory.data() ), trajectory.size() );
   }
-  geostation::RigCamera camera;
-  camera.camera.id = "front";
-  camera.camera.width = 64;
-  camera.camera.height = 48;
-  camera.camera.f = 50;
-  camera.camera.cx = 32;
-  camera.camera.cy = 24;
-  camera.imagePattern = "img/{station}_{time}.png";
+  const geostation::RigCamera camera = geostation::testing::forwardRigCamera( "img/{station}_{time}.png" );
   geostation::TrajectoryImportOptions options;
   options.crs = "EPSG:32617";
   options.requireImageFiles = false;
