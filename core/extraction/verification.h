@@ -6,7 +6,10 @@
   laid symmetrically along the mapped polygon, as wide as the mapping's
   misregistration, and in each the chain of highest confidence anywhere
   in the area (not necessarily from its centre). Once the line is found,
-  the next area follows its offset from the mapped polygon. The polygon is
+  the next area follows its offset from the mapped polygon, but never
+  beyond the misregistration (tracking must not walk off onto a line
+  beside the mapped one); after a miss the search starts again around the
+  mapped polygon. The polygon is
   accepted wholly, in parts, or not at all: the accepted parts of the
   source polygon (the stretch the found line covers, projected onto the
   mapped polygon) and the line found in the target are returned together.
@@ -34,8 +37,8 @@ namespace geostation
 
   struct VerificationOptions
   {
-    double misregistrationPx = 12.0; //!< the mapping's error the search allows (half-width of the first areas)
-    double trackingHalfWidthPx = 4.0; //!< half-width beyond the band once the line is found
+    double misregistrationPx = 12.0; //!< the mapping's error the search allows: half-width of the first areas, and how far from the mapped polygon any area reaches
+    double trackingHalfWidthPx = 4.0; //!< half-width around the line once it is found (within the misregistration)
     double areaLengthPx = 40.0;
     double minChainConfidence = 0.5;  //!< mean confidence of a chain to accept
     int minChainLinks = 3;
