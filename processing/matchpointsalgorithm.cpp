@@ -164,19 +164,19 @@ QVariantMap MatchPointsAlgorithm::processGeoStation( const QVariantMap &paramete
       for ( const geostation::BlockImage &other : block.images )
         if ( other.id != reference.id && !reference.stationId.empty() && other.stationId == reference.stationId )
           targets << QString::fromStdString( other.id );
+    std::optional<Eigen::Vector2d> approximate;
+    if ( approxCol >= 0 && approxRow >= 0 )
+    {
+      bool okCol = false, okRow = false;
+      const double col = r.extra.value( approxCol ).toString().toDouble( &okCol ), row = r.extra.value( approxRow ).toString().toDouble( &okRow );
+      if ( okCol && okRow )
+        approximate = Eigen::Vector2d( col, row );
+    }
     for ( const QString &targetId : targets )
     {
       if ( targetId == r.imageId )
         continue;
       const geostation::BlockImage &target = GeoStationProcessing::blockImage( block, targetId );
-      std::optional<Eigen::Vector2d> approximate;
-      if ( approxCol >= 0 && approxRow >= 0 )
-      {
-        bool okCol = false, okRow = false;
-        const double col = r.extra.value( approxCol ).toString().toDouble( &okCol ), row = r.extra.value( approxRow ).toString().toDouble( &okRow );
-        if ( okCol && okRow )
-          approximate = Eigen::Vector2d( col, row );
-      }
       geostation::AreaMatch m;
       if ( !( reference.exterior && target.exterior ) && approxCol >= 0 && approxRow >= 0 && !approximate )
       {
