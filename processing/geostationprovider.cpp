@@ -20,6 +20,7 @@
 #include "traceroadlinesalgorithm.h"
 #include "extractroadsalgorithm.h"
 #include "exportblockalgorithm.h"
+#include "identifycontrolalgorithm.h"
 #include "importblockalgorithm.h"
 #include "projecttoimagealgorithm.h"
 #include "resectionalgorithm.h"
@@ -82,6 +83,7 @@ void GeoStationProvider::loadAlgorithms()
   addAlgorithm( new ExtractRoadsAlgorithm() );
   addAlgorithm( new ImportBlockAlgorithm() );
   addAlgorithm( new ExportBlockAlgorithm() );
+  addAlgorithm( new IdentifyControlAlgorithm() );
 }
 
 } // namespace GeoStationProcessing

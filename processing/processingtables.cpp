@@ -97,9 +97,9 @@ namespace GeoStationProcessing
     const int colField = requireField( fields, QStringLiteral( "col" ), what, expected );
     const int rowField = requireField( fields, QStringLiteral( "row" ), what, expected );
     const int sigmaField = fieldIndex( fields, QStringLiteral( "sigma_px" ) );
-    // match_points' output: rows of failed matches (status no_peak, ambiguous, ...) carry no col/row and are no observations
+    // match_points' and identify_control's output: rows of failed matches (status no_peak, ambiguous, not_found, ...) carry no col/row and are no observations
     const int statusField = fieldIndex( fields, QStringLiteral( "status" ) );
-    const QStringList observed { QStringLiteral( "lsm" ), QStringLiteral( "correlation" ), QStringLiteral( "reference" ) };
+    const QStringList observed { QStringLiteral( "lsm" ), QStringLiteral( "correlation" ), QStringLiteral( "reference" ), QStringLiteral( "identified" ) };
 
     ObservationTable table;
     QList<int> extraIndexes;
@@ -145,14 +145,22 @@ namespace GeoStationProcessing
   }
 
   QVector<GroundPointRecord> readGroundPoints( QgsFeatureSource *source, const QString &what, const QgsCoordinateReferenceSystem &blockCrs,
-      const QgsCoordinateTransformContext &transformContext, QgsProcessingFeedback *feedback )
+      const QgsCoordinateTransformContext &transformContext, QgsProcessingFeedback *feedback, const HeightSource &heightOf )
   {
     const QgsFields fields = source->fields();
     const int pointField = requireField( fields, QStringLiteral( "point_id" ), what, QObject::tr( "point_id, X, Y, Z (or PointZ geometries) and optionally sx, sy, sz, role" ) );
     const int xField = fieldIndex( fields, QStringLiteral( "X" ) ), yField = fieldIndex( fields, QStringLiteral( "Y" ) ), zField = fieldIndex( fields, QStringLiteral( "Z" ) );
-    const bool fromFields = xField >= 0 && yField >= 0 && zField >= 0;
-    if ( !fromFields && !QgsWkbTypes::hasZ( source->wkbType() ) )
+    const bool fromFields = xField >= 0 && yField >= 0 && ( zField >= 0 || heightOf );
+    if ( !fromFields && !QgsWkbTypes::hasZ( source->wkbType() ) && !( heightOf && QgsWkbTypes::geometryType( source->wkbType() ) == QgsWkbTypes::PointGeometry ) )
       throw QgsProcessingException( QObject::tr( "The %1 table has neither X, Y, Z fields nor PointZ geometries." ).arg( what ) );
+    // a point without height takes the DEM's, where a DEM is given
+    auto height = [&]( double x, double y, const QString &pointId ) {
+      const std::optional<double> z = heightOf ? heightOf( x, y ) : std::nullopt;
+      if ( !z )
+        throw QgsProcessingException( heightOf ? QObject::tr( "Point %1 of the %2 table has no height and the DEM does not cover it." ).arg( pointId, what )
+                                      : QObject::tr( "Point %1 of the %2 table has no height." ).arg( pointId, what ) );
+      return *z;
+    };
     const int sigmaFields[3] = { fieldIndex( fields, QStringLiteral( "sx" ) ), fieldIndex( fields, QStringLiteral( "sy" ) ), fieldIndex( fields, QStringLiteral( "sz" ) ) };
     const int roleField = fieldIndex( fields, QStringLiteral( "role" ) );
     // Coordinates in fields are taken to be in the block CRS; geometries are transformed.
@@ -172,15 +180,22 @@ namespace GeoStationProcessing
       if ( p.pointId.isEmpty() )
         throw QgsProcessingException( QObject::tr( "Row %1 of the %2 table has no point_id." ).arg( row ).arg( what ) );
       if ( fromFields )
-        p.world = Eigen::Vector3d( number( f, xField, row, QStringLiteral( "X" ), what ), number( f, yField, row, QStringLiteral( "Y" ), what ), number( f, zField, row, QStringLiteral( "Z" ), what ) );
+      {
+        const double x = number( f, xField, row, QStringLiteral( "X" ), what ), y = number( f, yField, row, QStringLiteral( "Y" ), what );
+        const bool hasZ = zField >= 0 && !( f.attribute( zField ).isNull() || f.attribute( zField ).toString().trimmed().isEmpty() );
+        p.world = Eigen::Vector3d( x, y, hasZ || !heightOf ? number( f, zField, row, QStringLiteral( "Z" ), what ) : height( x, y, p.pointId ) );
+      }
       else
       {
         if ( !f.hasGeometry() )
           throw QgsProcessingException( QObject::tr( "Row %1 (%2) of the %3 table has no geometry." ).arg( row ).arg( p.pointId, what ) );
         const QgsPoint point = *f.geometry().vertices_begin();
         double x = point.x(), y = point.y(), z = point.z();
-        if ( std::isnan( z ) )
+        const bool hasZ = !std::isnan( z );
+        if ( !hasZ && !heightOf )
           throw QgsProcessingException( QObject::tr( "Point %1 of the %2 table has no height." ).arg( p.pointId, what ) );
+        if ( !hasZ )
+          z = 0.0;
         try
         {
           toBlock.transformInPlace( x, y, z );
@@ -189,7 +204,7 @@ namespace GeoStationProcessing
         {
           throw QgsProcessingException( QObject::tr( "Point %1 of the %2 table cannot be transformed to the block CRS." ).arg( p.pointId, what ) );
         }
-        p.world = Eigen::Vector3d( x, y, z );
+        p.world = Eigen::Vector3d( x, y, hasZ ? z : height( x, y, p.pointId ) );
       }
       const char *axes[3] = { "sx", "sy", "sz" };
       for ( int k = 0; k < 3; ++k )

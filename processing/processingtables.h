@@ -10,6 +10,9 @@
 #ifndef PROCESSINGTABLES_H
 #define PROCESSINGTABLES_H
 
+#include <functional>
+#include <optional>
+
 #include <QPair>
 #include <QString>
 #include <QVector>
@@ -98,8 +101,16 @@ namespace GeoStationProcessing
    * Reads ground points. Coordinates come from the X, Y, Z fields, or else
    * from PointZ geometries transformed to the block CRS.
    */
+  //! The terrain height at a block-CRS position, or nothing where it is not known.
+  using HeightSource = std::function<std::optional<double>( double x, double y )>;
+
+  /**
+   * Ground points (point_id, X, Y, Z fields, or point geometries). With
+   * `heightOf`, a point without height (2-D geometry, empty or missing Z)
+   * takes the height it gives.
+   */
   QVector<GroundPointRecord> readGroundPoints( QgsFeatureSource *source, const QString &what, const QgsCoordinateReferenceSystem &blockCrs,
-      const QgsCoordinateTransformContext &transformContext, QgsProcessingFeedback *feedback );
+      const QgsCoordinateTransformContext &transformContext, QgsProcessingFeedback *feedback, const HeightSource &heightOf = HeightSource() );
 }
 
 #endif // PROCESSINGTABLES_H

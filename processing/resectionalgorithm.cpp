@@ -181,6 +181,14 @@ QVariantMap ResectionAlgorithm::processGeoStation( const QVariantMap &parameters
       observations.push_back( { r.pointId.toStdString(), r.pixel, r.sigmaPx > 0.0 ? r.sigmaPx : defaultSigma } );
   if ( observations.empty() )
     throw QgsProcessingException( QObject::tr( "The observations table has no rows for image %1." ).arg( imageId ) );
+  // a scanned film's measurements are scan pixels; the camera model works in the frame its inner orientation gives
+  if ( image.innerOrientation )
+  {
+    const Eigen::Matrix<double, 2, 3> nominalFromScan = geostation::nominalFromScanAffine( camera, *image.innerOrientation );
+    for ( geostation::ImagePoint &o : observations )
+      o.pixelInImage = nominalFromScan.leftCols<2>() * o.pixelInImage + nominalFromScan.col( 2 );
+    feedback->pushInfo( QObject::tr( "%1 is a scanned film: its measurements go through its inner orientation; residuals are in the camera's nominal pixels." ).arg( imageId ) );
+  }
   feedback->setProgress( 10 );
 
   geostation::ResectionSummary summary;

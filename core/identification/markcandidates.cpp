@@ -67,6 +67,28 @@ namespace geostation
     }
   } // namespace
 
+  cv::Mat markGrey( const cv::Mat &image )
+  {
+    if ( image.empty() || ( image.depth() != CV_8U && image.depth() != CV_16U ) || ( image.channels() != 1 && image.channels() != 3 && image.channels() != 4 ) )
+      throw std::invalid_argument( "marks are looked for in an 8- or 16-bit grey, RGB or RGBA image" );
+    cv::Mat grey;
+    if ( image.channels() == 1 )
+      grey = image;
+    else
+      cv::cvtColor( image, grey, image.channels() == 3 ? cv::COLOR_RGB2GRAY : cv::COLOR_RGBA2GRAY );
+    if ( grey.depth() == CV_8U )
+      return grey.clone();
+    std::vector<uint16_t> values;
+    const int step = std::max( 1, static_cast<int>( grey.total() / 200000 ) );
+    for ( size_t k = 0; k < grey.total(); k += step )
+      values.push_back( grey.at<uint16_t>( static_cast<int>( k / grey.cols ), static_cast<int>( k % grey.cols ) ) );
+    std::sort( values.begin(), values.end() );
+    const double lo = values[values.size() / 1000], hi = std::max<double>( lo + 1, values[values.size() - 1 - values.size() / 1000] );
+    cv::Mat out;
+    grey.convertTo( out, CV_8U, 255.0 / ( hi - lo ), -255.0 * lo / ( hi - lo ) );
+    return out;
+  }
+
   std::vector<MarkCandidate> detectMarkCandidates( const cv::Mat &grey, const MarkCandidateOptions &options )
   {
     if ( grey.empty() || grey.type() != CV_8UC1 )

@@ -58,6 +58,13 @@ namespace geostation
    */
   std::vector<MarkCandidate> detectMarkCandidates( const cv::Mat &grey, const MarkCandidateOptions &options = MarkCandidateOptions() );
 
+  /**
+   * The 8-bit grey image marks are looked for in, from a photo as read
+   * (8- or 16-bit, grey, RGB or RGBA; 16-bit stretched between its 0.1 and
+   * 99.9 percentiles). Throws std::invalid_argument for anything else.
+   */
+  cv::Mat markGrey( const cv::Mat &image );
+
 } // namespace geostation
 
 #endif // GEOSTATION_IDENTIFICATION_MARKCANDIDATES_H

@@ -1,0 +1,228 @@
+/***************************************************************************
+  identifycontrolalgorithm.cpp - geostation:identify_control
+ ***************************************************************************/
+#include "identifycontrolalgorithm.h"
+
+#include <QJsonArray>
+#include <QJsonObject>
+
+#include <qgsexception.h>
+#include <qgsprocessingfeedback.h>
+#include <qgsprocessingoutputs.h>
+#include <qgsprocessingparameters.h>
+#include <qgsrasterlayer.h>
+
+#include <Eigen/Geometry>
+
+#include "dem/demintersection.h"
+#include "identification/controlidentification.h"
+#include "identification/markcandidates.h"
+#include "io/rasterfile.h"
+#include "processingblock.h"
+#include "processingtables.h"
+
+namespace GeoStationProcessing
+{
+
+namespace
+{
+  QJsonObject reportJson( const geostation::ControlIdentificationSummary &s, const QString &imageId, int candidates, bool guided )
+  {
+    const geostation::ResectionSummary &r = s.resection;
+    QJsonArray parameters, residuals, notFound, rejected;
+    for ( size_t i = 0; i < r.parameterNames.size() && i < r.estimates.size(); ++i )
+      parameters.append( QJsonObject { { "name", QString::fromStdString( r.parameterNames[i] ) }, { "value", r.estimates[i] }, { "sigma", r.sigmas[i] },
+        { "unit", i < 3 ? "m" : "deg" } } );
+    for ( const geostation::IdentifiedControl &id : s.identified )
+      residuals.append( QJsonObject { { "point_id", QString::fromStdString( id.pointId ) }, { "col", id.pixelInImage.x() }, { "row", id.pixelInImage.y() },
+        { "col_resid_px", id.residualPx.x() }, { "row_resid_px", id.residualPx.y() }, { "resid_px", id.residualPx.norm() } } );
+    for ( const geostation::PredictedControl &p : s.notFound )
+      notFound.append( QJsonObject { { "point_id", QString::fromStdString( p.pointId ) }, { "predicted_col", p.pixelInImage.x() }, { "predicted_row", p.pixelInImage.y() } } );
+    for ( const std::string &id : s.rejected )
+      rejected.append( QString::fromStdString( id ) );
+    return QJsonObject {
+      { "algorithm", "geostation:identify_control" }, { "image_id", imageId }, { "approximate_orientation_used", guided },
+      { "candidates", candidates }, { "triangles", static_cast<double>( s.triangles ) }, { "poses", static_cast<double>( s.poses ) },
+      { "hypotheses_verified", s.hypothesesVerified }, { "pairs_found", static_cast<int>( s.identified.size() ) }, { "runner_up_pairs", s.runnerUpPairs },
+      { "false_alarms", s.falseAlarms }, { "seconds", s.seconds }, { "pairs", residuals }, { "not_found", notFound }, { "rejected", rejected },
+      { "sigma0_px", r.sigma0 }, { "iterations", r.iterations }, { "converged", r.converged }, { "parameters", parameters },
+      { "rmse_control_px", r.rmseControlPx }, { "message", QString::fromStdString( s.message ) } };
+  }
+} // namespace
+
+QString IdentifyControlAlgorithm::name() const
+{
+  return QStringLiteral( "identify_control" );
+}
+
+QString IdentifyControlAlgorithm::displayName() const
+{
+  return QObject::tr( "Identify ground control in a photo" );
+}
+
+QStringList IdentifyControlAlgorithm::tags() const
+{
+  return QObject::tr( "photogrammetry,control points,gcp,targets,identification,automatic,resection,monoplotting" ).split( ',' );
+}
+
+QString IdentifyControlAlgorithm::group() const
+{
+  return QObject::tr( "Adjustment" );
+}
+
+QString IdentifyControlAlgorithm::groupId() const
+{
+  return QStringLiteral( "adjustment" );
+}
+
+QString IdentifyControlAlgorithm::shortHelpString() const
+{
+  return QObject::tr( "Finds the signalised control points of CONTROL in one photo of the block, with no point measured by hand. "
+                      "Bright compact marks (targets) are detected in the image; triangles of neighbouring control points are "
+                      "paired with triangles of neighbouring marks, each pairing gives the camera's pose, and the pose that puts "
+                      "most control points on marks is verified by a robust resection. The camera's interior orientation must be "
+                      "known; an orientation of the image in the block, if there is one, is used as an approximation "
+                      "(USE_ORIENTATION) and only marks within SEARCH_RADIUS_PX of each prediction are considered.\n\n"
+                      "Nothing is claimed that chance could explain: with fewer than about seven targets found, or two different "
+                      "answers that fit almost equally well, the algorithm stops with a message and writes nothing.\n\n"
+                      "CONTROL is a point layer or a table with point_id, X, Y, Z; without heights, a DEM gives them. OUTPUT is an "
+                      "observations table (point_id, image_id, col, row, sigma_px, status) ready for geostation:resection: status "
+                      "identified, or not_found (the control point falls in the photo where no mark was found; pred_col and "
+                      "pred_row give where). REPORT lists the pairs with residuals, the resection, and the search's counts." );
+}
+
+IdentifyControlAlgorithm *IdentifyControlAlgorithm::createInstance() const
+{
+  return new IdentifyControlAlgorithm();
+}
+
+void IdentifyControlAlgorithm::initAlgorithm( const QVariantMap & )
+{
+  addParameter( GeoStationProcessing::blockParameter() );
+  addParameter( new QgsProcessingParameterString( QStringLiteral( "IMAGE" ), QObject::tr( "Image id" ) ) );
+  addParameter( new QgsProcessingParameterFeatureSource( QStringLiteral( "CONTROL" ), QObject::tr( "Ground control (PointZ, or point_id, X, Y, Z)" ), QList<int>() << QgsProcessing::TypeVector ) );
+  addParameter( new QgsProcessingParameterRasterLayer( QStringLiteral( "DEM" ), QObject::tr( "DEM (heights of control without Z)" ), QVariant(), true ) );
+  addParameter( new QgsProcessingParameterBoolean( QStringLiteral( "USE_ORIENTATION" ), QObject::tr( "Use the image's orientation in the block as an approximation" ), true ) );
+  auto advanced = [this]( QgsProcessingParameterDefinition * p ) {
+    p->setFlags( p->flags() | QgsProcessingParameterDefinition::FlagAdvanced );
+    addParameter( p );
+  };
+  advanced( new QgsProcessingParameterNumber( QStringLiteral( "SEARCH_RADIUS_PX" ), QObject::tr( "Search radius around predictions (px)" ), QgsProcessingParameterNumber::Double, 80.0, false, 1.0 ) );
+  advanced( new QgsProcessingParameterNumber( QStringLiteral( "MARK_MIN_PX" ), QObject::tr( "Smallest mark diameter (px)" ), QgsProcessingParameterNumber::Double, 3.0, false, 1.0 ) );
+  advanced( new QgsProcessingParameterNumber( QStringLiteral( "MARK_MAX_PX" ), QObject::tr( "Largest mark diameter (px)" ), QgsProcessingParameterNumber::Double, 24.0, false, 1.0, 200.0 ) );
+  advanced( new QgsProcessingParameterNumber( QStringLiteral( "MIN_CONTRAST" ), QObject::tr( "Smallest mark contrast (grey levels)" ), QgsProcessingParameterNumber::Double, 30.0, false, 1.0 ) );
+  advanced( new QgsProcessingParameterBoolean( QStringLiteral( "DARK_MARKS" ), QObject::tr( "Marks are dark on a bright background" ), false ) );
+  advanced( new QgsProcessingParameterNumber( QStringLiteral( "MAX_CANDIDATES" ), QObject::tr( "Strongest marks kept" ), QgsProcessingParameterNumber::Integer, 60, false, 3, 1000 ) );
+  advanced( new QgsProcessingParameterNumber( QStringLiteral( "MIN_PAIRS" ), QObject::tr( "Fewest pairs for an identification" ), QgsProcessingParameterNumber::Integer, 5, false, 4 ) );
+  advanced( new QgsProcessingParameterNumber( QStringLiteral( "TOLERANCE_PX" ), QObject::tr( "Matching tolerance after the resection (px)" ), QgsProcessingParameterNumber::Double, 2.5, false, 0.1 ) );
+  addParameter( new QgsProcessingParameterFeatureSink( QStringLiteral( "OUTPUT" ), QObject::tr( "Identified control (observations)" ), QgsProcessing::TypeVector ) );
+  addParameter( new QgsProcessingParameterFileDestination( QStringLiteral( "REPORT" ), QObject::tr( "Report" ), QObject::tr( "JSON (*.json)" ), QVariant(), true ) );
+  addOutput( new QgsProcessingOutputNumber( QStringLiteral( "PAIRS_FOUND" ), QObject::tr( "Control points identified" ) ) );
+}
+
+QVariantMap IdentifyControlAlgorithm::processGeoStation( const QVariantMap &parameters, QgsProcessingContext &context, QgsProcessingFeedback *feedback )
+{
+  const geostation::Block block = GeoStationProcessing::loadBlock( parameterAsFile( parameters, QStringLiteral( "BLOCK" ), context ) );
+  const QString imageId = parameterAsString( parameters, QStringLiteral( "IMAGE" ), context ).trimmed();
+  const geostation::BlockImage &image = GeoStationProcessing::blockImage( block, imageId );
+  const geostation::Camera &camera = block.cameraOf( image );
+  GeoStationProcessing::requireImageFile( block, image );
+  GeoStationProcessing::LoadedDem dem;
+  if ( QgsRasterLayer *demLayer = parameterAsRasterLayer( parameters, QStringLiteral( "DEM" ), context ) )
+    dem = GeoStationProcessing::loadDem( demLayer->source(), block );
+  std::unique_ptr<QgsProcessingFeatureSource> controlSource( parameterAsSource( parameters, QStringLiteral( "CONTROL" ), context ) );
+  if ( !controlSource )
+    throw QgsProcessingException( invalidSourceError( parameters, QStringLiteral( "CONTROL" ) ) );
+  const QVector<GeoStationProcessing::GroundPointRecord> ground = GeoStationProcessing::readGroundPoints(
+        controlSource.get(), QObject::tr( "control" ), GeoStationProcessing::blockCrs( block ), context.transformContext(), feedback,
+        dem.dem ? geostation::demHeightAt( *dem.dem, *dem.blockToDem ) : GeoStationProcessing::HeightSource() );
+  std::vector<geostation::ControlPoint> control;
+  for ( const GeoStationProcessing::GroundPointRecord &g : ground )
+    control.push_back( { g.pointId.toStdString(), g.world, g.sigmaM, false } );
+
+  geostation::MarkCandidateOptions marks;
+  marks.minDiameterPx = parameterAsDouble( parameters, QStringLiteral( "MARK_MIN_PX" ), context );
+  marks.maxDiameterPx = parameterAsDouble( parameters, QStringLiteral( "MARK_MAX_PX" ), context );
+  marks.minContrast = parameterAsDouble( parameters, QStringLiteral( "MIN_CONTRAST" ), context );
+  marks.brightMark = !parameterAsBool( parameters, QStringLiteral( "DARK_MARKS" ), context );
+  marks.maxCandidates = parameterAsInt( parameters, QStringLiteral( "MAX_CANDIDATES" ), context );
+  geostation::ControlIdentificationOptions options;
+  options.minPairs = parameterAsInt( parameters, QStringLiteral( "MIN_PAIRS" ), context );
+  options.tolerancePx = parameterAsDouble( parameters, QStringLiteral( "TOLERANCE_PX" ), context );
+  options.searchRadiusPx = parameterAsDouble( parameters, QStringLiteral( "SEARCH_RADIUS_PX" ), context );
+  if ( parameterAsBool( parameters, QStringLiteral( "USE_ORIENTATION" ), context ) && image.exterior )
+    options.approximate = *image.exterior;
+  feedback->setProgress( 5 );
+
+  // marks in the scan's pixels; the camera model works in the nominal frame of a scanned film's inner orientation
+  std::vector<geostation::MarkCandidate> found;
+  std::vector<Eigen::Vector2d> candidates;
+  geostation::ControlIdentificationSummary summary;
+  Eigen::Matrix<double, 2, 3> nominalFromScan;
+  nominalFromScan << 1, 0, 0, 0, 1, 0;
+  try
+  {
+    found = geostation::detectMarkCandidates( geostation::markGrey( geostation::readRaster( block.imageFilePath( image ).string() ).pixels ), marks );
+    if ( image.innerOrientation )
+      nominalFromScan = geostation::nominalFromScanAffine( camera, *image.innerOrientation );
+    for ( const geostation::MarkCandidate &m : found )
+      candidates.push_back( nominalFromScan * m.pixelInImage.homogeneous() );
+    feedback->pushInfo( QObject::tr( "%1 mark candidates in %2." ).arg( found.size() ).arg( imageId ) );
+    feedback->setProgress( 30 );
+    summary = geostation::identifyControl( camera, control, candidates, options );
+  }
+  catch ( const std::invalid_argument &e )
+  {
+    throw QgsProcessingException( QString::fromStdString( e.what() ) );
+  }
+  if ( !summary.ok() )
+    throw QgsProcessingException( QObject::tr( "No control identified in %1: %2." ).arg( imageId, QString::fromStdString( summary.message ) ) );
+  feedback->setProgress( 90 );
+
+  QgsFields fields;
+  for ( const char *name : { "point_id", "image_id" } )
+    fields.append( QgsField( QString::fromLatin1( name ), QVariant::String ) );
+  for ( const char *name : { "col", "row", "sigma_px" } )
+    fields.append( QgsField( QString::fromLatin1( name ), QVariant::Double ) );
+  fields.append( QgsField( QStringLiteral( "status" ), QVariant::String ) );
+  for ( const char *name : { "pred_col", "pred_row", "resid_px" } )
+    fields.append( QgsField( QString::fromLatin1( name ), QVariant::Double ) );
+  QString destination;
+  std::unique_ptr<QgsFeatureSink> sink( parameterAsSink( parameters, QStringLiteral( "OUTPUT" ), context, destination, fields, QgsWkbTypes::NoGeometry, QgsCoordinateReferenceSystem() ) );
+  if ( !sink )
+    throw QgsProcessingException( invalidSinkError( parameters, QStringLiteral( "OUTPUT" ) ) );
+  auto write = [&]( const std::string &pointId, const QVariant &col, const QVariant &row, const QVariant &sigma, const QString &status, const Eigen::Vector2d &predicted,
+                    const QVariant &residual ) {
+    QgsFeature f( fields );
+    f.setAttributes( QgsAttributes() << QString::fromStdString( pointId ) << imageId << col << row << sigma << status << predicted.x() << predicted.y() << residual );
+    if ( !sink->addFeature( f, QgsFeatureSink::FastInsert ) )
+      throw QgsProcessingException( writeFeatureError( sink.get(), parameters, QStringLiteral( "OUTPUT" ) ) );
+  };
+  // written in the image's own pixels (the scan's, for scanned film), as measured
+  const Eigen::Matrix2d linear = nominalFromScan.leftCols<2>();
+  auto scanOf = [&]( const Eigen::Vector2d &nominal ) { return Eigen::Vector2d( linear.inverse() * ( nominal - nominalFromScan.col( 2 ) ) ); };
+  for ( const geostation::IdentifiedControl &id : summary.identified )
+  {
+    const Eigen::Vector2d pixel = found[id.candidate].pixelInImage, predicted = scanOf( id.pixelInImage + id.residualPx );
+    write( id.pointId, pixel.x(), pixel.y(), options.candidateSigmaPx, QStringLiteral( "identified" ), predicted, ( predicted - pixel ).norm() );
+  }
+  for ( const geostation::PredictedControl &p : summary.notFound )
+    write( p.pointId, QVariant(), QVariant(), QVariant(), QStringLiteral( "not_found" ), scanOf( p.pixelInImage ), QVariant() );
+
+  const QString reportPath = parameterAsFileOutput( parameters, QStringLiteral( "REPORT" ), context );
+  if ( !reportPath.isEmpty() )
+    GeoStationProcessing::writeReport( reportJson( summary, imageId, static_cast<int>( candidates.size() ), options.approximate.has_value() ), reportPath );
+  feedback->pushInfo( QObject::tr( "%1 control points identified in %2 (%3 more fall in the photo unfound): sigma0 = %4 px, RMSE %5 px; %6 poses tried in %7 s." )
+                      .arg( summary.identified.size() ).arg( imageId ).arg( summary.notFound.size() ).arg( summary.resection.sigma0, 0, 'f', 2 )
+                      .arg( summary.resection.rmseControlPx, 0, 'f', 2 ).arg( summary.poses ).arg( summary.seconds, 0, 'f', 1 ) );
+  if ( !summary.rejected.empty() )
+    feedback->pushWarning( QObject::tr( "%1 paired control points were rejected by the resection as blunders." ).arg( summary.rejected.size() ) );
+  feedback->setProgress( 100 );
+  QVariantMap outputs;
+  outputs.insert( QStringLiteral( "OUTPUT" ), destination );
+  outputs.insert( QStringLiteral( "REPORT" ), reportPath );
+  outputs.insert( QStringLiteral( "PAIRS_FOUND" ), static_cast<int>( summary.identified.size() ) );
+  return outputs;
+}
+
+} // namespace GeoStationProcessing
