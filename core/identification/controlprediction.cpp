@@ -1,0 +1,304 @@
+/***************************************************************************
+  controlprediction.cpp - the semi-automatic mode: predicted control found
+ ***************************************************************************/
+#include "identification/controlprediction.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include <Eigen/SVD>
+#include <map>
+#include <set>
+#include <stdexcept>
+
+#include "geometry/projection.h"
+
+namespace geostation
+{
+
+  void ControlPredictionOptions::check() const
+  {
+    if ( !( searchRadiusPx >= 3.0 ) )
+      throw std::invalid_argument( "the search radius around a predicted control point must be at least 3 px" );
+    marks.check();
+    if ( !( sigmaPx > 0.0 ) || !( flagResidualPx > 0.0 ) || !( flagNormalised > 0.0 ) )
+      throw std::invalid_argument( "the mark sigma and the flagging thresholds must be positive" );
+    if ( !( ambiguityRatio >= 1.0 ) )
+      throw std::invalid_argument( "the ambiguity ratio must be at least 1" );
+  }
+
+  std::string predictedPointStatusName( PredictedPoint::Status status )
+  {
+    switch ( status )
+    {
+      case PredictedPoint::Status::Found:
+        return "found";
+      case PredictedPoint::Status::Flagged:
+        return "flagged";
+      case PredictedPoint::Status::NotFound:
+        return "not_found";
+      case PredictedPoint::Status::Outside:
+        return "outside";
+    }
+    return "not_found";
+  }
+
+  std::optional<Eigen::Vector2d> markCentre( const cv::Mat &grey, const Eigen::Vector2d &approximate, double diameterPx, bool brightMark, double *areaPx )
+  {
+    if ( grey.empty() || grey.type() != CV_8UC1 || !approximate.allFinite() || !( diameterPx > 0.0 ) )
+      return std::nullopt;
+    const double sign = brightMark ? 1.0 : -1.0;
+    Eigen::Vector2d centre = approximate;
+    for ( int round = 0; round < 3; ++round )
+    {
+      // the background: the darker part of a window that reaches over the mark's surround
+      const int half = static_cast<int>( std::ceil( 0.9 * diameterPx ) ) + 1;
+      const int c0 = static_cast<int>( std::floor( centre.x() ) ) - half, r0 = static_cast<int>( std::floor( centre.y() ) ) - half;
+      if ( c0 < 0 || r0 < 0 || c0 + 2 * half + 1 > grey.cols || r0 + 2 * half + 1 > grey.rows )
+        return std::nullopt;
+      std::vector<double> around, inside;
+      const double markRadius = 0.5 * diameterPx + 0.75;
+      for ( int r = r0; r <= r0 + 2 * half; ++r )
+        for ( int c = c0; c <= c0 + 2 * half; ++c )
+        {
+          const double v = sign * grey.at<uint8_t>( r, c );
+          ( ( Eigen::Vector2d( c + 0.5, r + 0.5 ) - centre ).norm() <= markRadius ? inside : around ).push_back( v );
+        }
+      if ( inside.empty() || around.empty() )
+        return std::nullopt;
+      std::sort( around.begin(), around.end() );
+      std::sort( inside.begin(), inside.end() );
+      const double background = around[around.size() / 5], peak = inside[inside.size() * 9 / 10];
+      if ( peak - background < 5.0 )
+        return std::nullopt;
+      const double threshold = background + 0.5 * ( peak - background );
+      // the centre of gravity of the excess over half the contrast, within the mark
+      double sum = 0.0, sx = 0.0, sy = 0.0, area = 0.0;
+      for ( int r = r0; r <= r0 + 2 * half; ++r )
+        for ( int c = c0; c <= c0 + 2 * half; ++c )
+        {
+          const Eigen::Vector2d at( c + 0.5, r + 0.5 );
+          if ( ( at - centre ).norm() > markRadius + 1.0 )
+            continue;
+          const double excess = std::min( sign * grey.at<uint8_t>( r, c ), peak ) - threshold;
+          if ( excess <= 0.0 )
+            continue;
+          area += 1.0;
+          sum += excess;
+          sx += excess * at.x();
+          sy += excess * at.y();
+        }
+      if ( !( sum > 0.0 ) )
+        return std::nullopt;
+      const Eigen::Vector2d next( sx / sum, sy / sum );
+      if ( ( next - approximate ).norm() > diameterPx )
+        return std::nullopt; // walked off onto something else
+      const bool settled = ( next - centre ).norm() < 0.01;
+      centre = next;
+      if ( areaPx )
+        *areaPx = area;
+      if ( settled )
+        break;
+    }
+    return centre;
+  }
+
+  namespace
+  {
+    //! The mark nearest `predicted` in a window around it; flags a second one almost as near.
+    void findNear( const cv::Mat &grey, const Eigen::Vector2d &predicted, const ControlPredictionOptions &options, PredictedPoint &point )
+    {
+      const int r = static_cast<int>( std::ceil( options.searchRadiusPx + options.marks.maxDiameterPx ) );
+      const cv::Rect window = cv::Rect( static_cast<int>( predicted.x() ) - r, static_cast<int>( predicted.y() ) - r, 2 * r + 1, 2 * r + 1 ) & cv::Rect( 0, 0, grey.cols, grey.rows );
+      point.status = PredictedPoint::Status::NotFound;
+      if ( window.width < 8 || window.height < 8 )
+      {
+        point.reason = "the window around the prediction leaves the image";
+        return;
+      }
+      MarkCandidateOptions marks = options.marks;
+      marks.maxCandidates = std::max( marks.maxCandidates, 10 );
+      std::vector<std::pair<double, MarkCandidate>> near;
+      for ( MarkCandidate m : detectMarkCandidates( grey( window ).clone(), marks ) )
+      {
+        m.pixelInImage += Eigen::Vector2d( window.x, window.y );
+        const double d = ( m.pixelInImage - predicted ).norm();
+        if ( d <= options.searchRadiusPx )
+          near.emplace_back( d, m );
+      }
+      if ( near.empty() )
+      {
+        point.reason = "no mark within " + std::to_string( static_cast<int>( options.searchRadiusPx ) ) + " px of the prediction";
+        return;
+      }
+      std::sort( near.begin(), near.end(), []( const auto &a, const auto &b ) { return a.first < b.first; } );
+      const MarkCandidate &best = near.front().second;
+      point.pixelInImage = markCentre( grey, best.pixelInImage, best.diameterPx, marks.brightMark ).value_or( best.pixelInImage );
+      point.diameterPx = best.diameterPx;
+      point.status = PredictedPoint::Status::Found;
+      if ( near.size() > 1 && near[1].first < options.ambiguityRatio * std::max( 2.0, near.front().first ) )
+      {
+        point.status = PredictedPoint::Status::Flagged;
+        point.reason = "a second mark is almost as near the prediction";
+      }
+    }
+  } // namespace
+
+  namespace
+  {
+    //! d(pixel) / d(ground X, Y) at a ground point, by finite differences of 0.1 m.
+    std::optional<Eigen::Matrix2d> groundJacobian( const OrientedImage &oriented, const Eigen::Vector3d &world )
+    {
+      const GroundProjection at = oriented.projectGroundToPixel( world ), east = oriented.projectGroundToPixel( world + Eigen::Vector3d( 0.1, 0, 0 ) ),
+                             north = oriented.projectGroundToPixel( world + Eigen::Vector3d( 0, 0.1, 0 ) );
+      if ( !at.ok() || !east.ok() || !north.ok() )
+        return std::nullopt;
+      Eigen::Matrix2d j;
+      j.col( 0 ) = ( east.pixelInImage - at.pixelInImage ) / 0.1;
+      j.col( 1 ) = ( north.pixelInImage - at.pixelInImage ) / 0.1;
+      return j;
+    }
+  } // namespace
+
+  ControlPredictionSummary predictAndFindControl( const cv::Mat &grey, const Camera &camera, const ExteriorOrientation &approximate,
+      const std::vector<ControlPoint> &control, const std::vector<ImagePoint> &measured, const ControlPredictionOptions &options )
+  {
+    options.check();
+    camera.validate();
+    if ( grey.empty() || grey.type() != CV_8UC1 )
+      throw std::invalid_argument( "control points are looked for in an 8-bit grey image" );
+    if ( grey.cols != camera.width || grey.rows != camera.height )
+      throw std::invalid_argument( "the image is " + std::to_string( grey.cols ) + " x " + std::to_string( grey.rows ) + " px but its camera " + camera.id + " is " +
+                                   std::to_string( camera.width ) + " x " + std::to_string( camera.height ) );
+    std::set<std::string> measuredIds;
+    for ( const ImagePoint &m : measured )
+      measuredIds.insert( m.pointId );
+
+    ControlPredictionSummary summary;
+    std::map<std::string, PredictedPoint> points;
+    ExteriorOrientation orientation = approximate;
+    ResectionOptions resectionOptions;
+    resectionOptions.robust = true;
+    resectionOptions.removeBlunders = true;
+    for ( int round = 0; round < 2; ++round )
+    {
+      const OrientedImage oriented( camera, orientation );
+      // after the first resection the predictions are good to a fraction of a pixel: each mark is then located at its
+      // prediction, with the size the marks found so far have on the ground (their area over the ground-to-image scale)
+      std::vector<double> groundRadii;
+      if ( round == 1 )
+        for ( const ControlPoint &c : control )
+        {
+          const auto it = points.find( c.id );
+          if ( it == points.end() || it->second.status != PredictedPoint::Status::Found )
+            continue;
+          double area = 0.0;
+          const std::optional<Eigen::Matrix2d> j = groundJacobian( oriented, c.world );
+          if ( j && markCentre( grey, it->second.pixelInImage, 2.0 * std::sqrt( std::abs( j->determinant() ) ), options.marks.brightMark ) &&
+               markCentre( grey, it->second.pixelInImage, it->second.diameterPx, options.marks.brightMark, &area ) && area > 0.0 )
+            groundRadii.push_back( std::sqrt( area / ( M_PI * std::abs( j->determinant() ) ) ) );
+        }
+      std::sort( groundRadii.begin(), groundRadii.end() );
+      for ( const ControlPoint &c : control )
+      {
+        if ( measuredIds.count( c.id ) )
+          continue;
+        PredictedPoint &point = points[c.id];
+        point.pointId = c.id;
+        const GroundProjection g = oriented.projectGroundToPixel( c.world );
+        if ( !g.ok() || !g.inFrame )
+        {
+          point.status = PredictedPoint::Status::Outside;
+          point.reason = g.ok() ? "predicted outside the frame" : "behind the camera or outside the lens field";
+          continue;
+        }
+        if ( round == 0 )
+        {
+          findNear( grey, g.pixelInImage, options, point );
+          continue;
+        }
+        if ( groundRadii.size() < 2 )
+        {
+          if ( point.status == PredictedPoint::Status::NotFound )
+            findNear( grey, g.pixelInImage, options, point ); // looked for again around the better prediction
+          continue;
+        }
+        const std::optional<Eigen::Matrix2d> j = groundJacobian( oriented, c.world );
+        const double radius = groundRadii[groundRadii.size() / 2];
+        const double diameter = j ? 2.0 * radius * Eigen::JacobiSVD<Eigen::Matrix2d>( *j ).singularValues()( 0 ) : 0.0;
+        double area = 0.0;
+        const std::optional<Eigen::Vector2d> centre = diameter >= 1.0 ? markCentre( grey, g.pixelInImage, diameter, options.marks.brightMark, &area ) : std::nullopt;
+        const double expectedArea = j ? M_PI * radius * radius * std::abs( j->determinant() ) : 0.0;
+        if ( centre && ( *centre - g.pixelInImage ).norm() <= options.refineTolerancePx && area >= 0.4 * expectedArea && area <= 2.5 * expectedArea + 2.0 )
+        {
+          point.status = PredictedPoint::Status::Found; // at the prediction: a second mark nearby no longer leaves a doubt
+          point.pixelInImage = *centre;
+          point.reason.clear();
+        }
+        else if ( point.status == PredictedPoint::Status::Found )
+        {
+          point.status = PredictedPoint::Status::Flagged;
+          point.reason = "no mark of the expected size at the prediction";
+        }
+        else if ( point.status == PredictedPoint::Status::NotFound )
+          point.reason = "no mark of the expected size at the prediction";
+      }
+      // the operator's points and every mark found, robustly; what the resection rejects is flagged
+      std::vector<ImagePoint> observations = measured;
+      for ( const auto &[id, p] : points )
+        if ( p.status == PredictedPoint::Status::Found || p.status == PredictedPoint::Status::Flagged )
+          observations.push_back( { id, p.pixelInImage, options.sigmaPx } );
+      resectionOptions.initial = orientation;
+      summary.resection = resectImage( camera, control, observations, resectionOptions );
+      if ( !summary.resection.ok() )
+        break;
+      orientation = summary.resection.exterior;
+    }
+
+    const OrientedImage oriented( camera, orientation );
+    std::map<std::string, const PointResidual *> residuals;
+    for ( const PointResidual &r : summary.resection.residuals )
+      residuals[r.pointId] = &r;
+    for ( const ControlPoint &c : control )
+    {
+      auto it = points.find( c.id );
+      if ( it == points.end() )
+        continue;
+      PredictedPoint point = it->second;
+      const GroundProjection g = oriented.projectGroundToPixel( c.world );
+      point.predictedPx = g.ok() ? g.pixelInImage : point.predictedPx;
+      if ( point.status == PredictedPoint::Status::Found || point.status == PredictedPoint::Status::Flagged )
+      {
+        point.residualPx = point.predictedPx - point.pixelInImage;
+        const auto r = residuals.find( c.id );
+        point.normalised = r != residuals.end() ? r->second->normalised : 0.0;
+        const bool blunder = r != residuals.end() && r->second->blunder;
+        if ( point.status == PredictedPoint::Status::Found && ( blunder || point.residualPx.norm() > options.flagResidualPx || std::abs( point.normalised ) > options.flagNormalised ) )
+        {
+          point.status = PredictedPoint::Status::Flagged;
+          point.reason = blunder ? "the resection rejects it as a blunder" : "the resection leaves " + std::to_string( point.residualPx.norm() ).substr( 0, 4 ) + " px on it";
+        }
+      }
+      switch ( point.status )
+      {
+        case PredictedPoint::Status::Found:
+          ++summary.found;
+          break;
+        case PredictedPoint::Status::Flagged:
+          ++summary.flagged;
+          break;
+        case PredictedPoint::Status::NotFound:
+          ++summary.notFound;
+          break;
+        case PredictedPoint::Status::Outside:
+          ++summary.outside;
+          break;
+      }
+      summary.points.push_back( point );
+    }
+    summary.message = summary.resection.ok() ? std::to_string( summary.found ) + " control points found, " + std::to_string( summary.flagged ) + " flagged for review, " +
+                      std::to_string( summary.notFound ) + " not found" : summary.resection.message;
+    return summary;
+  }
+
+} // namespace geostation
