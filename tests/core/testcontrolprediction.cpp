@@ -27,7 +27,7 @@ namespace
 {
   struct Scored
   {
-    int predictedVisible = 0, within = 0, wrongUnflagged = 0, wrongFlagged = 0, flaggedRight = 0;
+    int predictedVisible = 0, within = 0, large = 0, largeWithin = 0, wrongUnflagged = 0, wrongFlagged = 0, flaggedRight = 0;
     double worstFoundPx = 0.0;
   };
 
@@ -91,12 +91,24 @@ namespace
       const bool shown = std::any_of( visible.begin(), visible.end(), [&]( const auto &v ) { return v.second == p.pointId; } );
       const Eigen::Vector2d truePx = exact.projectGroundToPixel( truth.control.at( p.pointId ) ).pixelInImage;
       s.predictedVisible += shown ? 1 : 0;
+      // the white disc's area in the image (the scene's targets are 1.5 m in radius): under 8 px it is a speck
+      const Eigen::Vector3d world = truth.control.at( p.pointId );
+      Eigen::Matrix2d j;
+      j.col( 0 ) = ( exact.projectGroundToPixel( world + Eigen::Vector3d( 0.1, 0, 0 ) ).pixelInImage - truePx ) / 0.1;
+      j.col( 1 ) = ( exact.projectGroundToPixel( world + Eigen::Vector3d( 0, 0.1, 0 ) ).pixelInImage - truePx ) / 0.1;
+      const bool isLarge = shown && M_PI * 1.5 * 1.5 * std::abs( j.determinant() ) >= 8.0;
+      s.large += isLarge ? 1 : 0;
+      if ( isLarge && std::getenv( "GEOSTATION_PREDICTION_DEBUG" ) )
+        std::cout << "  large " << p.pointId << " area " << M_PI * 1.5 * 1.5 * std::abs( j.determinant() ) << " " << predictedPointStatusName( p.status ) << " " << p.reason
+                  << " error " << ( p.pixelInImage - truePx ).norm() << "\n";
       if ( std::getenv( "GEOSTATION_PREDICTION_DEBUG" ) )
       {
         const cv::Rect box = cv::Rect( static_cast<int>( truePx.x() ) - 12, static_cast<int>( truePx.y() ) - 12, 25, 25 ) & cv::Rect( 0, 0, grey.cols, grey.rows );
         cv::Mat crop;
-        cv::resize( grey( box ), crop, cv::Size(), 10, 10, cv::INTER_NEAREST );
-        cv::imwrite( std::string( std::getenv( "GEOSTATION_PREDICTION_DEBUG" ) ) + "/" + std::to_string( seed ) + "_" + p.pointId + ".png", crop );
+        if ( box.area() > 0 )
+          cv::resize( grey( box ), crop, cv::Size(), 10, 10, cv::INTER_NEAREST );
+        if ( !crop.empty() )
+          cv::imwrite( std::string( std::getenv( "GEOSTATION_PREDICTION_DEBUG" ) ) + "/" + std::to_string( seed ) + "_" + p.pointId + ".png", crop );
       }
       if ( std::getenv( "GEOSTATION_PREDICTION_DEBUG" ) )
         std::cout << "  " << p.pointId << ( shown ? " shown " : " hidden " ) << predictedPointStatusName( p.status ) << " " << p.reason << " true " << truePx.transpose()
@@ -108,6 +120,7 @@ namespace
       if ( p.status == PredictedPoint::Status::Found )
       {
         s.within += shown && error <= 0.5 ? 1 : 0;
+        s.largeWithin += isLarge && error <= 0.5 ? 1 : 0;
         s.wrongUnflagged += right ? 0 : 1;
         s.worstFoundPx = std::max( s.worstFoundPx, right ? error : 0.0 );
         if ( !right )
@@ -120,7 +133,7 @@ namespace
       }
     }
     std::cout << ( scanned ? "scanned film" : "digital" ) << " seed " << seed << ": " << result.message << "; " << s.within << " of " << s.predictedVisible
-              << " predicted points in view found within 0.5 px (worst found " << s.worstFoundPx << " px), " << s.wrongFlagged << " wrong flagged, " << s.flaggedRight
+              << " predicted points in view found within 0.5 px (" << s.largeWithin << " of the " << s.large << " of 8 px or more; worst found " << s.worstFoundPx << " px), " << s.wrongFlagged << " wrong flagged, " << s.flaggedRight
               << " right flagged, " << s.wrongUnflagged << " wrong accepted; sigma0 " << result.resection.sigma0 << "\n";
     std::filesystem::remove_all( options.outputDir );
     return s;
@@ -160,6 +173,8 @@ TEST( ControlPrediction, PredictedControlFoundAndFlaggedOnSimulatedPhotos )
   {
     const Scored s = runSeed( seed, scanned );
     total.predictedVisible += s.predictedVisible;
+    total.large += s.large;
+    total.largeWithin += s.largeWithin;
     total.within += s.within;
     total.wrongUnflagged += s.wrongUnflagged;
     total.wrongFlagged += s.wrongFlagged;
@@ -168,10 +183,12 @@ TEST( ControlPrediction, PredictedControlFoundAndFlaggedOnSimulatedPhotos )
   }
   const double rate = static_cast<double>( total.within ) / std::max( 1, total.predictedVisible );
   std::cout << "semi-automatic: " << total.within << " of " << total.predictedVisible << " (" << rate << ") within 0.5 px; " << total.wrongFlagged << " wrong, all flagged; "
-            << total.wrongUnflagged << " wrong accepted; " << total.flaggedRight << " right points flagged\n";
-  // measured: 23 of 33 (0.70) within 0.5 px, against the 0.9, not met yet. The rest are targets
-  // a few pixels across seen at a grazing angle (5 x 1.5 px ellipses, some in shadow): 8 not found,
-  // 8 found elsewhere and flagged, 1 right one flagged. One wrong point is accepted unflagged: GCP034
+            << total.wrongUnflagged << " wrong accepted; " << total.flaggedRight << " right points flagged; of the " << total.large
+            << " whose disc covers 8 px or more, " << total.largeWithin << " within 0.5 px\n";
+  // measured: 23 of 33 (0.70) within 0.5 px, against the 0.9, not met yet; every point accepted
+  // as found is within 0.19 px but one. The rest are targets seen at a grazing angle, on the skyline or
+  // mostly covered (the truth tests the centre's ray only): 8 not found, 8 found elsewhere and flagged,
+  // 1 right one flagged; size does not explain it (12 of the 19 whose disc covers 8 px or more). One wrong point is accepted unflagged: GCP034
   // of seed 8, whose centre is hidden (the truth does not list it) while part of its disc shows; it is
   // located 2.3 px off, 0.8 px from the prediction. These bounds hold the measured state.
   EXPECT_GE( rate, 0.65 );
