@@ -16,6 +16,7 @@
 
 #include "dem/demintersection.h"
 #include "identification/controlidentification.h"
+#include "identification/controlprediction.h"
 #include "identification/markcandidates.h"
 #include "io/rasterfile.h"
 #include "processingblock.h"
@@ -155,14 +156,18 @@ QVariantMap IdentifyControlAlgorithm::processGeoStation( const QVariantMap &para
   feedback->setProgress( 5 );
 
   // marks in the scan's pixels; the camera model works in the nominal frame of a scanned film's inner orientation
+  cv::Mat grey;
   std::vector<geostation::MarkCandidate> found;
   std::vector<Eigen::Vector2d> candidates;
+  geostation::ControlPredictionSummary completed;
+  geostation::ControlPredictionOptions completion;
   geostation::ControlIdentificationSummary summary;
   Eigen::Matrix<double, 2, 3> nominalFromScan;
   nominalFromScan << 1, 0, 0, 0, 1, 0;
   try
   {
-    found = geostation::detectMarkCandidates( geostation::markGrey( geostation::readRaster( block.imageFilePath( image ).string() ).pixels ), marks );
+    grey = geostation::markGrey( geostation::readRaster( block.imageFilePath( image ).string() ).pixels );
+    found = geostation::detectMarkCandidates( grey, marks );
     if ( image.innerOrientation )
       nominalFromScan = geostation::nominalFromScanAffine( camera, *image.innerOrientation );
     for ( const geostation::MarkCandidate &m : found )
@@ -170,6 +175,12 @@ QVariantMap IdentifyControlAlgorithm::processGeoStation( const QVariantMap &para
     feedback->pushInfo( QObject::tr( "%1 mark candidates in %2." ).arg( found.size() ).arg( imageId ) );
     feedback->setProgress( 30 );
     summary = geostation::identifyControl( camera, control, candidates, options );
+    // then the semi-automatic step from the identified orientation: every control point located at its prediction
+    // to a fraction of a pixel, and what the resection does not support flagged
+    completion.marks = marks;
+    if ( summary.ok() )
+      completed = geostation::predictAndFindControl( image.innerOrientation ? geostation::nominalImage( grey, camera, nominalFromScan ) : grey, camera,
+                  summary.resection.exterior, control, {}, completion );
   }
   catch ( const std::invalid_argument &e )
   {
@@ -201,10 +212,19 @@ QVariantMap IdentifyControlAlgorithm::processGeoStation( const QVariantMap &para
   // written in the image's own pixels (the scan's, for scanned film), as measured
   const Eigen::Matrix2d linear = nominalFromScan.leftCols<2>();
   auto scanOf = [&]( const Eigen::Vector2d &nominal ) { return Eigen::Vector2d( linear.inverse() * ( nominal - nominalFromScan.col( 2 ) ) ); };
+  // an identified mark's centre as the semi-automatic step located it at its prediction, where it agrees
+  std::map<std::string, Eigen::Vector2d> refined;
+  for ( const geostation::PredictedPoint &p : completed.points )
+    if ( completed.ok() && p.status == geostation::PredictedPoint::Status::Found )
+      refined[p.pointId] = p.pixelInImage;
+  int pairs = 0;
   for ( const geostation::IdentifiedControl &id : summary.identified )
   {
-    const Eigen::Vector2d pixel = found[id.candidate].pixelInImage, predicted = scanOf( id.pixelInImage + id.residualPx );
-    write( id.pointId, pixel.x(), pixel.y(), options.candidateSigmaPx, QStringLiteral( "identified" ), predicted, ( predicted - pixel ).norm() );
+    const auto r = refined.find( id.pointId );
+    const bool better = r != refined.end() && ( r->second - id.pixelInImage ).norm() <= 1.5;
+    const Eigen::Vector2d pixel = better ? scanOf( r->second ) : found[id.candidate].pixelInImage, predicted = scanOf( id.pixelInImage + id.residualPx );
+    write( id.pointId, pixel.x(), pixel.y(), better ? completion.sigmaPx : options.candidateSigmaPx, QStringLiteral( "identified" ), predicted, ( predicted - pixel ).norm() );
+    pairs += better ? 1 : 0;
   }
   for ( const geostation::PredictedControl &p : summary.notFound )
     write( p.pointId, QVariant(), QVariant(), QVariant(), QStringLiteral( "not_found" ), scanOf( p.pixelInImage ), QVariant() );
@@ -212,9 +232,8 @@ QVariantMap IdentifyControlAlgorithm::processGeoStation( const QVariantMap &para
   const QString reportPath = parameterAsFileOutput( parameters, QStringLiteral( "REPORT" ), context );
   if ( !reportPath.isEmpty() )
     GeoStationProcessing::writeReport( reportJson( summary, imageId, static_cast<int>( candidates.size() ), options.approximate.has_value() ), reportPath );
-  feedback->pushInfo( QObject::tr( "%1 control points identified in %2 (%3 more fall in the photo unfound): sigma0 = %4 px, RMSE %5 px; %6 poses tried in %7 s." )
-                      .arg( summary.identified.size() ).arg( imageId ).arg( summary.notFound.size() ).arg( summary.resection.sigma0, 0, 'f', 2 )
-                      .arg( summary.resection.rmseControlPx, 0, 'f', 2 ).arg( summary.poses ).arg( summary.seconds, 0, 'f', 1 ) );
+  feedback->pushInfo( QObject::tr( "%1 control points identified in %2 from %3 poses in %4 s (%5 located again at their predictions); %6 more fall in the photo unfound." )
+                      .arg( summary.identified.size() ).arg( imageId ).arg( summary.poses ).arg( summary.seconds, 0, 'f', 1 ).arg( pairs ).arg( summary.notFound.size() ) );
   if ( !summary.rejected.empty() )
     feedback->pushWarning( QObject::tr( "%1 paired control points were rejected by the resection as blunders." ).arg( summary.rejected.size() ) );
   feedback->setProgress( 100 );

@@ -5,11 +5,12 @@
 
 #include <algorithm>
 #include <cmath>
-
-#include <Eigen/SVD>
 #include <map>
 #include <set>
 #include <stdexcept>
+
+#include <Eigen/SVD>
+#include <opencv2/imgproc.hpp>
 
 #include "geometry/projection.h"
 
@@ -41,6 +42,21 @@ namespace geostation
         return "outside";
     }
     return "not_found";
+  }
+
+  cv::Mat nominalImage( const cv::Mat &scanGrey, const Camera &camera, const Eigen::Matrix<double, 2, 3> &nominalFromScan )
+  {
+    if ( scanGrey.empty() || scanGrey.type() != CV_8UC1 )
+      throw std::invalid_argument( "a scan is resampled from an 8-bit grey image" );
+    cv::Mat affine( 2, 3, CV_64F ), nominal;
+    for ( int r = 0; r < 2; ++r )
+      for ( int c = 0; c < 3; ++c )
+        affine.at<double>( r, c ) = nominalFromScan( r, c );
+    // pixel centres are at +0.5 in both frames (CONVENTIONS §1); OpenCV's are at integers
+    affine.at<double>( 0, 2 ) += 0.5 * ( nominalFromScan( 0, 0 ) + nominalFromScan( 0, 1 ) ) - 0.5;
+    affine.at<double>( 1, 2 ) += 0.5 * ( nominalFromScan( 1, 0 ) + nominalFromScan( 1, 1 ) ) - 0.5;
+    cv::warpAffine( scanGrey, nominal, affine, cv::Size( camera.width, camera.height ), cv::INTER_CUBIC, cv::BORDER_CONSTANT, cv::Scalar( 0 ) );
+    return nominal;
   }
 
   std::optional<Eigen::Vector2d> markCentre( const cv::Mat &grey, const Eigen::Vector2d &approximate, double diameterPx, bool brightMark, double *areaPx )

@@ -91,6 +91,13 @@ namespace geostation
       const ControlPredictionOptions &options = ControlPredictionOptions() );
 
   /**
+   * A scanned photo resampled (bicubic) into the camera's nominal frame,
+   * where the camera model applies: `nominalFromScan` maps scan pixels to
+   * nominal ones (nominalFromScanAffine()). 8-bit grey, the camera's size.
+   */
+  cv::Mat nominalImage( const cv::Mat &scanGrey, const Camera &camera, const Eigen::Matrix<double, 2, 3> &nominalFromScan );
+
+  /**
    * A mark's centre to a fraction of a pixel: the centre of gravity of its
    * excess over half its contrast above the background around it,
    * recentred until it settles. `areaPx` receives the pixels above half

@@ -52,14 +52,7 @@ namespace
     {
       EXPECT_TRUE( image.innerOrientation.has_value() );
       // undo the scan affine so the test works in nominal pixels, as the dock does after inner orientation
-      const Eigen::Matrix<double, 2, 3> nominalFromScan = nominalFromScanAffine( camera, *image.innerOrientation );
-      cv::Mat affine( 2, 3, CV_64F );
-      for ( int r = 0; r < 2; ++r )
-        for ( int c = 0; c < 3; ++c )
-          affine.at<double>( r, c ) = nominalFromScan( r, c );
-      cv::Mat nominal;
-      cv::warpAffine( grey, nominal, affine, cv::Size( camera.width, camera.height ), cv::INTER_CUBIC );
-      grey = nominal;
+      grey = nominalImage( grey, camera, nominalFromScanAffine( camera, *image.innerOrientation ) );
     }
     // the truth in the camera's nominal pixels (no scan affine)
     const Block truthBlock = Block::load( options.outputDir / "truth.geostation.json" );
