@@ -317,6 +317,54 @@ class SimulateSurveyTest(unittest.TestCase):
         with open(os.path.join(cli_out, "block.geostation.json")) as f:
             self.assertEqual(json.load(f), block)
 
+    def test_scanned_oblique_photo_oriented_from_its_targets_with_no_click(self):
+        """The monoplotter paper's workflow headless: a scanned oblique photo gets its inner orientation from
+        its fiducials, its control identified automatically, and its exterior orientation by resection."""
+        out = os.path.join(self.tmp, "film")
+        result = qgis_process(self.home, "run", "geostation:simulate_survey", "--", "PRESET=oblique_photo", "SCANNED_FILM=true", "SEED=8",
+                              "NOISE=2", "OUTPUT_DIR=" + out)
+        self.assertEqual(result.returncode, 0, result.stdout + result.stderr)
+        with open(os.path.join(out, "block.geostation.json")) as f:
+            image_id = json.load(f)["images"][0]["id"]
+        truth = ogr.Open(os.path.join(out, "truth.gpkg"))
+        control = os.path.join(self.tmp, "film_control.csv")
+        with open(control, "w") as f:
+            f.write("point_id,X,Y,Z\n")
+            for feature in truth.GetLayerByName("control"):
+                g = feature.GetGeometryRef()
+                f.write("%s,%.4f,%.4f,%.4f\n" % (feature.GetField("id"), g.GetX(), g.GetY(), g.GetZ()))
+        true_pixels = {f.GetField("point_id"): (f.GetField("col"), f.GetField("row"))
+                       for f in truth.GetLayerByName("image_truth") if f.GetField("image_id") == image_id}
+
+        inner = os.path.join(self.tmp, "film_io.geostation.json")
+        result = qgis_process(self.home, "run", "geostation:inner_orientation", "--", "BLOCK=" + os.path.join(out, "block.geostation.json"),
+                              "IMAGE=" + image_id, "AUTO=true", "MARK_DIAMETER_PX=24", "OUTPUT_BLOCK=" + inner,
+                              "REPORT=" + os.path.join(self.tmp, "film_io.json"))
+        self.assertEqual(result.returncode, 0, result.stdout + result.stderr)
+        identified = os.path.join(self.tmp, "film_identified.csv")
+        result = qgis_process(self.home, "run", "geostation:identify_control", "--", "BLOCK=" + inner, "IMAGE=" + image_id,
+                              "CONTROL=" + control, "USE_ORIENTATION=false", "OUTPUT=" + identified,
+                              "REPORT=" + os.path.join(self.tmp, "film_identified.json"))
+        self.assertEqual(result.returncode, 0, result.stdout + result.stderr)
+        table = ogr.Open(identified)  # held: its layer dies with it
+        rows = [r for r in table.GetLayer(0) if r.GetField("status") == "identified"]
+        self.assertGreaterEqual(len(rows), 7)
+        errors = [((r.GetFieldAsDouble("col") - true_pixels[r.GetField("point_id")][0]) ** 2 +
+                   (r.GetFieldAsDouble("row") - true_pixels[r.GetField("point_id")][1]) ** 2) ** 0.5 for r in rows]
+        self.assertLess(max(errors), 0.5, errors)
+
+        oriented = os.path.join(self.tmp, "film_oriented.geostation.json")
+        result = qgis_process(self.home, "run", "geostation:resection", "--", "BLOCK=" + inner, "IMAGE=" + image_id, "GCPS=" + control,
+                              "OBSERVATIONS=" + identified, "OUTPUT_BLOCK=" + oriented, "REPORT=" + os.path.join(self.tmp, "film_resection.json"))
+        self.assertEqual(result.returncode, 0, result.stdout + result.stderr)
+        with open(oriented) as f:
+            estimated = json.load(f)["images"][0]
+        with open(os.path.join(out, "truth.geostation.json")) as f:
+            exact = json.load(f)["images"][0]
+        error_m = sum((estimated[k] - exact[k]) ** 2 for k in ("X", "Y", "Z")) ** 0.5
+        print("\nscanned oblique photo, no click: %d targets identified (worst %.2f px), camera %.2f m from the truth" % (len(rows), max(errors), error_m))
+        self.assertLess(error_m, 0.3)
+
     def test_bad_options_fail_with_one_sentence_and_no_output(self):
         out = os.path.join(self.tmp, "bad")
         result = qgis_process(self.home, "run", "geostation:simulate_survey", "--", "PRESET=highway", "IMAGE_WIDTH=10", "OUTPUT_DIR=" + out)
