@@ -193,8 +193,12 @@ namespace geostation
     // with an approximate orientation: each control point's candidates near its prediction
     std::vector<std::vector<int>> allowed;
     std::vector<int> eligible;
+    std::optional<OrientedImage> approximate;
     if ( options.approximate )
+    {
       allowed.resize( control.size() );
+      approximate.emplace( camera, *options.approximate );
+    }
     for ( int j = 0; j < static_cast<int>( control.size() ); ++j )
     {
       if ( !options.approximate )
@@ -202,7 +206,7 @@ namespace geostation
         eligible.push_back( j );
         continue;
       }
-      const GroundProjection g = OrientedImage( camera, *options.approximate ).projectGroundToPixel( control[j].world );
+      const GroundProjection g = approximate->projectGroundToPixel( control[j].world );
       if ( !g.ok() )
         continue;
       for ( int k = 0; k < static_cast<int>( usablePx.size() ); ++k )

@@ -210,8 +210,7 @@ namespace geostation
             continue;
           double area = 0.0;
           const std::optional<Eigen::Matrix2d> j = groundJacobian( oriented, c.world );
-          if ( j && markCentre( grey, it->second.pixelInImage, 2.0 * std::sqrt( std::abs( j->determinant() ) ), options.marks.brightMark ) &&
-               markCentre( grey, it->second.pixelInImage, it->second.diameterPx, options.marks.brightMark, &area ) && area > 0.0 )
+          if ( j && markCentre( grey, it->second.pixelInImage, it->second.diameterPx, options.marks.brightMark, &area ) && area > 0.0 )
             groundRadii.push_back( std::sqrt( area / ( M_PI * std::abs( j->determinant() ) ) ) );
         }
       std::sort( groundRadii.begin(), groundRadii.end() );
