@@ -1,0 +1,253 @@
+/***************************************************************************
+  photoorientation.cpp - one photo oriented interactively from control points
+ ***************************************************************************/
+#include "workstation/photoorientation.h"
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <set>
+#include <sstream>
+#include <stdexcept>
+
+#include <Eigen/LU>
+
+#include "geometry/projection.h"
+#include "identification/markcandidates.h"
+#include "io/block.h"
+
+namespace geostation
+{
+  namespace
+  {
+    using Affine = Eigen::Matrix<double, 2, 3>;
+
+    Eigen::Vector2d apply( const Affine &a, const Eigen::Vector2d &p ) { return a * p.homogeneous(); }
+
+    Affine inverseAffine( const Affine &a )
+    {
+      const Eigen::Matrix2d inverse = a.leftCols<2>().inverse();
+      Affine result;
+      result.leftCols<2>() = inverse;
+      result.col( 2 ) = -inverse * a.col( 2 );
+      return result;
+    }
+
+    Affine identityAffine()
+    {
+      Affine a;
+      a << 1, 0, 0, 0, 1, 0;
+      return a;
+    }
+  } // namespace
+
+  std::string controlRoleName( ControlRole role )
+  {
+    switch ( role )
+    {
+      case ControlRole::Control:
+        return "control";
+      case ControlRole::Check:
+        return "check";
+      case ControlRole::Off:
+        return "off";
+    }
+    return "off";
+  }
+
+  std::optional<ControlRole> controlRoleFromName( const std::string &name )
+  {
+    for ( ControlRole role : { ControlRole::Control, ControlRole::Check, ControlRole::Off } )
+      if ( controlRoleName( role ) == name )
+        return role;
+    return std::nullopt;
+  }
+
+  void PhotoOrientationOptions::check() const
+  {
+    if ( !( blunderThreshold > 0.0 ) )
+      throw std::invalid_argument( "The blunder threshold must be positive." );
+  }
+
+  PhotoOrientationSummary orientPhoto( const Camera &camera, const std::optional<Affine> &nominalFromFile, const std::vector<PhotoControlPoint> &points,
+                                       const PhotoOrientationOptions &options )
+  {
+    options.check();
+    const Affine toNominal = nominalFromFile.value_or( identityAffine() );
+    if ( std::abs( toNominal.leftCols<2>().determinant() ) < 1e-12 )
+      throw std::invalid_argument( "The scan affine of the photo is singular." );
+    const Affine toFile = inverseAffine( toNominal );
+
+    PhotoOrientationSummary summary;
+    std::set<std::string> ids;
+    std::vector<ControlPoint> control;
+    std::vector<ImagePoint> observations;
+    for ( const PhotoControlPoint &p : points )
+    {
+      if ( p.pointId.empty() )
+        throw std::invalid_argument( "A control point has no id." );
+      if ( !ids.insert( p.pointId ).second )
+        throw std::invalid_argument( "Control point " + p.pointId + " is in the list twice." );
+      if ( !( p.sigmaPx > 0.0 ) )
+        throw std::invalid_argument( "Control point " + p.pointId + " has a non-positive pixel sigma." );
+      if ( !p.world.allFinite() || ( p.pixelInFile && !p.pixelInFile->allFinite() ) )
+        throw std::invalid_argument( "Control point " + p.pointId + " has a coordinate that is not a number." );
+      if ( p.role == ControlRole::Off || !p.pixelInFile )
+        continue;
+      control.push_back( { p.pointId, p.world, p.sigmaM, p.role == ControlRole::Check } );
+      // a pixel's sigma in the nominal frame: scaled by the scan affine's mean scale
+      const double scale = std::sqrt( std::abs( toNominal.leftCols<2>().determinant() ) );
+      observations.push_back( { p.pointId, apply( toNominal, *p.pixelInFile ), p.sigmaPx * scale } );
+      ( p.role == ControlRole::Check ? summary.measuredCheck : summary.measuredControl ) += 1;
+    }
+
+    const int freeCount = static_cast<int>( std::count( options.freeInterior.begin(), options.freeInterior.end(), true ) );
+    // the six exterior parameters and the freed interior ones, with at least one redundant observation
+    summary.neededControl = std::max( 4, ( 6 + freeCount + 1 + 1 ) / 2 );
+    summary.points.resize( points.size() );
+    for ( size_t i = 0; i < points.size(); ++i )
+    {
+      summary.points[i].pointId = points[i].pointId;
+      summary.points[i].measured = points[i].pixelInFile.has_value();
+    }
+    if ( summary.measuredControl < summary.neededControl )
+    {
+      std::ostringstream m;
+      m << "The resection needs " << summary.neededControl << " control points measured in the photo"
+        << ( freeCount ? " for the freed camera parameters" : "" ) << "; " << summary.measuredControl << " so far.";
+      summary.status = PhotoOrientationSummary::Status::NotEnoughPoints;
+      summary.message = m.str();
+      return summary;
+    }
+
+    ResectionOptions resection;
+    resection.freeInterior = options.freeInterior;
+    resection.blunderThreshold = options.blunderThreshold;
+    // Baarda's data snooping: the worst point above the threshold is left out and the rest solved again, so one
+    // blunder does not smear over every point; it stays in the list, flagged with its w, for the operator to decide
+    resection.removeBlunders = true;
+    summary.resection = resectImage( camera, control, observations, resection );
+    if ( !summary.resection.ok() )
+    {
+      summary.status = PhotoOrientationSummary::Status::Failed;
+      summary.message = summary.resection.message;
+      return summary;
+    }
+    summary.status = PhotoOrientationSummary::Status::Oriented;
+
+    std::map<std::string, const PointResidual *> residuals;
+    for ( const PointResidual &r : summary.resection.residuals )
+      residuals[r.pointId] = &r;
+    const OrientedImage oriented( summary.resection.camera, summary.resection.exterior );
+    const Eigen::Matrix2d linearToFile = toFile.leftCols<2>();
+    int flagged = 0;
+    for ( size_t i = 0; i < points.size(); ++i )
+    {
+      const PhotoControlPoint &p = points[i];
+      PhotoControlResult &result = summary.points[i];
+      const GroundProjection projection = oriented.projectGroundToPixel( p.world );
+      if ( projection.ok() )
+      {
+        result.projectedInFile = apply( toFile, projection.pixelInImage );
+        result.inFrame = projection.inFrame;
+      }
+      const auto r = residuals.find( p.pointId );
+      if ( r == residuals.end() || p.role == ControlRole::Off )
+        continue;
+      result.residualPx = linearToFile * r->second->residualPx;
+      result.normalised = r->second->normalised;
+      result.blunder = r->second->blunder;
+      if ( r->second->check || r->second->blunder )
+        result.groundErrorM = r->second->groundErrorM;
+      flagged += result.blunder ? 1 : 0;
+    }
+    std::ostringstream m;
+    m.setf( std::ios::fixed );
+    m.precision( 2 );
+    m << "Oriented from " << summary.resection.controlCount << " control points: sigma0 " << summary.resection.sigma0 << ", RMSE "
+      << summary.resection.rmseControlPx << " px";
+    if ( summary.resection.checkCount > 0 )
+      m << ", check points " << summary.resection.rmseCheckPx << " px (" << summary.resection.rmseCheckM << " m)";
+    if ( flagged > 0 )
+      m << "; " << flagged << ( flagged == 1 ? " point flagged as a blunder and left out" : " points flagged as blunders and left out" );
+    m << ".";
+    summary.message = m.str();
+    return summary;
+  }
+
+  std::vector<ControlOffer> offerPredictedControl( const cv::Mat &greyFile, const Camera &camera, const std::optional<Affine> &nominalFromFile,
+      const ExteriorOrientation &approximate, const std::vector<PhotoControlPoint> &points, const ControlPredictionOptions &options )
+  {
+    options.check();
+    const Affine toNominal = nominalFromFile.value_or( identityAffine() );
+    const Affine toFile = inverseAffine( toNominal );
+    std::vector<ControlPoint> control;
+    std::vector<ImagePoint> measured;
+    for ( const PhotoControlPoint &p : points )
+    {
+      if ( p.role == ControlRole::Off )
+        continue;
+      control.push_back( { p.pointId, p.world, p.sigmaM, false } );
+      if ( p.pixelInFile )
+        measured.push_back( { p.pointId, apply( toNominal, *p.pixelInFile ), p.sigmaPx } );
+    }
+    const cv::Mat grey = nominalFromFile ? nominalImage( greyFile, camera, toNominal ) : greyFile;
+    const ControlPredictionSummary prediction = predictAndFindControl( grey, camera, approximate, control, measured, options );
+    std::vector<ControlOffer> offers;
+    for ( const PredictedPoint &p : prediction.points )
+      offers.push_back( { p.pointId, p.status, p.reason, apply( toFile, p.pixelInImage ), apply( toFile, p.predictedPx ) } );
+    return offers;
+  }
+
+  std::optional<Eigen::Vector2d> refineMarkPixel( const cv::Mat &greyFile, const Eigen::Vector2d &clickedInFile, double searchRadiusPx,
+      const MarkCandidateOptions &marks )
+  {
+    if ( greyFile.empty() || greyFile.type() != CV_8UC1 )
+      throw std::invalid_argument( "Refining a mark needs an 8-bit grey image." );
+    if ( !( searchRadiusPx > 0.0 ) || !clickedInFile.allFinite() )
+      throw std::invalid_argument( "Refining a mark needs a finite pixel and a positive search radius." );
+    // the window holds the search radius and a whole mark of the largest size around it
+    const int half = static_cast<int>( std::ceil( searchRadiusPx + marks.maxDiameterPx ) );
+    const cv::Rect wanted( static_cast<int>( std::floor( clickedInFile.x() ) ) - half, static_cast<int>( std::floor( clickedInFile.y() ) ) - half, 2 * half + 1,
+                           2 * half + 1 );
+    const cv::Rect window = wanted & cv::Rect( 0, 0, greyFile.cols, greyFile.rows );
+    if ( window.width < 8 || window.height < 8 )
+      return std::nullopt;
+    const std::vector<MarkCandidate> found = detectMarkCandidates( greyFile( window ), marks );
+    std::optional<Eigen::Vector2d> best;
+    double bestDistance = searchRadiusPx;
+    for ( const MarkCandidate &c : found )
+    {
+      const Eigen::Vector2d pixel = c.pixelInImage + Eigen::Vector2d( window.x, window.y );
+      const double distance = ( pixel - clickedInFile ).norm();
+      if ( distance <= bestDistance )
+      {
+        bestDistance = distance;
+        best = pixel;
+        if ( const std::optional<Eigen::Vector2d> centre = markCentre( greyFile, pixel, c.diameterPx, marks.brightMark ) )
+          if ( ( *centre - pixel ).norm() < 0.5 * c.diameterPx )
+            best = centre;
+      }
+    }
+    return best;
+  }
+
+  void applyPhotoOrientation( Block &block, const std::string &imageId, const PhotoOrientationSummary &summary, const PhotoOrientationOptions &options )
+  {
+    if ( !summary.oriented() )
+      throw std::invalid_argument( "The photo is not oriented: " + summary.message );
+    auto image = std::find_if( block.images.begin(), block.images.end(), [&]( const BlockImage &i ) { return i.id == imageId; } );
+    if ( image == block.images.end() )
+      throw std::invalid_argument( "The block has no image " + imageId + "." );
+    image->exterior = summary.resection.exterior;
+    if ( std::any_of( options.freeInterior.begin(), options.freeInterior.end(), []( bool free ) { return free; } ) )
+      for ( Camera &camera : block.cameras )
+        if ( camera.id == image->cameraId )
+        {
+          Camera estimated = summary.resection.camera;
+          estimated.id = camera.id;
+          camera = estimated;
+        }
+  }
+
+} // namespace geostation
