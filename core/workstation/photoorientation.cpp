@@ -8,6 +8,7 @@
 #include <map>
 #include <set>
 #include <sstream>
+#include <fstream>
 #include <stdexcept>
 
 #include <Eigen/LU>
@@ -15,6 +16,7 @@
 #include "geometry/projection.h"
 #include "identification/markcandidates.h"
 #include "io/block.h"
+#include "io/textfile.h"
 
 namespace geostation
 {
@@ -248,6 +250,105 @@ namespace geostation
           estimated.id = camera.id;
           camera = estimated;
         }
+  }
+
+  namespace
+  {
+    //! One CSV line split into fields (double quotes around a field, "" inside one).
+    std::vector<std::string> splitCsvLine( const std::string &line )
+    {
+      std::vector<std::string> fields( 1 );
+      bool quoted = false;
+      for ( size_t i = 0; i < line.size(); ++i )
+      {
+        const char c = line[i];
+        if ( quoted && c == '"' && i + 1 < line.size() && line[i + 1] == '"' )
+        {
+          fields.back() += '"';
+          ++i;
+        }
+        else if ( c == '"' )
+          quoted = !quoted;
+        else if ( c == ',' && !quoted )
+          fields.emplace_back();
+        else if ( c != '\r' )
+          fields.back() += c;
+      }
+      return fields;
+    }
+  } // namespace
+
+  void writePhotoControlTable( const std::filesystem::path &file, const std::string &imageId, const std::vector<PhotoControlPoint> &points )
+  {
+    std::ostringstream csv;
+    csv.precision( 15 ); // millimetres of projected coordinates and 1e-6 px survive
+    csv << "point_id,image_id,col,row,sigma_px,status,X,Y,Z,role\n";
+    for ( const PhotoControlPoint &p : points )
+    {
+      csv << csvField( p.pointId ) << ',' << csvField( imageId ) << ',';
+      if ( p.pixelInFile )
+        csv << p.pixelInFile->x() << ',' << p.pixelInFile->y();
+      else
+        csv << ',';
+      csv << ',' << p.sigmaPx << ',' << ( p.pixelInFile ? "reference" : "not_measured" ) << ',' << p.world.x() << ',' << p.world.y() << ',' << p.world.z() << ','
+          << controlRoleName( p.role ) << '\n';
+    }
+    writeTextFileAtomically( file, csv.str(), "the control table" );
+  }
+
+  std::vector<PhotoControlPoint> readPhotoControlTable( const std::filesystem::path &file )
+  {
+    std::ifstream in( file );
+    if ( !in )
+      throw std::runtime_error( "Cannot read the control table " + file.string() + "." );
+    std::string line;
+    std::getline( in, line );
+    const std::vector<std::string> header = splitCsvLine( line );
+    std::map<std::string, size_t> column;
+    for ( size_t i = 0; i < header.size(); ++i )
+      column[header[i]] = i;
+    for ( const char *name : { "point_id", "col", "row", "sigma_px", "X", "Y", "Z", "role" } )
+      if ( !column.count( name ) )
+        throw std::runtime_error( "The control table " + file.string() + " has no column " + name + "." );
+    std::vector<PhotoControlPoint> points;
+    int lineNumber = 1;
+    while ( std::getline( in, line ) )
+    {
+      ++lineNumber;
+      if ( line.empty() || line == "\r" )
+        continue;
+      const std::vector<std::string> f = splitCsvLine( line );
+      auto bad = [&]( const std::string &what ) { return std::runtime_error( "Line " + std::to_string( lineNumber ) + " of the control table " + file.string() + ": " + what + "." ); };
+      if ( f.size() != header.size() )
+        throw bad( "it has " + std::to_string( f.size() ) + " fields, the header " + std::to_string( header.size() ) );
+      auto number = [&]( const char *name ) {
+        try
+        {
+          size_t used = 0;
+          const double value = std::stod( f[column.at( name )], &used );
+          if ( used == f[column.at( name )].size() && std::isfinite( value ) )
+            return value;
+        }
+        catch ( const std::exception & )
+        {
+        }
+        throw bad( std::string( name ) + " is not a number" );
+      };
+      PhotoControlPoint p;
+      p.pointId = f[column.at( "point_id" )];
+      if ( p.pointId.empty() )
+        throw bad( "the point has no id" );
+      p.world = Eigen::Vector3d( number( "X" ), number( "Y" ), number( "Z" ) );
+      p.sigmaPx = number( "sigma_px" );
+      if ( !f[column.at( "col" )].empty() || !f[column.at( "row" )].empty() )
+        p.pixelInFile = Eigen::Vector2d( number( "col" ), number( "row" ) );
+      const std::optional<ControlRole> role = controlRoleFromName( f[column.at( "role" )] );
+      if ( !role )
+        throw bad( "the role must be control, check or off" );
+      p.role = *role;
+      points.push_back( p );
+    }
+    return points;
   }
 
 } // namespace geostation

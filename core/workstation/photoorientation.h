@@ -24,6 +24,7 @@
 #define GEOSTATION_WORKSTATION_PHOTOORIENTATION_H
 
 #include <array>
+#include <filesystem>
 #include <optional>
 #include <string>
 #include <vector>
@@ -148,6 +149,17 @@ namespace geostation
    * a summary that is not oriented.
    */
   void applyPhotoOrientation( Block &block, const std::string &imageId, const PhotoOrientationSummary &summary, const PhotoOrientationOptions &options );
+
+  /**
+   * The operator's list as one CSV table that is both a CONVENTIONS §6
+   * observation table (point_id, image_id, col, row, sigma_px, status:
+   * `reference` for a measured point, `not_measured` otherwise) and a
+   * ground-point table (X, Y, Z, role), so `geostation:resection` reruns
+   * the orientation headless from it. Written atomically.
+   */
+  void writePhotoControlTable( const std::filesystem::path &file, const std::string &imageId, const std::vector<PhotoControlPoint> &points );
+  //! Reads writePhotoControlTable()'s file; throws std::runtime_error naming the file and line.
+  std::vector<PhotoControlPoint> readPhotoControlTable( const std::filesystem::path &file );
 
 } // namespace geostation
 

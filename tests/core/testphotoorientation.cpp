@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <filesystem>
+#include <fstream>
 #include <random>
 #include <unistd.h>
 
@@ -270,4 +271,42 @@ TEST_F( PhotoOrientationTest, SavedOrientationReloadsFromTheBlock )
   EXPECT_NEAR( reloaded.cameraOf( image ).f, summary.resection.camera.f, 1e-6 );
   EXPECT_THROW( applyPhotoOrientation( block, "no-such-image", summary, options ), std::invalid_argument );
   EXPECT_THROW( applyPhotoOrientation( block, id, PhotoOrientationSummary(), options ), std::invalid_argument );
+}
+
+TEST_F( PhotoOrientationTest, ControlTableRoundTripsAndResectsTheSame )
+{
+  std::vector<PhotoControlPoint> list = controlList( 6, 2 );
+  list.front().pointId = "GCP, \"north\"";
+  list.back().role = ControlRole::Off;
+  const std::filesystem::path file = sDir / "image.control.csv";
+  writePhotoControlTable( file, image().id, list );
+  const std::vector<PhotoControlPoint> read = readPhotoControlTable( file );
+  ASSERT_EQ( read.size(), list.size() );
+  for ( size_t i = 0; i < list.size(); ++i )
+  {
+    EXPECT_EQ( read[i].pointId, list[i].pointId );
+    EXPECT_EQ( read[i].role, list[i].role );
+    EXPECT_EQ( read[i].pixelInFile.has_value(), list[i].pixelInFile.has_value() );
+    if ( read[i].pixelInFile )
+    {
+      EXPECT_LT( ( *read[i].pixelInFile - *list[i].pixelInFile ).norm(), 1e-9 );
+    }
+    EXPECT_LT( ( read[i].world - list[i].world ).norm(), 1e-6 );
+  }
+  const PhotoOrientationSummary before = orientPhoto( camera(), nominalFromFile(), list ), after = orientPhoto( camera(), nominalFromFile(), read );
+  ASSERT_TRUE( after.oriented() );
+  EXPECT_LT( ( before.resection.exterior.projectionCentre - after.resection.exterior.projectionCentre ).norm(), 1e-6 );
+
+  // a damaged table: one sentence naming the line
+  std::ofstream( sDir / "bad.control.csv" ) << "point_id,image_id,col,row,sigma_px,status,X,Y,Z,role\nA,img,1,2,0.5,reference,x,2,3,control\n";
+  try
+  {
+    readPhotoControlTable( sDir / "bad.control.csv" );
+    FAIL() << "a table with a bad X was read";
+  }
+  catch ( const std::runtime_error &e )
+  {
+    EXPECT_NE( std::string( e.what() ).find( "Line 2 of the control table" ), std::string::npos ) << e.what();
+    EXPECT_NE( std::string( e.what() ).find( "X is not a number" ), std::string::npos ) << e.what();
+  }
 }
