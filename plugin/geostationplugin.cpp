@@ -30,6 +30,7 @@
 #include "measurementstore.h"
 #include "tracecontroller.h"
 #include "multiviewdock.h"
+#include "orientationdock.h"
 #include "multiviewsession.h"
 #include "overviewlayers.h"
 #include "stationpicktool.h"
@@ -118,6 +119,11 @@ void GeoStationPlugin::initGui()
   connect( project, &QAction::triggered, this, [this] { showAlgorithmDialog( QStringLiteral( "geostation:project_to_image" ) ); } );
 
   addAlgorithmAction( mMenu, QStringLiteral( "mActionGeoStationMonoplot" ), tr( "Monoplot Image Features onto a DEM…" ), QStringLiteral( "geostation:monoplot" ) );
+  QAction *orient = new QAction( tr( "Orient Photo…" ), mIface->mainWindow() );
+  orient->setObjectName( QStringLiteral( "mActionGeoStationOrientPhoto" ) );
+  orient->setToolTip( tr( "Orient a photo of the block from control points: measure them in the photo and on the map, see the residuals live, find the rest semi-automatically" ) );
+  connect( orient, &QAction::triggered, this, &GeoStationPlugin::showOrientation );
+  mMenu->addAction( orient );
 
   // the Multiview, the Overview and measuring
   mSession = new GeoStationMultiviewSession( this );
@@ -231,6 +237,7 @@ void GeoStationPlugin::unload()
   if ( mIface->mapCanvas()->mapTool() == mReviewTool )
     mIface->mapCanvas()->unsetMapTool( mReviewTool );
   delete mReviewTool;
+  delete mOrientationDock;
   delete mReview;
   mReview = nullptr;
   mReviewAction = nullptr;
@@ -347,6 +354,28 @@ void GeoStationPlugin::showMultiview()
 QObject *GeoStationPlugin::multiviewDock() const
 {
   return mDock;
+}
+
+void GeoStationPlugin::showOrientation()
+{
+  showMultiview();
+  if ( !mOrientationDock )
+  {
+    mOrientationDock = new GeoStationOrientationDock( mSession, mDock, mIface->mapCanvas(), mIface->mainWindow() );
+    mIface->addDockWidget( Qt::BottomDockWidgetArea, mOrientationDock );
+    connect( mOrientationDock, &GeoStationOrientationDock::messageShown, this, [this]( const QString &text, bool warning )
+    {
+      if ( warning )
+        mIface->messageBar()->pushWarning( tr( "GeoStation" ), text );
+    } );
+  }
+  mOrientationDock->setUserVisible( true );
+  mOrientationDock->raise();
+}
+
+QObject *GeoStationPlugin::orientationDock() const
+{
+  return mOrientationDock;
 }
 
 void GeoStationPlugin::editFeatureClasses()

@@ -25,6 +25,7 @@ class GeoStationReviewTool;
 class GeoStationMeasurementController;
 class GeoStationMeasurementStore;
 class GeoStationMultiviewDock;
+class GeoStationOrientationDock;
 class GeoStationOverviewLayers;
 class GeoStationMultiviewSession;
 class GeoStationStationPickTool;
@@ -70,6 +71,8 @@ class GeoStationPlugin : public QObject, public QgisPlugin
 
     //! Shows the Multiview dock (created on first use).
     void showMultiview();
+    //! Shows the photo orientation dock (created on first use, with the Multiview).
+    void showOrientation();
     //! Edits the feature classes in a dialog.
     void editFeatureClasses();
     //! Measurement GeoPackage, DEM layer and road plane in a dialog.
@@ -87,6 +90,7 @@ class GeoStationPlugin : public QObject, public QgisPlugin
     bool setTargetGeoPackage( const QString &path );
     void setDemLayer( const QString &layerId );
     QObject *multiviewDock() const;
+    QObject *orientationDock() const;
 
   signals:
     void blockOpened( const QString &path );
@@ -115,6 +119,7 @@ class GeoStationPlugin : public QObject, public QgisPlugin
     GeoStationTraceController *mTrace = nullptr;
     GeoStationOverviewLayers *mOverview = nullptr;
     QPointer<GeoStationMultiviewDock> mDock;
+    QPointer<GeoStationOrientationDock> mOrientationDock;
     QPointer<GeoStationStationPickTool> mPickTool;
     GeoStationExtractionReview *mReview = nullptr;
     QPointer<GeoStationReviewTool> mReviewTool;

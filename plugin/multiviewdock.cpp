@@ -123,6 +123,12 @@ bool GeoStationMultiviewDock::tracing() const
 void GeoStationMultiviewDock::picked( int view, const QPointF &from, const std::optional<QPointF> &to )
 {
   const GeoStationImageView *v = mViews.value( view );
+  if ( mPickingRedirected )
+  {
+    if ( v )
+      emit imagePixelPicked( v->imageId(), to ? *to : from );
+    return;
+  }
   if ( tracing() && v )
   {
     // a drag gives the line's direction

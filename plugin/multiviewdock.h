@@ -80,6 +80,14 @@ class GeoStationMultiviewDock : public QgsDockWidget
 
     void appendMessage( const QString &text, bool warning );
 
+    /**
+     * While on, clicks in the views go to imagePixelPicked() only, not to
+     * the measurement or the Trace tool (the orientation dock measures
+     * control points in the photo).
+     */
+    void setPickingRedirected( bool redirected ) { mPickingRedirected = redirected; }
+    bool pickingRedirected() const { return mPickingRedirected; }
+
   protected:
     //! The keys of the Multiview, taken before the image canvases (which zoom with PgUp/PgDown) see them.
     bool eventFilter( QObject *watched, QEvent *event ) override;
@@ -87,6 +95,8 @@ class GeoStationMultiviewDock : public QgsDockWidget
   signals:
     //! Every view has drawn its image after a station change (milliseconds since the change).
     void stationShown( double milliseconds );
+    //! A click in a view while the picking is redirected (setPickingRedirected()).
+    void imagePixelPicked( const QString &imageId, QPointF pixelInImage );
 
   private slots:
     void rebuildViews();
@@ -119,6 +129,7 @@ class GeoStationMultiviewDock : public QgsDockWidget
     QVector<GeoStationImageView *> mViews;
     QList<QPointer<QgsDockWidget>> mViewDocks;
     bool mSeparateDocks = false;
+    bool mPickingRedirected = false;
     QWidget *mViewArea = nullptr;
     QGridLayout *mGrid = nullptr;
     QComboBox *mStationCombo = nullptr;

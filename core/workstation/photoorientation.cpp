@@ -222,7 +222,8 @@ namespace geostation
     {
       const Eigen::Vector2d pixel = c.pixelInImage + Eigen::Vector2d( window.x, window.y );
       const double distance = ( pixel - clickedInFile ).norm();
-      if ( distance <= bestDistance )
+      // the click is on the mark: a mark whose centre is further than its size from the click is another one
+      if ( distance <= bestDistance && distance <= std::max( 3.0, c.diameterPx ) )
       {
         bestDistance = distance;
         best = pixel;

@@ -135,9 +135,10 @@ namespace geostation
 
   /**
    * The operator-aided mode: the centre of the mark nearest to a clicked
-   * pixel (file pixels), within `searchRadiusPx`, located by the mark
-   * detector (Förstner) and its centre of gravity. Nothing when no mark is
-   * there.
+   * pixel (file pixels), within `searchRadiusPx` and within the mark's own
+   * size of the click (the click is on the mark: another mark nearby is
+   * not taken for it), located by the mark detector (Förstner) and its
+   * centre of gravity. Nothing when no mark is there.
    */
   std::optional<Eigen::Vector2d> refineMarkPixel( const cv::Mat &greyFile, const Eigen::Vector2d &clickedInFile, double searchRadiusPx = 15.0,
       const MarkCandidateOptions &marks = MarkCandidateOptions() );

@@ -1,0 +1,566 @@
+/***************************************************************************
+  orientationdock.cpp - orienting one photo interactively
+ ***************************************************************************/
+#include "orientationdock.h"
+
+#include <cmath>
+#include <filesystem>
+
+#include <QFileInfo>
+#include <QItemSelectionModel>
+#include <QRegularExpression>
+
+#include <qgscoordinatetransform.h>
+#include <qgsfeatureiterator.h>
+#include <qgsmapcanvas.h>
+#include <qgsproject.h>
+#include <qgsrasterdataprovider.h>
+#include <qgsrasterlayer.h>
+#include <qgsvectorlayer.h>
+#include <qgsvertexmarker.h>
+
+#include "controlpointmodel.h"
+#include "groundpointtool.h"
+#include "identification/markcandidates.h"
+#include "imagepointtool.h"
+#include "imageview.h"
+#include "io/rasterfile.h"
+#include "multiviewdock.h"
+#include "multiviewsession.h"
+
+GeoStationOrientationDock::GeoStationOrientationDock( GeoStationMultiviewSession *session, GeoStationMultiviewDock *multiview, QgsMapCanvas *mapCanvas, QWidget *parent )
+  : QgsDockWidget( tr( "GeoStation Photo Orientation" ), parent )
+  , mSession( session )
+  , mMultiview( multiview )
+  , mMapCanvas( mapCanvas )
+{
+  setObjectName( QStringLiteral( "GeoStationOrientationDock" ) );
+  QWidget *content = new QWidget( this );
+  setupUi( content );
+  setWidget( content );
+  mModel = new GeoStationControlPointModel( this );
+  mTable->setModel( mModel );
+  mControlLayerCombo->setFilters( QgsMapLayerProxyModel::PointLayer );
+
+  connect( mModel, &GeoStationControlPointModel::orientationChanged, this, &GeoStationOrientationDock::updateOrientation );
+  connect( mImageCombo, qOverload<int>( &QComboBox::activated ), this, [this]( int ) { setImage( mImageCombo->currentData().toString() ); } );
+  connect( mLoadControlButton, &QPushButton::clicked, this, [this] { loadControlLayer( qobject_cast<QgsVectorLayer *>( mControlLayerCombo->currentLayer() ) ); } );
+  connect( mMeasurePhotoButton, &QToolButton::toggled, this, &GeoStationOrientationDock::setMeasuring );
+  connect( mPickMapButton, &QToolButton::toggled, this, &GeoStationOrientationDock::setPickingGround );
+  connect( mAddButton, &QToolButton::clicked, this, [this] { selectRow( mModel->addPoint() ); } );
+  connect( mRemoveButton, &QToolButton::clicked, this, [this]
+  {
+    QList<int> rows = selectedRows();
+    std::sort( rows.begin(), rows.end(), std::greater<int>() );
+    for ( int row : rows )
+      mModel->removePoint( row );
+  } );
+  connect( mRefineButton, &QToolButton::clicked, this, &GeoStationOrientationDock::refineSelected );
+  connect( mPredictButton, &QToolButton::clicked, this, &GeoStationOrientationDock::predictAndFind );
+  connect( mAcceptButton, &QToolButton::clicked, this, [this]
+  {
+    const int taken = mModel->acceptOffers( selectedRows() );
+    showMessage( tr( "%n offer(s) accepted.", nullptr, taken ) );
+  } );
+  connect( mRejectButton, &QToolButton::clicked, mModel, &GeoStationControlPointModel::rejectOffers );
+  connect( mSaveButton, &QPushButton::clicked, this, &GeoStationOrientationDock::saveToBlock );
+  for ( QCheckBox *box : { mFreeF, mFreeCx, mFreeCy, mFreeK1, mFreeK2, mFreeP1, mFreeP2, mFreeK3 } )
+    connect( box, &QCheckBox::toggled, this, &GeoStationOrientationDock::updateFreeParameters );
+  connect( mSession, &GeoStationMultiviewSession::blockChanged, this, &GeoStationOrientationDock::updateImageChoices );
+  connect( mSession, &GeoStationMultiviewSession::viewImagesChanged, this, &GeoStationOrientationDock::drawMarkers );
+  if ( mMultiview )
+    connect( mMultiview, &GeoStationMultiviewDock::imagePixelPicked, this, [this]( const QString &imageId, QPointF pixel )
+  {
+    if ( imageId == mImageId )
+      measurePixel( pixel );
+    else
+      showMessage( tr( "That view shows %1; the photo being oriented is %2." ).arg( imageId, mImageId ), true );
+  } );
+  updateImageChoices();
+}
+
+GeoStationOrientationDock::~GeoStationOrientationDock()
+{
+  if ( mMultiview )
+    mMultiview->setPickingRedirected( false );
+  clearMarkers();
+  if ( mMapCanvas && mGroundTool && mMapCanvas->mapTool() == mGroundTool )
+    mMapCanvas->unsetMapTool( mGroundTool );
+  delete mGroundTool;
+}
+
+void GeoStationOrientationDock::clearMarkers()
+{
+  for ( const auto &[canvas, marker] : std::as_const( mMarkers ) )
+    if ( canvas )
+      delete marker;
+  mMarkers.clear();
+}
+
+void GeoStationOrientationDock::showMessage( const QString &text, bool warning )
+{
+  mMessage = text;
+  mMessageLabel->setText( text );
+  mMessageLabel->setStyleSheet( warning ? QStringLiteral( "color: #b00000" ) : QString() );
+  emit messageShown( text, warning );
+}
+
+void GeoStationOrientationDock::updateImageChoices()
+{
+  mImageCombo->clear();
+  if ( !mSession->block() )
+  {
+    mImageId.clear();
+    mModel->setCamera( geostation::Camera(), std::nullopt );
+    return;
+  }
+  for ( const geostation::BlockImage &image : mSession->block()->images )
+    mImageCombo->addItem( QStringLiteral( "%1%2" ).arg( QString::fromStdString( image.id ), image.exterior ? QString() : tr( " (not oriented)" ) ),
+                          QString::fromStdString( image.id ) );
+  // a reload of the same block (after Save) keeps the photo and its measurements
+  const int index = mImageCombo->findData( mImageId );
+  if ( index >= 0 )
+    mImageCombo->setCurrentIndex( index );
+  else if ( mImageCombo->count() > 0 )
+    setImage( mImageCombo->itemData( 0 ).toString() );
+}
+
+bool GeoStationOrientationDock::setImage( const QString &imageId )
+{
+  const geostation::Block *block = mSession->block();
+  const geostation::BlockImage *image = block ? block->findImage( imageId.toStdString() ) : nullptr;
+  if ( !image )
+  {
+    showMessage( tr( "The block has no photo %1." ).arg( imageId ), true );
+    return false;
+  }
+  const geostation::Camera *camera = block->findCamera( image->cameraId );
+  std::optional<Eigen::Matrix<double, 2, 3>> nominalFromFile;
+  try
+  {
+    if ( !camera )
+      throw std::invalid_argument( "its camera " + image->cameraId + " is not in the block" );
+    if ( image->innerOrientation )
+      nominalFromFile = geostation::nominalFromScanAffine( *camera, *image->innerOrientation );
+  }
+  catch ( const std::exception &e )
+  {
+    showMessage( tr( "Photo %1 cannot be oriented: %2." ).arg( imageId, QString::fromStdString( e.what() ) ), true );
+    return false;
+  }
+  mImageId = imageId;
+  mImageCombo->setCurrentIndex( mImageCombo->findData( imageId ) );
+  mGrey.release();
+  mGreyImageId.clear();
+  mModel->clear();
+  mModel->setCamera( *camera, nominalFromFile );
+  mCameraLabel->setText( tr( "%1: %2 × %3 px, f %4 px%5" )
+                         .arg( QString::fromStdString( camera->id ) ).arg( camera->width ).arg( camera->height ).arg( camera->f, 0, 'f', 1 )
+                         .arg( image->innerOrientation ? tr( ", scanned film (pixels of the scan, through its inner orientation)" )
+                               : camera->fiducials.empty() ? QString() : tr( ", film camera without inner orientation yet: run Inner Orientation first" ) ) );
+  // the measurements saved with the photo last time
+  const QString tablePath = controlTablePath();
+  if ( QFileInfo::exists( tablePath ) )
+  {
+    try
+    {
+      for ( const geostation::PhotoControlPoint &p : geostation::readPhotoControlTable( tablePath.toStdString() ) )
+      {
+        const int row = mModel->setGroundPoint( QString::fromStdString( p.pointId ), p.world );
+        if ( p.pixelInFile )
+          mModel->setPixel( row, QPointF( p.pixelInFile->x(), p.pixelInFile->y() ) );
+        mModel->setRole( row, p.role );
+      }
+      showMessage( tr( "%n point(s) read from %1.", nullptr, mModel->rowCount() ).arg( QFileInfo( tablePath ).fileName() ) );
+    }
+    catch ( const std::exception &e )
+    {
+      showMessage( QString::fromStdString( e.what() ), true );
+    }
+  }
+  if ( mMultiview && mMultiview->viewCount() > 0 && !mSession->viewImages().contains( imageId ) )
+    mMultiview->setViewImage( 0, imageId );
+  drawMarkers();
+  return true;
+}
+
+QString GeoStationOrientationDock::controlTablePath() const
+{
+  const QFileInfo block( mSession->blockPath() );
+  QString stem = block.fileName();
+  stem.remove( QStringLiteral( ".geostation.json" ) );
+  stem.remove( QStringLiteral( ".json" ) );
+  QString image = mImageId;
+  image.replace( QRegularExpression( QStringLiteral( "[^A-Za-z0-9_.-]" ) ), QStringLiteral( "_" ) );
+  return block.absoluteDir().filePath( QStringLiteral( "%1.%2.control.csv" ).arg( stem, image ) );
+}
+
+int GeoStationOrientationDock::loadControlLayer( QgsVectorLayer *layer )
+{
+  if ( !layer || !mSession->block() )
+  {
+    showMessage( tr( "Choose a point layer of control points (and open a block) first." ), true );
+    return 0;
+  }
+  const QgsFields fields = layer->fields();
+  int idField = -1, zField = -1;
+  for ( const QString &name : { QStringLiteral( "point_id" ), QStringLiteral( "id" ), QStringLiteral( "name" ) } )
+    if ( idField < 0 )
+      idField = fields.lookupField( name );
+  for ( const QString &name : { QStringLiteral( "Z" ), QStringLiteral( "height" ), QStringLiteral( "elevation" ) } )
+    if ( zField < 0 )
+      zField = fields.lookupField( name );
+  const QgsCoordinateTransform toBlock( layer->crs(), mSession->crs(), QgsProject::instance() );
+  int read = 0, withoutHeight = 0;
+  QgsFeature f;
+  QgsFeatureIterator it = layer->getFeatures();
+  while ( it.nextFeature( f ) )
+  {
+    const QgsGeometry geometry = f.geometry();
+    if ( geometry.isNull() || geometry.isEmpty() )
+      continue;
+    const QgsPoint point = geometry.vertexAt( 0 );
+    QgsPointXY xy;
+    try
+    {
+      xy = toBlock.transform( QgsPointXY( point.x(), point.y() ) );
+    }
+    catch ( const QgsCsException & )
+    {
+      continue;
+    }
+    std::optional<double> z;
+    if ( point.is3D() && std::isfinite( point.z() ) )
+      z = point.z();
+    else if ( zField >= 0 && !f.attribute( zField ).isNull() )
+      z = f.attribute( zField ).toDouble();
+    else
+    {
+      QString why;
+      z = demHeight( xy, &why );
+    }
+    if ( !z )
+    {
+      ++withoutHeight;
+      continue;
+    }
+    const QString id = idField >= 0 ? f.attribute( idField ).toString() : QString::number( f.id() );
+    mModel->setGroundPoint( id, Eigen::Vector3d( xy.x(), xy.y(), *z ) );
+    ++read;
+  }
+  showMessage( withoutHeight ? tr( "%1 control points read from %2; %3 left out without a height (no Z, no height field, not on the DEM layer)." ).arg( read ).arg( layer->name() ).arg( withoutHeight )
+               : tr( "%1 control points read from %2." ).arg( read ).arg( layer->name() ), withoutHeight > 0 );
+  return read;
+}
+
+std::optional<double> GeoStationOrientationDock::demHeight( const QgsPointXY &pointInBlockCrs, QString *why ) const
+{
+  QgsRasterLayer *dem = qobject_cast<QgsRasterLayer *>( QgsProject::instance()->mapLayer( mSession->demLayerId() ) );
+  if ( !dem || !dem->dataProvider() )
+  {
+    *why = tr( "no DEM layer is set (GeoStation ▸ Measurement Settings)" );
+    return std::nullopt;
+  }
+  try
+  {
+    const QgsPointXY inDem = QgsCoordinateTransform( mSession->crs(), dem->crs(), QgsProject::instance() ).transform( pointInBlockCrs );
+    bool ok = false;
+    const double height = dem->dataProvider()->sample( inDem, 1, &ok );
+    if ( ok && std::isfinite( height ) )
+      return height;
+  }
+  catch ( const QgsCsException & )
+  {
+  }
+  *why = tr( "the point is outside the DEM %1 or on a hole in it" ).arg( dem->name() );
+  return std::nullopt;
+}
+
+QList<int> GeoStationOrientationDock::selectedRows() const
+{
+  QList<int> rows;
+  for ( const QModelIndex &index : mTable->selectionModel()->selectedRows() )
+    rows << index.row();
+  return rows;
+}
+
+void GeoStationOrientationDock::selectRow( int row )
+{
+  mTable->selectRow( row );
+}
+
+void GeoStationOrientationDock::measurePixel( const QPointF &pixelInFile )
+{
+  QList<int> rows = selectedRows();
+  int row = rows.isEmpty() ? -1 : rows.first();
+  for ( int r = 0; row < 0 && r < mModel->rowCount(); ++r )
+    if ( !mModel->points()[static_cast<size_t>( r )].pixelInFile )
+      row = r;
+  if ( row < 0 )
+    row = mModel->addPoint();
+  mModel->setPixel( row, pixelInFile );
+  showMessage( tr( "%1 measured at col %2, row %3." ).arg( QString::fromStdString( mModel->points()[static_cast<size_t>( row )].pointId ) )
+               .arg( pixelInFile.x(), 0, 'f', 2 ).arg( pixelInFile.y(), 0, 'f', 2 ) );
+  // on to the next point not measured, so a run of clicks measures the list in order
+  for ( int r = 1; r <= mModel->rowCount(); ++r )
+  {
+    const int next = ( row + r ) % mModel->rowCount();
+    if ( !mModel->points()[static_cast<size_t>( next )].pixelInFile && mModel->hasGround( next ) )
+    {
+      selectRow( next );
+      return;
+    }
+  }
+}
+
+bool GeoStationOrientationDock::pickGround( const QgsPointXY &pointInCanvasCrs )
+{
+  if ( !mSession->block() )
+    return false;
+  QgsPointXY xy;
+  try
+  {
+    const QgsCoordinateReferenceSystem canvasCrs = mMapCanvas ? mMapCanvas->mapSettings().destinationCrs() : mSession->crs();
+    xy = QgsCoordinateTransform( canvasCrs, mSession->crs(), QgsProject::instance() ).transform( pointInCanvasCrs );
+  }
+  catch ( const QgsCsException & )
+  {
+    showMessage( tr( "The clicked point cannot be transformed into the block's CRS." ), true );
+    return false;
+  }
+  QString why;
+  const std::optional<double> height = demHeight( xy, &why );
+  if ( !height )
+  {
+    showMessage( tr( "No ground position taken: %1." ).arg( why ), true );
+    return false;
+  }
+  const QList<int> rows = selectedRows();
+  const int row = rows.isEmpty() ? mModel->addPoint() : rows.first();
+  const QString id = QString::fromStdString( mModel->points()[static_cast<size_t>( row )].pointId );
+  mModel->setGroundPoint( id, Eigen::Vector3d( xy.x(), xy.y(), *height ) );
+  showMessage( tr( "%1 on the ground at %2, %3, height %4 m from the DEM." ).arg( id ).arg( xy.x(), 0, 'f', 2 ).arg( xy.y(), 0, 'f', 2 ).arg( *height, 0, 'f', 2 ) );
+  return true;
+}
+
+const cv::Mat &GeoStationOrientationDock::photoGrey()
+{
+  if ( mGreyImageId != mImageId || mGrey.empty() )
+  {
+    mGrey.release();
+    mGreyImageId = mImageId;
+    try
+    {
+      const geostation::Block *block = mSession->block();
+      mGrey = geostation::markGrey( geostation::readRaster( block->imageFilePath( block->image( mImageId.toStdString() ) ).string() ).pixels );
+    }
+    catch ( const std::exception &e )
+    {
+      showMessage( tr( "The photo cannot be read: %1" ).arg( QString::fromStdString( e.what() ) ), true );
+    }
+  }
+  return mGrey;
+}
+
+int GeoStationOrientationDock::refineSelected()
+{
+  const cv::Mat &grey = photoGrey();
+  if ( grey.empty() )
+    return 0;
+  int moved = 0, missed = 0;
+  for ( int row : selectedRows() )
+  {
+    const std::optional<Eigen::Vector2d> pixel = mModel->points()[static_cast<size_t>( row )].pixelInFile;
+    if ( !pixel )
+      continue;
+    if ( const std::optional<Eigen::Vector2d> centre = geostation::refineMarkPixel( grey, *pixel ) )
+    {
+      mModel->setPixel( row, QPointF( centre->x(), centre->y() ) );
+      ++moved;
+    }
+    else
+      ++missed;
+  }
+  showMessage( missed ? tr( "%1 points moved onto their marks; no mark near %2 of them." ).arg( moved ).arg( missed ) : tr( "%n point(s) moved onto their marks.", nullptr, moved ), missed > 0 );
+  return moved;
+}
+
+int GeoStationOrientationDock::predictAndFind()
+{
+  const geostation::Block *block = mSession->block();
+  const geostation::BlockImage *image = block ? block->findImage( mImageId.toStdString() ) : nullptr;
+  std::optional<geostation::ExteriorOrientation> approximate;
+  if ( mModel->summary().oriented() )
+    approximate = mModel->summary().resection.exterior;
+  else if ( image && image->exterior )
+    approximate = image->exterior; // e.g. the photo's GNSS/INS values
+  if ( !approximate )
+  {
+    showMessage( tr( "Measure %1 points first (or give the photo an approximate orientation): the points are predicted from the orientation." ).arg( mModel->summary().neededControl ), true );
+    return 0;
+  }
+  const cv::Mat &grey = photoGrey();
+  if ( grey.empty() )
+    return 0;
+  std::vector<geostation::ControlOffer> offers;
+  try
+  {
+    offers = geostation::offerPredictedControl( grey, mModel->camera(), mModel->nominalFromFile(), *approximate, mModel->points() );
+  }
+  catch ( const std::exception &e )
+  {
+    showMessage( tr( "No prediction: %1" ).arg( QString::fromStdString( e.what() ) ), true );
+    return 0;
+  }
+  mModel->setOffers( offers );
+  int found = 0, flagged = 0, notFound = 0;
+  for ( const geostation::ControlOffer &offer : offers )
+  {
+    found += offer.status == geostation::PredictedPoint::Status::Found ? 1 : 0;
+    flagged += offer.status == geostation::PredictedPoint::Status::Flagged ? 1 : 0;
+    notFound += offer.status == geostation::PredictedPoint::Status::NotFound ? 1 : 0;
+  }
+  showMessage( tr( "%1 points found near their predictions, %2 flagged (check them before accepting), %3 not found." ).arg( found ).arg( flagged ).arg( notFound ) );
+  drawMarkers();
+  return found;
+}
+
+int GeoStationOrientationDock::acceptFound()
+{
+  const int taken = mModel->acceptOffers();
+  showMessage( tr( "%n offer(s) accepted.", nullptr, taken ) );
+  return taken;
+}
+
+bool GeoStationOrientationDock::saveToBlock()
+{
+  const geostation::PhotoOrientationSummary &summary = mModel->summary();
+  if ( !mSession->block() || !summary.oriented() )
+  {
+    showMessage( tr( "Nothing saved: %1" ).arg( QString::fromStdString( summary.message ) ), true );
+    return false;
+  }
+  try
+  {
+    geostation::Block block = *mSession->block();
+    geostation::applyPhotoOrientation( block, mImageId.toStdString(), summary, mModel->options() );
+    // the measurements first: a block saved without them could not be reproduced
+    geostation::writePhotoControlTable( controlTablePath().toStdString(), mImageId.toStdString(), mModel->points() );
+    block.save( mSession->blockPath().toStdString() );
+  }
+  catch ( const std::exception &e )
+  {
+    showMessage( tr( "Nothing saved: %1" ).arg( QString::fromStdString( e.what() ) ), true );
+    return false;
+  }
+  mSession->reloadBlock();
+  showMessage( tr( "The orientation of %1 is saved in %2; the measurements in %3." )
+               .arg( mImageId, QFileInfo( mSession->blockPath() ).fileName(), QFileInfo( controlTablePath() ).fileName() ) );
+  return true;
+}
+
+void GeoStationOrientationDock::setMeasuring( bool on )
+{
+  if ( mMultiview )
+    mMultiview->setPickingRedirected( on );
+  if ( on && mPickMapButton->isChecked() )
+    mPickMapButton->setChecked( false );
+}
+
+void GeoStationOrientationDock::setPickingGround( bool on )
+{
+  if ( !mMapCanvas )
+    return;
+  if ( on )
+  {
+    if ( !mGroundTool )
+    {
+      mGroundTool = new GeoStationGroundPointTool( mMapCanvas );
+      connect( mGroundTool, &GeoStationGroundPointTool::picked, this, &GeoStationOrientationDock::pickGround );
+      connect( mGroundTool, &QgsMapTool::deactivated, this, [this] { mPickMapButton->setChecked( false ); } );
+    }
+    mMapCanvas->setMapTool( mGroundTool );
+  }
+  else if ( mGroundTool && mMapCanvas->mapTool() == mGroundTool )
+    mMapCanvas->unsetMapTool( mGroundTool );
+}
+
+void GeoStationOrientationDock::updateFreeParameters()
+{
+  geostation::PhotoOrientationOptions options = mModel->options();
+  const QCheckBox *boxes[] = { mFreeF, mFreeCx, mFreeCy, mFreeK1, mFreeK2, mFreeP1, mFreeP2, mFreeK3 };
+  for ( int i = 0; i < geostation::kInteriorSize; ++i )
+    options.freeInterior[static_cast<size_t>( i )] = boxes[i]->isChecked();
+  mModel->setOptions( options );
+}
+
+QString GeoStationOrientationDock::resultText() const
+{
+  return mResultText->toPlainText();
+}
+
+void GeoStationOrientationDock::updateOrientation()
+{
+  const geostation::PhotoOrientationSummary &summary = mModel->summary();
+  QStringList lines;
+  lines << QString::fromStdString( summary.message );
+  if ( summary.oriented() )
+  {
+    const geostation::ResectionSummary &r = summary.resection;
+    lines << tr( "σ0 %1 (redundancy %2, %3 iterations)" ).arg( r.sigma0, 0, 'f', 2 ).arg( r.redundancy ).arg( r.iterations );
+    for ( size_t i = 0; i < r.parameterNames.size(); ++i )
+    {
+      const bool angle = i >= 3 && i < 6;
+      const int decimals = angle ? 4 : 3;
+      const QString unit = i < 3 ? tr( " m" ) : angle ? tr( "°" ) : i >= 6 && r.parameterNames[i].size() < 3 ? tr( " px" ) : QString();
+      lines << QStringLiteral( "%1 = %2 ± %3%4" ).arg( QString::fromStdString( r.parameterNames[i] ), -6 ).arg( r.estimates[i], 0, 'f', decimals ).arg( r.sigmas[i], 0, 'g', 3 ).arg( unit );
+    }
+  }
+  mResultText->setPlainText( lines.join( QLatin1Char( '\n' ) ) );
+  mSaveButton->setEnabled( summary.oriented() );
+  drawMarkers();
+}
+
+void GeoStationOrientationDock::drawMarkers()
+{
+  clearMarkers();
+  if ( !mMultiview )
+    return;
+  for ( int v = 0; v < mMultiview->viewCount(); ++v )
+  {
+    GeoStationImageView *view = mMultiview->view( v );
+    if ( !view || view->imageId() != mImageId || !view->hasImage() )
+      continue;
+    const std::vector<geostation::PhotoControlPoint> &points = mModel->points();
+    for ( size_t i = 0; i < points.size(); ++i )
+    {
+      const geostation::PhotoControlResult &result = mModel->summary().points[i];
+      const auto offer = mModel->offers().find( points[i].pointId );
+      std::optional<Eigen::Vector2d> pixel = points[i].pixelInFile;
+      QColor colour = result.blunder ? QColor( 220, 0, 0 ) : QColor( 0, 200, 0 );
+      int icon = QgsVertexMarker::ICON_CROSS;
+      if ( !pixel && offer != mModel->offers().end() && offer->second.status != geostation::PredictedPoint::Status::NotFound )
+      {
+        pixel = offer->second.pixelInFile;
+        colour = offer->second.status == geostation::PredictedPoint::Status::Found ? QColor( 255, 160, 0 ) : QColor( 255, 60, 200 );
+        icon = QgsVertexMarker::ICON_BOX;
+      }
+      else if ( !pixel && result.projectedInFile && result.inFrame )
+      {
+        pixel = result.projectedInFile;
+        colour = QColor( 160, 160, 160 );
+        icon = QgsVertexMarker::ICON_CIRCLE;
+      }
+      if ( !pixel )
+        continue;
+      QgsVertexMarker *marker = new QgsVertexMarker( view->canvas() );
+      marker->setCenter( GeoStationImagePointTool::mapFromPixel( pixel->x(), pixel->y() ) );
+      marker->setIconType( icon );
+      marker->setIconSize( 14 );
+      marker->setPenWidth( 2 );
+      marker->setColor( colour );
+      marker->setToolTip( QString::fromStdString( points[i].pointId ) );
+      mMarkers << qMakePair( QPointer<QgsMapCanvas>( view->canvas() ), marker );
+    }
+  }
+}

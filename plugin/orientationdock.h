@@ -1,0 +1,115 @@
+/***************************************************************************
+  orientationdock.h - orienting one photo interactively
+  -------------------------------------------------------------------------
+  The monoplotter paper's workflow in a dock: choose the photo (any image
+  of the open block, oriented or not), load the control points from a
+  point layer or add them, measure each in the photo (clicks in the
+  Multiview's view of the photo) and give it a ground position (a click on
+  the QGIS map, the height from the DEM layer). Every change re-adjusts
+  (the control-point model calls core): residuals in pixels and metres,
+  Baarda's w, blunders flagged, σ0 and the parameters with their σ. Once
+  oriented, "Predict & Find" offers the points not measured yet (the
+  semi-automatic mode), "Refine to Mark" moves a click onto its mark, and
+  "Save Orientation to Block" writes the orientation into the block file
+  (atomically) with the measurements beside it (<block>.<photo>.control.csv),
+  which are read again when the photo is chosen next time.
+ ***************************************************************************/
+#ifndef GEOSTATIONORIENTATIONDOCK_H
+#define GEOSTATIONORIENTATIONDOCK_H
+
+#include <optional>
+
+#include <QPointer>
+#include <QPointF>
+#include <QVector>
+
+#include <opencv2/core.hpp>
+
+#include <qgsdockwidget.h>
+#include <qgspointxy.h>
+
+#include "ui_geostationorientationdockbase.h"
+
+class QgsMapCanvas;
+class QgsVectorLayer;
+class QgsVertexMarker;
+class GeoStationControlPointModel;
+class GeoStationGroundPointTool;
+class GeoStationMultiviewDock;
+class GeoStationMultiviewSession;
+
+class GeoStationOrientationDock : public QgsDockWidget, private Ui::GeoStationOrientationDockBase
+{
+    Q_OBJECT
+
+  public:
+    /**
+     * `multiview` (may be nullptr) shows the photo and gives its clicks;
+     * `mapCanvas` (may be nullptr) is QGIS's map, for ground positions.
+     */
+    GeoStationOrientationDock( GeoStationMultiviewSession *session, GeoStationMultiviewDock *multiview, QgsMapCanvas *mapCanvas, QWidget *parent = nullptr );
+    ~GeoStationOrientationDock() override;
+
+    GeoStationControlPointModel *model() const { return mModel; }
+    QString imageId() const { return mImageId; }
+    //! The last message shown (one sentence; problems too).
+    QString message() const { return mMessage; }
+    QString resultText() const;
+
+  public slots:
+    //! Chooses the photo to orient; false (with a message) for an unknown image or camera.
+    bool setImage( const QString &imageId );
+    /**
+     * Reads the points of a point layer as control: the id from a field
+     * point_id, id or name (else the feature id), Z from the geometry, a
+     * field Z / height, or else the DEM layer. Returns how many were read.
+     */
+    int loadControlLayer( QgsVectorLayer *layer );
+    //! Measures the selected point (else the first not measured) at a pixel of the photo; selects the next one.
+    void measurePixel( const QPointF &pixelInFile );
+    //! Gives the selected point the ground position of a map point (canvas CRS); the height from the DEM layer.
+    bool pickGround( const QgsPointXY &pointInCanvasCrs );
+    //! Moves the selected measured points onto the centre of their marks; how many moved.
+    int refineSelected();
+    //! The semi-automatic mode: offers for every point not measured; how many were found.
+    int predictAndFind();
+    int acceptFound();
+    //! Writes the orientation and the measurements; false (with the message) when it cannot.
+    bool saveToBlock();
+    void selectRow( int row );
+
+  signals:
+    void messageShown( const QString &text, bool warning );
+
+  private slots:
+    void updateOrientation();
+    void updateImageChoices();
+    void setMeasuring( bool on );
+    void setPickingGround( bool on );
+    void updateFreeParameters();
+
+  private:
+    void showMessage( const QString &text, bool warning = false );
+    //! The photo's file as 8-bit grey (read once per photo); empty with a message when it cannot be read.
+    const cv::Mat &photoGrey();
+    //! Height of the DEM layer at a point of the block CRS, or nothing.
+    std::optional<double> demHeight( const QgsPointXY &pointInBlockCrs, QString *why ) const;
+    QList<int> selectedRows() const;
+    QString controlTablePath() const;
+    void drawMarkers();
+
+    GeoStationMultiviewSession *mSession;
+    QPointer<GeoStationMultiviewDock> mMultiview;
+    QPointer<QgsMapCanvas> mMapCanvas;
+    GeoStationControlPointModel *mModel = nullptr;
+    QPointer<GeoStationGroundPointTool> mGroundTool;
+    QString mImageId;
+    QString mMessage;
+    cv::Mat mGrey;
+    QString mGreyImageId;
+    //! The markers drawn in the views, with their canvas (which deletes them when it goes first).
+    QVector<QPair<QPointer<QgsMapCanvas>, QgsVertexMarker *>> mMarkers;
+    void clearMarkers();
+};
+
+#endif // GEOSTATIONORIENTATIONDOCK_H

@@ -1,0 +1,285 @@
+// The photo orientation dock without QGIS desktop (offscreen), on the
+// simulator's scanned oblique photo added unoriented to a block (its inner
+// orientation measured, as after Inner Orientation): control points loaded
+// from the truth's control layer, four clicked in the Multiview's view of
+// the photo (with 0.8 px of noise, an operator's click), the rest found semi-automatically and
+// accepted, a blunder flagged and switched off, a ground click off the DEM
+// refused, the orientation saved into the block and read back. Checked
+// against the simulator's truth.
+#include <random>
+
+#include <Eigen/LU>
+
+#include <QCheckBox>
+#include <QItemSelectionModel>
+#include <QTableView>
+#include <QTemporaryDir>
+#include <QToolButton>
+#include <QtTest/QtTest>
+
+#include <qgsapplication.h>
+#include <qgsmapcanvas.h>
+#include <qgsproject.h>
+#include <qgsrasterlayer.h>
+#include <qgsvectorlayer.h>
+
+#include "controlpointmodel.h"
+#include "imageview.h"
+#include "measurementcontroller.h"
+#include "measurementstore.h"
+#include "multiviewdock.h"
+#include "multiviewsession.h"
+#include "orientationdock.h"
+#include "io/block.h"
+#include "simulation/surveysimulator.h"
+#include "simulationtruth.h"
+
+class TestOrientationDock : public QObject
+{
+    Q_OBJECT
+
+  private slots:
+    void initTestCase();
+    void cleanupTestCase();
+    void clickedAndFoundControlOrientTheScannedPhoto();
+
+  private:
+    //! The true pixel of a control point in the scan, or nothing when it does not show.
+    std::optional<QPointF> truePixel( const std::string &id ) const;
+
+    QTemporaryDir mDir;
+    QString mBlockPath;
+    geostation::TruthTable mTruth;
+    std::unique_ptr<geostation::Block> mTruthBlock;
+};
+
+void TestOrientationDock::initTestCase()
+{
+  QVERIFY( mDir.isValid() );
+  geostation::SimulationOptions options;
+  options.preset = geostation::SurveyPreset::ObliquePhoto;
+  options.seed = 5;
+  options.scannedFilm = true;
+  options.degradation.noiseSigma = 2.0;
+  options.outputDir = mDir.filePath( QStringLiteral( "photo" ) ).toStdString();
+  geostation::simulateSurvey( options );
+  mTruth = geostation::readTruth( options.outputDir / "truth.gpkg" );
+  mTruthBlock = std::make_unique<geostation::Block>( geostation::Block::load( options.outputDir / "truth.geostation.json" ) );
+  // the photo as a user has it after Add Photo and Inner Orientation: its fiducials measured, no exterior orientation
+  geostation::Block block = geostation::Block::load( options.outputDir / "block.geostation.json" );
+  block.images.front().innerOrientation = mTruthBlock->images.front().innerOrientation;
+  block.images.front().exterior.reset();
+  mBlockPath = mDir.filePath( QStringLiteral( "photo/photo.geostation.json" ) );
+  block.save( mBlockPath.toStdString() );
+}
+
+void TestOrientationDock::cleanupTestCase()
+{
+  QgsProject::instance()->clear();
+}
+
+std::optional<QPointF> TestOrientationDock::truePixel( const std::string &id ) const
+{
+  const geostation::BlockImage &image = mTruthBlock->images.front();
+  if ( !mTruth.imageTruth.count( { id, image.id } ) )
+    return std::nullopt;
+  const geostation::Camera &camera = mTruthBlock->cameraOf( image );
+  const Eigen::Vector2d nominal = geostation::OrientedImage( camera, *image.exterior ).projectGroundToPixel( mTruth.control.at( id ) ).pixelInImage;
+  const Eigen::Matrix<double, 2, 3> a = geostation::nominalFromScanAffine( camera, *image.innerOrientation );
+  const Eigen::Vector2d scan = a.leftCols<2>().inverse() * ( nominal - a.col( 2 ) );
+  return QPointF( scan.x(), scan.y() );
+}
+
+void TestOrientationDock::clickedAndFoundControlOrientTheScannedPhoto()
+{
+  GeoStationMultiviewSession session;
+  QString error;
+  QVERIFY2( session.openBlock( mBlockPath, &error ), qPrintable( error ) );
+  GeoStationMeasurementStore store( &session, QgsProject::instance() );
+  GeoStationMeasurementController controller( &session, &store );
+  GeoStationMultiviewDock multiview( &session, &controller, &store );
+  QgsMapCanvas canvas;
+  canvas.setDestinationCrs( session.crs() );
+  QgsRasterLayer *dem = new QgsRasterLayer( mDir.filePath( QStringLiteral( "photo/terrain.tif" ) ), QStringLiteral( "terrain" ) );
+  QVERIFY( dem->isValid() );
+  QgsProject::instance()->addMapLayer( dem );
+  session.setDemLayerId( dem->id() );
+  QgsVectorLayer *control = new QgsVectorLayer( mDir.filePath( QStringLiteral( "photo/truth.gpkg|layername=control" ) ), QStringLiteral( "control" ), QStringLiteral( "ogr" ) );
+  QVERIFY( control->isValid() );
+  QgsProject::instance()->addMapLayer( control );
+
+  GeoStationOrientationDock dock( &session, &multiview, &canvas );
+  GeoStationControlPointModel *model = dock.model();
+  const QString imageId = QString::fromStdString( mTruthBlock->images.front().id );
+  QCOMPARE( dock.imageId(), imageId );
+  QCOMPARE( multiview.view( 0 )->imageId(), imageId ); // the photo opens in the Multiview
+  const int loaded = dock.loadControlLayer( control );
+  QCOMPARE( loaded, static_cast<int>( mTruth.control.size() ) );
+  QCOMPARE( model->summary().status, geostation::PhotoOrientationSummary::Status::NotEnoughPoints );
+
+  // four clicks in the photo's view, spread over the photo; the rest of the points visible kept as checks later
+  std::vector<std::pair<double, std::string>> visible;
+  for ( const auto &[id, world] : mTruth.control )
+    if ( const auto pixel = truePixel( id ) )
+      visible.emplace_back( pixel->x(), id );
+  std::sort( visible.begin(), visible.end() );
+  QVERIFY( visible.size() >= 10 );
+  std::mt19937 random( 3 );
+  std::normal_distribution<double> gauss( 0.0, 0.8 ); // an operator's click on a zoomed view
+  dock.findChild<QToolButton *>( QStringLiteral( "mMeasurePhotoButton" ) )->setChecked( true );
+  QVERIFY( multiview.pickingRedirected() );
+  QStringList clicked;
+  for ( size_t k : { size_t( 0 ), visible.size() / 3, 2 * visible.size() / 3, visible.size() - 1 } )
+  {
+    const QString id = QString::fromStdString( visible[k].second );
+    dock.selectRow( model->rowOf( id ) );
+    const QPointF truth = *truePixel( visible[k].second );
+    emit multiview.view( 0 )->pixelPicked( 0, truth + QPointF( gauss( random ), gauss( random ) ) );
+    clicked << id;
+  }
+  QVERIFY2( model->summary().oriented(), model->summary().message.c_str() );
+  QVERIFY( dock.resultText().contains( QStringLiteral( "Oriented from 4 control points" ) ) );
+  // the operator-aided mode: the four clicks moved onto the centres of their marks
+  const double clickedRmse = model->summary().resection.rmseControlPx;
+  for ( const QString &id : std::as_const( clicked ) )
+    dock.findChild<QTableView *>( QStringLiteral( "mTable" ) )->selectionModel()->select( model->index( model->rowOf( id ), 0 ), QItemSelectionModel::Select | QItemSelectionModel::Rows );
+  std::map<QString, Eigen::Vector2d> asClicked;
+  for ( const QString &id : std::as_const( clicked ) )
+    asClicked[id] = *model->points()[static_cast<size_t>( model->rowOf( id ) )].pixelInFile;
+  const int moved = dock.refineSelected();
+  QVERIFY2( moved >= 2, qPrintable( dock.message() ) ); // a target partly hidden or at a grazing angle has no mark to move to: it stays as clicked
+  int movedWithin = 0;
+  for ( const QString &id : std::as_const( clicked ) )
+  {
+    const Eigen::Vector2d refined = *model->points()[static_cast<size_t>( model->rowOf( id ) )].pixelInFile;
+    const QPointF truth = *truePixel( id.toStdString() );
+    const double clickError = std::hypot( asClicked[id].x() - truth.x(), asClicked[id].y() - truth.y() );
+    const double refinedError = std::hypot( refined.x() - truth.x(), refined.y() - truth.y() );
+    if ( ( refined - asClicked[id] ).norm() > 0.0 )
+      movedWithin += refinedError < 0.7 && refinedError < clickError ? 1 : 0;
+  }
+  QCOMPARE( movedWithin, moved );
+  qInfo() << "four clicks: control rmse" << clickedRmse << "px, refined to their marks" << model->summary().resection.rmseControlPx << "px";
+  QVERIFY( dock.resultText().contains( QStringLiteral( "X0" ) ) );
+
+  // the semi-automatic mode: the rest predicted, found and offered; nothing taken before the operator accepts
+  const int found = dock.predictAndFind();
+  QVERIFY2( found >= 5, qPrintable( dock.message() ) );
+  QCOMPARE( model->summary().measuredControl, 4 );
+  int offersRight = 0, offersWrong = 0;
+  for ( const auto &[id, offer] : model->offers() )
+    if ( offer.status == geostation::PredictedPoint::Status::Found )
+    {
+      const auto truth = truePixel( id );
+      const double error = truth ? std::hypot( offer.pixelInFile.x() - truth->x(), offer.pixelInFile.y() - truth->y() ) : 1e9;
+      ( error <= 1.0 ? offersRight : offersWrong ) += 1;
+    }
+  QVERIFY( offersWrong <= 1 );
+  QCOMPARE( dock.acceptFound(), found );
+  QVERIFY( model->summary().oriented() );
+  QCOMPARE( model->summary().measuredControl, 4 + found );
+
+  // the camera against the truth, and the check-point error against the true orientation's
+  const Eigen::Vector3d trueCentre = mTruthBlock->images.front().exterior->projectionCentre;
+  const double centreError = ( model->summary().resection.exterior.projectionCentre - trueCentre ).norm();
+  qInfo() << "camera" << centreError << "m from the truth from" << model->summary().measuredControl << "points;" << offersRight << "offers within 1 px";
+  QVERIFY( centreError < 1.0 );
+
+  // a blunder: one clicked point 15 px off is flagged, with its w, and left out; switched off, it is ignored
+  const int blunderRow = model->rowOf( clicked[1] );
+  dock.selectRow( blunderRow );
+  const QPointF truth = *truePixel( clicked[1].toStdString() );
+  emit multiview.view( 0 )->pixelPicked( 0, truth + QPointF( 12.0, -9.0 ) );
+  QVERIFY( model->summary().points[static_cast<size_t>( blunderRow )].blunder );
+  const QString status = model->data( model->index( blunderRow, static_cast<int>( GeoStationControlPointModel::Column::Status ) ) ).toString();
+  QVERIFY2( status.startsWith( QStringLiteral( "blunder: w " ) ), qPrintable( status ) );
+  QVERIFY( dock.resultText().contains( QStringLiteral( "flagged as a blunder and left out" ) ) );
+  QVERIFY( model->setData( model->index( blunderRow, static_cast<int>( GeoStationControlPointModel::Column::Use ) ), Qt::Unchecked, Qt::CheckStateRole ) );
+  QVERIFY( !model->summary().points[static_cast<size_t>( blunderRow )].blunder );
+  QVERIFY( ( model->summary().resection.exterior.projectionCentre - trueCentre ).norm() < 1.0 );
+
+  // check points, each measured point in turn (leave one out): the resection's error on them against the true
+  // orientation's (which is their measurement error alone), over the same points
+  double resectionSquares = 0.0, trueSquares = 0.0;
+  int checked = 0;
+  for ( int row = 0; row < model->rowCount(); ++row )
+  {
+    const geostation::PhotoControlPoint point = model->points()[static_cast<size_t>( row )];
+    if ( !point.pixelInFile || point.role != geostation::ControlRole::Control )
+      continue;
+    QVERIFY( model->setData( model->index( row, static_cast<int>( GeoStationControlPointModel::Column::Check ) ), Qt::Checked, Qt::CheckStateRole ) );
+    QVERIFY( model->summary().oriented() );
+    QCOMPARE( model->summary().measuredCheck, 1 );
+    resectionSquares += std::pow( model->summary().resection.rmseCheckPx, 2 );
+    const QPointF t = *truePixel( point.pointId );
+    trueSquares += std::pow( point.pixelInFile->x() - t.x(), 2 ) + std::pow( point.pixelInFile->y() - t.y(), 2 );
+    ++checked;
+    QVERIFY( model->setData( model->index( row, static_cast<int>( GeoStationControlPointModel::Column::Check ) ), Qt::Unchecked, Qt::CheckStateRole ) );
+  }
+  const double resectionRms = std::sqrt( resectionSquares / checked ), trueRms = std::sqrt( trueSquares / checked );
+  qInfo() << "check points (each of" << checked << "in turn): the resection" << resectionRms << "px, the true orientation" << trueRms << "px";
+  QVERIFY( checked >= 8 );
+  QVERIFY( resectionRms <= 1.5 * trueRms );
+  // four of them as check points for the rest of the session
+  int checks = 0;
+  for ( int row = 0; row < model->rowCount() && checks < 4; ++row )
+    if ( model->points()[static_cast<size_t>( row )].pixelInFile && model->points()[static_cast<size_t>( row )].role == geostation::ControlRole::Control )
+    {
+      QVERIFY( model->setData( model->index( row, static_cast<int>( GeoStationControlPointModel::Column::Check ) ), Qt::Checked, Qt::CheckStateRole ) );
+      ++checks;
+    }
+  QCOMPARE( model->summary().measuredCheck, 4 );
+
+  // a ground click off the DEM: one sentence, nothing changed
+  const int rows = model->rowCount();
+  dock.selectRow( 0 );
+  const Eigen::Vector3d before = model->points()[0].world;
+  QVERIFY( !dock.pickGround( QgsPointXY( trueCentre.x() + 1e6, trueCentre.y() ) ) );
+  QVERIFY2( dock.message().contains( QStringLiteral( "outside the DEM" ) ), qPrintable( dock.message() ) );
+  QCOMPARE( model->rowCount(), rows );
+  QVERIFY( ( model->points()[0].world - before ).norm() == 0.0 );
+  // a ground click on the DEM moves the selected point there, with the DEM's height
+  const Eigen::Vector3d onDem = mTruth.control.begin()->second;
+  dock.selectRow( model->addPoint() );
+  QVERIFY2( dock.pickGround( QgsPointXY( onDem.x(), onDem.y() ) ), qPrintable( dock.message() ) );
+  QVERIFY( std::abs( model->points().back().world.z() - onDem.z() ) < 1.0 );
+  model->removePoint( model->rowCount() - 1 );
+
+  // saved into the block: the file reloads oriented, the measurements beside it come back with the photo
+  QVERIFY2( dock.saveToBlock(), qPrintable( dock.message() ) );
+  const geostation::Block saved = geostation::Block::load( mBlockPath.toStdString() );
+  QVERIFY( saved.images.front().exterior.has_value() );
+  QVERIFY( ( saved.images.front().exterior->projectionCentre - model->summary().resection.exterior.projectionCentre ).norm() < 1e-6 );
+  QVERIFY( session.block()->images.front().exterior.has_value() );
+  QCOMPARE( dock.imageId(), imageId );
+  GeoStationOrientationDock again( &session, &multiview, &canvas );
+  QCOMPARE( again.model()->rowCount(), model->rowCount() );
+  QCOMPARE( again.model()->summary().measuredControl, model->summary().measuredControl );
+  QCOMPARE( again.model()->summary().measuredCheck, 4 );
+
+  // a photo that can no longer be decoded: one sentence, the measurements stay
+  QFile file( session.imagePath( imageId ) );
+  QVERIFY( file.open( QIODevice::WriteOnly | QIODevice::Truncate ) );
+  file.write( "not an image" );
+  file.close();
+  const int measured = again.model()->summary().measuredControl;
+  QCOMPARE( again.predictAndFind(), 0 );
+  QVERIFY2( again.message().startsWith( QStringLiteral( "The photo cannot be read" ) ), qPrintable( again.message() ) );
+  QCOMPARE( again.model()->summary().measuredControl, measured );
+}
+
+int main( int argc, char **argv )
+{
+  QgsApplication app( argc, argv, true );
+  QgsApplication::init();
+  QgsApplication::initQgis();
+  int result = 0;
+  {
+    TestOrientationDock test;
+    result = QTest::qExec( &test, argc, argv );
+  }
+  QgsApplication::exitQgis();
+  return result;
+}
+
+#include "testorientationdock.moc"
