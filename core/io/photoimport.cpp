@@ -1,0 +1,142 @@
+/***************************************************************************
+  photoimport.cpp - a single photo added to a block (Add Photo)
+ ***************************************************************************/
+#include "io/photoimport.h"
+
+#include <cmath>
+#include <cstdlib>
+#include <mutex>
+#include <stdexcept>
+
+#include <gdal.h>
+#include <cpl_error.h>
+#include <cpl_string.h>
+
+namespace geostation
+{
+  namespace
+  {
+    //! An EXIF number as GDAL gives it: "(35)" or "(4.5)" or "35".
+    std::optional<double> exifNumber( GDALDatasetH dataset, const char *key )
+    {
+      const char *value = GDALGetMetadataItem( dataset, key, nullptr );
+      if ( !value )
+        return std::nullopt;
+      std::string text( value );
+      for ( char &c : text )
+        if ( c == '(' || c == ')' )
+          c = ' ';
+      char *end = nullptr;
+      const double number = std::strtod( text.c_str(), &end );
+      if ( end == text.c_str() || !std::isfinite( number ) || !( number > 0.0 ) )
+        return std::nullopt;
+      return number;
+    }
+
+    GDALDatasetH openRaster( const std::filesystem::path &photo )
+    {
+      static std::once_flag registered;
+      std::call_once( registered, [] { GDALAllRegister(); } );
+      if ( !std::filesystem::exists( photo ) )
+        throw std::runtime_error( "The photo " + photo.string() + " does not exist." );
+      CPLPushErrorHandler( CPLQuietErrorHandler );
+      GDALDatasetH dataset = GDALOpenEx( photo.string().c_str(), GDAL_OF_RASTER | GDAL_OF_READONLY, nullptr, nullptr, nullptr );
+      CPLPopErrorHandler();
+      if ( !dataset || GDALGetRasterCount( dataset ) < 1 )
+      {
+        if ( dataset )
+          GDALClose( dataset );
+        throw std::runtime_error( "The photo " + photo.string() + " cannot be decoded as an image." );
+      }
+      return dataset;
+    }
+  } // namespace
+
+  PhotoFileCamera cameraFromPhotoFile( const std::filesystem::path &photo, const std::string &cameraId )
+  {
+    GDALDatasetH dataset = openRaster( photo );
+    PhotoFileCamera result;
+    Camera &camera = result.camera;
+    camera.id = cameraId;
+    camera.width = GDALGetRasterXSize( dataset );
+    camera.height = GDALGetRasterYSize( dataset );
+    camera.cx = 0.5 * camera.width;
+    camera.cy = 0.5 * camera.height;
+    const double diagonalPx = std::hypot( camera.width, camera.height );
+    const std::optional<double> focal35 = exifNumber( dataset, "EXIF_FocalLengthIn35mmFilm" );
+    const std::optional<double> focalMm = exifNumber( dataset, "EXIF_FocalLength" );
+    const std::optional<double> planeResolution = exifNumber( dataset, "EXIF_FocalPlaneXResolution" );
+    const std::optional<double> planeUnit = exifNumber( dataset, "EXIF_FocalPlaneResolutionUnit" );
+    GDALClose( dataset );
+    // 35 mm film's diagonal: 43.27 mm
+    if ( focalMm && planeResolution && planeUnit && ( *planeUnit == 2.0 || *planeUnit == 3.0 ) )
+    {
+      const double pixelsPerMm = *planeResolution / ( *planeUnit == 2.0 ? 25.4 : 10.0 );
+      camera.f = *focalMm * pixelsPerMm;
+      result.focalSource = "exif_focal_plane_resolution";
+    }
+    else if ( focal35 )
+    {
+      camera.f = *focal35 / 43.27 * diagonalPx;
+      result.focalSource = "exif_35mm_equivalent";
+    }
+    else
+    {
+      camera.f = 50.0 / 43.27 * diagonalPx;
+      result.focalSource = "normal_lens_default";
+    }
+    camera.validate();
+    return result;
+  }
+
+  Camera cameraFromJsonText( const std::string &json )
+  {
+    // read exactly as the block file reads a camera: inside a minimal block
+    const std::string text = R"({"format": "geostation-block", "version": 1, "crs": "EPSG:25832", "cameras": [)" + json + R"(], "images": []})";
+    const Block block = Block::fromJsonText( text, "camera" );
+    return block.cameras.at( 0 );
+  }
+
+  Block newPhotoBlock( const std::string &crs, const std::filesystem::path &file )
+  {
+    Block block;
+    block.crs = crs;
+    block.sourceFile = file;
+    return block;
+  }
+
+  std::string addPhotoToBlock( Block &block, const std::filesystem::path &photo, const Camera &camera )
+  {
+    GDALDatasetH dataset = openRaster( photo );
+    const int width = GDALGetRasterXSize( dataset ), height = GDALGetRasterYSize( dataset );
+    GDALClose( dataset );
+    const Camera *existing = block.findCamera( camera.id );
+    const Camera &used = existing ? *existing : camera;
+    if ( !existing )
+      camera.validate();
+    if ( width != used.width || height != used.height )
+      throw std::runtime_error( "The photo " + photo.filename().string() + " is " + std::to_string( width ) + " x " + std::to_string( height ) + " pixels but camera \"" +
+                                used.id + "\" is " + std::to_string( used.width ) + " x " + std::to_string( used.height ) + "." );
+    std::string id = photo.stem().string();
+    if ( id.empty() )
+      id = "photo";
+    for ( int n = 2; block.findImage( id ); ++n )
+      id = photo.stem().string() + "_" + std::to_string( n );
+    if ( !existing )
+      block.cameras.push_back( camera );
+    BlockImage image;
+    image.id = id;
+    image.cameraId = used.id;
+    const std::filesystem::path absolute = std::filesystem::absolute( photo ).lexically_normal();
+    image.path = absolute.generic_string();
+    if ( !block.sourceFile.empty() )
+    {
+      const std::filesystem::path relative = absolute.lexically_relative( std::filesystem::absolute( block.sourceFile ).parent_path().lexically_normal() );
+      if ( !relative.empty() )
+        image.path = relative.generic_string();
+    }
+    block.images.push_back( image );
+    return id;
+  }
+
+} // namespace geostation

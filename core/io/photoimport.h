@@ -1,0 +1,64 @@
+/***************************************************************************
+  photoimport.h - a single photo added to a block (Add Photo)
+  -------------------------------------------------------------------------
+  A photo joins an open block, or starts a new one, unoriented: its camera
+  is one of the block's (same size) or a new one. A new camera comes from
+  the file itself: its size, and the principal distance from the EXIF
+  focal length (35 mm equivalent, or focal length and focal-plane
+  resolution) when the file has it, otherwise a normal lens (the image
+  diagonal, 50 mm on 35 mm film); the principal point at the centre; no
+  lens distortion. A film camera comes with its calibration: principal
+  distance, pixel size and fiducials (cameraFromJsonText()).
+ ***************************************************************************/
+#ifndef GEOSTATION_IO_PHOTOIMPORT_H
+#define GEOSTATION_IO_PHOTOIMPORT_H
+
+#include <filesystem>
+#include <string>
+
+#include "camera/camera.h"
+#include "io/block.h"
+
+namespace geostation
+{
+
+  //! A camera read from a photo file.
+  struct PhotoFileCamera
+  {
+    Camera camera;
+    //! Where f comes from: "exif_35mm_equivalent", "exif_focal_plane_resolution" or "normal_lens_default".
+    std::string focalSource;
+  };
+
+  /**
+   * The camera of a photo file as far as the file tells it (see above).
+   * Throws std::runtime_error with one sentence when the file cannot be
+   * decoded as a raster.
+   */
+  PhotoFileCamera cameraFromPhotoFile( const std::filesystem::path &photo, const std::string &cameraId );
+
+  /**
+   * A camera written as in the block file (CONVENTIONS §5: id, width,
+   * height, f, cx, cy, optional aspect, pixel_size_mm, distortion,
+   * fiducials), validated as the block reader does. Throws BlockFormatError
+   * naming the key.
+   */
+  Camera cameraFromJsonText( const std::string &json );
+
+  //! A new, empty block in a CRS (anything PROJ reads; projected, metres), to be saved to `file`.
+  Block newPhotoBlock( const std::string &crs, const std::filesystem::path &file );
+
+  /**
+   * Adds a photo, unoriented, to the block and returns its image id (the
+   * file's name without extension, made unique). `camera` is used when the
+   * block has a camera of its id (it must then be that camera's size), and
+   * added otherwise. The path is stored relative to the block file's folder
+   * when the block has one. Throws std::runtime_error when the file cannot
+   * be decoded or has another size than the camera, std::invalid_argument
+   * for an invalid camera.
+   */
+  std::string addPhotoToBlock( Block &block, const std::filesystem::path &photo, const Camera &camera );
+
+} // namespace geostation
+
+#endif // GEOSTATION_IO_PHOTOIMPORT_H
