@@ -21,6 +21,7 @@
 #include <qgspythonrunner.h>
 #include <qgssettings.h>
 
+#include "addphotodialog.h"
 #include "blockinfodialog.h"
 #include "featureclassdialog.h"
 #include "geostationprovider.h"
@@ -119,6 +120,11 @@ void GeoStationPlugin::initGui()
   connect( project, &QAction::triggered, this, [this] { showAlgorithmDialog( QStringLiteral( "geostation:project_to_image" ) ); } );
 
   addAlgorithmAction( mMenu, QStringLiteral( "mActionGeoStationMonoplot" ), tr( "Monoplot Image Features onto a DEM…" ), QStringLiteral( "geostation:monoplot" ) );
+  QAction *addPhotoAction = new QAction( tr( "Add Photo…" ), mIface->mainWindow() );
+  addPhotoAction->setObjectName( QStringLiteral( "mActionGeoStationAddPhoto" ) );
+  addPhotoAction->setToolTip( tr( "Add a photo, unoriented, to the open block (or to a new block) and open it for orientation" ) );
+  connect( addPhotoAction, &QAction::triggered, this, &GeoStationPlugin::addPhoto );
+  mMenu->addAction( addPhotoAction );
   QAction *orient = new QAction( tr( "Orient Photo…" ), mIface->mainWindow() );
   orient->setObjectName( QStringLiteral( "mActionGeoStationOrientPhoto" ) );
   orient->setToolTip( tr( "Orient a photo of the block from control points: measure them in the photo and on the map, see the residuals live, find the rest semi-automatically" ) );
@@ -371,6 +377,38 @@ void GeoStationPlugin::showOrientation()
   }
   mOrientationDock->setUserVisible( true );
   mOrientationDock->raise();
+}
+
+void GeoStationPlugin::addPhoto()
+{
+  GeoStationAddPhotoDialog dialog( mSession->block(), QgsProject::instance()->crs(), mIface->mainWindow() );
+  geostation::Camera camera;
+  QString error;
+  if ( dialog.exec() == QDialog::Accepted && dialog.camera( &camera, &error ) )
+    openAddedPhoto( GeoStationAddPhotoDialog::addToBlock( mSession, dialog.photoPath(), camera, dialog.newBlockPath(), dialog.crs(), &error ), error );
+}
+
+QString GeoStationPlugin::addPhotoFile( const QString &photoPath, const QString &newBlockPath, const QString &cameraJson )
+{
+  geostation::Camera camera;
+  QString error;
+  if ( !GeoStationAddPhotoDialog::cameraForPhoto( mSession->block(), photoPath, cameraJson, &camera, &error ) )
+    return openAddedPhoto( QString(), error );
+  return openAddedPhoto( GeoStationAddPhotoDialog::addToBlock( mSession, photoPath, camera, newBlockPath, QgsProject::instance()->crs(), &error ), error );
+}
+
+QString GeoStationPlugin::openAddedPhoto( const QString &imageId, const QString &error )
+{
+  if ( imageId.isEmpty() )
+  {
+    mIface->messageBar()->pushMessage( tr( "GeoStation" ), error, Qgis::MessageLevel::Critical );
+    return QString();
+  }
+  updateActions();
+  writeProject();
+  showOrientation();
+  mOrientationDock->setImage( imageId );
+  return imageId;
 }
 
 QObject *GeoStationPlugin::orientationDock() const

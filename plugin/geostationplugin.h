@@ -73,6 +73,16 @@ class GeoStationPlugin : public QObject, public QgisPlugin
     void showMultiview();
     //! Shows the photo orientation dock (created on first use, with the Multiview).
     void showOrientation();
+    //! Asks for a photo and its camera (and a new block's file and CRS when none is open), adds it and opens it for orientation.
+    void addPhoto();
+    /**
+     * Adds a photo (scripts, tests): `cameraJson` as in the block file, or
+     * empty for a camera of the block of the photo's size or one from the
+     * file's EXIF; a new block goes to `newBlockPath` in the project's CRS.
+     * Opens the photo in the Multiview and the orientation dock. Returns the
+     * image id, or "" with a message in the message bar.
+     */
+    QString addPhotoFile( const QString &photoPath, const QString &newBlockPath, const QString &cameraJson );
     //! Edits the feature classes in a dialog.
     void editFeatureClasses();
     //! Measurement GeoPackage, DEM layer and road plane in a dialog.
@@ -100,6 +110,8 @@ class GeoStationPlugin : public QObject, public QgisPlugin
     //! A menu action (in `menu`) that opens a Processing algorithm's dialog.
     QAction *addAlgorithmAction( QMenu *menu, const QString &objectName, const QString &text, const QString &algorithmId );
     QString blockSummary( const geostation::Block &block ) const;
+    //! After Add Photo: the photo in the Multiview and the orientation dock; or the error in the message bar ("" returned).
+    QString openAddedPhoto( const QString &imageId, const QString &error );
     void updateActions();
     void writeProject();
     void readProject();

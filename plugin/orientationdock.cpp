@@ -17,13 +17,11 @@
 #include <qgsrasterdataprovider.h>
 #include <qgsrasterlayer.h>
 #include <qgsvectorlayer.h>
-#include <qgsvertexmarker.h>
 
 #include "controlpointmodel.h"
+#include "controlpointoverlay.h"
 #include "groundpointtool.h"
 #include "identification/markcandidates.h"
-#include "imagepointtool.h"
-#include "imageview.h"
 #include "io/rasterfile.h"
 #include "multiviewdock.h"
 #include "multiviewsession.h"
@@ -39,6 +37,7 @@ GeoStationOrientationDock::GeoStationOrientationDock( GeoStationMultiviewSession
   setupUi( content );
   setWidget( content );
   mModel = new GeoStationControlPointModel( this );
+  mOverlay = std::make_unique<GeoStationControlPointOverlay>();
   mTable->setModel( mModel );
   mControlLayerCombo->setFilters( QgsMapLayerProxyModel::PointLayer );
 
@@ -83,19 +82,12 @@ GeoStationOrientationDock::~GeoStationOrientationDock()
 {
   if ( mMultiview )
     mMultiview->setPickingRedirected( false );
-  clearMarkers();
+  mOverlay->clear();
   if ( mMapCanvas && mGroundTool && mMapCanvas->mapTool() == mGroundTool )
     mMapCanvas->unsetMapTool( mGroundTool );
   delete mGroundTool;
 }
 
-void GeoStationOrientationDock::clearMarkers()
-{
-  for ( const auto &[canvas, marker] : std::as_const( mMarkers ) )
-    if ( canvas )
-      delete marker;
-  mMarkers.clear();
-}
 
 void GeoStationOrientationDock::showMessage( const QString &text, bool warning )
 {
@@ -494,6 +486,11 @@ void GeoStationOrientationDock::updateFreeParameters()
   mModel->setOptions( options );
 }
 
+int GeoStationOrientationDock::markerCount() const
+{
+  return mOverlay->markerCount();
+}
+
 QString GeoStationOrientationDock::resultText() const
 {
   return mResultText->toPlainText();
@@ -523,44 +520,5 @@ void GeoStationOrientationDock::updateOrientation()
 
 void GeoStationOrientationDock::drawMarkers()
 {
-  clearMarkers();
-  if ( !mMultiview )
-    return;
-  for ( int v = 0; v < mMultiview->viewCount(); ++v )
-  {
-    GeoStationImageView *view = mMultiview->view( v );
-    if ( !view || view->imageId() != mImageId || !view->hasImage() )
-      continue;
-    const std::vector<geostation::PhotoControlPoint> &points = mModel->points();
-    for ( size_t i = 0; i < points.size(); ++i )
-    {
-      const geostation::PhotoControlResult &result = mModel->summary().points[i];
-      const auto offer = mModel->offers().find( points[i].pointId );
-      std::optional<Eigen::Vector2d> pixel = points[i].pixelInFile;
-      QColor colour = result.blunder ? QColor( 220, 0, 0 ) : QColor( 0, 200, 0 );
-      int icon = QgsVertexMarker::ICON_CROSS;
-      if ( !pixel && offer != mModel->offers().end() && offer->second.status != geostation::PredictedPoint::Status::NotFound )
-      {
-        pixel = offer->second.pixelInFile;
-        colour = offer->second.status == geostation::PredictedPoint::Status::Found ? QColor( 255, 160, 0 ) : QColor( 255, 60, 200 );
-        icon = QgsVertexMarker::ICON_BOX;
-      }
-      else if ( !pixel && result.projectedInFile && result.inFrame )
-      {
-        pixel = result.projectedInFile;
-        colour = QColor( 160, 160, 160 );
-        icon = QgsVertexMarker::ICON_CIRCLE;
-      }
-      if ( !pixel )
-        continue;
-      QgsVertexMarker *marker = new QgsVertexMarker( view->canvas() );
-      marker->setCenter( GeoStationImagePointTool::mapFromPixel( pixel->x(), pixel->y() ) );
-      marker->setIconType( icon );
-      marker->setIconSize( 14 );
-      marker->setPenWidth( 2 );
-      marker->setColor( colour );
-      marker->setToolTip( QString::fromStdString( points[i].pointId ) );
-      mMarkers << qMakePair( QPointer<QgsMapCanvas>( view->canvas() ), marker );
-    }
-  }
+  mOverlay->draw( mMultiview, mImageId, *mModel );
 }

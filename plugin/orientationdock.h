@@ -17,6 +17,7 @@
 #ifndef GEOSTATIONORIENTATIONDOCK_H
 #define GEOSTATIONORIENTATIONDOCK_H
 
+#include <memory>
 #include <optional>
 
 #include <QPointer>
@@ -32,8 +33,8 @@
 
 class QgsMapCanvas;
 class QgsVectorLayer;
-class QgsVertexMarker;
 class GeoStationControlPointModel;
+class GeoStationControlPointOverlay;
 class GeoStationGroundPointTool;
 class GeoStationMultiviewDock;
 class GeoStationMultiviewSession;
@@ -55,6 +56,8 @@ class GeoStationOrientationDock : public QgsDockWidget, private Ui::GeoStationOr
     //! The last message shown (one sentence; problems too).
     QString message() const { return mMessage; }
     QString resultText() const;
+    //! Markers drawn in the views of the photo (tests).
+    int markerCount() const;
 
   public slots:
     //! Chooses the photo to orient; false (with a message) for an unknown image or camera.
@@ -107,9 +110,7 @@ class GeoStationOrientationDock : public QgsDockWidget, private Ui::GeoStationOr
     QString mMessage;
     cv::Mat mGrey;
     QString mGreyImageId;
-    //! The markers drawn in the views, with their canvas (which deletes them when it goes first).
-    QVector<QPair<QPointer<QgsMapCanvas>, QgsVertexMarker *>> mMarkers;
-    void clearMarkers();
+    std::unique_ptr<GeoStationControlPointOverlay> mOverlay;
 };
 
 #endif // GEOSTATIONORIENTATIONDOCK_H

@@ -30,6 +30,7 @@
 #include "multiviewdock.h"
 #include "multiviewsession.h"
 #include "orientationdock.h"
+#include "addphotodialog.h"
 #include "io/block.h"
 #include "simulation/surveysimulator.h"
 #include "simulationtruth.h"
@@ -42,6 +43,7 @@ class TestOrientationDock : public QObject
     void initTestCase();
     void cleanupTestCase();
     void clickedAndFoundControlOrientTheScannedPhoto();
+    void addPhotoStartsABlockAndOpensThePhotoUnoriented();
 
   private:
     //! The true pixel of a control point in the scan, or nothing when it does not show.
@@ -175,6 +177,7 @@ void TestOrientationDock::clickedAndFoundControlOrientTheScannedPhoto()
       ( error <= 1.0 ? offersRight : offersWrong ) += 1;
     }
   QVERIFY( offersWrong <= 1 );
+  QVERIFY( dock.markerCount() >= 4 + found ); // clicks and offers drawn in the photo's view
   QCOMPARE( dock.acceptFound(), found );
   QVERIFY( model->summary().oriented() );
   QCOMPARE( model->summary().measuredControl, 4 + found );
@@ -259,6 +262,7 @@ void TestOrientationDock::clickedAndFoundControlOrientTheScannedPhoto()
 
   // a photo that can no longer be decoded: one sentence, the measurements stay
   QFile file( session.imagePath( imageId ) );
+  QVERIFY( QFile::copy( file.fileName(), file.fileName() + QStringLiteral( ".kept" ) ) );
   QVERIFY( file.open( QIODevice::WriteOnly | QIODevice::Truncate ) );
   file.write( "not an image" );
   file.close();
@@ -266,6 +270,59 @@ void TestOrientationDock::clickedAndFoundControlOrientTheScannedPhoto()
   QCOMPARE( again.predictAndFind(), 0 );
   QVERIFY2( again.message().startsWith( QStringLiteral( "The photo cannot be read" ) ), qPrintable( again.message() ) );
   QCOMPARE( again.model()->summary().measuredControl, measured );
+  QVERIFY( QFile::remove( file.fileName() ) && QFile::rename( file.fileName() + QStringLiteral( ".kept" ), file.fileName() ) );
+}
+
+void TestOrientationDock::addPhotoStartsABlockAndOpensThePhotoUnoriented()
+{
+  const geostation::BlockImage &truthImage = mTruthBlock->images.front();
+  const QString photo = QString::fromStdString( mTruthBlock->imageFilePath( truthImage ).string() );
+  const geostation::Camera &film = mTruthBlock->cameraOf( truthImage );
+  // the film camera as a user types it: calibrated principal distance, pixel size and fiducials
+  QString fiducials;
+  for ( const geostation::Fiducial &f : film.fiducials )
+    fiducials += QStringLiteral( "%1{\"id\": \"%2\", \"x_mm\": %3, \"y_mm\": %4}" ).arg( fiducials.isEmpty() ? QString() : QStringLiteral( ", " ) )
+                 .arg( QString::fromStdString( f.id ) ).arg( f.photoMm.x(), 0, 'g', 17 ).arg( f.photoMm.y(), 0, 'g', 17 );
+  const QString cameraJson = QStringLiteral( "{\"id\": \"rmk\", \"width\": %1, \"height\": %2, \"f\": %3, \"cx\": %4, \"cy\": %5, \"pixel_size_mm\": %6, \"fiducials\": [%7]}" )
+                             .arg( film.width ).arg( film.height ).arg( film.f, 0, 'g', 17 ).arg( film.cx, 0, 'g', 17 ).arg( film.cy, 0, 'g', 17 ).arg( *film.pixelSizeMm, 0, 'g', 17 ).arg( fiducials );
+  GeoStationMultiviewSession session;
+  geostation::Camera camera;
+  QString error;
+  QVERIFY2( GeoStationAddPhotoDialog::cameraForPhoto( nullptr, photo, cameraJson, &camera, &error ), qPrintable( error ) );
+  QCOMPARE( camera.fiducials.size(), film.fiducials.size() );
+  const QString blockPath = mDir.filePath( QStringLiteral( "added/new.geostation.json" ) );
+  QDir().mkpath( mDir.filePath( QStringLiteral( "added" ) ) );
+  const QgsCoordinateReferenceSystem crs( QString::fromStdString( mTruthBlock->crs ) );
+  // bad input first: a geographic CRS, a file that is no photo: one sentence, no block written
+  QVERIFY( GeoStationAddPhotoDialog::addToBlock( &session, photo, camera, blockPath, QgsCoordinateReferenceSystem( QStringLiteral( "EPSG:4326" ) ), &error ).isEmpty() );
+  QVERIFY2( error.contains( QStringLiteral( "projected CRS" ) ), qPrintable( error ) );
+  QFile broken( mDir.filePath( QStringLiteral( "added/broken.jpg" ) ) );
+  QVERIFY( broken.open( QIODevice::WriteOnly ) );
+  broken.write( "not a photo" );
+  broken.close();
+  QVERIFY( GeoStationAddPhotoDialog::addToBlock( &session, broken.fileName(), camera, blockPath, crs, &error ).isEmpty() );
+  QVERIFY2( error.contains( QStringLiteral( "cannot be decoded" ) ), qPrintable( error ) );
+  QVERIFY( !QFileInfo::exists( blockPath ) );
+  QVERIFY( !session.hasBlock() );
+
+  const QString imageId = GeoStationAddPhotoDialog::addToBlock( &session, photo, camera, blockPath, crs, &error );
+  QVERIFY2( !imageId.isEmpty(), qPrintable( error ) );
+  QVERIFY( session.hasBlock() );
+  QCOMPARE( session.blockPath(), blockPath );
+  QVERIFY( !session.block()->image( imageId.toStdString() ).exterior.has_value() );
+  GeoStationOrientationDock dock( &session, nullptr, nullptr );
+  QVERIFY( dock.setImage( imageId ) );
+  QCOMPARE( dock.model()->summary().status, geostation::PhotoOrientationSummary::Status::NotEnoughPoints );
+
+  // the dialog: a photo that cannot be read says so; a readable one is prefilled from the file
+  GeoStationAddPhotoDialog dialog( nullptr, crs );
+  dialog.setPhotoPath( broken.fileName() );
+  QVERIFY2( dialog.problem().contains( QStringLiteral( "cannot be decoded" ) ), qPrintable( dialog.problem() ) );
+  dialog.setPhotoPath( photo );
+  QVERIFY( dialog.problem().isEmpty() );
+  QVERIFY( dialog.camera( &camera, &error ) );
+  QCOMPARE( camera.width, film.width );
+  QVERIFY( dialog.newBlockPath().endsWith( QStringLiteral( ".geostation.json" ) ) );
 }
 
 int main( int argc, char **argv )
