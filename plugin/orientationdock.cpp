@@ -20,6 +20,7 @@
 
 #include "controlpointmodel.h"
 #include "controlpointoverlay.h"
+#include "fiducialpanel.h"
 #include "groundpointtool.h"
 #include "identification/markcandidates.h"
 #include "io/rasterfile.h"
@@ -45,6 +46,9 @@ GeoStationOrientationDock::GeoStationOrientationDock( GeoStationMultiviewSession
   connect( mImageCombo, qOverload<int>( &QComboBox::activated ), this, [this]( int ) { setImage( mImageCombo->currentData().toString() ); } );
   connect( mLoadControlButton, &QPushButton::clicked, this, [this] { loadControlLayer( qobject_cast<QgsVectorLayer *>( mControlLayerCombo->currentLayer() ) ); } );
   connect( mMeasurePhotoButton, &QToolButton::toggled, this, &GeoStationOrientationDock::setMeasuring );
+  connect( mFiducialPanel, &GeoStationFiducialPanel::measuringToggled, this, &GeoStationOrientationDock::setMeasuring );
+  connect( mFiducialPanel, &GeoStationFiducialPanel::message, this, &GeoStationOrientationDock::showMessage );
+  connect( mFiducialPanel, &GeoStationFiducialPanel::innerOrientationChanged, this, &GeoStationOrientationDock::applyInnerOrientation );
   connect( mPickMapButton, &QToolButton::toggled, this, &GeoStationOrientationDock::setPickingGround );
   connect( mAddButton, &QToolButton::clicked, this, [this] { selectRow( mModel->addPoint() ); } );
   connect( mRemoveButton, &QToolButton::clicked, this, [this]
@@ -70,7 +74,9 @@ GeoStationOrientationDock::GeoStationOrientationDock( GeoStationMultiviewSession
   if ( mMultiview )
     connect( mMultiview, &GeoStationMultiviewDock::imagePixelPicked, this, [this]( const QString &imageId, QPointF pixel )
   {
-    if ( imageId == mImageId )
+    if ( imageId == mImageId && mFiducialPanel->measuring() )
+      mFiducialPanel->measurePixel( pixel );
+    else if ( imageId == mImageId )
       measurePixel( pixel );
     else
       showMessage( tr( "That view shows %1; the photo being oriented is %2." ).arg( imageId, mImageId ), true );
@@ -127,17 +133,9 @@ bool GeoStationOrientationDock::setImage( const QString &imageId )
     return false;
   }
   const geostation::Camera *camera = block->findCamera( image->cameraId );
-  std::optional<Eigen::Matrix<double, 2, 3>> nominalFromFile;
-  try
+  if ( !camera )
   {
-    if ( !camera )
-      throw std::invalid_argument( "its camera " + image->cameraId + " is not in the block" );
-    if ( image->innerOrientation )
-      nominalFromFile = geostation::nominalFromScanAffine( *camera, *image->innerOrientation );
-  }
-  catch ( const std::exception &e )
-  {
-    showMessage( tr( "Photo %1 cannot be oriented: %2." ).arg( imageId, QString::fromStdString( e.what() ) ), true );
+    showMessage( tr( "Photo %1 cannot be oriented: its camera %2 is not in the block." ).arg( imageId, QString::fromStdString( image->cameraId ) ), true );
     return false;
   }
   mImageId = imageId;
@@ -145,11 +143,14 @@ bool GeoStationOrientationDock::setImage( const QString &imageId )
   mGrey.release();
   mGreyImageId.clear();
   mModel->clear();
-  mModel->setCamera( *camera, nominalFromFile );
+  mModel->setCamera( *camera, std::nullopt );
+  // a film camera: its fiducials, and the scan affine of the inner orientation the block has (or that is measured here)
+  mFiducialGroup->setVisible( !camera->fiducials.empty() );
+  mFiducialPanel->setPhoto( *camera, mSession->imagePath( imageId ), image->innerOrientation );
   mCameraLabel->setText( tr( "%1: %2 × %3 px, f %4 px%5" )
                          .arg( QString::fromStdString( camera->id ) ).arg( camera->width ).arg( camera->height ).arg( camera->f, 0, 'f', 1 )
                          .arg( image->innerOrientation ? tr( ", scanned film (pixels of the scan, through its inner orientation)" )
-                               : camera->fiducials.empty() ? QString() : tr( ", film camera without inner orientation yet: run Inner Orientation first" ) ) );
+                               : camera->fiducials.empty() ? QString() : tr( ", film camera without inner orientation yet: detect or measure its fiducials" ) ) );
   // the measurements saved with the photo last time
   const QString tablePath = controlTablePath();
   if ( QFileInfo::exists( tablePath ) )
@@ -436,6 +437,10 @@ bool GeoStationOrientationDock::saveToBlock()
   {
     geostation::Block block = *mSession->block();
     geostation::applyPhotoOrientation( block, mImageId.toStdString(), summary, mModel->options() );
+    if ( const std::optional<geostation::ImageInnerOrientation> inner = mFiducialPanel->innerOrientation() )
+      for ( geostation::BlockImage &image : block.images )
+        if ( image.id == mImageId.toStdString() )
+          image.innerOrientation = inner;
     // the measurements first: a block saved without them could not be reproduced
     geostation::writePhotoControlTable( controlTablePath().toStdString(), mImageId.toStdString(), mModel->points() );
     block.save( mSession->blockPath().toStdString() );
@@ -451,12 +456,31 @@ bool GeoStationOrientationDock::saveToBlock()
   return true;
 }
 
-void GeoStationOrientationDock::setMeasuring( bool on )
+void GeoStationOrientationDock::setMeasuring( bool )
 {
+  const bool on = mMeasurePhotoButton->isChecked() || mFiducialPanel->measuring();
   if ( mMultiview )
     mMultiview->setPickingRedirected( on );
   if ( on && mPickMapButton->isChecked() )
     mPickMapButton->setChecked( false );
+}
+
+void GeoStationOrientationDock::applyInnerOrientation()
+{
+  std::optional<Eigen::Matrix<double, 2, 3>> nominalFromFile;
+  if ( const std::optional<geostation::ImageInnerOrientation> inner = mFiducialPanel->innerOrientation() )
+  {
+    try
+    {
+      nominalFromFile = geostation::nominalFromScanAffine( mModel->camera(), *inner );
+    }
+    catch ( const std::exception &e )
+    {
+      showMessage( tr( "The inner orientation cannot be used: %1" ).arg( QString::fromStdString( e.what() ) ), true );
+    }
+  }
+  // the control points keep their pixels (the scan's): only the way to the camera's frame changes
+  mModel->setCamera( mModel->camera(), nominalFromFile );
 }
 
 void GeoStationOrientationDock::setPickingGround( bool on )

@@ -35,6 +35,7 @@ class QgsMapCanvas;
 class QgsVectorLayer;
 class GeoStationControlPointModel;
 class GeoStationControlPointOverlay;
+class GeoStationFiducialPanel;
 class GeoStationGroundPointTool;
 class GeoStationMultiviewDock;
 class GeoStationMultiviewSession;
@@ -52,6 +53,7 @@ class GeoStationOrientationDock : public QgsDockWidget, private Ui::GeoStationOr
     ~GeoStationOrientationDock() override;
 
     GeoStationControlPointModel *model() const { return mModel; }
+    GeoStationFiducialPanel *fiducialPanel() const { return mFiducialPanel; }
     QString imageId() const { return mImageId; }
     //! The last message shown (one sentence; problems too).
     QString message() const { return mMessage; }
@@ -90,6 +92,8 @@ class GeoStationOrientationDock : public QgsDockWidget, private Ui::GeoStationOr
     void setMeasuring( bool on );
     void setPickingGround( bool on );
     void updateFreeParameters();
+    //! The scan affine of the inner orientation (measured in the fiducial panel, or the block's) to the control-point model.
+    void applyInnerOrientation();
 
   private:
     void showMessage( const QString &text, bool warning = false );

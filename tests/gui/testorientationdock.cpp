@@ -8,6 +8,7 @@
 // against the simulator's truth.
 #include <random>
 
+#include <Eigen/Geometry>
 #include <Eigen/LU>
 
 #include <QCheckBox>
@@ -31,6 +32,9 @@
 #include "multiviewsession.h"
 #include "orientationdock.h"
 #include "addphotodialog.h"
+#include "fiducialmodel.h"
+#include "fiducialpanel.h"
+#include "imageproc/fiducialdetection.h"
 #include "io/block.h"
 #include "simulation/surveysimulator.h"
 #include "simulationtruth.h"
@@ -313,6 +317,29 @@ void TestOrientationDock::addPhotoStartsABlockAndOpensThePhotoUnoriented()
   GeoStationOrientationDock dock( &session, nullptr, nullptr );
   QVERIFY( dock.setImage( imageId ) );
   QCOMPARE( dock.model()->summary().status, geostation::PhotoOrientationSummary::Status::NotEnoughPoints );
+  QVERIFY( !dock.model()->nominalFromFile().has_value() );
+
+  // the fiducials: detected in the four corners, the affine and its decomposition live, against the simulator's truth
+  GeoStationFiducialPanel *panel = dock.fiducialPanel();
+  QCOMPARE( panel->model()->rowCount(), static_cast<int>( film.fiducials.size() ) );
+  QCOMPARE( panel->detect(), 4 );
+  QVERIFY2( panel->resultText().contains( QStringLiteral( "affinity" ) ), qPrintable( panel->resultText() ) );
+  QVERIFY( dock.model()->nominalFromFile().has_value() );
+  const geostation::ImageInnerOrientation &trueInner = *truthImage.innerOrientation;
+  double worstMm = 0.0;
+  for ( const Eigen::Vector2d &corner : { Eigen::Vector2d( 0, 0 ), Eigen::Vector2d( film.width, 0 ), Eigen::Vector2d( film.width, film.height ), Eigen::Vector2d( 0, film.height ) } )
+    worstMm = std::max( worstMm, ( ( panel->innerOrientation()->photoFromPixel - trueInner.photoFromPixel ) * corner.homogeneous() ).norm() );
+  qInfo() << "inner orientation from the detected fiducials:" << panel->resultText() << "; worst error at the scan's corners" << 1000.0 * worstMm << "µm";
+  QVERIFY( worstMm < 0.5 * *film.pixelSizeMm );
+  // a fiducial corrected by a click: the residuals follow at once
+  const int row = panel->model()->rowOf( QString::fromStdString( geostation::cornerFiducialIds( film.fiducials )[0] ) );
+  const QPointF detected = *panel->model()->measurement( row );
+  panel->selectRow( row );
+  panel->measurePixel( detected + QPointF( 3.0, 0.0 ) );
+  QVERIFY( panel->model()->summary().rmsResidualMm > 0.3 * *film.pixelSizeMm );
+  panel->selectRow( row );
+  panel->measurePixel( detected );
+  QVERIFY( panel->model()->summary().rmsResidualMm < 0.3 * *film.pixelSizeMm );
 
   // the dialog: a photo that cannot be read says so; a readable one is prefilled from the file
   GeoStationAddPhotoDialog dialog( nullptr, crs );
