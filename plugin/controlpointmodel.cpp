@@ -144,8 +144,8 @@ int GeoStationControlPointModel::acceptOffers( const QList<int> &rows )
       continue;
     const bool found = offer->second.status == geostation::PredictedPoint::Status::Found;
     const bool flagged = offer->second.status == geostation::PredictedPoint::Status::Flagged;
-    // a flagged offer is taken only when the operator picks its row
-    if ( rows.isEmpty() ? !found : !( rows.contains( row ) && ( found || flagged ) ) )
+    // every offer found; a flagged one only when the operator picked its row
+    if ( !found && !( flagged && rows.contains( row ) ) )
       continue;
     point.pixelInFile = offer->second.pixelInFile;
     mOffers.erase( offer );
@@ -267,7 +267,8 @@ QVariant GeoStationControlPointModel::data( const QModelIndex &index, int role )
   auto number = [role]( double value, int decimals ) -> QVariant { return role == Qt::EditRole ? QVariant( value ) : QVariant( QString::number( value, 'f', decimals ) ); };
   // the pixel shown: the measurement, else the offer, else nothing
   std::optional<Eigen::Vector2d> pixel = point.pixelInFile;
-  if ( !pixel && mOffers.count( point.pointId ) && mOffers.at( point.pointId ).status != geostation::PredictedPoint::Status::NotFound )
+  if ( !pixel && mOffers.count( point.pointId ) && ( mOffers.at( point.pointId ).status == geostation::PredictedPoint::Status::Found
+                 || mOffers.at( point.pointId ).status == geostation::PredictedPoint::Status::Flagged ) )
     pixel = mOffers.at( point.pointId ).pixelInFile;
   switch ( column )
   {

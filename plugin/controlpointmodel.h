@@ -84,7 +84,7 @@ class GeoStationControlPointModel : public QAbstractTableModel
     //! Offers for rows not measured (replacing earlier ones); shown in the Status column.
     void setOffers( const std::vector<geostation::ControlOffer> &offers );
     const std::map<std::string, geostation::ControlOffer> &offers() const { return mOffers; }
-    //! Accepts the offers of `rows` (empty: every offer found and not flagged); returns how many were taken.
+    //! Accepts every offer found, and the flagged offers of `rows` (the operator looked at them); returns how many were taken.
     int acceptOffers( const QList<int> &rows = QList<int>() );
     void rejectOffers();
 

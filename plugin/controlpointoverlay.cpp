@@ -41,7 +41,9 @@ void GeoStationControlPointOverlay::draw( GeoStationMultiviewDock *multiview, co
       std::optional<Eigen::Vector2d> pixel = points[i].pixelInFile;
       QColor colour = result.blunder ? QColor( 220, 0, 0 ) : QColor( 0, 200, 0 );
       int icon = QgsVertexMarker::ICON_CROSS;
-      if ( !pixel && offer != model.offers().end() && offer->second.status != geostation::PredictedPoint::Status::NotFound )
+      const bool offered = offer != model.offers().end()
+                           && ( offer->second.status == geostation::PredictedPoint::Status::Found || offer->second.status == geostation::PredictedPoint::Status::Flagged );
+      if ( !pixel && offered )
       {
         pixel = offer->second.pixelInFile;
         colour = offer->second.status == geostation::PredictedPoint::Status::Found ? QColor( 255, 160, 0 ) : QColor( 255, 60, 200 );

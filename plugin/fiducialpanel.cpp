@@ -13,7 +13,7 @@ GeoStationFiducialPanel::GeoStationFiducialPanel( QWidget *parent )
 {
   setupUi( this );
   mModel = new GeoStationFiducialModel( this );
-  mTable->setModel( mModel );
+  mFiducialTable->setModel( mModel );
   connect( mModel, &GeoStationFiducialModel::innerOrientationChanged, this, &GeoStationFiducialPanel::updateResult );
   connect( mDetectButton, &QToolButton::clicked, this, &GeoStationFiducialPanel::detect );
   connect( mMeasureButton, &QToolButton::toggled, this, &GeoStationFiducialPanel::measuringToggled );
@@ -46,7 +46,7 @@ QString GeoStationFiducialPanel::resultText() const
 
 void GeoStationFiducialPanel::selectRow( int row )
 {
-  mTable->selectRow( row );
+  mFiducialTable->selectRow( row );
 }
 
 int GeoStationFiducialPanel::detect()
@@ -91,7 +91,7 @@ int GeoStationFiducialPanel::detect()
 
 void GeoStationFiducialPanel::measurePixel( const QPointF &pixelInScan )
 {
-  const QModelIndexList selected = mTable->selectionModel()->selectedRows();
+  const QModelIndexList selected = mFiducialTable->selectionModel()->selectedRows();
   int row = selected.isEmpty() ? -1 : selected.first().row();
   for ( int r = 0; row < 0 && r < mModel->rowCount(); ++r )
     if ( !mModel->measurement( r ) )

@@ -71,6 +71,12 @@ GeoStationOrientationDock::GeoStationOrientationDock( GeoStationMultiviewSession
     connect( box, &QCheckBox::toggled, this, &GeoStationOrientationDock::updateFreeParameters );
   connect( mSession, &GeoStationMultiviewSession::blockChanged, this, &GeoStationOrientationDock::updateImageChoices );
   connect( mSession, &GeoStationMultiviewSession::viewImagesChanged, this, &GeoStationOrientationDock::drawMarkers );
+  // the block read again (after Save, or written by an algorithm): the photo list and the camera line say what it holds now
+  connect( mSession, &GeoStationMultiviewSession::blockReloaded, this, [this]
+  {
+    updateImageChoices();
+    updateCameraLabel();
+  } );
   if ( mMultiview )
     connect( mMultiview, &GeoStationMultiviewDock::imagePixelPicked, this, [this]( const QString &imageId, QPointF pixel )
   {
@@ -145,12 +151,10 @@ bool GeoStationOrientationDock::setImage( const QString &imageId )
   mModel->clear();
   mModel->setCamera( *camera, std::nullopt );
   // a film camera: its fiducials, and the scan affine of the inner orientation the block has (or that is measured here)
-  mFiducialGroup->setVisible( !camera->fiducials.empty() );
+  mTabs->setTabEnabled( mTabs->indexOf( mFiducialTab ), !camera->fiducials.empty() );
+  mTabs->setCurrentWidget( !camera->fiducials.empty() && !image->innerOrientation ? mFiducialTab : mControlTab );
   mFiducialPanel->setPhoto( *camera, mSession->imagePath( imageId ), image->innerOrientation );
-  mCameraLabel->setText( tr( "%1: %2 × %3 px, f %4 px%5" )
-                         .arg( QString::fromStdString( camera->id ) ).arg( camera->width ).arg( camera->height ).arg( camera->f, 0, 'f', 1 )
-                         .arg( image->innerOrientation ? tr( ", scanned film (pixels of the scan, through its inner orientation)" )
-                               : camera->fiducials.empty() ? QString() : tr( ", film camera without inner orientation yet: detect or measure its fiducials" ) ) );
+  updateCameraLabel();
   // the measurements saved with the photo last time
   const QString tablePath = controlTablePath();
   if ( QFileInfo::exists( tablePath ) )
@@ -175,6 +179,24 @@ bool GeoStationOrientationDock::setImage( const QString &imageId )
     mMultiview->setViewImage( 0, imageId );
   drawMarkers();
   return true;
+}
+
+void GeoStationOrientationDock::updateCameraLabel()
+{
+  const geostation::Block *block = mSession->block();
+  const geostation::BlockImage *image = block ? block->findImage( mImageId.toStdString() ) : nullptr;
+  const geostation::Camera *camera = image ? block->findCamera( image->cameraId ) : nullptr;
+  if ( !camera )
+  {
+    mCameraLabel->clear();
+    return;
+  }
+  const bool film = !camera->fiducials.empty();
+  mCameraLabel->setText( tr( "%1: %2 × %3 px, f %4 px%5%6" )
+                         .arg( QString::fromStdString( camera->id ) ).arg( camera->width ).arg( camera->height ).arg( camera->f, 0, 'f', 1 )
+                         .arg( image->innerOrientation ? tr( ", scanned film (pixels of the scan, through its inner orientation)" )
+                               : film ? tr( ", film camera without inner orientation yet: detect or measure its fiducials" ) : QString() )
+                         .arg( image->exterior ? tr( "; oriented" ) : tr( "; not oriented yet" ) ) );
 }
 
 QString GeoStationOrientationDock::controlTablePath() const

@@ -103,6 +103,7 @@ class GeoStationOrientationDock : public QgsDockWidget, private Ui::GeoStationOr
     std::optional<double> demHeight( const QgsPointXY &pointInBlockCrs, QString *why ) const;
     QList<int> selectedRows() const;
     QString controlTablePath() const;
+    void updateCameraLabel();
     void drawMarkers();
 
     GeoStationMultiviewSession *mSession;
