@@ -21,6 +21,7 @@
 #include "controlpointmodel.h"
 #include "controlpointoverlay.h"
 #include "fiducialpanel.h"
+#include "layerinphoto.h"
 #include "groundpointtool.h"
 #include "identification/markcandidates.h"
 #include "io/rasterfile.h"
@@ -41,6 +42,11 @@ GeoStationOrientationDock::GeoStationOrientationDock( GeoStationMultiviewSession
   mOverlay = std::make_unique<GeoStationControlPointOverlay>();
   mTable->setModel( mModel );
   mControlLayerCombo->setFilters( QgsMapLayerProxyModel::PointLayer );
+  mOverlayLayerCombo->setFilters( QgsMapLayerProxyModel::VectorLayer );
+  mLayerInPhoto = new GeoStationLayerInPhoto( mSession, mMultiview, this );
+  auto overlayLayer = [this] { mLayerInPhoto->setLayer( mShowOverlayCheck->isChecked() ? qobject_cast<QgsVectorLayer *>( mOverlayLayerCombo->currentLayer() ) : nullptr ); };
+  connect( mOverlayLayerCombo, &QgsMapLayerComboBox::layerChanged, this, overlayLayer );
+  connect( mShowOverlayCheck, &QCheckBox::toggled, this, overlayLayer );
 
   connect( mModel, &GeoStationControlPointModel::orientationChanged, this, &GeoStationOrientationDock::updateOrientation );
   connect( mImageCombo, qOverload<int>( &QComboBox::activated ), this, [this]( int ) { setImage( mImageCombo->currentData().toString() ); } );
@@ -532,6 +538,21 @@ void GeoStationOrientationDock::updateFreeParameters()
   mModel->setOptions( options );
 }
 
+std::optional<geostation::OrientedImage> GeoStationOrientationDock::currentOrientation() const
+{
+  // the orientation being measured when there is one, else the block's
+  std::optional<geostation::OrientedImage> oriented;
+  const geostation::PhotoOrientationSummary &summary = mModel->summary();
+  const geostation::BlockImage *image = mSession->block() ? mSession->block()->findImage( mImageId.toStdString() ) : nullptr;
+  if ( summary.oriented() )
+    oriented.emplace( summary.resection.camera, summary.resection.exterior );
+  else if ( image && image->exterior && mModel->camera().width > 0 )
+    oriented.emplace( mModel->camera(), *image->exterior );
+  if ( oriented && mModel->nominalFromFile() )
+    oriented->setScanAffine( *mModel->nominalFromFile() );
+  return oriented;
+}
+
 int GeoStationOrientationDock::markerCount() const
 {
   return mOverlay->markerCount();
@@ -560,6 +581,7 @@ void GeoStationOrientationDock::updateOrientation()
     }
   }
   mResultText->setPlainText( lines.join( QLatin1Char( '\n' ) ) );
+  mLayerInPhoto->setPhoto( mImageId, currentOrientation() );
   mSaveButton->setEnabled( summary.oriented() );
   drawMarkers();
 }

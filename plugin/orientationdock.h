@@ -29,6 +29,7 @@
 #include <qgsdockwidget.h>
 #include <qgspointxy.h>
 
+#include "geometry/projection.h"
 #include "ui_geostationorientationdockbase.h"
 
 class QgsMapCanvas;
@@ -36,6 +37,7 @@ class QgsVectorLayer;
 class GeoStationControlPointModel;
 class GeoStationControlPointOverlay;
 class GeoStationFiducialPanel;
+class GeoStationLayerInPhoto;
 class GeoStationGroundPointTool;
 class GeoStationMultiviewDock;
 class GeoStationMultiviewSession;
@@ -58,6 +60,9 @@ class GeoStationOrientationDock : public QgsDockWidget, private Ui::GeoStationOr
     //! The last message shown (one sentence; problems too).
     QString message() const { return mMessage; }
     QString resultText() const;
+    //! The photo's orientation as it stands: the one being measured, else the block's; nothing when neither.
+    std::optional<geostation::OrientedImage> currentOrientation() const;
+    GeoStationLayerInPhoto *layerInPhoto() const { return mLayerInPhoto; }
     //! Markers drawn in the views of the photo (tests).
     int markerCount() const;
 
@@ -116,6 +121,7 @@ class GeoStationOrientationDock : public QgsDockWidget, private Ui::GeoStationOr
     cv::Mat mGrey;
     QString mGreyImageId;
     std::unique_ptr<GeoStationControlPointOverlay> mOverlay;
+    GeoStationLayerInPhoto *mLayerInPhoto = nullptr;
 };
 
 #endif // GEOSTATIONORIENTATIONDOCK_H

@@ -15,7 +15,7 @@ from qgis.core import QgsApplication, QgsCoordinateReferenceSystem, QgsPointXY, 
 from qgis.gui import QgsMapCanvas
 from qgis.PyQt.QtCore import Q_ARG, Q_RETURN_ARG, QMetaObject, QObject, Qt, QTimer
 from qgis.PyQt.QtTest import QTest
-from qgis.PyQt.QtWidgets import QComboBox, QDockWidget, QLabel, QPlainTextEdit, QPushButton, QTableView, QToolButton
+from qgis.PyQt.QtWidgets import QCheckBox, QComboBox, QDockWidget, QLabel, QPlainTextEdit, QPushButton, QTableView, QToolButton
 from qgis.utils import iface
 
 RESULT = os.environ["GEOSTATION_E2E_RESULT"]
@@ -128,6 +128,17 @@ def run():
         result["photo_choice_saved"] = dock.findChild(QComboBox, "mImageCombo").currentText()
         result["camera_line_saved"] = dock.findChild(QLabel, "mCameraLabel").text()
         dock.findChild(QToolButton, "mMeasurePhotoButton").setChecked(False)
+
+        checkpoint(result, "map layer in the photo")
+        roads_map = QgsVectorLayer(CONTROL.split("|")[0] + "|layername=roads", "road map", "ogr")
+        QgsProject.instance().addMapLayer(roads_map)
+        overlay = dock.findChild(QComboBox, "mOverlayLayerCombo")
+        overlay.setCurrentIndex(overlay.findText(roads_map.name()))
+        dock.findChild(QCheckBox, "mShowOverlayCheck").setChecked(True)
+        invoke(multiview, "zoomViewToPixel", 0, 512.0, 384.0, 600.0)
+        wait(1.0)
+        multiview.grab().save(os.path.join(ARTIFACTS, "orientation-map-layer.png"))
+        dock.findChild(QCheckBox, "mShowOverlayCheck").setChecked(False)
 
         checkpoint(result, "digitising")
         invoke(plugin, "setFeatureClassesJson", json.dumps([{"name": "Road", "geometry": "line"}]), returns=bool)

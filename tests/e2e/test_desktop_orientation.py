@@ -151,7 +151,7 @@ class DesktopOrientationTest(unittest.TestCase):
             self.assertLess(abs(dz), max(3 * sigma[2], 0.15), "vertex %s: %.2f m above the road" % (v, dz))
 
     def test_screenshots_saved(self):
-        for name in ("orientation-clicked.png", "orientation-accepted.png", "orientation-road.png"):
+        for name in ("orientation-clicked.png", "orientation-accepted.png", "orientation-map-layer.png", "orientation-road.png"):
             path = os.path.join(ARTIFACT_DIR, name)
             self.assertTrue(os.path.exists(path), name)
             self.assertGreater(os.path.getsize(path), 10000)

@@ -19,6 +19,7 @@
 #include <QtTest/QtTest>
 
 #include <qgsapplication.h>
+#include <qgsfeatureiterator.h>
 #include <qgsmapcanvas.h>
 #include <qgsproject.h>
 #include <qgsrasterlayer.h>
@@ -32,6 +33,7 @@
 #include "multiviewsession.h"
 #include "orientationdock.h"
 #include "addphotodialog.h"
+#include "layerinphoto.h"
 #include "fiducialmodel.h"
 #include "fiducialpanel.h"
 #include "imageproc/fiducialdetection.h"
@@ -236,6 +238,27 @@ void TestOrientationDock::clickedAndFoundControlOrientTheScannedPhoto()
       ++checks;
     }
   QCOMPARE( model->summary().measuredCheck, 4 );
+
+  // the map's roads drawn in the photo with the orientation being measured, hidden parts marked; following the layer's edits
+  QgsVectorLayer *roads = new QgsVectorLayer( mDir.filePath( QStringLiteral( "photo/truth.gpkg|layername=roads" ) ), QStringLiteral( "roads" ), QStringLiteral( "ogr" ) );
+  QVERIFY( roads->isValid() );
+  QgsProject::instance()->addMapLayer( roads );
+  dock.layerInPhoto()->setLayer( roads );
+  const int visibleRuns = dock.layerInPhoto()->visibleParts(), hiddenRuns = dock.layerInPhoto()->hiddenParts();
+  qInfo() << "roads in the photo:" << visibleRuns << "visible runs," << hiddenRuns << "hidden behind the terrain," << dock.layerInPhoto()->skippedFeatures() << "skipped";
+  QVERIFY( visibleRuns >= 10 );
+  QVERIFY( hiddenRuns >= 2 );
+  QCOMPARE( dock.layerInPhoto()->skippedFeatures(), 0 );
+  QVERIFY( roads->startEditing() );
+  QgsFeatureIds all;
+  QgsFeatureIterator roadFeatures = roads->getFeatures();
+  QgsFeature road;
+  while ( roadFeatures.nextFeature( road ) )
+    all.insert( road.id() );
+  QVERIFY( roads->deleteFeatures( all ) );
+  QTRY_COMPARE_WITH_TIMEOUT( dock.layerInPhoto()->visibleParts(), 0, 3000 ); // the edit buffer, before any save
+  roads->rollBack();
+  QTRY_COMPARE_WITH_TIMEOUT( dock.layerInPhoto()->visibleParts(), visibleRuns, 3000 );
 
   // a ground click off the DEM: one sentence, nothing changed
   const int rows = model->rowCount();
