@@ -21,6 +21,7 @@
 #include "controlpointmodel.h"
 #include "controlpointoverlay.h"
 #include "fiducialpanel.h"
+#include "groundpoints.h"
 #include "layerinphoto.h"
 #include "groundpointtool.h"
 #include "identification/markcandidates.h"
@@ -223,78 +224,13 @@ int GeoStationOrientationDock::loadControlLayer( QgsVectorLayer *layer )
     showMessage( tr( "Choose a point layer of control points (and open a block) first." ), true );
     return 0;
   }
-  const QgsFields fields = layer->fields();
-  int idField = -1, zField = -1;
-  for ( const QString &name : { QStringLiteral( "point_id" ), QStringLiteral( "id" ), QStringLiteral( "name" ) } )
-    if ( idField < 0 )
-      idField = fields.lookupField( name );
-  for ( const QString &name : { QStringLiteral( "Z" ), QStringLiteral( "height" ), QStringLiteral( "elevation" ) } )
-    if ( zField < 0 )
-      zField = fields.lookupField( name );
-  const QgsCoordinateTransform toBlock( layer->crs(), mSession->crs(), QgsProject::instance() );
-  int read = 0, withoutHeight = 0;
-  QgsFeature f;
-  QgsFeatureIterator it = layer->getFeatures();
-  while ( it.nextFeature( f ) )
-  {
-    const QgsGeometry geometry = f.geometry();
-    if ( geometry.isNull() || geometry.isEmpty() )
-      continue;
-    const QgsPoint point = geometry.vertexAt( 0 );
-    QgsPointXY xy;
-    try
-    {
-      xy = toBlock.transform( QgsPointXY( point.x(), point.y() ) );
-    }
-    catch ( const QgsCsException & )
-    {
-      continue;
-    }
-    std::optional<double> z;
-    if ( point.is3D() && std::isfinite( point.z() ) )
-      z = point.z();
-    else if ( zField >= 0 && !f.attribute( zField ).isNull() )
-      z = f.attribute( zField ).toDouble();
-    else
-    {
-      QString why;
-      z = demHeight( xy, &why );
-    }
-    if ( !z )
-    {
-      ++withoutHeight;
-      continue;
-    }
-    const QString id = idField >= 0 ? f.attribute( idField ).toString() : QString::number( f.id() );
-    mModel->setGroundPoint( id, Eigen::Vector3d( xy.x(), xy.y(), *z ) );
-    ++read;
-  }
-  showMessage( withoutHeight ? tr( "%1 control points read from %2; %3 left out without a height (no Z, no height field, not on the DEM layer)." ).arg( read ).arg( layer->name() ).arg( withoutHeight )
-               : tr( "%1 control points read from %2." ).arg( read ).arg( layer->name() ), withoutHeight > 0 );
-  return read;
-}
-
-std::optional<double> GeoStationOrientationDock::demHeight( const QgsPointXY &pointInBlockCrs, QString *why ) const
-{
-  QgsRasterLayer *dem = qobject_cast<QgsRasterLayer *>( QgsProject::instance()->mapLayer( mSession->demLayerId() ) );
-  if ( !dem || !dem->dataProvider() )
-  {
-    *why = tr( "no DEM layer is set (GeoStation ▸ Measurement Settings)" );
-    return std::nullopt;
-  }
-  try
-  {
-    const QgsPointXY inDem = QgsCoordinateTransform( mSession->crs(), dem->crs(), QgsProject::instance() ).transform( pointInBlockCrs );
-    bool ok = false;
-    const double height = dem->dataProvider()->sample( inDem, 1, &ok );
-    if ( ok && std::isfinite( height ) )
-      return height;
-  }
-  catch ( const QgsCsException & )
-  {
-  }
-  *why = tr( "the point is outside the DEM %1 or on a hole in it" ).arg( dem->name() );
-  return std::nullopt;
+  const GeoStationGroundPoints::ControlLayerPoints read = GeoStationGroundPoints::readControlLayer( layer, mSession );
+  for ( const auto &[id, world] : read.points )
+    mModel->setGroundPoint( id, world );
+  const int count = read.points.size();
+  showMessage( read.withoutHeight ? tr( "%1 control points read from %2; %3 left out without a height (no Z, no height field, not on the DEM layer)." ).arg( count ).arg( layer->name() ).arg( read.withoutHeight )
+               : tr( "%1 control points read from %2." ).arg( count ).arg( layer->name() ), read.withoutHeight > 0 );
+  return count;
 }
 
 QList<int> GeoStationOrientationDock::selectedRows() const
@@ -350,7 +286,7 @@ bool GeoStationOrientationDock::pickGround( const QgsPointXY &pointInCanvasCrs )
     return false;
   }
   QString why;
-  const std::optional<double> height = demHeight( xy, &why );
+  const std::optional<double> height = GeoStationGroundPoints::demHeight( mSession, xy, &why );
   if ( !height )
   {
     showMessage( tr( "No ground position taken: %1." ).arg( why ), true );

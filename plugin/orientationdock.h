@@ -104,8 +104,6 @@ class GeoStationOrientationDock : public QgsDockWidget, private Ui::GeoStationOr
     void showMessage( const QString &text, bool warning = false );
     //! The photo's file as 8-bit grey (read once per photo); empty with a message when it cannot be read.
     const cv::Mat &photoGrey();
-    //! Height of the DEM layer at a point of the block CRS, or nothing.
-    std::optional<double> demHeight( const QgsPointXY &pointInBlockCrs, QString *why ) const;
     QList<int> selectedRows() const;
     QString controlTablePath() const;
     void updateCameraLabel();
