@@ -346,23 +346,43 @@ int GeoStationOrientationDock::predictAndFind()
 {
   const geostation::Block *block = mSession->block();
   const geostation::BlockImage *image = block ? block->findImage( mImageId.toStdString() ) : nullptr;
-  std::optional<geostation::ExteriorOrientation> approximate;
+  // the orientation measured; else the block's (e.g. GNSS/INS); else from three points, or two and the camera's position
+  std::vector<geostation::ExteriorOrientation> candidates;
   if ( mModel->summary().oriented() )
-    approximate = mModel->summary().resection.exterior;
+    candidates.push_back( mModel->summary().resection.exterior );
   else if ( image && image->exterior )
-    approximate = image->exterior; // e.g. the photo's GNSS/INS values
-  if ( !approximate )
+    candidates.push_back( *image->exterior );
+  else
   {
-    showMessage( tr( "Measure %1 points first (or give the photo an approximate orientation): the points are predicted from the orientation." ).arg( mModel->summary().neededControl ), true );
+    std::optional<Eigen::Vector3d> centre;
+    const QStringList xyz = mApproxCentreEdit->text().simplified().split( QLatin1Char( ' ' ), Qt::SkipEmptyParts );
+    bool okX = false, okY = false, okZ = false;
+    if ( xyz.size() == 3 )
+    {
+      const Eigen::Vector3d c( xyz[0].toDouble( &okX ), xyz[1].toDouble( &okY ), xyz[2].toDouble( &okZ ) );
+      if ( okX && okY && okZ )
+        centre = c;
+    }
+    if ( !mApproxCentreEdit->text().trimmed().isEmpty() && !centre )
+    {
+      showMessage( tr( "The approximate camera position must read \"X Y Z\" (block CRS, metres)." ), true );
+      return 0;
+    }
+    candidates = geostation::approximatePhotoOrientations( mModel->camera(), mModel->nominalFromFile(), mModel->points(), centre );
+  }
+  if ( candidates.empty() )
+  {
+    showMessage( tr( "Measure three points first, or two and give the camera's approximate position: the others are predicted from the orientation." ), true );
     return 0;
   }
   const cv::Mat &grey = photoGrey();
   if ( grey.empty() )
     return 0;
   std::vector<geostation::ControlOffer> offers;
+  int chosen = -1;
   try
   {
-    offers = geostation::offerPredictedControl( grey, mModel->camera(), mModel->nominalFromFile(), *approximate, mModel->points() );
+    offers = geostation::offerPredictedControl( grey, mModel->camera(), mModel->nominalFromFile(), candidates, mModel->points(), &chosen );
   }
   catch ( const std::exception &e )
   {
@@ -377,7 +397,8 @@ int GeoStationOrientationDock::predictAndFind()
     flagged += offer.status == geostation::PredictedPoint::Status::Flagged ? 1 : 0;
     notFound += offer.status == geostation::PredictedPoint::Status::NotFound ? 1 : 0;
   }
-  showMessage( tr( "%1 points found near their predictions, %2 flagged (check them before accepting), %3 not found." ).arg( found ).arg( flagged ).arg( notFound ) );
+  showMessage( tr( "%1 points found near their predictions, %2 flagged (check them before accepting), %3 not found%4." ).arg( found ).arg( flagged ).arg( notFound )
+               .arg( candidates.size() > 1 ? tr( " (of %1 possible orientations from three points, the one under which the most marks were found)" ).arg( candidates.size() ) : QString() ) );
   drawMarkers();
   return found;
 }

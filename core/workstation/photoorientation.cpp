@@ -8,12 +8,16 @@
 #include <map>
 #include <set>
 #include <sstream>
+#include <tuple>
 #include <fstream>
 #include <stdexcept>
 
 #include <Eigen/LU>
+#include <Eigen/SVD>
 
 #include "geometry/projection.h"
+#include "geometry/rotation.h"
+#include "identification/threepointpose.h"
 #include "identification/markcandidates.h"
 #include "io/block.h"
 #include "io/textfile.h"
@@ -199,6 +203,116 @@ namespace geostation
     for ( const PredictedPoint &p : prediction.points )
       offers.push_back( { p.pointId, p.status, p.reason, apply( toFile, p.pixelInImage ), apply( toFile, p.predictedPx ) } );
     return offers;
+  }
+
+  std::vector<ExteriorOrientation> approximatePhotoOrientations( const Camera &camera, const std::optional<Affine> &nominalFromFile,
+      const std::vector<PhotoControlPoint> &points, const std::optional<Eigen::Vector3d> &approximateCentre )
+  {
+    const Affine toNominal = nominalFromFile.value_or( identityAffine() );
+    // the measured points as rays (ideal coordinates) and ground points
+    std::vector<Eigen::Vector3d> world;
+    std::vector<Eigen::Vector2d> ideal;
+    for ( const PhotoControlPoint &p : points )
+    {
+      if ( p.role == ControlRole::Off )
+        continue;
+      if ( !p.pixelInFile )
+        continue;
+      if ( const std::optional<Eigen::Vector3d> ray = camera.rayInCameraFromPixel( apply( toNominal, *p.pixelInFile ) ) )
+      {
+        world.push_back( p.world );
+        ideal.push_back( ray->head<2>() );
+      }
+    }
+    auto exterior = [&]( const Eigen::Matrix3d &worldFromCamera, const Eigen::Vector3d &centre ) {
+      ExteriorOrientation eo;
+      eo.projectionCentre = centre;
+      const Eigen::Vector3d angles = omegaPhiKappaDegFromRotation( worldFromCamera );
+      eo.omegaDeg = angles.x();
+      eo.phiDeg = angles.y();
+      eo.kappaDeg = angles.z();
+      return eo;
+    };
+    if ( world.size() >= 3 )
+    {
+      // the three points spanning the largest triangle in the photo
+      std::array<size_t, 3> best { 0, 1, 2 };
+      double bestArea = -1.0;
+      for ( size_t a = 0; a < ideal.size(); ++a )
+        for ( size_t b = a + 1; b < ideal.size(); ++b )
+          for ( size_t c = b + 1; c < ideal.size(); ++c )
+          {
+            const Eigen::Vector2d u = ideal[b] - ideal[a], v = ideal[c] - ideal[a];
+            const double area = std::abs( u.x() * v.y() - u.y() * v.x() );
+            if ( area > bestArea )
+            {
+              bestArea = area;
+              best = { a, b, c };
+            }
+          }
+      const Eigen::Vector3d origin = ( world[best[0]] + world[best[1]] + world[best[2]] ) / 3.0;
+      const std::vector<ThreePointPose> poses = threePointPoses( { world[best[0]] - origin, world[best[1]] - origin, world[best[2]] - origin },
+                                                                 { ideal[best[0]], ideal[best[1]], ideal[best[2]] } );
+      std::vector<std::pair<double, ExteriorOrientation>> ranked;
+      for ( const ThreePointPose &pose : poses )
+      {
+        const ExteriorOrientation eo = exterior( pose.cameraFromWorld.transpose(), pose.centre + origin );
+        const OrientedImage image( camera, eo );
+        // how well the other measured points agree (ideal units); with three points all agree
+        double misfit = 0.0;
+        for ( size_t i = 0; i < world.size(); ++i )
+        {
+          const Eigen::Vector3d p = image.cameraFromWorld( world[i] );
+          misfit += p.z() < 0.0 ? ( Eigen::Vector2d( -p.x() / p.z(), -p.y() / p.z() ) - ideal[i] ).squaredNorm() : 1e6;
+        }
+        ranked.emplace_back( misfit, eo );
+      }
+      std::stable_sort( ranked.begin(), ranked.end(), []( const auto &a, const auto &b ) { return a.first < b.first; } );
+      std::vector<ExteriorOrientation> candidates;
+      for ( const auto &[misfit, eo] : ranked )
+        if ( world.size() == 3 || misfit < 1e-4 * static_cast<double>( world.size() ) )
+          candidates.push_back( eo );
+      return candidates;
+    }
+    if ( world.size() == 2 && approximateCentre && approximateCentre->allFinite() )
+    {
+      // Kabsch on the two rays and their cross product
+      Eigen::Matrix3d fromCamera, toWorld;
+      for ( int i = 0; i < 2; ++i )
+      {
+        fromCamera.col( i ) = Eigen::Vector3d( ideal[i].x(), ideal[i].y(), -1.0 ).normalized();
+        toWorld.col( i ) = ( world[i] - *approximateCentre ).normalized();
+      }
+      fromCamera.col( 2 ) = fromCamera.col( 0 ).cross( fromCamera.col( 1 ) );
+      toWorld.col( 2 ) = toWorld.col( 0 ).cross( toWorld.col( 1 ) );
+      if ( fromCamera.col( 2 ).norm() < 1e-6 || toWorld.col( 2 ).norm() < 1e-6 )
+        return {}; // the two points on one ray
+      const Eigen::JacobiSVD<Eigen::Matrix3d> svd( toWorld * fromCamera.transpose(), Eigen::ComputeFullU | Eigen::ComputeFullV );
+      Eigen::Matrix3d d = Eigen::Matrix3d::Identity();
+      d( 2, 2 ) = ( svd.matrixU() * svd.matrixV().transpose() ).determinant() < 0.0 ? -1.0 : 1.0;
+      return { exterior( svd.matrixU() * d * svd.matrixV().transpose(), *approximateCentre ) };
+    }
+    return {};
+  }
+
+  std::vector<ControlOffer> offerPredictedControl( const cv::Mat &greyFile, const Camera &camera, const std::optional<Affine> &nominalFromFile,
+      const std::vector<ExteriorOrientation> &candidates, const std::vector<PhotoControlPoint> &points, int *chosen, const ControlPredictionOptions &options )
+  {
+    std::vector<ControlOffer> best;
+    int bestFound = -1;
+    *chosen = -1;
+    for ( size_t k = 0; k < candidates.size(); ++k )
+    {
+      std::vector<ControlOffer> offers = offerPredictedControl( greyFile, camera, nominalFromFile, candidates[k], points, options );
+      const int found = static_cast<int>( std::count_if( offers.begin(), offers.end(), []( const ControlOffer &o ) { return o.status == PredictedPoint::Status::Found; } ) );
+      if ( found > bestFound )
+      {
+        bestFound = found;
+        best = std::move( offers );
+        *chosen = static_cast<int>( k );
+      }
+    }
+    return best;
   }
 
   std::optional<Eigen::Vector2d> refineMarkPixel( const cv::Mat &greyFile, const Eigen::Vector2d &clickedInFile, double searchRadiusPx,

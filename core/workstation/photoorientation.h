@@ -134,6 +134,28 @@ namespace geostation
       const ControlPredictionOptions &options = ControlPredictionOptions() );
 
   /**
+   * Approximate orientations for the semi-automatic mode before four points
+   * are measured (the monoplotter paper's alternatives): from three
+   * measured points by P3P - its up to four solutions, those the other
+   * measured points agree with best first - or from two points and the
+   * camera's approximate position (`approximateCentre`, block CRS): the
+   * rotation that turns the two rays onto the two points. Empty when
+   * neither applies (or the geometry gives no solution). Which of several
+   * is right, the photo decides: offerPredictedControl() with candidates.
+   */
+  std::vector<ExteriorOrientation> approximatePhotoOrientations( const Camera &camera, const std::optional<Eigen::Matrix<double, 2, 3>> &nominalFromFile,
+      const std::vector<PhotoControlPoint> &points, const std::optional<Eigen::Vector3d> &approximateCentre = std::nullopt );
+
+  /**
+   * offerPredictedControl() from each candidate orientation in turn; the
+   * offers of the one under which the most marks are found (`chosen`
+   * receives its index; -1 and no offers without candidates).
+   */
+  std::vector<ControlOffer> offerPredictedControl( const cv::Mat &greyFile, const Camera &camera, const std::optional<Eigen::Matrix<double, 2, 3>> &nominalFromFile,
+      const std::vector<ExteriorOrientation> &candidates, const std::vector<PhotoControlPoint> &points, int *chosen,
+      const ControlPredictionOptions &options = ControlPredictionOptions() );
+
+  /**
    * The operator-aided mode: the centre of the mark nearest to a clicked
    * pixel (file pixels), within `searchRadiusPx` and within the mark's own
    * size of the click (the click is on the mark: another mark nearby is

@@ -7,6 +7,8 @@
 #include <filesystem>
 #include <fstream>
 #include <random>
+
+#include <Eigen/Geometry>
 #include <unistd.h>
 
 #include "identification/markcandidates.h"
@@ -309,4 +311,53 @@ TEST_F( PhotoOrientationTest, ControlTableRoundTripsAndResectsTheSame )
     EXPECT_NE( std::string( e.what() ).find( "Line 2 of the control table" ), std::string::npos ) << e.what();
     EXPECT_NE( std::string( e.what() ).find( "X is not a number" ), std::string::npos ) << e.what();
   }
+}
+
+TEST_F( PhotoOrientationTest, ThreePointsOrTwoAndTheCameraPositionStartTheSemiAutomaticMode )
+{
+  const cv::Mat grey = markGrey( readRaster( sTruthBlock->imageFilePath( image() ).string() ).pixels );
+  const Eigen::Vector3d trueCentre = image().exterior->projectionCentre;
+  auto scoreOffers = [&]( const ExteriorOrientation &approximate, const std::vector<PhotoControlPoint> &list ) {
+    int found = 0, within = 0;
+    for ( const ControlOffer &offer : offerPredictedControl( grey, camera(), nominalFromFile(), approximate, list ) )
+      if ( offer.status == PredictedPoint::Status::Found )
+      {
+        ++found;
+        const auto truth = truePixel( offer.pointId );
+        within += truth && ( offer.pixelInFile - *truth ).norm() <= 0.5 ? 1 : 0;
+      }
+    return std::make_pair( found, within );
+  };
+
+  // three points: P3P gives up to four orientations; the photo decides (the one under which the most marks are found)
+  std::vector<PhotoControlPoint> three = controlList( 3 );
+  EXPECT_EQ( orientPhoto( camera(), nominalFromFile(), three ).status, PhotoOrientationSummary::Status::NotEnoughPoints );
+  const std::vector<ExteriorOrientation> fromThree = approximatePhotoOrientations( camera(), nominalFromFile(), three );
+  ASSERT_GE( fromThree.size(), 1u );
+  int chosen = -1;
+  const std::vector<ControlOffer> offersThree = offerPredictedControl( grey, camera(), nominalFromFile(), fromThree, three, &chosen );
+  ASSERT_GE( chosen, 0 );
+  std::cout << "three points: " << fromThree.size() << " P3P orientations; the chosen one's camera " << ( fromThree[chosen].projectionCentre - trueCentre ).norm()
+            << " m from the truth\n";
+  EXPECT_LT( ( fromThree[chosen].projectionCentre - trueCentre ).norm(), 10.0 );
+  const auto [foundThree, withinThree] = scoreOffers( fromThree[chosen], three );
+  std::cout << "  offers: " << foundThree << " found, " << withinThree << " within 0.5 px\n";
+  EXPECT_GE( foundThree, 5 );
+  EXPECT_GE( withinThree, foundThree * 2 / 3 );
+
+  // two points and the camera's position known to 20 m (e.g. from a map)
+  std::vector<PhotoControlPoint> two = controlList( 2 );
+  EXPECT_TRUE( approximatePhotoOrientations( camera(), nominalFromFile(), two ).empty() );
+  const std::vector<ExteriorOrientation> fromTwo = approximatePhotoOrientations( camera(), nominalFromFile(), two, trueCentre + Eigen::Vector3d( 12.0, -14.0, 6.0 ) );
+  ASSERT_EQ( fromTwo.size(), 1u );
+  const double angleDeg = Eigen::AngleAxisd( fromTwo[0].worldFromCamera().transpose() * image().exterior->worldFromCamera() ).angle() * 180.0 / M_PI;
+  std::cout << "two points and a position 20 m off: rotation " << angleDeg << " deg from the truth\n";
+  EXPECT_LT( angleDeg, 5.0 );
+  const auto [foundTwo, withinTwo] = scoreOffers( fromTwo[0], two );
+  std::cout << "  offers: " << foundTwo << " found, " << withinTwo << " within 0.5 px\n";
+  EXPECT_GE( foundTwo, 5 );
+  EXPECT_GE( withinTwo, foundTwo * 2 / 3 );
+  // no candidates: nothing offered
+  EXPECT_TRUE( offerPredictedControl( grey, camera(), nominalFromFile(), std::vector<ExteriorOrientation>(), two, &chosen ).empty() );
+  EXPECT_EQ( chosen, -1 );
 }

@@ -12,6 +12,9 @@
 #include <Eigen/LU>
 
 #include <QCheckBox>
+#include <QJsonArray>
+#include <QJsonDocument>
+#include <QJsonObject>
 #include <QItemSelectionModel>
 #include <QTableView>
 #include <QTemporaryDir>
@@ -305,13 +308,12 @@ void TestOrientationDock::addPhotoStartsABlockAndOpensThePhotoUnoriented()
   const geostation::BlockImage &truthImage = mTruthBlock->images.front();
   const QString photo = QString::fromStdString( mTruthBlock->imageFilePath( truthImage ).string() );
   const geostation::Camera &film = mTruthBlock->cameraOf( truthImage );
-  // the film camera as a user types it: calibrated principal distance, pixel size and fiducials
-  QString fiducials;
-  for ( const geostation::Fiducial &f : film.fiducials )
-    fiducials += QStringLiteral( "%1{\"id\": \"%2\", \"x_mm\": %3, \"y_mm\": %4}" ).arg( fiducials.isEmpty() ? QString() : QStringLiteral( ", " ) )
-                 .arg( QString::fromStdString( f.id ) ).arg( f.photoMm.x(), 0, 'g', 17 ).arg( f.photoMm.y(), 0, 'g', 17 );
-  const QString cameraJson = QStringLiteral( "{\"id\": \"rmk\", \"width\": %1, \"height\": %2, \"f\": %3, \"cx\": %4, \"cy\": %5, \"pixel_size_mm\": %6, \"fiducials\": [%7]}" )
-                             .arg( film.width ).arg( film.height ).arg( film.f, 0, 'g', 17 ).arg( film.cx, 0, 'g', 17 ).arg( film.cy, 0, 'g', 17 ).arg( *film.pixelSizeMm, 0, 'g', 17 ).arg( fiducials );
+  // the film camera as its calibration report gives it: principal distance, principal point, lens distortion, pixel size, fiducials
+  QFile truthFile( mDir.filePath( QStringLiteral( "photo/truth.geostation.json" ) ) );
+  QVERIFY( truthFile.open( QIODevice::ReadOnly ) );
+  QJsonObject cameraObject = QJsonDocument::fromJson( truthFile.readAll() ).object().value( QStringLiteral( "cameras" ) ).toArray().at( 0 ).toObject();
+  cameraObject.insert( QStringLiteral( "id" ), QStringLiteral( "rmk" ) );
+  const QString cameraJson = QString::fromUtf8( QJsonDocument( cameraObject ).toJson( QJsonDocument::Compact ) );
   GeoStationMultiviewSession session;
   geostation::Camera camera;
   QString error;
@@ -363,6 +365,30 @@ void TestOrientationDock::addPhotoStartsABlockAndOpensThePhotoUnoriented()
   panel->selectRow( row );
   panel->measurePixel( detected );
   QVERIFY( panel->model()->summary().rmsResidualMm < 0.3 * *film.pixelSizeMm );
+
+  // three points clicked are enough to start the semi-automatic mode (P3P; the photo picks among its solutions)
+  QgsVectorLayer control( mDir.filePath( QStringLiteral( "photo/truth.gpkg|layername=control" ) ), QStringLiteral( "control" ), QStringLiteral( "ogr" ) );
+  QCOMPARE( dock.loadControlLayer( &control ), static_cast<int>( mTruth.control.size() ) );
+  QCOMPARE( dock.predictAndFind(), 0 );
+  QVERIFY2( dock.message().contains( QStringLiteral( "Measure three points first" ) ), qPrintable( dock.message() ) );
+  std::vector<std::pair<double, std::string>> visible;
+  for ( const auto &[id, world] : mTruth.control )
+    if ( const auto pixel = truePixel( id ) )
+      visible.emplace_back( pixel->x(), id );
+  std::sort( visible.begin(), visible.end() );
+  for ( size_t k : { size_t( 0 ), visible.size() / 2, visible.size() - 1 } )
+  {
+    dock.selectRow( dock.model()->rowOf( QString::fromStdString( visible[k].second ) ) );
+    dock.measurePixel( *truePixel( visible[k].second ) );
+  }
+  QCOMPARE( dock.model()->summary().status, geostation::PhotoOrientationSummary::Status::NotEnoughPoints );
+  const int foundFromThree = dock.predictAndFind();
+  qInfo() << "three clicks:" << dock.message();
+  QVERIFY2( foundFromThree >= 5, qPrintable( dock.message() ) );
+  QCOMPARE( dock.acceptFound(), foundFromThree );
+  QVERIFY2( dock.model()->summary().oriented(), dock.model()->summary().message.c_str() );
+  qInfo() << "camera" << ( dock.model()->summary().resection.exterior.projectionCentre - truthImage.exterior->projectionCentre ).norm() << "m from the truth:" << dock.model()->summary().message.c_str();
+  QVERIFY( ( dock.model()->summary().resection.exterior.projectionCentre - truthImage.exterior->projectionCentre ).norm() < 1.0 );
 
   // the dialog: a photo that cannot be read says so; a readable one is prefilled from the file
   GeoStationAddPhotoDialog dialog( nullptr, crs );
