@@ -283,6 +283,28 @@ bool GeoStationMeasurementController::acceptPoint()
     mFeature.station = mSession->imageStation( referenceId );
     mFeature.acquired = mSession->imageTime( referenceId );
   }
+  // a line or polygon digitised in one image on the DEM follows the terrain between the operator's vertices
+  OperatorVertex op;
+  if ( vertex.method == geostation::VertexMethod::MonoplotDem && observations.size() == 1 )
+  {
+    op.demImageId = QString::fromStdString( observations.front().imageId );
+    op.pixel = QPointF( observations.front().pixelInImage.x(), observations.front().pixelInImage.y() );
+    const GeoStationFeatureClass *lineClass = mSession->findClass( mSession->currentClass() );
+    const bool isLine = lineClass && lineClass->geometry != GeoStationFeatureClass::Geometry::Point;
+    if ( isLine && !mOperatorVertices.isEmpty() && mOperatorVertices.last().demImageId == op.demImageId && loadDem( &why ) )
+    {
+      const OperatorVertex &previous = mOperatorVertices.last();
+      geostation::VertexObservation from = observations.front();
+      from.pixelInImage = Eigen::Vector2d( previous.pixel.x(), previous.pixel.y() );
+      const geostation::Monoplotter monoplotter( *from.image, *mDem, *mBlockToDem );
+      for ( const geostation::MeasuredVertex &between : geostation::demVerticesBetween( from, observations.front().pixelInImage, monoplotter, sDensifyStepPx ) )
+      {
+        mFeature.vertices << between;
+        ++op.densifiedBefore;
+      }
+    }
+  }
+  mOperatorVertices << op;
   mFeature.vertices << vertex;
 
   QStringList residuals;
@@ -296,6 +318,8 @@ bool GeoStationMeasurementController::acceptPoint()
                  .arg( vertex.sigmaM.x(), 0, 'f', 3 ).arg( vertex.sigmaM.y(), 0, 'f', 3 ).arg( vertex.sigmaM.z(), 0, 'f', 3 );
   if ( vertex.method == geostation::VertexMethod::Intersection )
     text += tr( "; residuals %1; ray angle %2°" ).arg( residuals.join( QLatin1String( ", " ) ) ).arg( vertex.maxRayAngleDeg, 0, 'f', 1 );
+  if ( op.densifiedBefore > 0 )
+    text += tr( "; %n vertex(es) on the terrain before it", nullptr, op.densifiedBefore );
   emit message( text, false );
   if ( !vertex.message.empty() )
     emit message( QString::fromStdString( vertex.message ), true );
@@ -320,7 +344,10 @@ void GeoStationMeasurementController::undoVertex()
   }
   if ( mFeature.vertices.isEmpty() )
     return;
-  mFeature.vertices.removeLast();
+  // the operator's last vertex, with the vertices that densified the line before it
+  const int densified = mOperatorVertices.isEmpty() ? 0 : mOperatorVertices.takeLast().densifiedBefore;
+  for ( int k = 0; k <= densified && !mFeature.vertices.isEmpty(); ++k )
+    mFeature.vertices.removeLast();
   emit message( tr( "Vertex %1 taken back." ).arg( mFeature.vertices.size() + 1 ), false );
   emit featureChanged();
 }
@@ -347,6 +374,7 @@ bool GeoStationMeasurementController::finishFeature()
   if ( !result.ok )
     return false; // kept here: the operator can fix the problem and finish again
   mFeature = GeoStationMeasuredFeature();
+  mOperatorVertices.clear();
   emit featureChanged();
   emit featureWritten( featureClass->layerName() );
   return true;
@@ -358,6 +386,7 @@ void GeoStationMeasurementController::cancel()
   if ( !mFeature.vertices.isEmpty() )
     emit message( tr( "Feature with %1 vertices dropped." ).arg( mFeature.vertices.size() ), false );
   mFeature = GeoStationMeasuredFeature();
+  mOperatorVertices.clear();
   emit viewStatesChanged();
   emit featureChanged();
 }

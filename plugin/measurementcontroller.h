@@ -106,6 +106,17 @@ class GeoStationMeasurementController : public QObject
     int mReference = -1;
     double mLastProposalMs = 0.0;
     GeoStationMeasuredFeature mFeature;
+    //! Per operator vertex: its image and pixel when it is a single-ray DEM vertex (else an empty id), and how many
+    //! vertices densifying the line on the terrain were put before it (core demVerticesBetween()).
+    struct OperatorVertex
+    {
+      QString demImageId;
+      QPointF pixel;
+      int densifiedBefore = 0;
+    };
+    QVector<OperatorVertex> mOperatorVertices;
+    //! A line digitised in one image on the DEM gets a vertex on the terrain every this many pixels.
+    static constexpr double sDensifyStepPx = 20.0;
     QString mDemPath;
     QString mDemError; //!< why the DEM at mDemPath cannot be used (empty: it can)
     std::unique_ptr<geostation::Dem> mDem;

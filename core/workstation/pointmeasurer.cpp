@@ -270,4 +270,22 @@ namespace geostation
                             p.message.empty() ? "The ray does not meet the DEM." : p.message );
   }
 
+  std::vector<MeasuredVertex> demVerticesBetween( const VertexObservation &from, const Eigen::Vector2d &toPixel, const Monoplotter &monoplotter, double stepPx )
+  {
+    if ( !( stepPx > 0.0 ) )
+      throw std::invalid_argument( "The densification step must be positive." );
+    const Eigen::Vector2d along = toPixel - from.pixelInImage;
+    const int pieces = static_cast<int>( std::ceil( along.norm() / stepPx ) );
+    std::vector<MeasuredVertex> between;
+    for ( int k = 1; k < pieces; ++k )
+    {
+      VertexObservation at = from;
+      at.pixelInImage = from.pixelInImage + along * ( static_cast<double>( k ) / pieces );
+      const MeasuredVertex v = demVertex( at, monoplotter );
+      if ( v.ok() )
+        between.push_back( v );
+    }
+    return between;
+  }
+
 } // namespace geostation

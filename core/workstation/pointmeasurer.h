@@ -163,6 +163,15 @@ namespace geostation
   //! One ray and the DEM, through a monoplotter of the observation's image.
   MeasuredVertex demVertex( const VertexObservation &observation, const Monoplotter &monoplotter );
 
+  /**
+   * A line digitised in one image, densified on the terrain: the ground
+   * under the image segment from `from` to `toPixel` (same image), a DEM
+   * vertex every `stepPx` pixels along it, the two ends left out (they are
+   * the operator's vertices). Pixels whose rays miss the DEM are left out.
+   * Throws std::invalid_argument if stepPx <= 0.
+   */
+  std::vector<MeasuredVertex> demVerticesBetween( const VertexObservation &from, const Eigen::Vector2d &toPixel, const Monoplotter &monoplotter, double stepPx );
+
 } // namespace geostation
 
 #endif // GEOSTATION_WORKSTATION_POINTMEASURER_H

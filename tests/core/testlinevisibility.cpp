@@ -13,6 +13,7 @@
 #include <ogr_api.h>
 
 #include "dem/linevisibility.h"
+#include "workstation/pointmeasurer.h"
 #include "geometry/crs.h"
 #include "io/block.h"
 #include "simulation/surveysimulator.h"
@@ -107,5 +108,48 @@ TEST( LineVisibility, HiddenRunsAgreeWithTheRenderedPhoto )
   const Eigen::Vector3d behind = oriented.exterior().projectionCentre - 50.0 * oriented.exterior().worldDirectionFromCamera( Eigen::Vector3d( 0, 0, -1 ) );
   EXPECT_TRUE( lineVisibilityRuns( oriented, &mono, { behind, behind + Eigen::Vector3d( 5, 0, 0 ) } ).empty() );
   EXPECT_THROW( lineVisibilityRuns( oriented, &mono, road, 0.0 ), std::invalid_argument );
+  std::filesystem::remove_all( options.outputDir );
+}
+
+TEST( LineVisibility, ALineDigitisedInThePhotoIsDensifiedOnTheTerrain )
+{
+  SimulationOptions options;
+  options.preset = SurveyPreset::ObliquePhoto;
+  options.seed = 5;
+  options.outputDir = std::filesystem::temp_directory_path() / ( "geostation-densify-" + std::to_string( ::getpid() ) );
+  std::filesystem::remove_all( options.outputDir );
+  simulateSurvey( options );
+  const Block block = Block::load( options.outputDir / "truth.geostation.json" );
+  const OrientedImage oriented = block.orientedImage( block.images.front() );
+  const Dem dem( ( options.outputDir / "terrain.tif" ).string() );
+  const CrsTransform same( block.crs, dem.crsWkt() );
+  const Monoplotter mono( oriented, dem, same );
+  // two clicks 300 px apart across the hilly middle of the photo
+  const VertexObservation from { block.images.front().id, &oriented, Eigen::Vector2d( 300.0, 500.0 ), 0.5 };
+  const Eigen::Vector2d to( 600.0, 520.0 );
+  const MeasuredVertex a = demVertex( from, mono ), b = demVertex( { from.imageId, &oriented, to, 0.5 }, mono );
+  ASSERT_TRUE( a.ok() && b.ok() );
+  const std::vector<MeasuredVertex> between = demVerticesBetween( from, to, mono, 20.0 );
+  EXPECT_EQ( between.size(), 15u ); // 301 px in 16 pieces
+  double worstOffTerrain = 0.0, chordOffTerrain = 0.0;
+  for ( size_t k = 0; k < between.size(); ++k )
+  {
+    const MeasuredVertex &v = between[k];
+    EXPECT_EQ( v.method, VertexMethod::MonoplotDem );
+    EXPECT_GT( v.sigmaM.norm(), 0.0 );
+    // on the terrain, and seen where it was taken on the image segment
+    worstOffTerrain = std::max( worstOffTerrain, std::abs( v.point.z() - *dem.heightAt( v.point.x(), v.point.y() ) ) );
+    const Eigen::Vector2d pixel = oriented.projectGroundToPixel( v.point ).pixelInImage;
+    const Eigen::Vector2d expected = from.pixelInImage + ( to - from.pixelInImage ) * ( static_cast<double>( k + 1 ) / 16.0 );
+    EXPECT_LT( ( pixel - expected ).norm(), 0.01 );
+    // the straight chord between the clicks, where this vertex lies
+    const double t = static_cast<double>( k + 1 ) / 16.0;
+    const Eigen::Vector3d chord = a.point + t * ( b.point - a.point );
+    chordOffTerrain = std::max( chordOffTerrain, std::abs( chord.z() - *dem.heightAt( chord.x(), chord.y() ) ) );
+  }
+  std::cout << "densified: " << between.size() << " vertices at most " << worstOffTerrain << " m off the terrain; the straight chord up to " << chordOffTerrain << " m\n";
+  EXPECT_LT( worstOffTerrain, 0.05 );
+  EXPECT_GT( chordOffTerrain, 1.0 ); // on hilly ground the chord is no map of the line
+  EXPECT_THROW( demVerticesBetween( from, to, mono, 0.0 ), std::invalid_argument );
   std::filesystem::remove_all( options.outputDir );
 }

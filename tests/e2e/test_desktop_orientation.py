@@ -20,7 +20,7 @@ import sys
 import tempfile
 import unittest
 
-from osgeo import ogr
+from osgeo import gdal, ogr
 
 import desktop_harness
 
@@ -78,6 +78,7 @@ class DesktopOrientationTest(unittest.TestCase):
         step = (len(centre) - 1) // 4
         cls.road_clicks = [{"col": centre[k * step][1][0], "row": centre[k * step][1][1], "vertex": centre[k * step][0]} for k in range(5)]
 
+        cls.dem_path = os.path.join(sim, "terrain.tif")
         os.makedirs(ARTIFACT_DIR, exist_ok=True)
         result_path = os.path.join(cls.tmp, "result.json")
         cls.block_path = os.path.join(work, "oblique_1962.geostation.json")
@@ -141,14 +142,33 @@ class DesktopOrientationTest(unittest.TestCase):
         roads = self.result.get("road", [])
         self.assertEqual(len(roads), 1, self.result.get("road_messages"))
         vertices = roads[0]["vertices"]
-        self.assertEqual(len(vertices), 5)
         self.assertEqual(roads[0]["method"], "monoplot-DEM")
+        # the five clicks, and between them the line densified on the terrain (a vertex every 20 px of the photo)
+        self.assertGreater(len(vertices), 5 + 4, self.result.get("road_messages"))
+        self.assertEqual(len(roads[0]["sigmas"]), len(vertices))
         line = self.roads["R1-centre-001"]
-        for v, sigma in zip(vertices, roads[0]["sigmas"]):
-            plan, dz = distance_to_polyline(v, line)
-            print("road vertex: %.3f m off the true centre line in plan, %.3f m in height; sigma %.3f / %.3f / %.3f m" % (plan, dz, *sigma))
+        for click in self.road_clicks:
+            truth = line[click["vertex"]]
+            k = min(range(len(vertices)), key=lambda i: (vertices[i][0] - truth[0]) ** 2 + (vertices[i][1] - truth[1]) ** 2)
+            v, sigma = vertices[k], roads[0]["sigmas"][k]
+            plan = ((v[0] - truth[0]) ** 2 + (v[1] - truth[1]) ** 2) ** 0.5
+            print("clicked road vertex: %.3f m from the truth in plan, %.3f m in height; sigma %.3f / %.3f / %.3f m" % (plan, v[2] - truth[2], *sigma))
             self.assertLess(plan, max(3 * (sigma[0] ** 2 + sigma[1] ** 2) ** 0.5, 0.15), "vertex %s: %.2f m off the road" % (v, plan))
-            self.assertLess(abs(dz), max(3 * sigma[2], 0.15), "vertex %s: %.2f m above the road" % (v, dz))
+            self.assertLess(abs(v[2] - truth[2]), max(3 * sigma[2], 0.15))
+        # every vertex on the terrain
+        dem = gdal.Open(self.dem_path)
+        gt = dem.GetGeoTransform()
+        band = dem.GetRasterBand(1)
+        worst = 0.0
+        for v in vertices:
+            col, row = (v[0] - gt[0]) / gt[1] - 0.5, (v[1] - gt[3]) / gt[5] - 0.5
+            c0, r0 = int(col), int(row)
+            cells = band.ReadAsArray(c0, r0, 2, 2).astype(float)
+            fc, fr = col - c0, row - r0
+            z = (cells[0][0] * (1 - fc) + cells[0][1] * fc) * (1 - fr) + (cells[1][0] * (1 - fc) + cells[1][1] * fc) * fr
+            worst = max(worst, abs(v[2] - z))
+        print("%d vertices, at most %.3f m off the terrain" % (len(vertices), worst))
+        self.assertLess(worst, 0.05)
 
     def test_screenshots_saved(self):
         for name in ("orientation-clicked.png", "orientation-accepted.png", "orientation-map-layer.png", "orientation-road.png"):

@@ -29,6 +29,7 @@
 #include <qgsvectorlayer.h>
 
 #include "controlpointmodel.h"
+#include "featureclass.h"
 #include "imageview.h"
 #include "measurementcontroller.h"
 #include "measurementstore.h"
@@ -289,6 +290,24 @@ void TestOrientationDock::clickedAndFoundControlOrientTheScannedPhoto()
   QCOMPARE( again.model()->rowCount(), model->rowCount() );
   QCOMPARE( again.model()->summary().measuredControl, model->summary().measuredControl );
   QCOMPARE( again.model()->summary().measuredCheck, 4 );
+
+  // digitising in the oriented photo: a line on the DEM follows the terrain between the clicks; Backspace takes a click back with them
+  QList<GeoStationFeatureClass> classes;
+  QVERIFY( GeoStationFeatureClass::fromJson( QStringLiteral( R"([{"name":"Track","geometry":"line"}])" ), classes, &error ) );
+  session.setFeatureClasses( classes );
+  session.setCurrentClass( QStringLiteral( "Track" ) );
+  session.setTargetGeoPackage( mDir.filePath( QStringLiteral( "photo/tracks.gpkg" ) ) );
+  controller.viewsChanged();
+  controller.pick( 0, QPointF( 300.0, 500.0 ) );
+  QVERIFY( controller.acceptPoint() );
+  QCOMPARE( controller.vertexCount(), 1 );
+  controller.pick( 0, QPointF( 600.0, 520.0 ) );
+  QVERIFY( controller.acceptPoint() );
+  QCOMPARE( controller.vertexCount(), 17 ); // 301 px: 15 vertices on the terrain between the two clicks
+  QCOMPARE( controller.lastVertex()->method, geostation::VertexMethod::MonoplotDem );
+  controller.undoVertex();
+  QCOMPARE( controller.vertexCount(), 1 );
+  controller.cancel();
 
   // a photo that can no longer be decoded: one sentence, the measurements stay
   QFile file( session.imagePath( imageId ) );
