@@ -121,6 +121,28 @@ bool GeoStationAddPhotoDialog::camera( geostation::Camera *camera, QString *erro
     { "cy", mCySpin->value() } };
   if ( mPixelSpin->value() > 0.0 )
     json.insert( QStringLiteral( "pixel_size_mm" ), mPixelSpin->value() );
+  if ( mDistortionCombo->currentText() != QLatin1String( "none" ) )
+  {
+    const QStringList values = mDistortionEdit->text().simplified().split( QLatin1Char( ' ' ), Qt::SkipEmptyParts );
+    QJsonObject distortion { { "model", mDistortionCombo->currentText() } };
+    const char *names[] = { "k1", "k2", "p1", "p2", "k3" };
+    for ( int k = 0; k < values.size() && k < 5; ++k )
+    {
+      bool ok = false;
+      distortion.insert( QString::fromLatin1( names[k] ), values[k].toDouble( &ok ) );
+      if ( !ok )
+      {
+        *error = tr( "The lens distortion must read \"k1 k2 p1 p2 k3\" (numbers; the missing ones are 0)." );
+        return false;
+      }
+    }
+    if ( values.size() > 5 )
+    {
+      *error = tr( "The lens distortion has five coefficients: k1 k2 p1 p2 k3." );
+      return false;
+    }
+    json.insert( QStringLiteral( "distortion" ), distortion );
+  }
   QJsonArray fiducials;
   int lineNumber = 0;
   for ( const QString &line : mFiducialEdit->toPlainText().split( QLatin1Char( '\n' ) ) )

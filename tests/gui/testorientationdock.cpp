@@ -12,6 +12,10 @@
 #include <Eigen/LU>
 
 #include <QCheckBox>
+#include <QComboBox>
+#include <QDoubleSpinBox>
+#include <QLineEdit>
+#include <QPlainTextEdit>
 #include <QJsonArray>
 #include <QJsonDocument>
 #include <QJsonObject>
@@ -417,6 +421,24 @@ void TestOrientationDock::addPhotoStartsABlockAndOpensThePhotoUnoriented()
   QVERIFY( dialog.problem().isEmpty() );
   QVERIFY( dialog.camera( &camera, &error ) );
   QCOMPARE( camera.width, film.width );
+  // a calibration report's values typed in: principal distance, pixel size, lens distortion, fiducials
+  dialog.findChild<QDoubleSpinBox *>( QStringLiteral( "mPixelSpin" ) )->setValue( *film.pixelSizeMm );
+  dialog.findChild<QDoubleSpinBox *>( QStringLiteral( "mFSpin" ) )->setValue( film.f );
+  QComboBox *model = dialog.findChild<QComboBox *>( QStringLiteral( "mDistortionCombo" ) );
+  model->setCurrentText( QStringLiteral( "brown_photo" ) );
+  QLineEdit *coefficients = dialog.findChild<QLineEdit *>( QStringLiteral( "mDistortionEdit" ) );
+  coefficients->setText( QStringLiteral( "%1 %2 %3 %4" ).arg( film.distortion.k1(), 0, 'g', 17 ).arg( film.distortion.k2(), 0, 'g', 17 ).arg( film.distortion.p1(), 0, 'g', 17 ).arg( film.distortion.p2(), 0, 'g', 17 ) );
+  QString typedFiducials;
+  for ( const geostation::Fiducial &f : film.fiducials )
+    typedFiducials += QStringLiteral( "%1 %2 %3\n" ).arg( QString::fromStdString( f.id ) ).arg( f.photoMm.x(), 0, 'g', 17 ).arg( f.photoMm.y(), 0, 'g', 17 );
+  dialog.findChild<QPlainTextEdit *>( QStringLiteral( "mFiducialEdit" ) )->setPlainText( typedFiducials );
+  QVERIFY2( dialog.camera( &camera, &error ), qPrintable( error ) );
+  QCOMPARE( camera.fiducials.size(), film.fiducials.size() );
+  QCOMPARE( camera.distortion.k1(), film.distortion.k1() );
+  QCOMPARE( camera.distortion.p2(), film.distortion.p2() );
+  coefficients->setText( QStringLiteral( "1e-6 x" ) );
+  QVERIFY( !dialog.camera( &camera, &error ) );
+  QVERIFY2( error.contains( QStringLiteral( "k1 k2 p1 p2 k3" ) ), qPrintable( error ) );
   QVERIFY( dialog.newBlockPath().endsWith( QStringLiteral( ".geostation.json" ) ) );
 }
 
