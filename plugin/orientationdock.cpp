@@ -25,6 +25,7 @@
 #include "layerinphoto.h"
 #include "groundpointtool.h"
 #include "identification/markcandidates.h"
+#include "identification/photoidentification.h"
 #include "io/rasterfile.h"
 #include "multiviewdock.h"
 #include "multiviewsession.h"
@@ -67,6 +68,7 @@ GeoStationOrientationDock::GeoStationOrientationDock( GeoStationMultiviewSession
   } );
   connect( mRefineButton, &QToolButton::clicked, this, &GeoStationOrientationDock::refineSelected );
   connect( mPredictButton, &QToolButton::clicked, this, &GeoStationOrientationDock::predictAndFind );
+  connect( mIdentifyButton, &QToolButton::clicked, this, &GeoStationOrientationDock::identifyAutomatically );
   connect( mAcceptButton, &QToolButton::clicked, this, [this]
   {
     const int taken = mModel->acceptOffers( selectedRows() );
@@ -401,6 +403,44 @@ int GeoStationOrientationDock::predictAndFind()
                .arg( candidates.size() > 1 ? tr( " (of %1 possible orientations from three points, the one under which the most marks were found)" ).arg( candidates.size() ) : QString() ) );
   drawMarkers();
   return found;
+}
+
+int GeoStationOrientationDock::identifyAutomatically()
+{
+  const cv::Mat &grey = photoGrey();
+  if ( grey.empty() )
+    return 0;
+  std::vector<geostation::ControlPoint> control;
+  for ( const geostation::PhotoControlPoint &p : mModel->points() )
+    if ( p.role != geostation::ControlRole::Off )
+      control.push_back( { p.pointId, p.world, p.sigmaM, false } );
+  geostation::PhotoIdentificationOptions options;
+  const std::optional<geostation::OrientedImage> current = currentOrientation();
+  if ( current )
+    options.identification.approximate = current->exterior(); // narrows the search to the marks near each prediction
+  geostation::PhotoIdentificationSummary result;
+  try
+  {
+    result = geostation::identifyControlInPhoto( grey, mModel->camera(), mModel->nominalFromFile(), control, options );
+  }
+  catch ( const std::exception &e )
+  {
+    showMessage( tr( "No control identified: %1" ).arg( QString::fromStdString( e.what() ) ), true );
+    return 0;
+  }
+  if ( !result.ok() )
+  {
+    showMessage( tr( "No control identified among %1 marks: %2." ).arg( result.candidates ).arg( QString::fromStdString( result.identification.message ) ), true );
+    return 0;
+  }
+  std::vector<geostation::ControlOffer> offers;
+  for ( const geostation::PhotoIdentifiedPoint &p : result.identified )
+    offers.push_back( { p.pointId, geostation::PredictedPoint::Status::Found, std::string(), p.pixelInFile, p.predictedInFile } );
+  mModel->setOffers( offers );
+  showMessage( tr( "%1 control points identified among %2 marks (chance explains it with odds %3); accept them with Accept Found." )
+               .arg( result.identified.size() ).arg( result.candidates ).arg( result.identification.falseAlarms, 0, 'g', 2 ) );
+  drawMarkers();
+  return static_cast<int>( result.identified.size() );
 }
 
 int GeoStationOrientationDock::acceptFound()

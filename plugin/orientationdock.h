@@ -83,6 +83,8 @@ class GeoStationOrientationDock : public QgsDockWidget, private Ui::GeoStationOr
     int refineSelected();
     //! The semi-automatic mode: offers for every point not measured; how many were found.
     int predictAndFind();
+    //! Control identified in the photo with nothing measured (core identifyControlInPhoto()), offered; how many.
+    int identifyAutomatically();
     int acceptFound();
     //! Writes the orientation and the measurements; false (with the message) when it cannot.
     bool saveToBlock();

@@ -15,9 +15,7 @@
 #include <Eigen/Geometry>
 
 #include "dem/demintersection.h"
-#include "identification/controlidentification.h"
-#include "identification/controlprediction.h"
-#include "identification/markcandidates.h"
+#include "identification/photoidentification.h"
 #include "io/rasterfile.h"
 #include "processingblock.h"
 #include "processingtables.h"
@@ -156,36 +154,25 @@ QVariantMap IdentifyControlAlgorithm::processGeoStation( const QVariantMap &para
   feedback->setProgress( 5 );
 
   // marks in the scan's pixels; the camera model works in the nominal frame of a scanned film's inner orientation
-  cv::Mat grey;
-  std::vector<geostation::MarkCandidate> found;
-  std::vector<Eigen::Vector2d> candidates;
-  geostation::ControlPredictionSummary completed;
-  geostation::ControlPredictionOptions completion;
-  geostation::ControlIdentificationSummary summary;
-  Eigen::Matrix<double, 2, 3> nominalFromScan;
-  nominalFromScan << 1, 0, 0, 0, 1, 0;
+  geostation::PhotoIdentificationOptions identification;
+  identification.marks = marks;
+  identification.identification = options;
+  geostation::PhotoIdentificationSummary result;
   try
   {
-    grey = geostation::markGrey( geostation::readRaster( block.imageFilePath( image ).string() ).pixels );
-    found = geostation::detectMarkCandidates( grey, marks );
+    std::optional<Eigen::Matrix<double, 2, 3>> nominalFromScan;
     if ( image.innerOrientation )
       nominalFromScan = geostation::nominalFromScanAffine( camera, *image.innerOrientation );
-    for ( const geostation::MarkCandidate &m : found )
-      candidates.push_back( nominalFromScan * m.pixelInImage.homogeneous() );
-    feedback->pushInfo( QObject::tr( "%1 mark candidates in %2." ).arg( found.size() ).arg( imageId ) );
+    const cv::Mat grey = geostation::markGrey( geostation::readRaster( block.imageFilePath( image ).string() ).pixels );
     feedback->setProgress( 30 );
-    summary = geostation::identifyControl( camera, control, candidates, options );
-    // then the semi-automatic step from the identified orientation: every control point located at its prediction
-    // to a fraction of a pixel, and what the resection does not support flagged
-    completion.marks = marks;
-    if ( summary.ok() )
-      completed = geostation::predictAndFindControl( image.innerOrientation ? geostation::nominalImage( grey, camera, nominalFromScan ) : grey, camera,
-                  summary.resection.exterior, control, {}, completion );
+    result = geostation::identifyControlInPhoto( grey, camera, nominalFromScan, control, identification );
+    feedback->pushInfo( QObject::tr( "%1 mark candidates in %2." ).arg( result.candidates ).arg( imageId ) );
   }
   catch ( const std::invalid_argument &e )
   {
     throw QgsProcessingException( QString::fromStdString( e.what() ) );
   }
+  const geostation::ControlIdentificationSummary &summary = result.identification;
   if ( !summary.ok() )
     throw QgsProcessingException( QObject::tr( "No control identified in %1: %2." ).arg( imageId, QString::fromStdString( summary.message ) ) );
   feedback->setProgress( 90 );
@@ -210,30 +197,16 @@ QVariantMap IdentifyControlAlgorithm::processGeoStation( const QVariantMap &para
       throw QgsProcessingException( writeFeatureError( sink.get(), parameters, QStringLiteral( "OUTPUT" ) ) );
   };
   // written in the image's own pixels (the scan's, for scanned film), as measured
-  const Eigen::Matrix2d linear = nominalFromScan.leftCols<2>();
-  auto scanOf = [&]( const Eigen::Vector2d &nominal ) { return Eigen::Vector2d( linear.inverse() * ( nominal - nominalFromScan.col( 2 ) ) ); };
-  // an identified mark's centre as the semi-automatic step located it at its prediction, where it agrees
-  std::map<std::string, Eigen::Vector2d> refined;
-  for ( const geostation::PredictedPoint &p : completed.points )
-    if ( completed.ok() && p.status == geostation::PredictedPoint::Status::Found )
-      refined[p.pointId] = p.pixelInImage;
-  int pairs = 0;
-  for ( const geostation::IdentifiedControl &id : summary.identified )
-  {
-    const auto r = refined.find( id.pointId );
-    const bool better = r != refined.end() && ( r->second - id.pixelInImage ).norm() <= 1.5;
-    const Eigen::Vector2d pixel = better ? scanOf( r->second ) : found[id.candidate].pixelInImage, predicted = scanOf( id.pixelInImage + id.residualPx );
-    write( id.pointId, pixel.x(), pixel.y(), better ? completion.sigmaPx : options.candidateSigmaPx, QStringLiteral( "identified" ), predicted, ( predicted - pixel ).norm() );
-    pairs += better ? 1 : 0;
-  }
-  for ( const geostation::PredictedControl &p : summary.notFound )
-    write( p.pointId, QVariant(), QVariant(), QVariant(), QStringLiteral( "not_found" ), scanOf( p.pixelInImage ), QVariant() );
+  for ( const geostation::PhotoIdentifiedPoint &p : result.identified )
+    write( p.pointId, p.pixelInFile.x(), p.pixelInFile.y(), p.sigmaPx, QStringLiteral( "identified" ), p.predictedInFile, ( p.predictedInFile - p.pixelInFile ).norm() );
+  for ( const auto &[pointId, predicted] : result.notFound )
+    write( pointId, QVariant(), QVariant(), QVariant(), QStringLiteral( "not_found" ), predicted, QVariant() );
 
   const QString reportPath = parameterAsFileOutput( parameters, QStringLiteral( "REPORT" ), context );
   if ( !reportPath.isEmpty() )
-    GeoStationProcessing::writeReport( reportJson( summary, imageId, static_cast<int>( candidates.size() ), options.approximate.has_value() ), reportPath );
+    GeoStationProcessing::writeReport( reportJson( summary, imageId, result.candidates, options.approximate.has_value() ), reportPath );
   feedback->pushInfo( QObject::tr( "%1 control points identified in %2 from %3 poses in %4 s (%5 located again at their predictions); %6 more fall in the photo unfound." )
-                      .arg( summary.identified.size() ).arg( imageId ).arg( summary.poses ).arg( summary.seconds, 0, 'f', 1 ).arg( pairs ).arg( summary.notFound.size() ) );
+                      .arg( summary.identified.size() ).arg( imageId ).arg( summary.poses ).arg( summary.seconds, 0, 'f', 1 ).arg( result.relocated ).arg( summary.notFound.size() ) );
   if ( !summary.rejected.empty() )
     feedback->pushWarning( QObject::tr( "%1 paired control points were rejected by the resection as blunders." ).arg( summary.rejected.size() ) );
   feedback->setProgress( 100 );

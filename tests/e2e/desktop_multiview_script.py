@@ -9,15 +9,19 @@ test_desktop_multiview.py, which checks the findings against the truth."""
 
 import json
 import os
+import sys
 import time
 import traceback
 
-from qgis.core import QgsApplication, QgsPointXY, QgsProject, QgsVectorLayer
+from qgis.core import QgsPointXY, QgsProject, QgsVectorLayer
 from qgis.gui import QgsMapCanvas
-from qgis.PyQt.QtCore import Q_ARG, Q_RETURN_ARG, QMetaObject, QObject, Qt, QTimer
+from qgis.PyQt.QtCore import QObject, Qt, QTimer
 from qgis.PyQt.QtTest import QTest
 from qgis.PyQt.QtWidgets import QAction, QComboBox, QDockWidget, QLabel
 from qgis.utils import iface
+
+sys.path.insert(0, os.environ["GEOSTATION_E2E_SCRIPTS"])
+from desktop_script_support import checkpoint, finish, invoke, wait  # noqa: E402
 
 RESULT = os.environ["GEOSTATION_E2E_RESULT"]
 ARTIFACTS = os.environ["GEOSTATION_E2E_ARTIFACTS"]
@@ -27,20 +31,6 @@ PROJECT = os.environ["GEOSTATION_E2E_PROJECT"]
 CLICK = json.loads(os.environ["GEOSTATION_E2E_CLICK"])  # station, image, col, row
 TRACE = json.loads(os.environ["GEOSTATION_E2E_TRACE"])  # col, row of a kerb pixel in the same image
 LANE = json.loads(os.environ["GEOSTATION_E2E_LANE"])  # col, row of a dash of the lane line in the first station's first image
-
-
-def wait(seconds):
-    end = time.time() + seconds
-    while time.time() < end:
-        QgsApplication.processEvents()
-        time.sleep(0.01)
-
-
-def invoke(obj, name, *args, returns=None):
-    qargs = [Q_ARG(type(a), a) for a in args]
-    if returns is not None:
-        return QMetaObject.invokeMethod(obj, name, Qt.DirectConnection, Q_RETURN_ARG(returns), *qargs)
-    return QMetaObject.invokeMethod(obj, name, Qt.DirectConnection, *qargs)
 
 
 def dock_state(dock):
@@ -56,13 +46,6 @@ def dock_state(dock):
     return {"title": dock.windowTitle(), "views": views}
 
 
-def checkpoint(result, stage):
-    """Writes what is known so far, so a hang shows where it happened."""
-    result["stage"] = stage
-    with open(RESULT, "w") as f:
-        json.dump(result, f, indent=2)
-
-
 def run():
     result = {}
     try:
@@ -75,7 +58,7 @@ def run():
             {"name": "Road edge", "geometry": "line"},
             {"name": "Lane marking", "geometry": "line"}]), returns=bool)
         result["target_set"] = invoke(plugin, "setTargetGeoPackage", TARGET, returns=bool)
-        checkpoint(result, "opening the Multiview")
+        checkpoint(result, RESULT, "opening the Multiview")
         window.findChild(QAction, "mActionGeoStationMultiview").trigger()
         window.showMaximized()
         wait(1.0)
@@ -83,7 +66,7 @@ def run():
         result["dock"] = dock is not None
         result["overview_layers"] = sorted(l.name() for l in QgsProject.instance().mapLayers().values())
 
-        checkpoint(result, "navigating")
+        checkpoint(result, RESULT, "navigating")
         # navigate with the keyboard: from the first station to the one with the pole
         canvas0 = dock.findChild(QgsMapCanvas, "mGeoStationViewCanvas0")
         canvas0.setFocus()
@@ -100,7 +83,7 @@ def run():
         result["navigation_ms"] = steps
         result["at_station"] = dock_state(dock)
 
-        checkpoint(result, "clicking")
+        checkpoint(result, RESULT, "clicking")
         # click the pole foot, zoomed in so one screen pixel is a fraction of an image pixel
         invoke(dock, "zoomViewToPixel", 0, float(CLICK["col"]), float(CLICK["row"]), 40.0)
         wait(0.5)
@@ -114,7 +97,7 @@ def run():
         result["after_click"] = dock_state(dock)
         dock.grab().save(os.path.join(ARTIFACTS, "multiview-proposals.png"))
 
-        checkpoint(result, "accepting")
+        checkpoint(result, RESULT, "accepting")
         # accept the proposed matches (Return)
         QTest.keyClick(canvas0, Qt.Key_Return)
         wait(1.0)
@@ -130,7 +113,7 @@ def run():
         wait(1.0)
         window.grab().save(os.path.join(ARTIFACTS, "overview.png"))
 
-        checkpoint(result, "tracing")
+        checkpoint(result, RESULT, "tracing")
         # the Trace tool: a line class, one click on the kerb, the run traced; F writes it
         combo = dock.findChild(QComboBox, "mClassCombo")
         combo.setCurrentIndex(combo.findData("Road edge"))
@@ -186,7 +169,7 @@ def run():
         result["lane_messages"] = invoke(dock, "messagesText", returns=str)
         dock.findChild(QAction, "mActionTrace").setChecked(False)
 
-        checkpoint(result, "saving the session")
+        checkpoint(result, RESULT, "saving the session")
         # the session is kept with the project
         QTest.keyClick(canvas0, Qt.Key_PageDown)
         wait(0.5)
@@ -195,7 +178,7 @@ def run():
         QgsProject.instance().clear()
         wait(0.5)
         result["after_clear"] = dock_state(dock)["title"]
-        checkpoint(result, "reopening")
+        checkpoint(result, RESULT, "reopening")
         result["reopened"] = QgsProject.instance().read(PROJECT)
         wait(1.5)
         dock = window.findChild(QDockWidget, "GeoStationMultiviewDock")
@@ -204,27 +187,7 @@ def run():
         result["restored_layers"] = sorted(l.name() for l in QgsProject.instance().mapLayers().values())
     except Exception:  # reported to the driver, which fails the test
         result["exception"] = traceback.format_exc()
-    with open(RESULT, "w") as f:
-        json.dump(result, f, indent=2)
-    QgsProject.instance().setDirty(False)
-
-    def modal_at_exit():
-        """Nothing should ask anything at exit: record what did, and answer it."""
-        from qgis.PyQt.QtWidgets import QApplication, QMessageBox
-        dialog = QApplication.activeModalWidget()
-        if dialog is None:
-            return
-        text = dialog.text() if isinstance(dialog, QMessageBox) else dialog.windowTitle()
-        with open(RESULT) as f:
-            saved = json.load(f)
-        saved.setdefault("exit_dialogs", []).append(text)
-        with open(RESULT, "w") as f:
-            json.dump(saved, f, indent=2)
-        dialog.reject()
-        QTimer.singleShot(2000, modal_at_exit)
-
-    QTimer.singleShot(3000, modal_at_exit)
-    iface.actionExit().trigger()
+    finish(result, RESULT)
 
 
 QTimer.singleShot(3000, run)

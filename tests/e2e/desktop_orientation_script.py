@@ -8,15 +8,18 @@ test_desktop_orientation.py, which checks the findings against the truth."""
 
 import json
 import os
-import time
+import sys
 import traceback
 
-from qgis.core import QgsApplication, QgsCoordinateReferenceSystem, QgsPointXY, QgsProject, QgsRasterLayer, QgsVectorLayer
+from qgis.core import QgsCoordinateReferenceSystem, QgsPointXY, QgsProject, QgsRasterLayer, QgsVectorLayer
 from qgis.gui import QgsMapCanvas
-from qgis.PyQt.QtCore import Q_ARG, Q_RETURN_ARG, QMetaObject, QObject, Qt, QTimer
+from qgis.PyQt.QtCore import QObject, Qt, QTimer
 from qgis.PyQt.QtTest import QTest
 from qgis.PyQt.QtWidgets import QCheckBox, QComboBox, QDockWidget, QLabel, QPlainTextEdit, QPushButton, QTableView, QToolButton
 from qgis.utils import iface
+
+sys.path.insert(0, os.environ["GEOSTATION_E2E_SCRIPTS"])
+from desktop_script_support import checkpoint, finish, invoke, wait  # noqa: E402
 
 RESULT = os.environ["GEOSTATION_E2E_RESULT"]
 ARTIFACTS = os.environ["GEOSTATION_E2E_ARTIFACTS"]
@@ -29,27 +32,6 @@ CONTROL = os.environ["GEOSTATION_E2E_CONTROL"]
 CLICKS = json.loads(os.environ["GEOSTATION_E2E_CLICKS"])  # id, col, row of four control points
 ROAD = json.loads(os.environ["GEOSTATION_E2E_ROAD"])  # col, row of five road vertices
 TARGET = os.environ["GEOSTATION_E2E_TARGET"]
-
-
-def wait(seconds):
-    end = time.time() + seconds
-    while time.time() < end:
-        QgsApplication.processEvents()
-        time.sleep(0.01)
-
-
-def invoke(obj, name, *args, returns=None):
-    qargs = [Q_ARG(type(a), a) for a in args]
-    if returns is not None:
-        return QMetaObject.invokeMethod(obj, name, Qt.DirectConnection, Q_RETURN_ARG(returns), *qargs)
-    return QMetaObject.invokeMethod(obj, name, Qt.DirectConnection, *qargs)
-
-
-def checkpoint(result, stage):
-    """Writes what is known so far, so a hang shows where it happened."""
-    result["stage"] = stage
-    with open(RESULT, "w") as f:
-        json.dump(result, f, indent=2)
 
 
 def click_pixel(multiview, canvas, col, row):
@@ -73,7 +55,7 @@ def run():
         QgsProject.instance().addMapLayers([dem, control])
         iface.mapCanvas().setExtent(control.extent())
 
-        checkpoint(result, "adding the photo")
+        checkpoint(result, RESULT, "adding the photo")
         result["image_id"] = invoke(plugin, "addPhotoFile", PHOTO, BLOCK, CAMERA, returns=str)
         invoke(plugin, "setDemLayer", dem.id())
         wait(1.0)
@@ -84,12 +66,12 @@ def run():
         result["view_image"] = [l.name() for l in canvas.layers()][0] if canvas.layers() else None
         result["photo_choice"] = dock.findChild(QComboBox, "mImageCombo").currentText()
 
-        checkpoint(result, "fiducials")
+        checkpoint(result, RESULT, "fiducials")
         dock.findChild(QToolButton, "mDetectButton").click()
         wait(0.5)
         result["fiducials"] = dock.findChild(QLabel, "mResultLabel").text()
 
-        checkpoint(result, "control layer")
+        checkpoint(result, RESULT, "control layer")
         layers = dock.findChild(QComboBox, "mControlLayerCombo")
         layers.setCurrentIndex(layers.findText(control.name()))
         dock.findChild(QPushButton, "mLoadControlButton").click()
@@ -98,7 +80,7 @@ def run():
         model = table.model()
         rows = {model.index(r, 0).data(): r for r in range(model.rowCount())}
 
-        checkpoint(result, "clicking control")
+        checkpoint(result, RESULT, "clicking control")
         dock.findChild(QToolButton, "mMeasurePhotoButton").setChecked(True)
         for click in CLICKS:
             table.selectRow(rows[click["id"]])
@@ -109,7 +91,7 @@ def run():
         wait(0.5)
         window.grab().save(os.path.join(ARTIFACTS, "orientation-clicked.png"))
 
-        checkpoint(result, "semi-automatic")
+        checkpoint(result, RESULT, "semi-automatic")
         dock.findChild(QToolButton, "mPredictButton").click()
         wait(0.5)
         result["offers"] = dock.findChild(QLabel, "mMessageLabel").text()
@@ -120,7 +102,7 @@ def run():
         result["measured_after_accept"] = sum(1 for r in range(model.rowCount()) if model.index(r, 13).data() in ("ok", "check"))
         window.grab().save(os.path.join(ARTIFACTS, "orientation-accepted.png"))
 
-        checkpoint(result, "saving")
+        checkpoint(result, RESULT, "saving")
         dock.findChild(QPushButton, "mSaveButton").click()
         wait(1.5)
         result["save_message"] = dock.findChild(QLabel, "mMessageLabel").text()
@@ -129,7 +111,7 @@ def run():
         result["camera_line_saved"] = dock.findChild(QLabel, "mCameraLabel").text()
         dock.findChild(QToolButton, "mMeasurePhotoButton").setChecked(False)
 
-        checkpoint(result, "map layer in the photo")
+        checkpoint(result, RESULT, "map layer in the photo")
         roads_map = QgsVectorLayer(CONTROL.split("|")[0] + "|layername=roads", "road map", "ogr")
         QgsProject.instance().addMapLayer(roads_map)
         overlay = dock.findChild(QComboBox, "mOverlayLayerCombo")
@@ -140,7 +122,7 @@ def run():
         multiview.grab().save(os.path.join(ARTIFACTS, "orientation-map-layer.png"))
         dock.findChild(QCheckBox, "mShowOverlayCheck").setChecked(False)
 
-        checkpoint(result, "digitising")
+        checkpoint(result, RESULT, "digitising")
         invoke(plugin, "setFeatureClassesJson", json.dumps([{"name": "Road", "geometry": "line"}]), returns=bool)
         invoke(plugin, "setCurrentClass", "Road")
         invoke(plugin, "setTargetGeoPackage", TARGET, returns=bool)
@@ -164,27 +146,7 @@ def run():
         window.grab().save(os.path.join(ARTIFACTS, "orientation-road.png"))
     except Exception:  # reported to the driver, which fails the test
         result["exception"] = traceback.format_exc()
-    with open(RESULT, "w") as f:
-        json.dump(result, f, indent=2)
-    QgsProject.instance().setDirty(False)
-
-    def modal_at_exit():
-        """Nothing should ask anything at exit: record what did, and answer it."""
-        from qgis.PyQt.QtWidgets import QApplication, QMessageBox
-        dialog = QApplication.activeModalWidget()
-        if dialog is None:
-            return
-        text = dialog.text() if isinstance(dialog, QMessageBox) else dialog.windowTitle()
-        with open(RESULT) as f:
-            saved = json.load(f)
-        saved.setdefault("exit_dialogs", []).append(text)
-        with open(RESULT, "w") as f:
-            json.dump(saved, f, indent=2)
-        dialog.reject()
-        QTimer.singleShot(2000, modal_at_exit)
-
-    QTimer.singleShot(3000, modal_at_exit)
-    iface.actionExit().trigger()
+    finish(result, RESULT)
 
 
 QTimer.singleShot(3000, run)

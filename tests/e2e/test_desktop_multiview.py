@@ -35,18 +35,6 @@ def truth_tables(gpkg):
     return objects, pixels, roads
 
 
-def distance_to_polyline(p, line):
-    """Plan distance from a point to a polyline, and its height above the line there."""
-    best = (float("inf"), 0.0)
-    for a, b in zip(line, line[1:]):
-        dx, dy = b[0] - a[0], b[1] - a[1]
-        t = max(0.0, min(1.0, ((p[0] - a[0]) * dx + (p[1] - a[1]) * dy) / (dx * dx + dy * dy or 1.0)))
-        d = ((a[0] + t * dx - p[0]) ** 2 + (a[1] + t * dy - p[1]) ** 2) ** 0.5
-        if d < best[0]:
-            best = (d, p[2] - (a[2] + t * (b[2] - a[2])))
-    return best
-
-
 class DesktopMultiviewTest(unittest.TestCase):
     @classmethod
     def setUpClass(cls):
@@ -184,7 +172,7 @@ class DesktopMultiviewTest(unittest.TestCase):
         self.assertGreaterEqual(len(line["vertices"]), 10)
         self.assertEqual(self.result.get("traced_vertex_rows"), len(line["vertices"]))
         # on the truth kerb (exact orientation): 95 % of the vertices within 0.10 m
-        errors = [distance_to_polyline(v, self.kerb) for v in line["vertices"]]
+        errors = [desktop_harness.distance_to_polyline(v, self.kerb) for v in line["vertices"]]
         plan = sorted(e[0] for e in errors)
         height = sorted(abs(e[1]) for e in errors)
         self.assertLess(plan[int(0.95 * (len(plan) - 1))], 0.10, plan)
@@ -199,7 +187,7 @@ class DesktopMultiviewTest(unittest.TestCase):
         self.assertGreaterEqual(len(vertices), 6)
         # every vertex on a dash of the lane line (exact orientation: within 0.10 m in plan)
         dashes = list(self.lane_truth.values())
-        plan = sorted(min(distance_to_polyline(v, d)[0] for d in dashes) for v in vertices)
+        plan = sorted(min(desktop_harness.distance_to_polyline(v, d)[0] for d in dashes) for v in vertices)
         self.assertLess(plan[-1], 0.10, plan)
 
     def test_session_is_restored_from_the_project(self):

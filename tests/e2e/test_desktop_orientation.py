@@ -28,18 +28,6 @@ SOURCE_DIR, BUILD_DIR, ARTIFACT_DIR = sys.argv[1:4]
 HERE = os.path.dirname(os.path.abspath(__file__))
 
 
-def distance_to_polyline(p, line):
-    """Plan distance from a point to a polyline, and its height above the line there."""
-    best = (float("inf"), 0.0)
-    for a, b in zip(line, line[1:]):
-        dx, dy = b[0] - a[0], b[1] - a[1]
-        t = max(0.0, min(1.0, ((p[0] - a[0]) * dx + (p[1] - a[1]) * dy) / (dx * dx + dy * dy or 1.0)))
-        d = ((a[0] + t * dx - p[0]) ** 2 + (a[1] + t * dy - p[1]) ** 2) ** 0.5
-        if d < best[0]:
-            best = (d, p[2] - (a[2] + t * (b[2] - a[2])))
-    return best
-
-
 class DesktopOrientationTest(unittest.TestCase):
     @classmethod
     def setUpClass(cls):

@@ -389,9 +389,21 @@ void TestOrientationDock::addPhotoStartsABlockAndOpensThePhotoUnoriented()
   panel->measurePixel( detected );
   QVERIFY( panel->model()->summary().rmsResidualMm < 0.3 * *film.pixelSizeMm );
 
-  // three points clicked are enough to start the semi-automatic mode (P3P; the photo picks among its solutions)
+  // the control layer; with nothing measured, the control is identified among the photo's marks and offered
   QgsVectorLayer control( mDir.filePath( QStringLiteral( "photo/truth.gpkg|layername=control" ) ), QStringLiteral( "control" ), QStringLiteral( "ogr" ) );
   QCOMPARE( dock.loadControlLayer( &control ), static_cast<int>( mTruth.control.size() ) );
+  // unoriented, this photo shows too few clear targets for the search to rule chance out: it says so and offers nothing
+  const int unguided = dock.identifyAutomatically();
+  qInfo() << "identified with no orientation:" << dock.message();
+  if ( unguided == 0 )
+  {
+    QVERIFY2( dock.message().startsWith( QStringLiteral( "No control identified among" ) ), qPrintable( dock.message() ) );
+    QVERIFY( dock.model()->offers().empty() );
+  }
+  QCOMPARE( dock.model()->summary().measuredControl, 0 ); // offers are never taken by themselves
+  dock.model()->rejectOffers();
+
+  // three points clicked are enough to start the semi-automatic mode (P3P; the photo picks among its solutions)
   QCOMPARE( dock.predictAndFind(), 0 );
   QVERIFY2( dock.message().contains( QStringLiteral( "Measure three points first" ) ), qPrintable( dock.message() ) );
   std::vector<std::pair<double, std::string>> visible;
@@ -412,6 +424,10 @@ void TestOrientationDock::addPhotoStartsABlockAndOpensThePhotoUnoriented()
   QVERIFY2( dock.model()->summary().oriented(), dock.model()->summary().message.c_str() );
   qInfo() << "camera" << ( dock.model()->summary().resection.exterior.projectionCentre - truthImage.exterior->projectionCentre ).norm() << "m from the truth:" << dock.model()->summary().message.c_str();
   QVERIFY( ( dock.model()->summary().resection.exterior.projectionCentre - truthImage.exterior->projectionCentre ).norm() < 1.0 );
+  // oriented, the identification searches near each prediction and pairs the marks
+  const int guided = dock.identifyAutomatically();
+  qInfo() << "identified with the orientation:" << dock.message();
+  QVERIFY2( guided >= 6, qPrintable( dock.message() ) );
 
   // the dialog: a photo that cannot be read says so; a readable one is prefilled from the file
   GeoStationAddPhotoDialog dialog( nullptr, crs );
