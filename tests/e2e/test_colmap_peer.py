@@ -98,6 +98,22 @@ def colmap_project(camera, image, xyz):
     return fx * (u + du) + cx, fy * (v + dv) + cy
 
 
+def distortion_rms_px(params, width, height):
+    """RMS over the frame (a 21 x 16 grid) of the pixel displacement of COLMAP's OPENCV distortion."""
+    fx, fy, cx, cy, k1, k2, p1, p2 = params
+    total, n = 0.0, 0
+    for col in np.linspace(0, width, 21):
+        for row in np.linspace(0, height, 16):
+            u, v = (col - cx) / fx, (row - cy) / fy
+            r2 = u * u + v * v
+            radial = k1 * r2 + k2 * r2 * r2
+            du = u * radial + 2 * p1 * u * v + p2 * (r2 + 2 * u * u)
+            dv = v * radial + 2 * p2 * u * v + p1 * (r2 + 2 * v * v)
+            total += (fx * du) ** 2 + (fy * dv) ** 2
+            n += 1
+    return math.sqrt(total / n)
+
+
 def rotation_difference_deg(a, b):
     Ra = ref.rotation(a["omega"], a["phi"], a["kappa"])
     Rb = ref.rotation(b["omega"], b["phi"], b["kappa"])
@@ -243,7 +259,9 @@ class ColmapPeerTest(unittest.TestCase):
         # (near-nadir images cannot separate it from the flying height), and a
         # principal point wrong by dp shifts it by height * dp / f. The camera
         # then turns to keep looking at the same ground: by the horizontal
-        # part of that shift over the height
+        # part of that shift over the height. COLMAP also fits lens distortion
+        # (OPENCV: k1 k2 p1 p2) to images that have none: what it moves a
+        # pixel by, as RMS over the frame, acts like a principal point error
         with open(os.path.join(self.sim, "truth.geostation.json")) as f:
             truth_camera = json.load(f)["cameras"][0]
         fx, fy, cx, cy = self.cameras[1][3][:4]
@@ -251,6 +269,8 @@ class ColmapPeerTest(unittest.TestCase):
         height = float(np.mean([i["Z"] for i in self.truth.values()]) - centroid[2])
         focal_error = abs(fx - truth_camera["f"]) / truth_camera["f"]
         pp_error = math.hypot(cx - truth_camera["cx"], cy - truth_camera["cy"])
+        distortion_px = distortion_rms_px(self.cameras[1][3], 1000, 750)
+        pp_error += distortion_px
         worst_ratio, worst_error, worst_bound, attitude = 0.0, 0.0, 0.0, 0.0
         checks = []
         for i in c["block"]["images"]:
@@ -264,15 +284,19 @@ class ColmapPeerTest(unittest.TestCase):
             attitude = max(attitude, turn)
             turn_bound = math.degrees(pp_error / truth_camera["f"] + focal_error * float(np.linalg.norm(offset[:2])) / height)
             checks.append((i["id"], error, bound, turn, turn_bound))
-        # every figure first, so that a failure shows which bound was crossed (COLMAP's model varies run to run)
+        # every figure first, so that a failure shows which bound was crossed (COLMAP's model varies run to run).
+        # Beyond what the interior orientation explains, 0.10 m (0.05 deg) is left for the model's own random
+        # error: a 4-image strip from tie points in noisy images; with the principal distance right to 0.02 px,
+        # runs have shown centres 0.08-0.16 m beyond the interior orientation's share
+        random_m, random_deg = 0.10, 0.05
         print("control-georeferenced stations against the truth (%d control points, RMS %.3f m): COLMAP's focal length %.2f px against %.2f, "
-              "principal point %.2f px off; worst centre %.3f m where its interior orientation explains %.3f m; attitude within %.4f deg"
-              % (len(control), c["report"]["georeference"]["rms_m"], fx, truth_camera["f"], pp_error, worst_error, worst_bound, attitude))
+              "principal point and distortion %.2f px (distortion %.2f px RMS); worst centre %.3f m where its interior orientation explains %.3f m; attitude within %.4f deg"
+              % (len(control), c["report"]["georeference"]["rms_m"], fx, truth_camera["f"], pp_error, distortion_px, worst_error, worst_bound, attitude))
         for image_id, error, bound, turn, turn_bound in checks:
-            print("  %s: centre %.3f m (bound %.3f m), attitude %.4f deg (bound %.4f deg)" % (image_id, error, 1.5 * bound + 0.05, turn, 1.5 * turn_bound + 0.05))
+            print("  %s: centre %.3f m (bound %.3f m), attitude %.4f deg (bound %.4f deg)" % (image_id, error, 1.5 * bound + random_m, turn, 1.5 * turn_bound + random_deg))
         for image_id, error, bound, turn, turn_bound in checks:
-            self.assertLess(error, 1.5 * bound + 0.05, image_id)
-            self.assertLess(turn, 1.5 * turn_bound + 0.05, image_id)
+            self.assertLess(error, 1.5 * bound + random_m, image_id)
+            self.assertLess(turn, 1.5 * turn_bound + random_deg, image_id)
 
     def test_round_trip_through_export_reproduces_the_block(self):
         r = self.gnss_result
