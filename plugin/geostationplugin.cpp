@@ -34,7 +34,7 @@
 #include "orientationdock.h"
 #include "multiviewsession.h"
 #include "overviewlayers.h"
-#include "stationpicktool.h"
+#include "mappointtool.h"
 
 namespace
 {
@@ -151,7 +151,7 @@ void GeoStationPlugin::initGui()
   mPickStationAction = addAction( QStringLiteral( "mActionGeoStationPickStation" ), QStringLiteral( ":/geostation/icons/pickstation.svg" ), tr( "Pick Station on Map" ),
                                   tr( "Click near the trajectory on the map to load that station into the Multiview" ), nullptr );
   mPickStationAction->setCheckable( true );
-  mPickTool = new GeoStationStationPickTool( mIface->mapCanvas() );
+  mPickTool = new GeoStationMapPointTool( mIface->mapCanvas(), Qt::PointingHandCursor );
   mPickTool->setAction( mPickStationAction );
   connect( mPickStationAction, &QAction::triggered, this, [this]( bool on )
   {
@@ -160,7 +160,7 @@ void GeoStationPlugin::initGui()
     else if ( mIface->mapCanvas()->mapTool() == mPickTool )
       mIface->mapCanvas()->unsetMapTool( mPickTool );
   } );
-  connect( mPickTool, &GeoStationStationPickTool::picked, this, [this]( const QgsPointXY &point )
+  connect( mPickTool, &GeoStationMapPointTool::picked, this, [this]( const QgsPointXY &point )
   {
     const int index = mOverview->stationNearestToMapPoint( point );
     if ( index < 0 )

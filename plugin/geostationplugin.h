@@ -28,7 +28,7 @@ class GeoStationMultiviewDock;
 class GeoStationOrientationDock;
 class GeoStationOverviewLayers;
 class GeoStationMultiviewSession;
-class GeoStationStationPickTool;
+class GeoStationMapPointTool;
 
 namespace geostation
 {
@@ -132,7 +132,7 @@ class GeoStationPlugin : public QObject, public QgisPlugin
     GeoStationOverviewLayers *mOverview = nullptr;
     QPointer<GeoStationMultiviewDock> mDock;
     QPointer<GeoStationOrientationDock> mOrientationDock;
-    QPointer<GeoStationStationPickTool> mPickTool;
+    QPointer<GeoStationMapPointTool> mPickTool;
     GeoStationExtractionReview *mReview = nullptr;
     QPointer<GeoStationReviewTool> mReviewTool;
     QAction *mReviewAction = nullptr;

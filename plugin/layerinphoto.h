@@ -49,6 +49,12 @@ class GeoStationLayerInPhoto : public QObject
     //! Features left out (no height: no Z and no DEM under them).
     int skippedFeatures() const { return mSkipped; }
 
+    /**
+     * The session's DEM layer as a core monoplotter of the photo (opened once per DEM file), or nullptr without
+     * a photo orientation or a readable DEM layer. Valid until the next setPhoto().
+     */
+    const geostation::Monoplotter *monoplotter();
+
   public slots:
     //! Draws now.
     void redraw();
@@ -57,8 +63,6 @@ class GeoStationLayerInPhoto : public QObject
 
   private:
     void clear();
-    //! The DEM layer of the session as a core monoplotter for the photo, or nullptr.
-    const geostation::Monoplotter *monoplotter();
 
     GeoStationMultiviewSession *mSession;
     QPointer<GeoStationMultiviewDock> mMultiview;

@@ -23,7 +23,7 @@
 #include "fiducialpanel.h"
 #include "groundpoints.h"
 #include "layerinphoto.h"
-#include "groundpointtool.h"
+#include "mappointtool.h"
 #include "identification/markcandidates.h"
 #include "identification/photoidentification.h"
 #include "io/rasterfile.h"
@@ -476,8 +476,12 @@ bool GeoStationOrientationDock::saveToBlock()
     return false;
   }
   mSession->reloadBlock();
-  showMessage( tr( "The orientation of %1 is saved in %2; the measurements in %3." )
-               .arg( mImageId, QFileInfo( mSession->blockPath() ).fileName(), QFileInfo( controlTablePath() ).fileName() ) );
+  const QString saved = tr( "The orientation of %1 is saved in %2; the measurements in %3." )
+                          .arg( mImageId, QFileInfo( mSession->blockPath() ).fileName(), QFileInfo( controlTablePath() ).fileName() );
+  if ( mDemCoverage && !mDemCoverage->complete() )
+    showMessage( tr( "%1 Note: %2." ).arg( saved, QString::fromStdString( mDemCoverage->message ) ), true );
+  else
+    showMessage( saved );
   return true;
 }
 
@@ -516,8 +520,8 @@ void GeoStationOrientationDock::setPickingGround( bool on )
   {
     if ( !mGroundTool )
     {
-      mGroundTool = new GeoStationGroundPointTool( mMapCanvas );
-      connect( mGroundTool, &GeoStationGroundPointTool::picked, this, &GeoStationOrientationDock::pickGround );
+      mGroundTool = new GeoStationMapPointTool( mMapCanvas, Qt::CrossCursor );
+      connect( mGroundTool, &GeoStationMapPointTool::picked, this, &GeoStationOrientationDock::pickGround );
       connect( mGroundTool, &QgsMapTool::deactivated, this, [this] { mPickMapButton->setChecked( false ); } );
     }
     mMapCanvas->setMapTool( mGroundTool );
@@ -577,8 +581,15 @@ void GeoStationOrientationDock::updateOrientation()
       lines << QStringLiteral( "%1 = %2 ± %3%4" ).arg( QString::fromStdString( r.parameterNames[i] ), -6 ).arg( r.estimates[i], 0, 'f', decimals ).arg( r.sigmas[i], 0, 'g', 3 ).arg( unit );
     }
   }
-  mResultText->setPlainText( lines.join( QLatin1Char( '\n' ) ) );
   mLayerInPhoto->setPhoto( mImageId, currentOrientation() );
+  mDemCoverage.reset();
+  if ( const geostation::Monoplotter *monoplotter = mLayerInPhoto->monoplotter() )
+  {
+    // 108 rays: a few milliseconds, so it follows every change
+    mDemCoverage = geostation::demCoverageOfImage( *monoplotter );
+    lines << tr( "DEM: %1" ).arg( QString::fromStdString( mDemCoverage->message ) );
+  }
+  mResultText->setPlainText( lines.join( QLatin1Char( '\n' ) ) );
   mSaveButton->setEnabled( summary.oriented() );
   drawMarkers();
 }

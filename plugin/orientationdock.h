@@ -29,6 +29,7 @@
 #include <qgsdockwidget.h>
 #include <qgspointxy.h>
 
+#include "dem/demcoverage.h"
 #include "geometry/projection.h"
 #include "ui_geostationorientationdockbase.h"
 
@@ -38,7 +39,7 @@ class GeoStationControlPointModel;
 class GeoStationControlPointOverlay;
 class GeoStationFiducialPanel;
 class GeoStationLayerInPhoto;
-class GeoStationGroundPointTool;
+class GeoStationMapPointTool;
 class GeoStationMultiviewDock;
 class GeoStationMultiviewSession;
 
@@ -63,6 +64,11 @@ class GeoStationOrientationDock : public QgsDockWidget, private Ui::GeoStationOr
     //! The photo's orientation as it stands: the one being measured, else the block's; nothing when neither.
     std::optional<geostation::OrientedImage> currentOrientation() const;
     GeoStationLayerInPhoto *layerInPhoto() const { return mLayerInPhoto; }
+    /**
+     * How much of the ground seen in the oriented photo the DEM layer covers; nothing without an orientation or a
+     * DEM layer. Also a line of the result text, and a warning on Save when the cover is partial.
+     */
+    const std::optional<geostation::DemCoverageSummary> &demCoverage() const { return mDemCoverage; }
     //! Markers drawn in the views of the photo (tests).
     int markerCount() const;
 
@@ -115,9 +121,10 @@ class GeoStationOrientationDock : public QgsDockWidget, private Ui::GeoStationOr
     QPointer<GeoStationMultiviewDock> mMultiview;
     QPointer<QgsMapCanvas> mMapCanvas;
     GeoStationControlPointModel *mModel = nullptr;
-    QPointer<GeoStationGroundPointTool> mGroundTool;
+    QPointer<GeoStationMapPointTool> mGroundTool;
     QString mImageId;
     QString mMessage;
+    std::optional<geostation::DemCoverageSummary> mDemCoverage;
     cv::Mat mGrey;
     QString mGreyImageId;
     std::unique_ptr<GeoStationControlPointOverlay> mOverlay;

@@ -93,6 +93,9 @@ namespace geostation
       //! The DEM height under a block-CRS point, or nothing.
       std::optional<double> demHeightAt( const Eigen::Vector3d &pointInWorld ) const;
 
+      //! The oriented image it monoplots.
+      const OrientedImage &image() const { return mImage; }
+
     private:
       std::optional<Eigen::Vector3d> hit( const OrientedImage &image, const Eigen::Vector2d &pixel, double demShiftM, DemIntersection *out = nullptr ) const;
 

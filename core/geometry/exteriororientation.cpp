@@ -10,6 +10,17 @@
 namespace geostation
 {
 
+  ExteriorOrientation ExteriorOrientation::fromCentreAndRotation( const Eigen::Vector3d &projectionCentre, const Eigen::Matrix3d &worldFromCamera )
+  {
+    ExteriorOrientation eo;
+    eo.projectionCentre = projectionCentre;
+    const Eigen::Vector3d opk = omegaPhiKappaDegFromRotation( worldFromCamera );
+    eo.omegaDeg = opk.x();
+    eo.phiDeg = opk.y();
+    eo.kappaDeg = opk.z();
+    return eo;
+  }
+
   Eigen::Matrix3d ExteriorOrientation::worldFromCamera() const
   {
     return worldFromCameraRotationDeg( omegaDeg, phiDeg, kappaDeg );

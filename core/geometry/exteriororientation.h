@@ -30,6 +30,12 @@ namespace geostation
     double kappaDeg = 0.0;
     std::optional<ExteriorSigma> sigma; //!< GNSS/INS quality, used as priors
 
+    /**
+     * The exterior orientation of a projection centre (block CRS, metres) and a rotation from the camera frame
+     * (x right, y up, z back) to object space, expressed as omega, phi, kappa in degrees; no sigma.
+     */
+    static ExteriorOrientation fromCentreAndRotation( const Eigen::Vector3d &projectionCentre, const Eigen::Matrix3d &worldFromCamera );
+
     //! R = Rx(omega) Ry(phi) Rz(kappa): camera-frame vectors to object space.
     Eigen::Matrix3d worldFromCamera() const;
 

@@ -16,13 +16,7 @@ namespace geostation
 
   ExteriorOrientation SimilarityTransform::apply( const ExteriorOrientation &exteriorInSource ) const
   {
-    ExteriorOrientation out;
-    out.projectionCentre = apply( exteriorInSource.projectionCentre );
-    const Eigen::Vector3d opk = omegaPhiKappaDegFromRotation( rotation * exteriorInSource.worldFromCamera() );
-    out.omegaDeg = opk.x();
-    out.phiDeg = opk.y();
-    out.kappaDeg = opk.z();
-    return out;
+    return ExteriorOrientation::fromCentreAndRotation( apply( exteriorInSource.projectionCentre ), rotation * exteriorInSource.worldFromCamera() );
   }
 
   SimilarityTransform SimilarityTransform::inverse() const

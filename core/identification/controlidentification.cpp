@@ -70,13 +70,7 @@ namespace geostation
 
     ExteriorOrientation exteriorOf( const ThreePointPose &pose, const Eigen::Vector3d &origin )
     {
-      ExteriorOrientation exterior;
-      exterior.projectionCentre = pose.centre + origin;
-      const Eigen::Vector3d opk = omegaPhiKappaDegFromRotation( pose.cameraFromWorld.transpose() );
-      exterior.omegaDeg = opk.x();
-      exterior.phiDeg = opk.y();
-      exterior.kappaDeg = opk.z();
-      return exterior;
+      return ExteriorOrientation::fromCentreAndRotation( pose.centre + origin, pose.cameraFromWorld.transpose() );
     }
 
     struct Verified

@@ -142,13 +142,7 @@ namespace geostation
       throw std::invalid_argument( "the pose's quaternion or translation is zero or not a number" );
     const Matrix3ld camFromWorldLd = camFromWorldOf( qvec );
     const Eigen::Matrix3d camFromWorld = camFromWorldLd.cast<double>();
-    ExteriorOrientation eo;
-    eo.projectionCentre = ( -( camFromWorldLd.transpose() * tvec.cast<long double>() ) ).cast<double>();
-    const Eigen::Vector3d opk = omegaPhiKappaDegFromRotation( camFromWorld.transpose() * kFlipYZ );
-    eo.omegaDeg = opk.x();
-    eo.phiDeg = opk.y();
-    eo.kappaDeg = opk.z();
-    return eo;
+    return ExteriorOrientation::fromCentreAndRotation( ( -( camFromWorldLd.transpose() * tvec.cast<long double>() ) ).cast<double>(), camFromWorld.transpose() * kFlipYZ );
   }
 
   void colmapPoseFromExterior( const ExteriorOrientation &exterior, Eigen::Vector4d *qvec, Eigen::Vector3d *tvec )

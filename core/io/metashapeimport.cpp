@@ -293,13 +293,7 @@ namespace geostation
       if ( found.empty() && options.requireImageFiles )
         throw std::invalid_argument( "the image of camera \"" + label + "\" is not in " + imageFolder.string() + " (looked for the label with .jpg, .tif and .png); give the image folder" );
       image.path = found.empty() ? label : found.generic_string();
-      ExteriorOrientation eo;
-      eo.projectionCentre = centre;
-      const Eigen::Vector3d opk = omegaPhiKappaDegFromRotation( rotation * kFlipYZ );
-      eo.omegaDeg = opk.x();
-      eo.phiDeg = opk.y();
-      eo.kappaDeg = opk.z();
-      image.exterior = eo;
+      image.exterior = ExteriorOrientation::fromCentreAndRotation( centre, rotation * kFlipYZ );
       Station station;
       station.id = label;
       block.stations.push_back( station );

@@ -326,23 +326,11 @@ namespace geostation
                                     : replaceAll( replaceAll( replaceAll( rig[c].imagePattern, "{station}", s.id ), "{row}", std::to_string( source.row + 1 ) ), "{time}", s.time );
         if ( image.path.empty() )
           throw std::invalid_argument( rowName + ", row " + std::to_string( source.row + 1 ) + ": no image name for camera \"" + rig[c].camera.id + "\"" );
-        ExteriorOrientation eo;
-        Eigen::Matrix3d worldFromCamera;
         if ( source.rollPitchHeadingDeg )
-        {
-          eo.projectionCentre = source.position + worldFromBody( *source.rollPitchHeadingDeg, gamma ) * rig[c].leverArmM;
-          worldFromCamera = worldFromRigCamera( *source.rollPitchHeadingDeg, rig[c], gamma );
-        }
+          image.exterior = ExteriorOrientation::fromCentreAndRotation( source.position + worldFromBody( *source.rollPitchHeadingDeg, gamma ) * rig[c].leverArmM,
+                                                                       worldFromRigCamera( *source.rollPitchHeadingDeg, rig[c], gamma ) );
         else
-        {
-          eo.projectionCentre = source.position;
-          worldFromCamera = *source.worldFromCamera;
-        }
-        const Eigen::Vector3d opk = omegaPhiKappaDegFromRotation( worldFromCamera );
-        eo.omegaDeg = opk.x();
-        eo.phiDeg = opk.y();
-        eo.kappaDeg = opk.z();
-        image.exterior = eo;
+          image.exterior = ExteriorOrientation::fromCentreAndRotation( source.position, *source.worldFromCamera );
         import.imageIdBySourceName[image.path] = image.id;
         block.images.push_back( image );
       }

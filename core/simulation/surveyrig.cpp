@@ -54,17 +54,6 @@ namespace geostation
       return axes;
     }
 
-    ExteriorOrientation exteriorFrom( const Eigen::Vector3d &centre, const Eigen::Matrix3d &worldFromCamera )
-    {
-      ExteriorOrientation eo;
-      eo.projectionCentre = centre;
-      const Eigen::Vector3d opk = omegaPhiKappaDegFromRotation( worldFromCamera );
-      eo.omegaDeg = opk.x();
-      eo.phiDeg = opk.y();
-      eo.kappaDeg = opk.z();
-      return eo;
-    }
-
     std::string isoTime( double secondsAfterStart )
     {
       // 2026-05-04T10:00:00.000Z + seconds (runs shorter than a day)
@@ -383,7 +372,7 @@ namespace geostation
         image.id = options.preset == SurveyPreset::Highway ? truth.stations[i].id + "_" + kVanMounts[k].suffix : truth.stations[i].id;
         image.path = "images/" + image.id + ".tif";
         const Eigen::Matrix3d R = exact[i].worldFromVehicle * cameras[k].second.leftCols<3>();
-        image.exterior = exteriorFrom( exact[i].origin + exact[i].worldFromVehicle * cameras[k].second.col( 3 ), R );
+        image.exterior = ExteriorOrientation::fromCentreAndRotation( exact[i].origin + exact[i].worldFromVehicle * cameras[k].second.col( 3 ), R );
       }
     if ( options.scannedFilm && options.preset == SurveyPreset::ObliquePhoto )
       for ( BlockImage &image : truth.images )
@@ -398,7 +387,7 @@ namespace geostation
       for ( size_t k = 0; k < cameras.size(); ++k, ++index )
       {
         BlockImage &image = noisy.images[index];
-        image.exterior = exteriorFrom( pose.origin + pose.worldFromVehicle * cameras[k].second.col( 3 ), pose.worldFromVehicle * cameras[k].second.leftCols<3>() );
+        image.exterior = ExteriorOrientation::fromCentreAndRotation( pose.origin + pose.worldFromVehicle * cameras[k].second.col( 3 ), pose.worldFromVehicle * cameras[k].second.leftCols<3>() );
         if ( options.poseNoiseScale > 0.0 )
           image.exterior->sigma = sigma;
       }

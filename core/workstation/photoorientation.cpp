@@ -224,15 +224,6 @@ namespace geostation
         ideal.push_back( ray->head<2>() );
       }
     }
-    auto exterior = [&]( const Eigen::Matrix3d &worldFromCamera, const Eigen::Vector3d &centre ) {
-      ExteriorOrientation eo;
-      eo.projectionCentre = centre;
-      const Eigen::Vector3d angles = omegaPhiKappaDegFromRotation( worldFromCamera );
-      eo.omegaDeg = angles.x();
-      eo.phiDeg = angles.y();
-      eo.kappaDeg = angles.z();
-      return eo;
-    };
     if ( world.size() >= 3 )
     {
       // the three points spanning the largest triangle in the photo
@@ -256,7 +247,7 @@ namespace geostation
       std::vector<std::pair<double, ExteriorOrientation>> ranked;
       for ( const ThreePointPose &pose : poses )
       {
-        const ExteriorOrientation eo = exterior( pose.cameraFromWorld.transpose(), pose.centre + origin );
+        const ExteriorOrientation eo = ExteriorOrientation::fromCentreAndRotation( pose.centre + origin, pose.cameraFromWorld.transpose() );
         const OrientedImage image( camera, eo );
         // how well the other measured points agree (ideal units); with three points all agree
         double misfit = 0.0;
@@ -290,7 +281,7 @@ namespace geostation
       const Eigen::JacobiSVD<Eigen::Matrix3d> svd( toWorld * fromCamera.transpose(), Eigen::ComputeFullU | Eigen::ComputeFullV );
       Eigen::Matrix3d d = Eigen::Matrix3d::Identity();
       d( 2, 2 ) = ( svd.matrixU() * svd.matrixV().transpose() ).determinant() < 0.0 ? -1.0 : 1.0;
-      return { exterior( svd.matrixU() * d * svd.matrixV().transpose(), *approximateCentre ) };
+      return { ExteriorOrientation::fromCentreAndRotation( *approximateCentre, svd.matrixU() * d * svd.matrixV().transpose() ) };
     }
     return {};
   }

@@ -51,13 +51,7 @@ namespace texturedground
     const double a = degToRad( -azimuthDeg );
     Eigen::Matrix3d turn;
     turn << std::cos( a ), -std::sin( a ), 0, std::sin( a ), std::cos( a ), 0, 0, 0, 1;
-    const Eigen::Vector3d opk = omegaPhiKappaDegFromRotation( turn * north );
-    ExteriorOrientation e;
-    e.projectionCentre = centre;
-    e.omegaDeg = opk.x();
-    e.phiDeg = opk.y();
-    e.kappaDeg = opk.z();
-    return OrientedImage( camera, e );
+    return OrientedImage( camera, ExteriorOrientation::fromCentreAndRotation( centre, turn * north ) );
   }
 
   //! A grey photograph lying on the ground: its top-left corner at (x0, y0), `groundPerPixel` metres per pixel, rows to the south.

@@ -57,13 +57,7 @@ namespace
     const double r = degToRad( rollDeg );
     Eigen::Matrix3d roll;
     roll << std::cos( r ), -std::sin( r ), 0, std::sin( r ), std::cos( r ), 0, 0, 0, 1;
-    ExteriorOrientation exterior;
-    exterior.projectionCentre = position;
-    const Eigen::Vector3d opk = omegaPhiKappaDegFromRotation( axes * roll );
-    exterior.omegaDeg = opk.x();
-    exterior.phiDeg = opk.y();
-    exterior.kappaDeg = opk.z();
-    return exterior;
+    return ExteriorOrientation::fromCentreAndRotation( position, axes * roll );
   }
 
   struct Scoring

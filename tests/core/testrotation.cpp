@@ -93,3 +93,20 @@ TEST( Rotation, GimbalLockKeepsTheRotation )
   EXPECT_NEAR( opk.y(), 90.0, 1e-6 );
   EXPECT_LT( ( worldFromCameraRotationDeg( opk.x(), opk.y(), opk.z() ) - R ).norm(), 1e-6 );
 }
+
+TEST( Rotation, ExteriorOrientationFromCentreAndRotation )
+{
+  // a camera 30 m up looking north-east and 20 degrees down, rolled 5 degrees
+  const Eigen::Matrix3d worldFromCamera = worldFromCameraRotationDeg( 70.0, -5.0, -45.0 );
+  const Eigen::Vector3d centre( 500100.25, 5400200.5, 330.0 );
+  const ExteriorOrientation eo = ExteriorOrientation::fromCentreAndRotation( centre, worldFromCamera );
+  EXPECT_EQ( eo.projectionCentre, centre );
+  EXPECT_NEAR( eo.omegaDeg, 70.0, 1e-9 );
+  EXPECT_NEAR( eo.phiDeg, -5.0, 1e-9 );
+  EXPECT_NEAR( eo.kappaDeg, -45.0, 1e-9 );
+  EXPECT_LT( ( eo.worldFromCamera() - worldFromCamera ).norm(), 1e-12 );
+  EXPECT_FALSE( eo.sigma.has_value() );
+  // a point 10 m ahead along the viewing axis is on the camera's -z axis
+  const Eigen::Vector3d ahead = eo.cameraFromWorld( centre + 10.0 * eo.viewingDirection() );
+  EXPECT_LT( ( ahead - Eigen::Vector3d( 0.0, 0.0, -10.0 ) ).norm(), 1e-9 );
+}

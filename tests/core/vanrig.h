@@ -23,13 +23,7 @@ namespace vanrig
     const Eigen::Vector3d up = right.cross( forward );
     Eigen::Matrix3d worldFromCamera;
     worldFromCamera << right, up, -forward;
-    ExteriorOrientation eo;
-    eo.projectionCentre = centre;
-    const Eigen::Vector3d opk = omegaPhiKappaDegFromRotation( worldFromCamera );
-    eo.omegaDeg = opk.x();
-    eo.phiDeg = opk.y();
-    eo.kappaDeg = opk.z();
-    return eo;
+    return ExteriorOrientation::fromCentreAndRotation( centre, worldFromCamera );
   }
 
   inline Camera camera( DistortionModel model )

@@ -44,6 +44,8 @@
 #include "layerinphoto.h"
 #include "fiducialmodel.h"
 #include "fiducialpanel.h"
+#include "dem/demcoverage.h"
+#include "geometry/crs.h"
 #include "imageproc/fiducialdetection.h"
 #include "io/block.h"
 #include "simulation/surveysimulator.h"
@@ -283,8 +285,24 @@ void TestOrientationDock::clickedAndFoundControlOrientTheScannedPhoto()
   QVERIFY( std::abs( model->points().back().world.z() - onDem.z() ) < 1.0 );
   model->removePoint( model->rowCount() - 1 );
 
+  // how much of the photo's ground the DEM layer covers, told with the result: as under the true orientation
+  QVERIFY( dock.demCoverage().has_value() );
+  QVERIFY( dock.resultText().contains( QStringLiteral( "DEM: " ) + QString::fromStdString( dock.demCoverage()->message ) ) );
+  {
+    const geostation::Dem terrain( mDir.filePath( QStringLiteral( "photo/terrain.tif" ) ).toStdString() );
+    const geostation::CrsTransform same( mTruthBlock->crs, terrain.crsWkt() );
+    const geostation::OrientedImage trueImage = mTruthBlock->orientedImage( mTruthBlock->images.front() );
+    const geostation::Monoplotter monoplotter( trueImage, terrain, same );
+    const geostation::DemCoverageSummary truth = geostation::demCoverageOfImage( monoplotter );
+    qInfo() << "DEM coverage:" << dock.demCoverage()->message.c_str() << "- with the true orientation" << truth.onDem << "of" << truth.groundSamples() << "rays on it," << truth.sky << "at the sky";
+    QVERIFY( std::abs( dock.demCoverage()->onDem - truth.onDem ) <= 2 );
+    QVERIFY( std::abs( dock.demCoverage()->sky - truth.sky ) <= 2 );
+  }
+
   // saved into the block: the file reloads oriented, the measurements beside it come back with the photo
   QVERIFY2( dock.saveToBlock(), qPrintable( dock.message() ) );
+  if ( !dock.demCoverage()->complete() )
+    QVERIFY2( dock.message().contains( QStringLiteral( "Note: the DEM covers" ) ), qPrintable( dock.message() ) );
   const geostation::Block saved = geostation::Block::load( mBlockPath.toStdString() );
   QVERIFY( saved.images.front().exterior.has_value() );
   QVERIFY( ( saved.images.front().exterior->projectionCentre - model->summary().resection.exterior.projectionCentre ).norm() < 1e-6 );

@@ -1,11 +1,12 @@
 /***************************************************************************
-  groundpointtool.h - a map tool of the QGIS canvas: pick a ground point
+  mappointtool.h - a map tool of the QGIS canvas that picks a point
   -------------------------------------------------------------------------
   Only emits the clicked point (canvas CRS), as the georeferencer's tools
-  do; the orientation dock gives it a height and a control point.
+  do. The Overview uses it to pick the station nearest the click; the
+  orientation dock gives the point a height and makes it a control point.
  ***************************************************************************/
-#ifndef GEOSTATIONGROUNDPOINTTOOL_H
-#define GEOSTATIONGROUNDPOINTTOOL_H
+#ifndef GEOSTATIONMAPPOINTTOOL_H
+#define GEOSTATIONMAPPOINTTOOL_H
 
 #include <qgsmaptool.h>
 #include <qgspointxy.h>
@@ -13,16 +14,17 @@
 class QgsMapCanvas;
 class QgsMapMouseEvent;
 
-class GeoStationGroundPointTool : public QgsMapTool
+class GeoStationMapPointTool : public QgsMapTool
 {
     Q_OBJECT
 
   public:
-    explicit GeoStationGroundPointTool( QgsMapCanvas *canvas );
+    //! \a cursor: e.g. Qt::PointingHandCursor to pick a station, Qt::CrossCursor to place a ground point
+    GeoStationMapPointTool( QgsMapCanvas *canvas, Qt::CursorShape cursor );
     void canvasReleaseEvent( QgsMapMouseEvent *e ) override;
 
   signals:
     void picked( const QgsPointXY &pointInCanvasCrs );
 };
 
-#endif // GEOSTATIONGROUNDPOINTTOOL_H
+#endif // GEOSTATIONMAPPOINTTOOL_H

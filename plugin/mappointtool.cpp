@@ -1,20 +1,20 @@
 /***************************************************************************
-  stationpicktool.cpp - the Overview's station-picking map tool
+  mappointtool.cpp - a map tool of the QGIS canvas that picks a point
  ***************************************************************************/
-#include "stationpicktool.h"
+#include "mappointtool.h"
 
 #include <QCursor>
 
 #include <qgsmapcanvas.h>
 #include <qgsmapmouseevent.h>
 
-GeoStationStationPickTool::GeoStationStationPickTool( QgsMapCanvas *canvas )
+GeoStationMapPointTool::GeoStationMapPointTool( QgsMapCanvas *canvas, Qt::CursorShape cursor )
   : QgsMapTool( canvas )
 {
-  setCursor( QCursor( Qt::PointingHandCursor ) );
+  setCursor( QCursor( cursor ) );
 }
 
-void GeoStationStationPickTool::canvasReleaseEvent( QgsMapMouseEvent *e )
+void GeoStationMapPointTool::canvasReleaseEvent( QgsMapMouseEvent *e )
 {
   if ( e->button() == Qt::LeftButton )
     emit picked( e->mapPoint() );
