@@ -8,7 +8,9 @@ werror="${GEOSTATION_WERROR:-$([ "${CI:-}" = true ] && echo ON || echo OFF)}"
 # debug information: full (-g) for a developer's build; line tables only (-g1) in CI, where nobody steps
 # through the code and -g makes the build about 40 % slower (backtraces keep file and line either way)
 debug="${GEOSTATION_DEBUG_INFO:-$([ "${CI:-}" = true ] && echo -g1 || echo -g)}"
-cmake -S "$source_dir" -B "$build_dir" -DCMAKE_BUILD_TYPE="${CMAKE_BUILD_TYPE:-RelWithDebInfo}" -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O2 $debug -DNDEBUG" \
+source "$source_dir/scripts/lib/generator.sh"
+# shellcheck disable=SC2046 # the generator option is one word pair or nothing
+cmake $(cmake_generator_args "$build_dir") -S "$source_dir" -B "$build_dir" -DCMAKE_BUILD_TYPE="${CMAKE_BUILD_TYPE:-RelWithDebInfo}" -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O2 $debug -DNDEBUG" \
   -DGEOSTATION_WERROR="$werror" > "$build_dir.configure.log" 2>&1 \
   || { cat "$build_dir.configure.log"; exit 1; }
 # the configure log is kept; its warnings (a missing optional package, a deprecated setting) are shown

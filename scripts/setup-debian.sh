@@ -4,7 +4,7 @@
 set -euo pipefail
 
 packages=(
-  build-essential cmake pkg-config git
+  build-essential cmake ninja-build pkg-config git
   libeigen3-dev libceres-dev libopencv-dev libgdal-dev libproj-dev libgeos-dev nlohmann-json3-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   qtbase5-dev qttools5-dev qttools5-dev-tools libqt5svg5-dev

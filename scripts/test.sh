@@ -3,7 +3,7 @@
 # core (GoogleTest), provider (QtTest) and end-to-end (qgis_process.bin, and
 # QGIS desktop under xvfb-run). Test artifacts (screenshots) go to
 # build/test-artifacts/. Then the core tests again, built with AddressSanitizer
-# and UndefinedBehaviorSanitizer (scripts/sanitize.sh; about 20 minutes on two
+# and UndefinedBehaviorSanitizer (scripts/sanitize.sh; about 13 minutes on two
 # cores): any finding fails the run.
 #
 #   scripts/test.sh [--no-sanitize] [ctest options]
