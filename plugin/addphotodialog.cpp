@@ -86,6 +86,12 @@ void GeoStationAddPhotoDialog::photoChanged()
       mFocalNote->setText( guess.focalSource == "normal_lens_default"
                            ? tr( "%1 × %2 px. The file has no focal length: a normal lens (the diagonal) is assumed; give the calibrated value if you know it." ).arg( mPhotoWidth ).arg( mPhotoHeight )
                            : tr( "%1 × %2 px. Principal distance from the file's EXIF (%3)." ).arg( mPhotoWidth ).arg( mPhotoHeight ).arg( QString::fromStdString( guess.focalSource ) ) );
+      if ( !guess.orientationNote().empty() )
+      {
+        QString note = QString::fromStdString( guess.orientationNote() );
+        note[0] = note[0].toUpper();
+        mFocalNote->setText( mFocalNote->text() + QLatin1Char( ' ' ) + note + QLatin1Char( '.' ) );
+      }
       if ( !mBlock )
         mBlockWidget->setFilePath( QFileInfo( path ).absoluteDir().filePath( QFileInfo( path ).completeBaseName() + QStringLiteral( ".geostation.json" ) ) );
     }

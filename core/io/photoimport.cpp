@@ -52,6 +52,16 @@ namespace geostation
     }
   } // namespace
 
+  std::string PhotoFileCamera::orientationNote() const
+  {
+    static const char *const shown[] = { "", "as stored", "mirrored left to right", "turned 180 degrees", "mirrored top to bottom", "mirrored across its diagonal",
+                                         "turned 90 degrees clockwise", "mirrored across its other diagonal", "turned 90 degrees anticlockwise" };
+    if ( exifOrientation <= 1 || exifOrientation > 8 )
+      return std::string();
+    return "the file is tagged to be shown " + std::string( shown[exifOrientation] ) + " (EXIF orientation " + std::to_string( exifOrientation ) +
+           "); its pixels are measured as stored, so it appears unturned in the views and its camera is that of the stored pixels";
+  }
+
   PhotoFileCamera cameraFromPhotoFile( const std::filesystem::path &photo, const std::string &cameraId )
   {
     GDALDatasetH dataset = openRaster( photo );
@@ -67,6 +77,8 @@ namespace geostation
     const std::optional<double> focalMm = exifNumber( dataset, "EXIF_FocalLength" );
     const std::optional<double> planeResolution = exifNumber( dataset, "EXIF_FocalPlaneXResolution" );
     const std::optional<double> planeUnit = exifNumber( dataset, "EXIF_FocalPlaneResolutionUnit" );
+    if ( const std::optional<double> orientation = exifNumber( dataset, "EXIF_Orientation" ); orientation && *orientation >= 1.0 && *orientation <= 8.0 )
+      result.exifOrientation = static_cast<int>( *orientation );
     GDALClose( dataset );
     // 35 mm film's diagonal: 43.27 mm
     if ( focalMm && planeResolution && planeUnit && ( *planeUnit == 2.0 || *planeUnit == 3.0 ) )

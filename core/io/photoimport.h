@@ -28,6 +28,13 @@ namespace geostation
     Camera camera;
     //! Where f comes from: "exif_35mm_equivalent", "exif_focal_plane_resolution" or "normal_lens_default".
     std::string focalSource;
+    /**
+     * The EXIF orientation tag (1-8; 1: shown as stored, also when there is none). GeoStation measures the
+     * pixels as stored (CONVENTIONS §1): a photo tagged to be shown rotated or mirrored appears so in the views.
+     */
+    int exifOrientation = 1;
+    //! One sentence for the operator when exifOrientation is not 1, else empty.
+    std::string orientationNote() const;
   };
 
   /**

@@ -71,6 +71,16 @@ TEST_F( PhotoImport, CameraFromExifOrANormalLens )
   c = cameraFromPhotoFile( mDir / "photos/bare.jpg", "cam" );
   EXPECT_EQ( c.focalSource, "normal_lens_default" );
   EXPECT_NEAR( c.camera.f, 50.0 / 43.27 * 800.0, 1e-9 );
+  EXPECT_EQ( c.exifOrientation, 1 );
+  EXPECT_EQ( c.orientationNote(), "" );
+
+  // a phone photo tagged "turn 90 degrees clockwise to show": measured as stored, and the operator told so
+  writeJpeg( mDir / "photos/portrait.jpg", 640, 480, { { "EXIF_Orientation", "6" } } );
+  c = cameraFromPhotoFile( mDir / "photos/portrait.jpg", "cam" );
+  EXPECT_EQ( c.exifOrientation, 6 );
+  EXPECT_EQ( c.camera.width, 640 ); // the stored pixels' camera
+  EXPECT_NE( c.orientationNote().find( "tagged to be shown turned 90 degrees clockwise (EXIF orientation 6); its pixels are measured as stored" ), std::string::npos )
+      << c.orientationNote();
 
   std::ofstream( mDir / "photos/broken.jpg" ) << "not a photo";
   EXPECT_THROW( cameraFromPhotoFile( mDir / "photos/broken.jpg", "cam" ), std::runtime_error );

@@ -20,10 +20,13 @@
 #include <QJsonDocument>
 #include <QJsonObject>
 #include <QItemSelectionModel>
+#include <QLabel>
 #include <QTableView>
 #include <QTemporaryDir>
 #include <QToolButton>
 #include <QtTest/QtTest>
+
+#include <gdal.h>
 
 #include <qgsapplication.h>
 #include <qgsfeatureiterator.h>
@@ -451,8 +454,23 @@ void TestOrientationDock::addPhotoStartsABlockAndOpensThePhotoUnoriented()
   GeoStationAddPhotoDialog dialog( nullptr, crs );
   dialog.setPhotoPath( broken.fileName() );
   QVERIFY2( dialog.problem().contains( QStringLiteral( "cannot be decoded" ) ), qPrintable( dialog.problem() ) );
+  // a phone photo tagged to be shown turned: the dialog says it is measured as stored
+  const QString turned = mDir.filePath( QStringLiteral( "added/turned.jpg" ) );
+  {
+    GDALDatasetH source = GDALOpen( photo.toUtf8().constData(), GA_ReadOnly );
+    QVERIFY( source );
+    GDALDatasetH memory = GDALCreateCopy( GDALGetDriverByName( "MEM" ), "", source, FALSE, nullptr, nullptr, nullptr );
+    GDALClose( source );
+    GDALSetMetadataItem( memory, "EXIF_Orientation", "6", nullptr );
+    GDALClose( GDALCreateCopy( GDALGetDriverByName( "JPEG" ), turned.toUtf8().constData(), memory, FALSE, nullptr, nullptr, nullptr ) );
+    GDALClose( memory );
+  }
+  dialog.setPhotoPath( turned );
+  const QString turnedNote = dialog.findChild<QLabel *>( QStringLiteral( "mFocalNote" ) )->text();
+  QVERIFY2( turnedNote.contains( QStringLiteral( "The file is tagged to be shown turned 90 degrees clockwise (EXIF orientation 6); its pixels are measured as stored" ) ), qPrintable( turnedNote ) );
   dialog.setPhotoPath( photo );
   QVERIFY( dialog.problem().isEmpty() );
+  QVERIFY( !dialog.findChild<QLabel *>( QStringLiteral( "mFocalNote" ) )->text().contains( QStringLiteral( "EXIF orientation" ) ) );
   QVERIFY( dialog.camera( &camera, &error ) );
   QCOMPARE( camera.width, film.width );
   // a calibration report's values typed in: principal distance, pixel size, lens distortion, fiducials
