@@ -286,7 +286,7 @@ class ColmapPeerTest(unittest.TestCase):
             checks.append((i["id"], error, bound, turn, turn_bound))
         # every figure first, so that a failure shows which bound was crossed (COLMAP's model varies run to run).
         # Beyond what the interior orientation explains, 0.10 m (0.05 deg) is left for the model's own random
-        # error: a 4-image strip from tie points in noisy images; with the principal distance right to 0.02 px,
+        # error: a 4-image strip from tie points in noisy images; with the principal distance right to 0.05 px,
         # runs have shown centres 0.08-0.16 m beyond the interior orientation's share
         random_m, random_deg = 0.10, 0.05
         print("control-georeferenced stations against the truth (%d control points, RMS %.3f m): COLMAP's focal length %.2f px against %.2f, "
