@@ -173,4 +173,19 @@ namespace geostation
     return out;
   }
 
+  LineFollowResult followLineBothWays( const cv::Mat &grey, const FollowRequest &request, TraceMethod method, const LineFollowOptions &options )
+  {
+    LineFollowResult ahead = followLine( grey, request, method, options );
+    FollowRequest backwardRequest = request;
+    backwardRequest.direction = -request.direction;
+    if ( request.profile.kind == LineKind::Edge )
+      backwardRequest.profile.polarity = -request.profile.polarity;
+    const LineFollowResult behind = followLine( grey, backwardRequest, method, options );
+    joinBackward( behind.line, ahead.line );
+    ahead.line.pixelsFollowed += behind.line.pixelsFollowed;
+    ahead.bridgedGaps += behind.bridgedGaps;
+    ahead.bridgedPx += behind.bridgedPx;
+    return ahead;
+  }
+
 } // namespace geostation

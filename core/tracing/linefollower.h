@@ -48,6 +48,15 @@ namespace geostation
   //! One method (not Auto) from request.start; see the file comment.
   LineFollowResult followLine( const cv::Mat &grey, const FollowRequest &request, TraceMethod method, const LineFollowOptions &options = LineFollowOptions() );
 
+  /**
+   * followLine() both ways from request.start, as from an operator's click in
+   * the middle of a line: the part behind the start (followed along
+   * -request.direction, an edge's polarity turned with it) joined before the
+   * part ahead, in request.direction's order. stop, profile and direction are
+   * those of the part ahead; pixels followed and gaps bridged are summed.
+   */
+  LineFollowResult followLineBothWays( const cv::Mat &grey, const FollowRequest &request, TraceMethod method, const LineFollowOptions &options = LineFollowOptions() );
+
 } // namespace geostation
 
 #endif // GEOSTATION_TRACING_LINEFOLLOWER_H

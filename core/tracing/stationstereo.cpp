@@ -58,13 +58,7 @@ namespace geostation
     };
     if ( const std::optional<LineHit> snapped = locateLine( partnerGrey, partnerRequest.start, partnerRequest.direction, profile, locateOptionsFor( profile, options.follow.directional.follow, 4.0 ) ) )
       partnerRequest.start = snapped->pixelInImage;
-    out.partnerLine = followLine( partnerGrey, partnerRequest, in.method, partnerFollow );
-    FollowRequest backwardRequest = partnerRequest;
-    backwardRequest.direction = -partnerRequest.direction;
-    if ( profile.kind == LineKind::Edge )
-      backwardRequest.profile.polarity = -profile.polarity;
-    const LineFollowResult backward = followLine( partnerGrey, backwardRequest, in.method, partnerFollow );
-    joinBackward( backward.line, out.partnerLine.line );
+    out.partnerLine = followLineBothWays( partnerGrey, partnerRequest, in.method, partnerFollow );
 
     VertexMatchOptions vertexOptions = options.vertices;
     if ( profile.kind != LineKind::Edge )

@@ -396,12 +396,7 @@ TEST( Tracing, RealPhotographUnderAKnownHomography )
     request.profile = seed.profile;
     LineFollowOptions options;
     options.maxGapPx = 12.0; // the grid's crossings and digits are short gaps; beyond is the paper's edge
-    const LineFollowResult up = followLine( grey, request, method, options );
-    request.direction = -seed.direction;
-    const LineFollowResult down = followLine( grey, request, method, options );
-    std::vector<Eigen::Vector2d> line( down.line.points.rbegin(), down.line.points.rend() );
-    line.insert( line.end(), up.line.points.begin(), up.line.points.end() );
-    return std::make_pair( seed, line );
+    return std::make_pair( seed, followLineBothWays( grey, request, method, options ).line.points );
   };
   // the thick line between the third and fourth columns
   const auto [seed, original] = trace( photo, Eigen::Vector2d( 205.0, 300.0 ), TraceMethod::Polynomial );
