@@ -3,16 +3,20 @@
 // seen obliquely from a building, 576 x 432, JPEG). The edge runs the whole
 // width of the photo and curves with the perspective. Things cover it as
 // parked cars cover a kerb: a stone lying on it, a lamp post and a tripod
-// standing across it. A dark seam, about 2 px wide, runs along its far part.
+// standing across it. Along its far part a kerb strip lies between the
+// tarmac and the grass: the edge traced is the tarmac's, at a dark joint
+// about 2 px wide; the kerb's outer edge to the grass, 8 px further out, has
+// the same polarity.
 //
 // Ground truth: the edge digitised on the photograph, a vertex every 16 px
 // (the steepest grey-level step of each column, checked by eye against an
 // overlay at 4x; within about 1 px, the covered columns bridged straight).
 // The tracing is scored with the buffer method (3 px: the truth's 1 px and
-// the seam), in the photo and in the photo seen from another point (a known
+// the joint), in the photo and in the photo seen from another point (a known
 // homography), from clicks in three places along the edge, with each method.
 #include <algorithm>
 #include <cstdio>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -76,6 +80,34 @@ namespace
     t.follow = followLineBothWays( grey, request, method, options );
     return t;
   }
+
+  //! A traced line in the photo's pixels, cut into the parts within the photo's frame.
+  std::vector<PixelPolyline> inPhoto( const std::vector<Eigen::Vector2d> &points, const cv::Mat *fromOther, const cv::Size &frame )
+  {
+    std::vector<PixelPolyline> lines( 1 );
+    for ( const Eigen::Vector2d &p : points )
+    {
+      const Eigen::Vector2d q = fromOther ? apply( *fromOther, p ) : p;
+      if ( q.x() >= 0.0 && q.y() >= 0.0 && q.x() <= frame.width && q.y() <= frame.height )
+        lines.back().push_back( q );
+      else if ( !lines.back().empty() )
+        lines.emplace_back();
+    }
+    return lines;
+  }
+
+  //! The point of a polyline `along` pixels from its start.
+  Eigen::Vector2d pointAlong( const PixelPolyline &line, double along )
+  {
+    for ( size_t i = 0; i + 1 < line.size(); ++i )
+    {
+      const double length = ( line[i + 1] - line[i] ).norm();
+      if ( along <= length )
+        return line[i] + along / length * ( line[i + 1] - line[i] );
+      along -= length;
+    }
+    return line.back();
+  }
 }
 
 TEST( RealRoadTracing, PathEdgeFromOneClickInARealPhotograph )
@@ -101,16 +133,7 @@ TEST( RealRoadTracing, PathEdgeFromOneClickInARealPhotograph )
         ASSERT_TRUE( t.seed.ok ) << t.seed.message;
         EXPECT_EQ( t.seed.profile.kind, LineKind::Edge );
         // in the photo's pixels, and within its frame: the other view's margin has no truth (its border replicated)
-        std::vector<PixelPolyline> lines( 1 );
-        for ( const Eigen::Vector2d &p : t.follow.line.points )
-        {
-          const Eigen::Vector2d q = otherView ? apply( fromOther, p ) : p;
-          if ( q.x() >= 0.0 && q.y() >= 0.0 && q.x() <= photo.cols && q.y() <= photo.rows )
-            lines.back().push_back( q );
-          else if ( !lines.back().empty() )
-            lines.emplace_back();
-        }
-        const ImageBufferScore s = imageBufferScore( lines, truth, bufferPx );
+        const ImageBufferScore s = imageBufferScore( inPhoto( t.follow.line.points, otherView ? &fromOther : nullptr, photo.size() ), truth, bufferPx );
         std::printf( "%-6s (%3.0f, %3.0f)   %-14s  %11.3f %11.3f %8.2f %9.2f  %s\n", otherView ? "other" : "photo", clickInPhoto.x(), clickInPhoto.y(),
                      traceMethodName( method ).c_str(), s.completeness, s.correctness, s.rmsPx, s.worstPx, traceStopName( t.follow.line.stop ).c_str() );
         // every method keeps to the edge where it is followed (RMS within the buffer) ...
@@ -126,4 +149,76 @@ TEST( RealRoadTracing, PathEdgeFromOneClickInARealPhotograph )
   // the whole edge from one click on a clear stretch: 0.91 / 0.92 in the photo, 0.96 / 0.95 in the other view
   EXPECT_GE( worstCompleteness, 0.88 );
   EXPECT_GE( worstCorrectness, 0.88 );
+}
+
+TEST( RealRoadTracing, ClicksAnOperatorNeedsForTheWholeEdge )
+{
+  // The operator clicks near the left end; where tracing stops short, the next click goes on the first stretch
+  // of the edge that is not yet traced, at the first place there where the edge is in sight (a click the seed
+  // analysis puts on the edge, within 2 px: not on the stone or the tripod), until 95 % of it is traced.
+  const cv::Mat photo = cv::imread( kPhoto, cv::IMREAD_GRAYSCALE );
+  ASSERT_FALSE( photo.empty() ) << kPhoto;
+  const cv::Mat toOther = otherViewFromPhoto();
+  cv::Mat other;
+  cv::warpPerspective( photo, other, toOther, cv::Size( 650, 480 ), cv::INTER_LINEAR, cv::BORDER_REPLICATE );
+  const cv::Mat fromOther = toOther.inv();
+  const PixelPolyline edge = pathEdge();
+  const double bufferPx = 3.0, edgeLength = totalLength( { edge } );
+
+  std::printf( "view   method          clicks  completeness correctness\n" );
+  for ( const bool otherView : { false, true } )
+    for ( const TraceMethod method : { TraceMethod::LeastSquares, TraceMethod::Polynomial, TraceMethod::Directional } )
+    {
+      std::vector<PixelPolyline> traced;
+      int clicks = 0;
+      ImageBufferScore score;
+      double nextAlong = 30.0;
+      while ( clicks < 12 )
+      {
+        // the first place from nextAlong on where a click lands on the edge
+        std::optional<Traced> t;
+        for ( double along = nextAlong; along < edgeLength && !t; along += 4.0 )
+        {
+          const Eigen::Vector2d onEdge = pointAlong( edge, along );
+          const Eigen::Vector2d click = otherView ? apply( toOther, onEdge ) : onEdge;
+          Traced candidate = traceFromClick( otherView ? other : photo, click, method );
+          const Eigen::Vector2d snapped = otherView ? apply( fromOther, candidate.seed.pixelInImage ) : candidate.seed.pixelInImage;
+          if ( candidate.seed.ok && candidate.seed.profile.kind == LineKind::Edge && distanceToLines( snapped, { edge } ) <= 2.0 )
+            t = candidate;
+        }
+        if ( !t )
+          break;
+        ++clicks;
+        for ( const PixelPolyline &part : inPhoto( t->follow.line.points, otherView ? &fromOther : nullptr, photo.size() ) )
+          traced.push_back( part );
+        score = imageBufferScore( traced, { edge }, bufferPx );
+        if ( score.completeness >= 0.95 )
+          break;
+        // the first stretch of the edge, 10 px or longer, not yet within the buffer of what is traced
+        double along = 0.0, untracedFrom = -1.0;
+        nextAlong = edgeLength;
+        for ( ; along < edgeLength; along += 1.0 )
+        {
+          if ( distanceToLines( pointAlong( edge, along ), traced ) > bufferPx )
+          {
+            if ( untracedFrom < 0.0 )
+              untracedFrom = along;
+            if ( along - untracedFrom >= 10.0 )
+            {
+              nextAlong = untracedFrom;
+              break;
+            }
+          }
+          else
+            untracedFrom = -1.0;
+        }
+      }
+      std::printf( "%-6s %-14s  %6d %13.3f %11.3f\n", otherView ? "other" : "photo", traceMethodName( method ).c_str(), clicks, score.completeness, score.correctness );
+      // measured: least squares 4 and 4 clicks (correctness 0.77, 0.82), polynomial 2 and 2 (0.74: on the far
+      // part it slides from the kerb's inner joint onto its outer edge to the grass, 8 px off; 0.94), the
+      // skeleton 5 and 9 (0.77, 0.65)
+      EXPECT_GE( score.completeness, 0.95 ) << traceMethodName( method );
+      EXPECT_LE( clicks, method == TraceMethod::Polynomial ? 3 : method == TraceMethod::LeastSquares ? 5 : 10 ) << traceMethodName( method );
+      EXPECT_GE( score.correctness, method == TraceMethod::Directional ? 0.6 : 0.7 ) << traceMethodName( method );
+    }
 }
