@@ -94,10 +94,12 @@ namespace geostation
        */
       bool isVisible( const Eigen::Vector3d &origin, const Eigen::Vector3d &point, int ownObject, double toleranceM = 0.02 ) const;
 
+      //! Whether the ground at `xy` lies in an object's shadow.
+      bool inShadow( const Eigen::Vector2d &xy ) const;
+
     private:
       //! `mark` receives the ground mark hit, if any (a flat board: shaded with one normal).
       Eigen::Vector3f groundAlbedo( const Eigen::Vector3d &p, double footprintM, uint32_t &key, const GroundMark **mark = nullptr ) const;
-      bool inShadow( const Eigen::Vector2d &xy ) const;
       //! Nearest object hit for t < tMax, skipping `ignore`; returns the object index or -1.
       int firstObjectHit( const Eigen::Vector3d &origin, const Eigen::Vector3d &direction, double tMax, int ignore, ObjectHit &hit ) const;
 

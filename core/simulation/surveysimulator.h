@@ -10,7 +10,8 @@
     images/<id>.tif         8-bit RGB GeoTIFFs in pixel space
     terrain.tif             the terrain surface (Float32, block CRS)
     truth.gpkg              objects, roads, control, occluders layers and
-                            the image_truth table (point_id, image_id, col, row)
+                            the image_truth table (point_id, image_id, col, row;
+                            control targets: disc_px, disc_in_view, disc_in_sun)
     simulation.json         what was simulated: options, counts, notes
 
   Everything is written to a staging folder first and moved into place at

@@ -3,6 +3,7 @@
  ***************************************************************************/
 #include "simulation/truthwriter.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <memory>
@@ -13,6 +14,7 @@
 #include <ogr_srs_api.h>
 
 #include "geometry/projection.h"
+#include "simulation/filmscan.h"
 
 namespace geostation
 {
@@ -119,11 +121,63 @@ namespace geostation
       points.push_back( { object.id, object.truthPoint(), static_cast<int>( i ) } );
     }
     for ( const GroundMark &mark : scene.marks() )
-      points.push_back( { mark.id, mark.centre, -1 } );
+      points.push_back( { mark.id, mark.centre, -1, mark.kind == GroundMarkKind::Target ? &mark : nullptr } );
     for ( const TruthLine &line : lines )
       for ( size_t v = 0; v < line.vertices.size(); ++v )
         points.push_back( { line.id + ":" + std::to_string( v ), line.vertices[v], -1 } );
     return points;
+  }
+
+  TargetCover targetCoverInImage( const Scene &scene, const OrientedImage &image, const GroundMark &target )
+  {
+    TargetCover cover;
+    const Eigen::Vector3d &centre = image.exterior().projectionCentre;
+    // a film camera's fiducial marks are printed over the picture: dark squares 3 mark diameters wide
+    std::vector<Eigen::Vector2d> fiducials;
+    const Camera &camera = image.camera();
+    if ( camera.pixelSizeMm )
+      for ( const Fiducial &f : camera.fiducials )
+        fiducials.emplace_back( camera.cx + f.photoMm.x() / *camera.pixelSizeMm, camera.cy - f.photoMm.y() * camera.aspect / *camera.pixelSizeMm );
+    const auto underAFiducial = [&]( const Eigen::Vector2d &pixel )
+    {
+      return std::any_of( fiducials.begin(), fiducials.end(), [&]( const Eigen::Vector2d &f ) { return ( pixel - f ).cwiseAbs().maxCoeff() <= 1.5 * kFiducialDiameterPx; } );
+    };
+    const double step = target.radiusM / 6.0, small = 0.25 * step;
+    double total = 0.0, inView = 0.0, inSun = 0.0;
+    const auto groundAt = [&]( double x, double y ) -> std::optional<Eigen::Vector3d>
+    {
+      const std::optional<double> h = scene.terrain().heightAt( x, y );
+      return h ? std::optional<Eigen::Vector3d>( Eigen::Vector3d( x, y, *h ) ) : std::nullopt;
+    };
+    for ( int i = -6; i < 6; ++i )
+      for ( int j = -6; j < 6; ++j )
+      {
+        const Eigen::Vector2d rel( ( i + 0.5 ) * step, ( j + 0.5 ) * step );
+        if ( rel.norm() > target.radiusM )
+          continue;
+        const double x = target.centre.x() + rel.x(), y = target.centre.y() + rel.y();
+        const std::optional<Eigen::Vector3d> p = groundAt( x, y ), px = groundAt( x + small, y ), py = groundAt( x, y + small );
+        if ( !p || !px || !py )
+          continue;
+        const GroundProjection at = image.projectGroundToPixel( *p ), atX = image.projectGroundToPixel( *px ), atY = image.projectGroundToPixel( *py );
+        if ( !at.ok() || !atX.ok() || !atY.ok() )
+          continue;
+        // the terrain cell's area in the image: the projection's Jacobian over the ground's x and y
+        Eigen::Matrix2d jacobian;
+        jacobian.col( 0 ) = ( atX.pixelInImage - at.pixelInImage ) / small;
+        jacobian.col( 1 ) = ( atY.pixelInImage - at.pixelInImage ) / small;
+        const double areaPx = std::abs( jacobian.determinant() ) * step * step;
+        total += areaPx;
+        if ( !at.inFrame || underAFiducial( at.pixelInImage ) || !scene.isVisible( centre, *p, -1, std::max( 0.02, 2e-4 * at.depthM ) ) )
+          continue;
+        inView += areaPx;
+        if ( !scene.inShadow( p->head<2>() ) )
+          inSun += areaPx;
+      }
+    cover.discPx = total;
+    cover.inView = total > 0.0 ? inView / total : 0.0;
+    cover.inSun = total > 0.0 ? inSun / total : 0.0;
+    return cover;
   }
 
   std::vector<ImageTruthRow> imageTruth( const Scene &scene, const Block &block, const std::vector<TruthPoint> &points,
@@ -143,7 +197,15 @@ namespace geostation
         const double tolerance = std::max( 0.02, 2e-4 * projection.depthM );
         if ( !scene.isVisible( centre, point.point, point.ownObject, tolerance ) )
           continue;
-        rows.push_back( { point.id, image.id, projection.pixelInImage.x(), projection.pixelInImage.y() } );
+        ImageTruthRow row { point.id, image.id, projection.pixelInImage.x(), projection.pixelInImage.y(), std::nullopt, std::nullopt, std::nullopt };
+        if ( point.target )
+        {
+          const TargetCover cover = targetCoverInImage( scene, oriented, *point.target );
+          row.discPx = cover.discPx;
+          row.discInView = cover.inView;
+          row.discInSun = cover.inSun;
+        }
+        rows.push_back( row );
       }
       if ( progress )
         progress( ++done );
@@ -227,9 +289,16 @@ namespace geostation
         texts.push_back( { 3, line.marking } );
       addFeature( roads, g, texts );
     }
-    OGRLayerH table = createLayer( "image_truth", wkbNone, nullptr, { { "point_id", OFTString }, { "image_id", OFTString }, { "col", OFTReal }, { "row", OFTReal } } );
+    OGRLayerH table = createLayer( "image_truth", wkbNone, nullptr,
+                                   { { "point_id", OFTString }, { "image_id", OFTString }, { "col", OFTReal }, { "row", OFTReal },
+                                     { "disc_px", OFTReal }, { "disc_in_view", OFTReal }, { "disc_in_sun", OFTReal } } );
     for ( const ImageTruthRow &row : rows )
-      addFeature( table, nullptr, { { 0, row.pointId }, { 1, row.imageId } }, { { 2, row.col }, { 3, row.row } } );
+    {
+      std::vector<std::pair<int, double>> numbers { { 2, row.col }, { 3, row.row } };
+      if ( row.discPx )
+        numbers.insert( numbers.end(), { { 4, *row.discPx }, { 5, *row.discInView }, { 6, *row.discInSun } } );
+      addFeature( table, nullptr, { { 0, row.pointId }, { 1, row.imageId } }, numbers );
+    }
     if ( GDALDatasetCommitTransaction( ds.get() ) != OGRERR_NONE )
     {
       OSRDestroySpatialReference( srs );

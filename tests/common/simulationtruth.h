@@ -1,5 +1,6 @@
 // The simulator's truth.gpkg read back for tests: control points, objects,
-// the number of road lines and the image truth (point, image) -> pixel.
+// the number of road lines, the image truth (point, image) -> pixel and, for
+// control targets, how much of the white disc each image shows.
 // Throws std::runtime_error when the file or a layer is missing.
 #ifndef GEOSTATION_TESTS_SIMULATIONTRUTH_H
 #define GEOSTATION_TESTS_SIMULATIONTRUTH_H
@@ -20,6 +21,11 @@ namespace geostation
   {
     std::map<std::string, Eigen::Vector3d> control, objects;
     std::map<std::pair<std::string, std::string>, Eigen::Vector2d> imageTruth; // (point, image) -> pixel
+    struct Disc
+    {
+      double px = 0.0, inView = 0.0, inSun = 0.0; // white disc's area in the image, fractions in view and in sunlight
+    };
+    std::map<std::pair<std::string, std::string>, Disc> targetDiscs; // (control point, image) -> its disc there
     int roads = 0;
     std::string controlCrsName;
   };
@@ -59,6 +65,8 @@ namespace geostation
     while ( OGRFeatureH f = OGR_L_GetNextFeature( table ) )
     {
       truth.imageTruth[{ OGR_F_GetFieldAsString( f, 0 ), OGR_F_GetFieldAsString( f, 1 ) }] = Eigen::Vector2d( OGR_F_GetFieldAsDouble( f, 2 ), OGR_F_GetFieldAsDouble( f, 3 ) );
+      if ( OGR_F_GetFieldCount( f ) >= 7 && OGR_F_IsFieldSetAndNotNull( f, 4 ) )
+        truth.targetDiscs[{ OGR_F_GetFieldAsString( f, 0 ), OGR_F_GetFieldAsString( f, 1 ) }] = { OGR_F_GetFieldAsDouble( f, 4 ), OGR_F_GetFieldAsDouble( f, 5 ), OGR_F_GetFieldAsDouble( f, 6 ) };
       OGR_F_Destroy( f );
     }
     GDALClose( ds );
