@@ -43,13 +43,16 @@ namespace geostation
   {
     options.check();
     const OrientedImage &image = monoplotter.image();
+    // the camera's frame; a scanned film's picture is that frame mapped into the scan (its pixels are the image's)
     const double width = image.camera().width, height = image.camera().height;
     DemCoverageSummary s;
     Eigen::Vector2d coveredSum = Eigen::Vector2d::Zero(), uncoveredSum = Eigen::Vector2d::Zero();
+    Eigen::Vector2d coveredInFrame = Eigen::Vector2d::Zero(), uncoveredInFrame = Eigen::Vector2d::Zero();
     for ( int r = 0; r < options.rows; ++r )
       for ( int c = 0; c < options.columns; ++c )
       {
-        const Eigen::Vector2d pixel( ( c + 0.5 ) * width / options.columns, ( r + 0.5 ) * height / options.rows );
+        const Eigen::Vector2d inFrame( ( c + 0.5 ) * width / options.columns, ( r + 0.5 ) * height / options.rows );
+        const Eigen::Vector2d pixel = image.hasScanAffine() ? image.scanFromNominal( inFrame ) : inFrame;
         ++s.samples;
         const std::optional<Ray> ray = image.worldRayFromPixel( pixel );
         if ( !ray || ray->direction.z() >= 0.0 )
@@ -62,16 +65,24 @@ namespace geostation
         {
           ++s.onDem;
           coveredSum += pixel;
+          coveredInFrame += inFrame;
           continue;
         }
         ( p.status == DemIntersection::Status::Hole ? s.onHoles : s.offDem ) += 1;
         uncoveredSum += pixel;
+        uncoveredInFrame += inFrame;
       }
     const int uncovered = s.offDem + s.onHoles;
     if ( uncovered > 0 )
+    {
       s.uncoveredCentrePx = uncoveredSum / uncovered;
+      uncoveredInFrame /= uncovered;
+    }
     if ( s.onDem > 0 )
+    {
       s.coveredCentrePx = coveredSum / s.onDem;
+      coveredInFrame /= s.onDem;
+    }
     const std::string rays = std::to_string( s.groundSamples() ) + " sample rays towards the ground";
     if ( s.groundSamples() == 0 )
       s.message = "no part of the photo looks down at the ground (all " + std::to_string( s.samples ) + " sample rays point at or above the horizon)";
@@ -84,9 +95,9 @@ namespace geostation
         s.message = "the DEM does not cover the ground seen in the photo: none of the " + rays + " meets it" + holes + "; nothing digitised in it can be placed on the terrain";
       else if ( 2 * s.onDem >= s.groundSamples() )
         s.message = "the DEM covers " + percent( s.coveredFraction() ) + " of the ground seen in the photo: " + std::to_string( uncovered ) + " of " + rays + " miss it" + holes + ", mostly in " +
-                    partOfFrame( s.uncoveredCentrePx, width, height ) + " of the frame; what is digitised there cannot be placed on the terrain";
+                    partOfFrame( uncoveredInFrame, width, height ) + " of the frame; what is digitised there cannot be placed on the terrain";
       else
-        s.message = "the DEM covers only " + percent( s.coveredFraction() ) + " of the ground seen in the photo, in " + partOfFrame( s.coveredCentrePx, width, height ) + " of the frame (" +
+        s.message = "the DEM covers only " + percent( s.coveredFraction() ) + " of the ground seen in the photo, in " + partOfFrame( coveredInFrame, width, height ) + " of the frame (" +
                     std::to_string( uncovered ) + " of " + rays + " miss it" + holes + "); what is digitised elsewhere cannot be placed on the terrain";
     }
     return s;

@@ -37,7 +37,7 @@ namespace geostation
     int onDem = 0;         //!< rays that meet the DEM
     int offDem = 0;        //!< rays towards the ground that leave the DEM without meeting it (or start below it)
     int onHoles = 0;       //!< rays that meet a hole too large to fill
-    Eigen::Vector2d coveredCentrePx = Eigen::Vector2d::Constant( -1.0 );   //!< mean pixel of the rays on the DEM
+    Eigen::Vector2d coveredCentrePx = Eigen::Vector2d::Constant( -1.0 );   //!< mean pixel (of the image, scan pixels for film) of the rays on the DEM
     Eigen::Vector2d uncoveredCentrePx = Eigen::Vector2d::Constant( -1.0 ); //!< mean pixel of the rays off the DEM or on holes
     std::string message;   //!< one sentence: covered, or how much is not and where
 
@@ -50,8 +50,9 @@ namespace geostation
 
   /**
    * Samples the monoplotter's image on a grid of `options.columns` x
-   * `options.rows` pixels (cell centres of the frame) and intersects their
-   * rays with its DEM. Where the DEM covers at least half, the message says
+   * `options.rows` pixels (cell centres of the camera's frame; for a scanned
+   * film, that frame mapped into the scan by its scan affine) and intersects
+   * their rays with its DEM. Where the DEM covers at least half, the message says
    * where in the frame the rest lies; where less, where the covered part is
    * (a third of the frame each way: "the top left", "the right side" ...).
    */

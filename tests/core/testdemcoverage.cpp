@@ -2,7 +2,9 @@
 // layer that does not reach the photo's footprint is said so, not found
 // out one refused vertex at a time). The synthetic terrain (800 m square,
 // 2 m cells) under a nadir camera whose footprint is about 500 x 375 m.
+#include <cmath>
 #include <filesystem>
+#include <optional>
 
 #include <gtest/gtest.h>
 
@@ -35,11 +37,14 @@ namespace
     return eo;
   }
 
-  DemCoverageSummary coverage( const std::string &demPath, const ExteriorOrientation &eo )
+  //! `nominalFromScan`: a scanned film's scan affine (none: a digital photo).
+  DemCoverageSummary coverage( const std::string &demPath, const ExteriorOrientation &eo, const std::optional<Eigen::Matrix<double, 2, 3>> &nominalFromScan = std::nullopt )
   {
     const Dem dem( demPath );
     const CrsTransform same( "EPSG:32633", dem.crsWkt() );
-    const OrientedImage image( frameCamera(), eo );
+    OrientedImage image( frameCamera(), eo );
+    if ( nominalFromScan )
+      image.setScanAffine( *nominalFromScan );
     const Monoplotter mono( image, dem, same );
     return demCoverageOfImage( mono );
   }
@@ -65,6 +70,19 @@ TEST( DemCoverage, WholePartlyAndNotAtAll )
   EXPECT_NEAR( half.uncoveredCentrePx.y(), 375.0, 1.0 );
   EXPECT_EQ( half.onHoles, 0 );
   EXPECT_NE( half.message.find( "mostly in the right side of the frame" ), std::string::npos ) << half.message;
+
+  // the same photo as a scan whose picture lies 300 px right and 200 px down in the file, scaled by 1.001 and
+  // turned a little: sampled over the picture, not over the scan's first 1000 x 750 pixels
+  Eigen::Matrix<double, 2, 3> nominalFromScan;
+  const double a = 0.2 * M_PI / 180.0, k = 1.0 / 1.001;
+  nominalFromScan << k * std::cos( a ), k * std::sin( a ), 0.0, -k * std::sin( a ), k * std::cos( a ), 0.0;
+  nominalFromScan.col( 2 ) = -nominalFromScan.leftCols<2>() * Eigen::Vector2d( 300.0, 200.0 );
+  const DemCoverageSummary scanned = coverage( path, at( kX0 + 800.0, yMid, 620.0 ), nominalFromScan );
+  EXPECT_EQ( scanned.onDem, half.onDem ) << scanned.message;
+  EXPECT_EQ( scanned.offDem, half.offDem );
+  EXPECT_EQ( scanned.message, half.message );
+  EXPECT_NEAR( scanned.uncoveredCentrePx.x(), half.uncoveredCentrePx.x() + 300.0, 3.0 );
+  EXPECT_NEAR( scanned.uncoveredCentrePx.y(), half.uncoveredCentrePx.y() + 200.0, 3.0 );
 
   // over the south-west corner: the DEM is in the top right quarter of the photo
   const DemCoverageSummary corner = coverage( path, at( kX0, kY0 - 800.0, 620.0 ) );
