@@ -67,7 +67,8 @@ if [ "$uninstall" = 1 ]; then
   exit 0
 fi
 
-for built in core/libgeostation_core.so processing/libgeostation_processing.so plugin/libgeostationplugin.so; do
+for built in core/libgeostation_base.so core/libgeostation_photogrammetry.so core/libgeostation_workstation.so core/libgeostation_simulation.so \
+  processing/libgeostation_processing.so plugin/libgeostationplugin.so; do
   if [ ! -e "$build_dir/$built" ]; then
     echo "install-plugin.sh: $build_dir/$built is missing; build first (scripts/test.sh or cmake --build build)" >&2
     exit 1

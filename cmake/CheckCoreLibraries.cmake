@@ -1,0 +1,37 @@
+# Fails when one of core's layer libraries needs a layer above it. The
+# libraries are given lowest first, separated by "|": each may need (ELF
+# NEEDED, `readelf -d`) only the ones before it. Together with the layers'
+# --no-undefined link (core/CMakeLists.txt), code in a layer that calls into
+# a higher one fails to build.
+#   cmake -DLIBRARIES="base.so|photogrammetry.so|..." -P CheckCoreLibraries.cmake
+string(REPLACE "|" ";" libraries "${LIBRARIES}")
+set(names "")
+foreach(library ${libraries})
+  get_filename_component(name "${library}" NAME)
+  string(REGEX REPLACE "^lib(.*)\\.so.*$" "\\1" name "${name}")
+  list(APPEND names "${name}")
+endforeach()
+set(offenders "")
+set(rank 0)
+foreach(library ${libraries})
+  list(GET names ${rank} name)
+  execute_process(COMMAND readelf -d "${library}" OUTPUT_VARIABLE dynamic RESULT_VARIABLE failed)
+  if(failed)
+    message(FATAL_ERROR "readelf cannot read ${library}")
+  endif()
+  string(REGEX MATCHALL "Shared library: \\[libgeostation_[a-z_]+" needed "${dynamic}")
+  foreach(entry ${needed})
+    string(REGEX REPLACE ".*\\[lib" "" other "${entry}")
+    list(FIND names "${other}" otherRank)
+    if(otherRank GREATER_EQUAL rank)
+      list(APPEND offenders "${name} needs ${other}, which is not below it")
+    endif()
+  endforeach()
+  math(EXPR rank "${rank} + 1")
+endforeach()
+if(offenders)
+  string(REPLACE ";" "\n  " report "${offenders}")
+  message(FATAL_ERROR "core's layer libraries need only the layers below them:\n  ${report}")
+endif()
+list(LENGTH libraries count)
+message(STATUS "core libraries: ${count} layers, each needing only those below it")
