@@ -23,6 +23,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "extraction/polygoncompilation.h"
+#include "imagelinescoring.h"
 #include "extraction/roadnetworkextractor.h"
 #include "matching/matchimage.h"
 
@@ -30,7 +31,7 @@ using namespace geostation;
 
 namespace
 {
-  using Polyline = std::vector<Eigen::Vector2d>;
+  using Polyline = PixelPolyline;
 
   struct TruthRoad
   {
@@ -65,35 +66,6 @@ namespace
   {
     const cv::Vec3d q = h * cv::Vec3d( p.x() - 0.5, p.y() - 0.5, 1.0 );
     return Eigen::Vector2d( q[0] / q[2] + 0.5, q[1] / q[2] + 0.5 );
-  }
-
-  double distanceToSegment( const Eigen::Vector2d &p, const Eigen::Vector2d &a, const Eigen::Vector2d &b )
-  {
-    const Eigen::Vector2d d = b - a;
-    const double t = d.squaredNorm() > 0 ? std::clamp( ( p - a ).dot( d ) / d.squaredNorm(), 0.0, 1.0 ) : 0.0;
-    return ( a + t * d - p ).norm();
-  }
-
-  double distanceToLines( const Eigen::Vector2d &p, const std::vector<Polyline> &lines )
-  {
-    double best = std::numeric_limits<double>::infinity();
-    for ( const Polyline &l : lines )
-      for ( size_t i = 0; i + 1 < l.size(); ++i )
-        best = std::min( best, distanceToSegment( p, l[i], l[i + 1] ) );
-    return best;
-  }
-
-  //! Calls f( point, length ) at 1 px steps along the lines.
-  template <typename F> void alongLines( const std::vector<Polyline> &lines, F f )
-  {
-    for ( const Polyline &l : lines )
-      for ( size_t i = 0; i + 1 < l.size(); ++i )
-      {
-        const double length = ( l[i + 1] - l[i] ).norm();
-        const int n = std::max( 1, static_cast<int>( std::ceil( length ) ) );
-        for ( int k = 0; k < n; ++k )
-          f( Eigen::Vector2d( l[i] + ( k + 0.5 ) / n * ( l[i + 1] - l[i] ) ), length / n );
-      }
   }
 
   //! Completeness of the main roads: their length within half-width + tolerance of the result.
@@ -159,13 +131,6 @@ namespace
           inside += length;
     } );
     return inside;
-  }
-
-  double totalLength( const std::vector<Polyline> &lines )
-  {
-    double total = 0.0;
-    alongLines( lines, [&]( const Eigen::Vector2d &, double length ) { total += length; } );
-    return total;
   }
 
   struct RealPair

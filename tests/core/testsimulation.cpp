@@ -162,7 +162,7 @@ TEST( Simulation, TargetCentroidsAgreeWithTheCameraModel )
   const Block truthBlock = Block::load( dir / "truth.geostation.json" );
   const TruthTable truth = readTruth( dir / "truth.gpkg" );
   const Dem terrain( ( dir / "terrain.tif" ).string() );
-  int measured = 0;
+  int measured = 0, discs = 0, agreeing = 0;
   double worst = 0.0;
   for ( const BlockImage &image : truthBlock.images )
   {
@@ -219,10 +219,20 @@ TEST( Simulation, TargetCentroidsAgreeWithTheCameraModel )
             moment += w * Eigen::Vector2d( c + 0.5, r + 0.5 );
           }
       const Eigen::Vector2d found = moment / sum;
+      // the truth's disc (image_truth's disc_px, disc_in_view, disc_in_sun): its area is the projected disc's, and
+      // it calls the disc whole (in view and in sunlight) where the rendering shows all of it white
+      const auto disc = truth.targetDiscs.find( { id, image.id } );
+      ASSERT_NE( disc, truth.targetDiscs.end() ) << id << " in " << image.id << " has no disc in the truth";
+      EXPECT_NEAR( disc->second.px, std::abs( area ) / 2, 0.03 * std::abs( area ) / 2 + 0.3 ) << id << " in " << image.id;
+      const bool wholeInTruth = disc->second.inView >= 0.97 && disc->second.inSun >= 0.97;
       // the white area must match the projected disc (the window held all of it and nothing else)
-      if ( std::abs( sum - std::abs( area ) / 2 ) > 0.05 * std::abs( area ) / 2 )
+      const bool wholeInImage = std::abs( sum - std::abs( area ) / 2 ) <= 0.05 * std::abs( area ) / 2;
+      ++discs;
+      agreeing += wholeInTruth == wholeInImage ? 1 : 0;
+      if ( !wholeInImage )
       {
-        std::cout << id << " in " << image.id << ": white area " << sum << " px, projected disc " << std::abs( area ) / 2 << " px (shaded or partly hidden), skipped\n";
+        std::cout << id << " in " << image.id << ": white area " << sum << " px, projected disc " << std::abs( area ) / 2 << " px (shaded or partly hidden: in view "
+                  << disc->second.inView << ", in sunlight " << disc->second.inSun << " says the truth), skipped\n";
         continue;
       }
       worst = std::max( worst, ( found - centroid ).norm() );
@@ -231,7 +241,9 @@ TEST( Simulation, TargetCentroidsAgreeWithTheCameraModel )
     }
   }
   EXPECT_GE( measured, 4 );
-  std::cout << "target centroids: " << measured << " measured, worst " << worst << " px\n";
+  std::cout << "target centroids: " << measured << " measured, worst " << worst << " px; the truth's disc whole or not as the rendering shows it: "
+            << agreeing << " of " << discs << "\n";
+  EXPECT_GE( agreeing, discs - 1 );
 }
 
 TEST( Simulation, OutputsAreCompleteAndConsistent )
