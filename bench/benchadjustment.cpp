@@ -16,22 +16,13 @@
 #include "adjustment/intersection.h"
 #include "adjustment/resection.h"
 #include "geometry/rotation.h"
+#include "pinholecamera.h"
 
 using namespace geostation;
 
 namespace
 {
-  Camera pinhole()
-  {
-    Camera c;
-    c.id = "bench";
-    c.width = 1280;
-    c.height = 960;
-    c.f = 1100.0;
-    c.cx = 640.0;
-    c.cy = 480.0;
-    return c;
-  }
+  Camera pinhole() { return centredPinhole( "bench", 1280, 960, 1100.0 ); }
 
   ExteriorOrientation forward( double x )
   {

@@ -21,22 +21,13 @@
 #include "adjustment/resection.h"
 #include "geometry/projection.h"
 #include "workstation/photoorientation.h"
+#include "pinholecamera.h"
 
 using namespace geostation;
 
 namespace
 {
-  Camera photoCamera()
-  {
-    Camera c;
-    c.id = "photo";
-    c.width = 1024;
-    c.height = 768;
-    c.f = 1000.0;
-    c.cx = 512.0;
-    c.cy = 384.0;
-    return c;
-  }
+  Camera photoCamera() { return centredPinhole( "photo", 1024, 768, 1000.0 ); }
 
   struct PhotoScene
   {

@@ -16,6 +16,7 @@
 
 #include "camera/camera.h"
 #include "geometry/projection.h"
+#include "pinholecamera.h"
 
 namespace stripedroad
 {
@@ -26,13 +27,7 @@ namespace stripedroad
   //! A van camera: 800 x 600 px, f = 700 px, no distortion.
   inline Camera vanCamera()
   {
-    Camera c;
-    c.id = "pair";
-    c.width = 800;
-    c.height = 600;
-    c.f = 700.0;
-    c.cx = 400.0;
-    c.cy = 300.0;
+    Camera c = centredPinhole( "pair", 800, 600, 700.0 );
     c.pixelSizeMm = 0.0074;
     return c;
   }

@@ -10,6 +10,7 @@
 
 #include "dem/demcoverage.h"
 #include "geometry/crs.h"
+#include "pinholecamera.h"
 #include "syntheticterrain.h"
 
 using namespace geostation;
@@ -17,17 +18,7 @@ using namespace syntheticterrain;
 
 namespace
 {
-  Camera frameCamera()
-  {
-    Camera c;
-    c.id = "frame";
-    c.width = 1000;
-    c.height = 750;
-    c.f = 1000.0;
-    c.cx = 500.0;
-    c.cy = 375.0;
-    return c;
-  }
+  Camera frameCamera() { return centredPinhole( "frame", 1000, 750, 1000.0 ); }
 
   ExteriorOrientation at( double x, double y, double z, double omegaDeg = 0.0 )
   {

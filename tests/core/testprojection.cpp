@@ -6,6 +6,7 @@
 
 #include "geometry/lineprojection.h"
 #include "geometry/projection.h"
+#include "pinholecamera.h"
 
 using namespace geostation;
 
@@ -13,13 +14,7 @@ namespace
 {
   Camera vanCamera()
   {
-    Camera c;
-    c.id = "front";
-    c.width = 640;
-    c.height = 480;
-    c.f = 600.0;
-    c.cx = 320.0;
-    c.cy = 240.0;
+    Camera c = centredPinhole( "front", 640, 480, 600.0 );
     c.distortion.model = DistortionModel::OpenCV;
     c.distortion.coeffs = { -0.2, 0.05, 0.0, 0.0, 0.0 };
     return c;
