@@ -243,8 +243,10 @@ namespace geostation
         const double diameter = j ? 2.0 * radius * Eigen::JacobiSVD<Eigen::Matrix2d>( *j ).singularValues()( 0 ) : 0.0;
         double area = 0.0;
         const std::optional<Eigen::Vector2d> centre = diameter >= 1.0 ? markCentre( grey, g.pixelInImage, diameter, options.marks.brightMark, &area ) : std::nullopt;
+        // (a level disc's area: one on a slope facing away from the camera covers less, down to a third on the
+        // simulated hills; one facing it more)
         const double expectedArea = j ? M_PI * radius * radius * std::abs( j->determinant() ) : 0.0;
-        if ( centre && ( *centre - g.pixelInImage ).norm() <= options.refineTolerancePx && area >= 0.4 * expectedArea && area <= 2.5 * expectedArea + 2.0 )
+        if ( centre && ( *centre - g.pixelInImage ).norm() <= options.refineTolerancePx && area >= 0.3 * expectedArea && area <= 2.5 * expectedArea + 2.0 )
         {
           point.status = PredictedPoint::Status::Found; // at the prediction: a second mark nearby no longer leaves a doubt
           point.pixelInImage = *centre;
