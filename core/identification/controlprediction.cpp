@@ -119,6 +119,83 @@ namespace geostation
     return centre;
   }
 
+  std::optional<Eigen::Vector2d> markCentreInEllipse( const cv::Mat &grey, const Eigen::Vector2d &approximate, const Eigen::Matrix2d &discShape, bool brightMark, double *areaPx )
+  {
+    if ( grey.empty() || grey.type() != CV_8UC1 || !approximate.allFinite() || !discShape.allFinite() || std::abs( discShape.determinant() ) < 1e-9 )
+      return std::nullopt;
+    const double sign = brightMark ? 1.0 : -1.0;
+    const Eigen::Matrix2d unitFromPixel = discShape.inverse();
+    const Eigen::JacobiSVD<Eigen::Matrix2d> svd( discShape );
+    const double major = svd.singularValues()( 0 );
+    // within: the disc grown by 1 px all round, no further than its black square (a target's square is 1.6 times
+    // the disc's radius across, on the ground); the background: the darker part of the square around the disc.
+    // A pixel's distance from the outline, in pixels, as the disc's own units grow with the direction (first order):
+    const auto beyondOutlinePx = [&]( const Eigen::Vector2d &offset )
+    {
+      const Eigen::Vector2d u = unitFromPixel * offset;
+      const double d = u.norm();
+      if ( d < 1e-9 )
+        return -1.0 / ( unitFromPixel.transpose() * Eigen::Vector2d::UnitX() ).norm();
+      return ( d - 1.0 ) / ( unitFromPixel.transpose() * ( u / d ) ).norm();
+    };
+    const auto inSquare = [&]( const Eigen::Vector2d &offset ) { return ( unitFromPixel * offset ).cwiseAbs().maxCoeff() <= 1.6; };
+    Eigen::Vector2d centre = approximate;
+    for ( int round = 0; round < 5; ++round )
+    {
+      const int half = static_cast<int>( std::ceil( 1.6 * std::sqrt( 2.0 ) * major + 2.0 ) ); // the whole black square
+      const int c0 = static_cast<int>( std::floor( centre.x() ) ) - half, r0 = static_cast<int>( std::floor( centre.y() ) ) - half;
+      if ( c0 < 0 || r0 < 0 || c0 + 2 * half + 1 > grey.cols || r0 + 2 * half + 1 > grey.rows )
+        return std::nullopt;
+      std::vector<double> around, within;
+      for ( int r = r0; r <= r0 + 2 * half; ++r )
+        for ( int c = c0; c <= c0 + 2 * half; ++c )
+        {
+          const Eigen::Vector2d offset = Eigen::Vector2d( c + 0.5, r + 0.5 ) - centre;
+          const double beyond = beyondOutlinePx( offset );
+          const double v = sign * grey.at<uint8_t>( r, c );
+          if ( beyond <= 1.0 && inSquare( offset ) )
+            within.push_back( v );
+          else if ( beyond >= 0.75 && inSquare( offset ) )
+            around.push_back( v );
+        }
+      if ( within.empty() || around.empty() )
+        return std::nullopt;
+      std::sort( around.begin(), around.end() );
+      std::sort( within.begin(), within.end() );
+      const double background = around[around.size() / 5], peak = within[within.size() * 9 / 10];
+      if ( peak - background < 5.0 )
+        return std::nullopt;
+      const double threshold = background + 0.5 * ( peak - background );
+      double sum = 0.0, sx = 0.0, sy = 0.0, area = 0.0;
+      for ( int r = r0; r <= r0 + 2 * half; ++r )
+        for ( int c = c0; c <= c0 + 2 * half; ++c )
+        {
+          const Eigen::Vector2d at( c + 0.5, r + 0.5 );
+          if ( beyondOutlinePx( at - centre ) > 1.0 || !inSquare( at - centre ) )
+            continue;
+          const double excess = std::min( sign * grey.at<uint8_t>( r, c ), peak ) - threshold;
+          if ( excess <= 0.0 )
+            continue;
+          area += 1.0;
+          sum += excess;
+          sx += excess * at.x();
+          sy += excess * at.y();
+        }
+      if ( !( sum > 0.0 ) )
+        return std::nullopt;
+      const Eigen::Vector2d next( sx / sum, sy / sum );
+      if ( ( next - approximate ).norm() > major )
+        return std::nullopt;
+      const bool settled = ( next - centre ).norm() < 0.01;
+      centre = next;
+      if ( areaPx )
+        *areaPx = area;
+      if ( settled )
+        break;
+    }
+    return centre;
+  }
+
   namespace
   {
     //! The mark nearest `predicted` in a window around it; flags a second one almost as near.
@@ -242,12 +319,17 @@ namespace geostation
         const double radius = groundRadii[groundRadii.size() / 2];
         const double diameter = j ? 2.0 * radius * Eigen::JacobiSVD<Eigen::Matrix2d>( *j ).singularValues()( 0 ) : 0.0;
         double area = 0.0;
-        const std::optional<Eigen::Vector2d> centre = diameter >= 1.0 ? markCentre( grey, g.pixelInImage, diameter, options.marks.brightMark, &area ) : std::nullopt;
+        std::optional<Eigen::Vector2d> centre = diameter >= 1.0 ? markCentre( grey, g.pixelInImage, diameter, options.marks.brightMark, &area ) : std::nullopt;
         // (a level disc's area: one on a slope facing away from the camera covers less, down to a third on the
         // simulated hills; one facing it more)
         const double expectedArea = j ? M_PI * radius * radius * std::abs( j->determinant() ) : 0.0;
         if ( centre && ( *centre - g.pixelInImage ).norm() <= options.refineTolerancePx && area >= 0.3 * expectedArea && area <= 2.5 * expectedArea + 2.0 )
         {
+          // the mark is there and of its size: centred within its predicted outline, which a long ellipse seen at a
+          // grazing angle needs (the round window takes in what lies beside it), where that agrees within 1 px
+          if ( const std::optional<Eigen::Vector2d> inOutline = markCentreInEllipse( grey, *centre, radius * *j, options.marks.brightMark ) )
+            if ( ( *inOutline - *centre ).norm() <= 1.0 )
+              centre = inOutline;
           point.status = PredictedPoint::Status::Found; // at the prediction: a second mark nearby no longer leaves a doubt
           point.pixelInImage = *centre;
           point.reason.clear();

@@ -106,6 +106,17 @@ namespace geostation
   std::optional<Eigen::Vector2d> markCentre( const cv::Mat &grey, const Eigen::Vector2d &approximate, double diameterPx, bool brightMark = true,
       double *areaPx = nullptr );
 
+  /**
+   * markCentre() for a disc whose outline is predicted: `discShape` maps the
+   * unit circle to the outline's offsets from its centre, in pixels (a
+   * target's radius on the ground times d(pixel)/d(ground)). The centre of
+   * gravity is taken within the outline grown by 1 px, the background from a
+   * ring beyond it, so a long ellipse seen at a grazing angle does not take
+   * in what lies beside it.
+   */
+  std::optional<Eigen::Vector2d> markCentreInEllipse( const cv::Mat &grey, const Eigen::Vector2d &approximate, const Eigen::Matrix2d &discShape, bool brightMark = true,
+      double *areaPx = nullptr );
+
 } // namespace geostation
 
 #endif // GEOSTATION_IDENTIFICATION_CONTROLPREDICTION_H

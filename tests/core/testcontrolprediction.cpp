@@ -164,6 +164,40 @@ TEST( ControlPrediction, MarkCentreOfARenderedTarget )
   EXPECT_FALSE( markCentre( grey, Eigen::Vector2d( 2, 2 ), 7.3 ) );                       // the window leaves the image
 }
 
+TEST( ControlPrediction, MarkCentreOfALongEllipseWithinItsOutline )
+{
+  // a target seen at a grazing angle: a white disc drawn as an ellipse 12 x 2.4 px (turned 20 degrees) on its
+  // black square, with bright ground 1 px beyond the square's edge across the ellipse, anti-aliased by area
+  const Eigen::Vector2d centre( 40.31, 30.77 );
+  const double angle = 20.0 * M_PI / 180.0;
+  Eigen::Matrix2d discShape; // unit circle -> pixel offsets of the disc's outline
+  discShape << 6.0 * std::cos( angle ), -1.2 * std::sin( angle ), 6.0 * std::sin( angle ), 1.2 * std::cos( angle );
+  const Eigen::Matrix2d unitFromPixel = discShape.inverse();
+  cv::Mat grey( 64, 80, CV_8U );
+  for ( int r = 0; r < grey.rows; ++r )
+    for ( int c = 0; c < grey.cols; ++c )
+    {
+      double sum = 0.0;
+      for ( int sr = 0; sr < 8; ++sr )
+        for ( int sc = 0; sc < 8; ++sc )
+        {
+          const Eigen::Vector2d u = unitFromPixel * ( Eigen::Vector2d( c + ( sc + 0.5 ) / 8, r + ( sr + 0.5 ) / 8 ) - centre );
+          sum += u.norm() <= 1.0 ? 235.0 : ( u.cwiseAbs().maxCoeff() <= 1.6 ? 20.0 : 200.0 );
+        }
+      grey.at<uint8_t>( r, c ) = static_cast<uint8_t>( std::lround( sum / 64 ) );
+    }
+  const Eigen::Vector2d start = centre + Eigen::Vector2d( 0.6, -0.4 );
+  const std::optional<Eigen::Vector2d> inOutline = markCentreInEllipse( grey, start, discShape );
+  ASSERT_TRUE( inOutline );
+  // (across the ellipse the square reaches only 0.72 px beyond the disc: the ground's light bleeds into the
+  // square's rim pixels there, which costs a quarter of a pixel; measured 0.26 px)
+  EXPECT_LT( ( *inOutline - centre ).norm(), 0.3 ) << inOutline->transpose();
+  // the round window of the ellipse's length takes in the bright ground beside it and finds no mark
+  EXPECT_FALSE( markCentre( grey, start, 12.0 ) );
+  EXPECT_FALSE( markCentreInEllipse( cv::Mat( 64, 80, CV_8U, cv::Scalar( 90 ) ), centre, discShape ) ); // no mark
+  EXPECT_FALSE( markCentreInEllipse( grey, Eigen::Vector2d( 3, 3 ), discShape ) );                      // the window leaves the image
+}
+
 TEST( ControlPrediction, PredictedControlFoundAndFlaggedOnSimulatedPhotos )
 {
   // six simulated oblique photos (four digital, two scanned film), GNSS/INS orientation (2 m, 0.5 degrees)
@@ -189,13 +223,14 @@ TEST( ControlPrediction, PredictedControlFoundAndFlaggedOnSimulatedPhotos )
             << " whose disc covers 8 px or more, " << total.largeWithin << " within 0.5 px; of the " << total.measurable
             << " of those with 90 % of the disc in view and in sunlight, " << total.measurableWithin << " within 0.5 px\n";
   const double measurableRate = static_cast<double>( total.measurableWithin ) / std::max( 1, total.measurable );
-  // measured: 39 of the 42 targets a surveyor would measure (a white disc of 8 px or more, 90 % of it in view
-  // and in sunlight) are found within 0.5 px (0.93, the issue asks 0.9); the three missed are long ellipses seen
-  // at a grazing angle, found 0.6-1.0 px off (one of them flagged). Of every target whose centre the truth sees,
-  // 49 of 72 (0.68): the others are specks of 0.8-7 px (a grazing view, a slope facing away), half hidden by a
-  // house, a tree or a fiducial mark's square, or partly in a tree's shadow. One wrong point is accepted
-  // unflagged: GCP034 of seed 8, whose centre is hidden (the truth does not list it) while part of its disc
-  // shows; it is located 2.3 px off, 0.8 px from the prediction.
+  // measured: 40 of the 42 targets a surveyor would measure (a white disc of 8 px or more, 90 % of it in view
+  // and in sunlight) are found within 0.5 px (0.95, the issue asks 0.9); of the two missed, scanned film seed 5's
+  // GCP001 (a long ellipse, 5 % hidden) is flagged, seed 34's GCP052 (9 px, a long ellipse) found 1 px off. Of every target whose
+  // centre the truth sees, 49 of 72 (0.68):
+  // the others are specks of 0.8-7 px (a grazing view, a slope facing away), half hidden by a house, a tree or
+  // a fiducial mark's square, or partly in a tree's shadow. One wrong point is accepted unflagged: GCP034 of
+  // seed 8, whose centre is hidden (the truth does not list it) while part of its disc shows; it is located
+  // 2.3 px off, 0.8 px from the prediction.
   EXPECT_GE( measurableRate, 0.9 );
   EXPECT_GE( total.measurable, 35 );
   EXPECT_GE( rate, 0.65 );
