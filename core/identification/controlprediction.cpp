@@ -59,75 +59,96 @@ namespace geostation
     return nominal;
   }
 
+  namespace
+  {
+    /**
+     * The centre of gravity of a mark's excess over half its contrast, recentred until it settles (at most
+     * `rounds` times). Each region takes a pixel's offset from the current centre: `inMark` gives the mark's
+     * peak (its 90th percentile), `inBackground` the background (its darker fifth), `weighed` the pixels whose
+     * excess is weighed. Nothing when the window (`halfWindowPx` each way) leaves the image, the mark has no
+     * contrast, or its centre walks further than `reachPx` from `approximate`.
+     */
+    template <typename Mark, typename Background, typename Weighed>
+    std::optional<Eigen::Vector2d> settledCentreOfGravity( const cv::Mat &grey, const Eigen::Vector2d &approximate, bool brightMark, int rounds, int halfWindowPx,
+        double reachPx, Mark inMark, Background inBackground, Weighed weighed, double *areaPx )
+    {
+      const double sign = brightMark ? 1.0 : -1.0;
+      Eigen::Vector2d centre = approximate;
+      for ( int round = 0; round < rounds; ++round )
+      {
+        const int half = halfWindowPx;
+        const int c0 = static_cast<int>( std::floor( centre.x() ) ) - half, r0 = static_cast<int>( std::floor( centre.y() ) ) - half;
+        if ( c0 < 0 || r0 < 0 || c0 + 2 * half + 1 > grey.cols || r0 + 2 * half + 1 > grey.rows )
+          return std::nullopt;
+        std::vector<double> around, inside;
+        for ( int r = r0; r <= r0 + 2 * half; ++r )
+          for ( int c = c0; c <= c0 + 2 * half; ++c )
+          {
+            const Eigen::Vector2d offset = Eigen::Vector2d( c + 0.5, r + 0.5 ) - centre;
+            const double v = sign * grey.at<uint8_t>( r, c );
+            if ( inMark( offset ) )
+              inside.push_back( v );
+            else if ( inBackground( offset ) )
+              around.push_back( v );
+          }
+        if ( inside.empty() || around.empty() )
+          return std::nullopt;
+        std::sort( around.begin(), around.end() );
+        std::sort( inside.begin(), inside.end() );
+        const double background = around[around.size() / 5], peak = inside[inside.size() * 9 / 10];
+        if ( peak - background < 5.0 )
+          return std::nullopt;
+        const double threshold = background + 0.5 * ( peak - background );
+        double sum = 0.0, sx = 0.0, sy = 0.0, area = 0.0;
+        for ( int r = r0; r <= r0 + 2 * half; ++r )
+          for ( int c = c0; c <= c0 + 2 * half; ++c )
+          {
+            const Eigen::Vector2d at( c + 0.5, r + 0.5 );
+            if ( !weighed( at - centre ) )
+              continue;
+            const double excess = std::min( sign * grey.at<uint8_t>( r, c ), peak ) - threshold;
+            if ( excess <= 0.0 )
+              continue;
+            area += 1.0;
+            sum += excess;
+            sx += excess * at.x();
+            sy += excess * at.y();
+          }
+        if ( !( sum > 0.0 ) )
+          return std::nullopt;
+        const Eigen::Vector2d next( sx / sum, sy / sum );
+        if ( ( next - approximate ).norm() > reachPx )
+          return std::nullopt; // walked off onto something else
+        const bool settled = ( next - centre ).norm() < 0.01;
+        centre = next;
+        if ( areaPx )
+          *areaPx = area;
+        if ( settled )
+          break;
+      }
+      return centre;
+    }
+  } // namespace
+
   std::optional<Eigen::Vector2d> markCentre( const cv::Mat &grey, const Eigen::Vector2d &approximate, double diameterPx, bool brightMark, double *areaPx )
   {
     if ( grey.empty() || grey.type() != CV_8UC1 || !approximate.allFinite() || !( diameterPx > 0.0 ) )
       return std::nullopt;
-    const double sign = brightMark ? 1.0 : -1.0;
-    Eigen::Vector2d centre = approximate;
-    for ( int round = 0; round < 3; ++round )
-    {
-      // the background: the darker part of a window that reaches over the mark's surround
-      const int half = static_cast<int>( std::ceil( 0.9 * diameterPx ) ) + 1;
-      const int c0 = static_cast<int>( std::floor( centre.x() ) ) - half, r0 = static_cast<int>( std::floor( centre.y() ) ) - half;
-      if ( c0 < 0 || r0 < 0 || c0 + 2 * half + 1 > grey.cols || r0 + 2 * half + 1 > grey.rows )
-        return std::nullopt;
-      std::vector<double> around, inside;
-      const double markRadius = 0.5 * diameterPx + 0.75;
-      for ( int r = r0; r <= r0 + 2 * half; ++r )
-        for ( int c = c0; c <= c0 + 2 * half; ++c )
-        {
-          const double v = sign * grey.at<uint8_t>( r, c );
-          ( ( Eigen::Vector2d( c + 0.5, r + 0.5 ) - centre ).norm() <= markRadius ? inside : around ).push_back( v );
-        }
-      if ( inside.empty() || around.empty() )
-        return std::nullopt;
-      std::sort( around.begin(), around.end() );
-      std::sort( inside.begin(), inside.end() );
-      const double background = around[around.size() / 5], peak = inside[inside.size() * 9 / 10];
-      if ( peak - background < 5.0 )
-        return std::nullopt;
-      const double threshold = background + 0.5 * ( peak - background );
-      // the centre of gravity of the excess over half the contrast, within the mark
-      double sum = 0.0, sx = 0.0, sy = 0.0, area = 0.0;
-      for ( int r = r0; r <= r0 + 2 * half; ++r )
-        for ( int c = c0; c <= c0 + 2 * half; ++c )
-        {
-          const Eigen::Vector2d at( c + 0.5, r + 0.5 );
-          if ( ( at - centre ).norm() > markRadius + 1.0 )
-            continue;
-          const double excess = std::min( sign * grey.at<uint8_t>( r, c ), peak ) - threshold;
-          if ( excess <= 0.0 )
-            continue;
-          area += 1.0;
-          sum += excess;
-          sx += excess * at.x();
-          sy += excess * at.y();
-        }
-      if ( !( sum > 0.0 ) )
-        return std::nullopt;
-      const Eigen::Vector2d next( sx / sum, sy / sum );
-      if ( ( next - approximate ).norm() > diameterPx )
-        return std::nullopt; // walked off onto something else
-      const bool settled = ( next - centre ).norm() < 0.01;
-      centre = next;
-      if ( areaPx )
-        *areaPx = area;
-      if ( settled )
-        break;
-    }
-    return centre;
+    // the mark: a round window of its size; the background: the darker part of a window that reaches over the mark's surround
+    const double markRadius = 0.5 * diameterPx + 0.75;
+    const auto inMark = [&]( const Eigen::Vector2d &offset ) { return offset.norm() <= markRadius; };
+    const auto inBackground = [&]( const Eigen::Vector2d & ) { return true; };
+    const auto weighed = [&]( const Eigen::Vector2d &offset ) { return offset.norm() <= markRadius + 1.0; };
+    return settledCentreOfGravity( grey, approximate, brightMark, 3, static_cast<int>( std::ceil( 0.9 * diameterPx ) ) + 1, diameterPx, inMark, inBackground, weighed, areaPx );
   }
 
   std::optional<Eigen::Vector2d> markCentreInEllipse( const cv::Mat &grey, const Eigen::Vector2d &approximate, const Eigen::Matrix2d &discShape, bool brightMark, double *areaPx )
   {
     if ( grey.empty() || grey.type() != CV_8UC1 || !approximate.allFinite() || !discShape.allFinite() || std::abs( discShape.determinant() ) < 1e-9 )
       return std::nullopt;
-    const double sign = brightMark ? 1.0 : -1.0;
     const Eigen::Matrix2d unitFromPixel = discShape.inverse();
-    const Eigen::JacobiSVD<Eigen::Matrix2d> svd( discShape );
-    const double major = svd.singularValues()( 0 );
-    // within: the disc grown by 1 px all round, no further than its black square (a target's square is 1.6 times
+    const double major = Eigen::JacobiSVD<Eigen::Matrix2d>( discShape ).singularValues()( 0 );
+    // the mark: the disc grown by 1 px all round, no further than its black square (a target's square is 1.6 times
     // the disc's radius across, on the ground); the background: the darker part of the square around the disc.
     // A pixel's distance from the outline, in pixels, as the disc's own units grow with the direction (first order):
     const auto beyondOutlinePx = [&]( const Eigen::Vector2d &offset )
@@ -139,61 +160,10 @@ namespace geostation
       return ( d - 1.0 ) / ( unitFromPixel.transpose() * ( u / d ) ).norm();
     };
     const auto inSquare = [&]( const Eigen::Vector2d &offset ) { return ( unitFromPixel * offset ).cwiseAbs().maxCoeff() <= 1.6; };
-    Eigen::Vector2d centre = approximate;
-    for ( int round = 0; round < 5; ++round )
-    {
-      const int half = static_cast<int>( std::ceil( 1.6 * std::sqrt( 2.0 ) * major + 2.0 ) ); // the whole black square
-      const int c0 = static_cast<int>( std::floor( centre.x() ) ) - half, r0 = static_cast<int>( std::floor( centre.y() ) ) - half;
-      if ( c0 < 0 || r0 < 0 || c0 + 2 * half + 1 > grey.cols || r0 + 2 * half + 1 > grey.rows )
-        return std::nullopt;
-      std::vector<double> around, within;
-      for ( int r = r0; r <= r0 + 2 * half; ++r )
-        for ( int c = c0; c <= c0 + 2 * half; ++c )
-        {
-          const Eigen::Vector2d offset = Eigen::Vector2d( c + 0.5, r + 0.5 ) - centre;
-          const double beyond = beyondOutlinePx( offset );
-          const double v = sign * grey.at<uint8_t>( r, c );
-          if ( beyond <= 1.0 && inSquare( offset ) )
-            within.push_back( v );
-          else if ( beyond >= 0.75 && inSquare( offset ) )
-            around.push_back( v );
-        }
-      if ( within.empty() || around.empty() )
-        return std::nullopt;
-      std::sort( around.begin(), around.end() );
-      std::sort( within.begin(), within.end() );
-      const double background = around[around.size() / 5], peak = within[within.size() * 9 / 10];
-      if ( peak - background < 5.0 )
-        return std::nullopt;
-      const double threshold = background + 0.5 * ( peak - background );
-      double sum = 0.0, sx = 0.0, sy = 0.0, area = 0.0;
-      for ( int r = r0; r <= r0 + 2 * half; ++r )
-        for ( int c = c0; c <= c0 + 2 * half; ++c )
-        {
-          const Eigen::Vector2d at( c + 0.5, r + 0.5 );
-          if ( beyondOutlinePx( at - centre ) > 1.0 || !inSquare( at - centre ) )
-            continue;
-          const double excess = std::min( sign * grey.at<uint8_t>( r, c ), peak ) - threshold;
-          if ( excess <= 0.0 )
-            continue;
-          area += 1.0;
-          sum += excess;
-          sx += excess * at.x();
-          sy += excess * at.y();
-        }
-      if ( !( sum > 0.0 ) )
-        return std::nullopt;
-      const Eigen::Vector2d next( sx / sum, sy / sum );
-      if ( ( next - approximate ).norm() > major )
-        return std::nullopt;
-      const bool settled = ( next - centre ).norm() < 0.01;
-      centre = next;
-      if ( areaPx )
-        *areaPx = area;
-      if ( settled )
-        break;
-    }
-    return centre;
+    const auto inMark = [&]( const Eigen::Vector2d &offset ) { return beyondOutlinePx( offset ) <= 1.0 && inSquare( offset ); };
+    const auto inBackground = [&]( const Eigen::Vector2d &offset ) { return inSquare( offset ); };
+    const int half = static_cast<int>( std::ceil( 1.6 * std::sqrt( 2.0 ) * major + 2.0 ) ); // the whole black square
+    return settledCentreOfGravity( grey, approximate, brightMark, 5, half, major, inMark, inBackground, inMark, areaPx );
   }
 
   namespace
