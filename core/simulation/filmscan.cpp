@@ -38,16 +38,20 @@ namespace geostation
     return scan;
   }
 
-  void drawFiducialMarks( cv::Mat &linearRgb, const Camera &camera, const OrientedImage &scan )
+  Eigen::Vector2d fiducialNominalPixel( const Camera &camera, const Fiducial &fiducial )
   {
     const double ps = *camera.pixelSizeMm;
+    return Eigen::Vector2d( camera.cx + fiducial.photoMm.x() / ps, camera.cy - fiducial.photoMm.y() * camera.aspect / ps );
+  }
+
+  void drawFiducialMarks( cv::Mat &linearRgb, const Camera &camera, const OrientedImage &scan )
+  {
     // a bright disc on a dark square 3 diameters wide, as marks sit on the dark film border
-    const double radius = 0.5 * kFiducialDiameterPx, border = 1.5 * kFiducialDiameterPx;
+    const double radius = 0.5 * kFiducialDiameterPx, border = kFiducialSquareHalfPx;
     constexpr int kSamples = 8;
     for ( const Fiducial &f : camera.fiducials )
     {
-      const Eigen::Vector2d nominal( camera.cx + f.photoMm.x() / ps, camera.cy - f.photoMm.y() * camera.aspect / ps );
-      const Eigen::Vector2d centre = scan.scanFromNominal( nominal );
+      const Eigen::Vector2d centre = scan.scanFromNominal( fiducialNominalPixel( camera, f ) );
       const int c0 = std::max( 0, static_cast<int>( std::floor( centre.x() - border - 1 ) ) ), c1 = std::min( linearRgb.cols - 1, static_cast<int>( std::ceil( centre.x() + border + 1 ) ) );
       const int r0 = std::max( 0, static_cast<int>( std::floor( centre.y() - border - 1 ) ) ), r1 = std::min( linearRgb.rows - 1, static_cast<int>( std::ceil( centre.y() + border + 1 ) ) );
       for ( int r = r0; r <= r1; ++r )

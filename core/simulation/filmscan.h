@@ -24,6 +24,10 @@ namespace geostation
 {
 
   constexpr double kFiducialDiameterPx = 24.0; //!< bright disc of a rendered mark
+  constexpr double kFiducialSquareHalfPx = 1.5 * kFiducialDiameterPx; //!< half side of the dark square it sits on
+
+  //! A fiducial's centre in the camera's nominal pixels (the camera has a pixel size).
+  Eigen::Vector2d fiducialNominalPixel( const Camera &camera, const Fiducial &fiducial );
 
   //! Four corner and four edge fiducials, in photo mm (principal point origin).
   std::vector<Fiducial> filmFiducials( const Camera &camera );

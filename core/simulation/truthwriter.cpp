@@ -137,10 +137,10 @@ namespace geostation
     const Camera &camera = image.camera();
     if ( camera.pixelSizeMm )
       for ( const Fiducial &f : camera.fiducials )
-        fiducials.emplace_back( camera.cx + f.photoMm.x() / *camera.pixelSizeMm, camera.cy - f.photoMm.y() * camera.aspect / *camera.pixelSizeMm );
+        fiducials.push_back( fiducialNominalPixel( camera, f ) );
     const auto underAFiducial = [&]( const Eigen::Vector2d &pixel )
     {
-      return std::any_of( fiducials.begin(), fiducials.end(), [&]( const Eigen::Vector2d &f ) { return ( pixel - f ).cwiseAbs().maxCoeff() <= 1.5 * kFiducialDiameterPx; } );
+      return std::any_of( fiducials.begin(), fiducials.end(), [&]( const Eigen::Vector2d &f ) { return ( pixel - f ).cwiseAbs().maxCoeff() <= kFiducialSquareHalfPx; } );
     };
     const double step = target.radiusM / 6.0, small = 0.25 * step;
     double total = 0.0, inView = 0.0, inSun = 0.0;

@@ -102,11 +102,8 @@ namespace
         if ( !crop.empty() )
           cv::imwrite( std::string( std::getenv( "GEOSTATION_PREDICTION_DEBUG" ) ) + "/" + std::to_string( seed ) + "_" + p.pointId + ".png", crop );
       }
-      if ( std::getenv( "GEOSTATION_PREDICTION_DEBUG" ) && truth.targetDiscs.count( { p.pointId, image.id } ) )
-      {
-        const TruthTable::Disc &disc = truth.targetDiscs.at( { p.pointId, image.id } );
-        std::cout << "  " << p.pointId << " disc " << disc.px << " px, in view " << disc.inView << ", in sun " << disc.inSun << "\n";
-      }
+      if ( std::getenv( "GEOSTATION_PREDICTION_DEBUG" ) && disc != truth.targetDiscs.end() )
+        std::cout << "  " << p.pointId << " disc " << disc->second.px << " px, in view " << disc->second.inView << ", in sun " << disc->second.inSun << "\n";
       if ( std::getenv( "GEOSTATION_PREDICTION_DEBUG" ) )
         std::cout << "  " << p.pointId << ( shown ? " shown " : " hidden " ) << predictedPointStatusName( p.status ) << " " << p.reason << " true " << truePx.transpose()
                   << " predicted " << p.predictedPx.transpose() << " found " << p.pixelInImage.transpose() << "\n";
