@@ -3,6 +3,7 @@
  ***************************************************************************/
 #include "tracing/linefollower.h"
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 
@@ -42,6 +43,47 @@ namespace geostation
           return d.norm() > 3.0 ? d.normalized() : fallback;
         }
       return fallback;
+    }
+
+    /**
+     * The line's sides along the last `reachPx` of the followed points, every
+     * 3 px: each side's median, so a few pixels slid onto an obstacle's outline
+     * at the end do not count. Nothing for fewer than 3 places.
+     */
+    std::optional<LineSides> recentSides( const cv::Mat &grey, const std::vector<Eigen::Vector2d> &points, const LineProfile &profile, double reachPx )
+    {
+      std::vector<double> left, right, contrast;
+      double along = 0.0, sampledAt = -3.0;
+      for ( size_t i = points.size(); i-- > 0 && along <= reachPx; )
+      {
+        if ( i + 1 < points.size() )
+          along += ( points[i + 1] - points[i] ).norm();
+        if ( along - sampledAt < 3.0 )
+          continue;
+        // the direction of travel here: the chord over about 4 px each way
+        size_t behind = i, ahead = i;
+        while ( behind > 0 && ( points[i] - points[behind] ).norm() < 4.0 )
+          --behind;
+        while ( ahead + 1 < points.size() && ( points[ahead] - points[i] ).norm() < 4.0 )
+          ++ahead;
+        const Eigen::Vector2d chord = points[ahead] - points[behind];
+        if ( chord.norm() < 2.0 )
+          continue;
+        if ( const std::optional<LineSides> sides = lineSides( grey, points[i], chord.normalized(), profile ) )
+        {
+          left.push_back( sides->left );
+          right.push_back( sides->right );
+          contrast.push_back( sides->contrast );
+          sampledAt = along;
+        }
+      }
+      if ( left.size() < 3 )
+        return std::nullopt;
+      const auto median = []( std::vector<double> &v ) {
+        std::nth_element( v.begin(), v.begin() + v.size() / 2, v.end() );
+        return v[v.size() / 2];
+      };
+      return LineSides { median( left ), median( right ), median( contrast ) };
     }
   }
 
@@ -94,6 +136,9 @@ namespace geostation
         break;
       }
       lastBridge = BridgeState { from, d, points.size(), last.profile };
+      // what lies beside the line before the gap (over its last 100 px: a follower may have run along an
+      // obstacle's outline for a while before it lost the line): a hit beyond it must have the like on its sides
+      const std::optional<LineSides> sidesBefore = options.sideTolerance > 0.0 ? recentSides( grey, points, last.profile, 100.0 ) : std::nullopt;
       LocateOptions locate = locateOptionsFor( last.profile, options.directional.follow, 2.0 );
       locate.minWidthRatio = 6.0; // a stripe narrows with distance across a long gap
       bool resumed = false;
@@ -134,6 +179,12 @@ namespace geostation
         const std::optional<LineHit> further = locateLine( grey, hit->pixelInImage + 2.5 * d, d, last.profile, confirm );
         if ( !further )
           continue;
+        if ( sidesBefore )
+        {
+          const std::optional<LineSides> seen = lineSides( grey, hit->pixelInImage, d, last.profile );
+          if ( !seen || !sidesAgree( *sidesBefore, *seen, std::max( 4.0, options.sideTolerance * sidesBefore->contrast ) ) )
+            continue;
+        }
         current.start = hit->pixelInImage;
         current.direction = d;
         if ( !points.empty() )

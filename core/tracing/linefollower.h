@@ -6,7 +6,8 @@
   the kerb) the line is extrapolated straight ahead - a straight road line
   stays straight in a photo - and looked for on cross-sections a few
   pixels apart, with a tolerance that grows with the distance; found and
-  confirmed a little further on, following resumes there. The gap may be
+  confirmed a little further on and with the grey levels beside it that
+  the line had before the gap, following resumes there. The gap may be
   as long as maxGapM on the ground (or maxGapPx without a ground model).
   The followed pixels are then reduced to vertices by Douglas-Peucker
   (§6.4).
@@ -31,6 +32,14 @@ namespace geostation
     double maxGapM = 12.0;            //!< longest gap bridged on the ground (a 9 m dash gap and some)
     double maxGapPx = 300.0;          //!< without a ground model
     double vertexTolerancePx = 0.4;   //!< Douglas-Peucker tolerance of the vertices
+    /**
+     * A line found beyond a gap must have on its sides what the line had over
+     * the last 100 px before it (sidesAgree() within this fraction of the line's
+     * contrast there, and 4 grey levels): an obstacle's outline, a kerb's outer
+     * edge or a passer-by's feet on the line's course are not taken for it.
+     * 0 takes any line of the profile.
+     */
+    double sideTolerance = 0.15;
     /**
      * Ground distance (metres) between two pixels of the image, e.g. through
      * the road plane; nothing where a pixel does not reach the ground.

@@ -183,6 +183,38 @@ namespace geostation
     return out;
   }
 
+  std::optional<LineSides> lineSides( const cv::Mat &grey, const Eigen::Vector2d &pixelInImage, const Eigen::Vector2d &direction, const LineProfile &profile )
+  {
+    const Eigen::Vector2d normal = rightNormal( direction );
+    const double from = profile.kind == LineKind::Edge ? 3.0 : 0.5 * profile.widthPx + 2.0;
+    LineSides out;
+    double centre = 0.0;
+    for ( int k = -1; k <= 1; ++k )
+    {
+      const std::optional<double> g = sampleGrey( grey, pixelInImage + k * direction );
+      if ( !g )
+        return std::nullopt;
+      centre += *g / 3.0;
+      for ( const int side : { -1, 1 } )
+        for ( int u = 0; u < 4; ++u )
+        {
+          const std::optional<double> g = sampleGrey( grey, pixelInImage + side * ( from + u ) * normal + k * direction );
+          if ( !g )
+            return std::nullopt;
+          ( side < 0 ? out.left : out.right ) += *g / 12.0;
+        }
+    }
+    out.contrast = profile.kind == LineKind::Edge ? std::abs( out.right - out.left ) : std::abs( centre - 0.5 * ( out.left + out.right ) );
+    return out;
+  }
+
+  bool sidesAgree( const LineSides &reference, const LineSides &seen, double toleranceGrey )
+  {
+    const double power = seen.left * seen.left + seen.right * seen.right;
+    const double gain = power > 0.0 ? std::clamp( ( seen.left * reference.left + seen.right * reference.right ) / power, 0.4, 2.5 ) : 1.0;
+    return std::abs( gain * seen.left - reference.left ) <= toleranceGrey && std::abs( gain * seen.right - reference.right ) <= toleranceGrey;
+  }
+
   LocateOptions locateOptionsFor( const LineProfile &profile, const FollowOptions &follow, double searchHalfPx )
   {
     LocateOptions options;

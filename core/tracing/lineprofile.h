@@ -75,6 +75,29 @@ namespace geostation
    */
   SeedAnalysis analyseSeed( const cv::Mat &grey, const Eigen::Vector2d &seedPixel, std::optional<double> directionDeg, const SeedOptions &options = SeedOptions() );
 
+  //! Mean grey levels on each side of a line (of the direction of travel), beside it.
+  struct LineSides
+  {
+    double left = 0.0;
+    double right = 0.0;
+    double contrast = 0.0; //!< an edge's step between its sides; a stripe's centre against its sides' mean
+  };
+
+  /**
+   * The grey levels beside the line through `pixelInImage` along `direction`
+   * (unit): an edge's 3 to 6 px out, a stripe's 2 to 5 px beyond its half
+   * width, each side averaged over 3 profiles 1 px apart; and the line's
+   * contrast there. Nothing near the image's border.
+   */
+  std::optional<LineSides> lineSides( const cv::Mat &grey, const Eigen::Vector2d &pixelInImage, const Eigen::Vector2d &direction, const LineProfile &profile );
+
+  /**
+   * Whether a line with sides `seen` can be the line with sides `reference`
+   * under other light (a shadow, a sunlit patch): both sides scaled by one
+   * gain between 0.4 and 2.5 agree with the reference's within `toleranceGrey`.
+   */
+  bool sidesAgree( const LineSides &reference, const LineSides &seen, double toleranceGrey );
+
   //! The options a follower uses to locate a line of `profile` (contrast threshold from the seed's contrast).
   LocateOptions locateOptionsFor( const LineProfile &profile, const FollowOptions &follow, double searchHalfPx );
 

@@ -1,7 +1,11 @@
 /***************************************************************************
   testlinebridging.cpp - gaps bridged by followLine(), and where they are
-  not; a start in a gap; worn paint at a seed
+  not; a start in a gap; worn paint at a seed; what lies beside the line
+  beyond a gap
  ***************************************************************************/
+#include <optional>
+#include <vector>
+
 #include <gtest/gtest.h>
 #include <opencv2/imgproc.hpp>
 
@@ -146,4 +150,95 @@ TEST( LineBridging, AClickOnAShortDashKeepsTheDashsDirection )
     EXPECT_EQ( seed.profile.kind, LineKind::BrightStripe );
     EXPECT_GT( std::abs( seed.direction.dot( along ) ), std::cos( 10.0 * 3.14159265358979 / 180.0 ) ) << seed.direction.transpose();
   }
+}
+
+namespace
+{
+  //! Tarmac (180) left of x = 200, lawn (80) right: a path's edge up the image.
+  cv::Mat pathEdge()
+  {
+    cv::Mat grey( 400, 400, CV_8UC1, cv::Scalar( 80 ) );
+    cv::rectangle( grey, cv::Point( 0, 0 ), cv::Point( 199, 399 ), cv::Scalar( 180 ), cv::FILLED );
+    return grey;
+  }
+}
+
+TEST( LineBridging, SidesOfEdgesAndStripesAndWhenTheyAgree )
+{
+  cv::Mat edge = pathEdge();
+  cv::GaussianBlur( edge, edge, cv::Size( 5, 5 ), 1.0 );
+  LineProfile edgeProfile;
+  edgeProfile.kind = LineKind::Edge;
+  edgeProfile.polarity = -1;
+  const std::optional<LineSides> up = lineSides( edge, Eigen::Vector2d( 200.0, 200.0 ), Eigen::Vector2d( 0.0, -1.0 ), edgeProfile );
+  ASSERT_TRUE( up );
+  EXPECT_NEAR( up->left, 180.0, 1.0 );
+  EXPECT_NEAR( up->right, 80.0, 1.0 );
+  EXPECT_NEAR( up->contrast, 100.0, 2.0 );
+  // the way back: the sides change places
+  const std::optional<LineSides> down = lineSides( edge, Eigen::Vector2d( 200.0, 200.0 ), Eigen::Vector2d( 0.0, 1.0 ), edgeProfile );
+  ASSERT_TRUE( down );
+  EXPECT_NEAR( down->left, 80.0, 1.0 );
+  EXPECT_NEAR( down->right, 180.0, 1.0 );
+  // a stripe's sides lie beyond its half width
+  const cv::Mat painted = stripe( 20 );
+  const std::optional<LineSides> stripeSides = lineSides( painted, Eigen::Vector2d( 200.0, 200.0 ), Eigen::Vector2d( 0.0, -1.0 ), upFrom( Eigen::Vector2d::Zero() ).profile );
+  ASSERT_TRUE( stripeSides );
+  EXPECT_NEAR( stripeSides->left, 60.0, 3.0 );
+  EXPECT_NEAR( stripeSides->right, 60.0, 3.0 );
+  EXPECT_NEAR( stripeSides->contrast, 140.0, 5.0 );
+  EXPECT_FALSE( lineSides( edge, Eigen::Vector2d( 3.0, 200.0 ), Eigen::Vector2d( 0.0, -1.0 ), edgeProfile ) ) << "too near the border";
+
+  const double tolerance = 15.0; // 0.15 of the contrast
+  EXPECT_TRUE( sidesAgree( *up, LineSides { 90.0, 40.0, 50.0 }, tolerance ) ) << "the same edge in a shadow";
+  EXPECT_TRUE( sidesAgree( *up, LineSides { 190.0, 90.0, 100.0 }, tolerance ) ) << "the same edge in brighter light";
+  EXPECT_FALSE( sidesAgree( *up, LineSides { 180.0, 120.0, 60.0 }, tolerance ) ) << "tarmac against a stone";
+  EXPECT_FALSE( sidesAgree( *up, LineSides { 130.0, 80.0, 50.0 }, tolerance ) ) << "a kerb against the lawn";
+  EXPECT_FALSE( sidesAgree( *up, LineSides { 80.0, 180.0, 100.0 }, tolerance ) ) << "the other polarity";
+}
+
+TEST( LineBridging, TheLineBeyondAGapHasTheSidesItHadBefore )
+{
+  // A path's edge with a stone (120) lying across it, rows 200-300. For 20 px (rows 270-250) the stone's
+  // outline runs along the edge's course: tarmac against stone, the edge's polarity and half its contrast.
+  // Above, the outline turns away 15 degrees and the lawn shows again beside the edge.
+  cv::Mat grey = pathEdge();
+  const std::vector<cv::Point> stone { { 185, 300 }, { 185, 280 }, { 200, 270 }, { 200, 250 }, { 213, 200 }, { 260, 200 }, { 260, 300 } };
+  cv::fillPoly( grey, std::vector<std::vector<cv::Point>> { stone }, cv::Scalar( 120 ) );
+  cv::GaussianBlur( grey, grey, cv::Size( 5, 5 ), 1.0 );
+  const SeedAnalysis seed = analyseSeed( grey, Eigen::Vector2d( 200.0, 360.0 ), std::nullopt );
+  ASSERT_TRUE( seed.ok ) << seed.message;
+  ASSERT_EQ( seed.profile.kind, LineKind::Edge );
+  FollowRequest request;
+  request.start = seed.pixelInImage;
+  request.direction = seed.direction;
+  request.profile = seed.profile;
+  LineFollowOptions options;
+  options.maxGapPx = 100.0;
+  int resumedOnTheOutline = 0;
+  for ( const TraceMethod method : { TraceMethod::LeastSquares, TraceMethod::Polynomial, TraceMethod::Directional } )
+  {
+    SCOPED_TRACE( traceMethodName( method ) );
+    // the stone's outline is not the line: the bridges resume above it (the polynomial strips follow the
+    // outline's straight stretch, and still know the line beyond: the sides are those of the last 100 px)
+    const FollowResult line = followLine( grey, request, method, options ).line;
+    ASSERT_GE( line.points.size(), 2u );
+    EXPECT_LE( line.points.back().y(), 10.0 ) << traceStopName( line.stop );
+    for ( size_t i = 0; i < line.points.size(); ++i )
+    {
+      EXPECT_NEAR( line.points[i].x(), 200.0, 1.0 ) << line.points[i].transpose();
+      if ( line.bridged[i] )
+      {
+        EXPECT_LE( line.points[i].y(), 245.0 ) << "resumed on the stone's outline";
+      }
+    }
+    // with any line of the profile taken beyond a gap, the least-squares and skeleton bridges resume on the outline
+    LineFollowOptions anySides = options;
+    anySides.sideTolerance = 0.0;
+    const FollowResult any = followLine( grey, request, method, anySides ).line;
+    for ( size_t i = 0; i < any.points.size(); ++i )
+      if ( any.bridged[i] && any.points[i].y() > 250.0 && any.points[i].y() < 275.0 )
+        ++resumedOnTheOutline;
+  }
+  EXPECT_EQ( resumedOnTheOutline, 2 );
 }

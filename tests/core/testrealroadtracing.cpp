@@ -146,9 +146,11 @@ TEST( RealRoadTracing, PathEdgeFromOneClickInARealPhotograph )
           worstCorrectness = std::min( worstCorrectness, s.correctness );
         }
       }
-  // the whole edge from one click on a clear stretch: 0.91 / 0.92 in the photo, 0.96 / 0.95 in the other view
-  EXPECT_GE( worstCompleteness, 0.88 );
-  EXPECT_GE( worstCorrectness, 0.88 );
+  // the whole edge from one click on a clear stretch: 1.00 / 1.00 in the photo, 0.89 / 1.00 in the other view
+  // (0.91 / 0.92 and 0.96 / 0.95 while a line beyond a gap was taken whatever lay beside it: the bridges
+  // resumed on the stone's outline and on the kerb's outer edge)
+  EXPECT_GE( worstCompleteness, 0.85 );
+  EXPECT_GE( worstCorrectness, 0.97 );
 }
 
 TEST( RealRoadTracing, ClicksAnOperatorNeedsForTheWholeEdge )
@@ -214,11 +216,12 @@ TEST( RealRoadTracing, ClicksAnOperatorNeedsForTheWholeEdge )
         }
       }
       std::printf( "%-6s %-14s  %6d %13.3f %11.3f\n", otherView ? "other" : "photo", traceMethodName( method ).c_str(), clicks, score.completeness, score.correctness );
-      // measured: least squares 4 and 4 clicks (correctness 0.77, 0.82), polynomial 2 and 2 (0.74: on the far
-      // part it slides from the kerb's inner joint onto its outer edge to the grass, 8 px off; 0.94), the
-      // skeleton 5 and 9 (0.77, 0.65)
+      // measured: least squares 3 and 3 clicks (correctness 0.92, 0.97; 4 and 4 clicks, 0.77 and 0.82, while
+      // bridges took any line beyond a gap), polynomial 2 and 2 (0.74: on the far part it slides from the
+      // kerb's inner joint onto its outer edge to the grass, 8 px off, while following; 0.96), the skeleton
+      // 5 and 9 (0.77, 0.70)
       EXPECT_GE( score.completeness, 0.95 ) << traceMethodName( method );
-      EXPECT_LE( clicks, method == TraceMethod::Polynomial ? 3 : method == TraceMethod::LeastSquares ? 5 : 10 ) << traceMethodName( method );
-      EXPECT_GE( score.correctness, method == TraceMethod::Directional ? 0.6 : 0.7 ) << traceMethodName( method );
+      EXPECT_LE( clicks, method == TraceMethod::Polynomial ? 3 : method == TraceMethod::LeastSquares ? 4 : 10 ) << traceMethodName( method );
+      EXPECT_GE( score.correctness, method == TraceMethod::Directional ? 0.6 : method == TraceMethod::LeastSquares ? 0.85 : 0.7 ) << traceMethodName( method );
     }
 }
