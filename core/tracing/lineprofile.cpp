@@ -413,14 +413,16 @@ namespace geostation
       return out;
     // a line found across the direction measured at the click that is not found along it (a crack or a
     // worn notch across a stripe turns the measured direction): the direction a line of at least 70 % of
-    // its contrast is found furthest along (not the texture of the road beside a short dash)
+    // its contrast is found furthest along (not the texture of the road beside a short dash); a line found
+    // at all 8 positions along a direction, with at least half the contrast (streaky gravel beside a weak
+    // kerb edge turns the measured direction along its streaks, and its steps across them are stronger)
     const double contrast = out.profile.contrast;
     if ( !directionDeg && support < 6 )
       for ( int degrees = 0; degrees < 180; degrees += 15 )
       {
         int other = 0;
         const SeedAnalysis a = analyseAlong( grey, seedPixel, upOrRight( directionFromDegrees( degrees ) ), options, other );
-        if ( a.ok && other >= support + 2 && a.profile.contrast >= 0.7 * contrast )
+        if ( a.ok && other >= support + 2 && a.profile.contrast >= ( other == 8 ? 0.5 : 0.7 ) * contrast )
         {
           out = a;
           support = other;

@@ -27,6 +27,7 @@ namespace geostation::highwaytracing
     const RoadTraceSummary s = traceFromSeed( run, run.block, line.prefix, "S0001_FL", TraceMethod::Auto );
     const LineScore sc = score( s, truth, run, 0.10 );
     print( line.name, s, sc );
+    dumpVertices( line.name, s, run, line.prefix );
     EXPECT_EQ( s.stop, TraceStop::EndOfRun ) << s.message;
     EXPECT_GE( s.lengthM, 300.0 );
     EXPECT_GE( sc.buffer.completeness, line.minCompleteness );
