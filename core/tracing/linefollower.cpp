@@ -137,8 +137,10 @@ namespace geostation
       }
       lastBridge = BridgeState { from, d, points.size(), last.profile };
       // what lies beside the line before the gap (over its last 100 px: a follower may have run along an
-      // obstacle's outline for a while before it lost the line): a hit beyond it must have the like on its sides
-      const std::optional<LineSides> sidesBefore = options.sideTolerance > 0.0 ? recentSides( grey, points, last.profile, 100.0 ) : std::nullopt;
+      // obstacle's outline for a while before it lost the line): a hit beyond it must have the like on its
+      // sides (measured at the first hit: most bridges find none)
+      std::optional<LineSides> sidesBefore;
+      bool sidesMeasured = options.sideTolerance <= 0.0;
       LocateOptions locate = locateOptionsFor( last.profile, options.directional.follow, 2.0 );
       locate.minWidthRatio = 6.0; // a stripe narrows with distance across a long gap
       bool resumed = false;
@@ -179,6 +181,11 @@ namespace geostation
         const std::optional<LineHit> further = locateLine( grey, hit->pixelInImage + 2.5 * d, d, last.profile, confirm );
         if ( !further )
           continue;
+        if ( !sidesMeasured )
+        {
+          sidesBefore = recentSides( grey, points, last.profile, 100.0 );
+          sidesMeasured = true;
+        }
         if ( sidesBefore )
         {
           const std::optional<LineSides> seen = lineSides( grey, hit->pixelInImage, d, last.profile );
