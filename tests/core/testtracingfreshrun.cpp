@@ -14,10 +14,9 @@
   along which the line is found furthest are tried). On seed 41 the click
   on the kerb's outer edge lies beside gravel streaked along the rows: the
   structure tensor took the streaks' direction (the steps across them are
-  stronger than the kerb's weak edge), which pointed back past the run's
-  first station: tracing stopped there (now a line found at all 8
-  positions along another direction, with at least half the contrast,
-  wins).
+  stronger than the kerb's weak edge) and tracing stopped at the first
+  station with nothing traced (now a line found at all 8 positions along
+  another direction, with at least half the contrast, wins).
  ***************************************************************************/
 #include <cstdlib>
 
