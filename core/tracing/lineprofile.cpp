@@ -191,17 +191,17 @@ namespace geostation
     double centre = 0.0;
     for ( int k = -1; k <= 1; ++k )
     {
-      const std::optional<double> g = sampleGrey( grey, pixelInImage + k * direction );
-      if ( !g )
+      const std::optional<double> onLine = sampleGrey( grey, pixelInImage + k * direction );
+      if ( !onLine )
         return std::nullopt;
-      centre += *g / 3.0;
+      centre += *onLine / 3.0;
       for ( const int side : { -1, 1 } )
         for ( int u = 0; u < 4; ++u )
         {
-          const std::optional<double> g = sampleGrey( grey, pixelInImage + side * ( from + u ) * normal + k * direction );
-          if ( !g )
+          const std::optional<double> beside = sampleGrey( grey, pixelInImage + side * ( from + u ) * normal + k * direction );
+          if ( !beside )
             return std::nullopt;
-          ( side < 0 ? out.left : out.right ) += *g / 12.0;
+          ( side < 0 ? out.left : out.right ) += *beside / 12.0;
         }
     }
     out.contrast = profile.kind == LineKind::Edge ? std::abs( out.right - out.left ) : std::abs( centre - 0.5 * ( out.left + out.right ) );
