@@ -264,7 +264,7 @@ namespace geostation
       std::vector<Candidate> candidates;
       for ( const LineKind kind : { LineKind::BrightStripe, LineKind::DarkStripe } )
       {
-        std::optional<Candidate> bestOfKind;
+        std::vector<Candidate> ofKind;
         locate.maxWidthRatio = locate.minWidthRatio = 1.5;
         for ( const double width : { 2.0, 3.0, 4.5, 6.5, 9.0, 13.0, 18.0, 25.0, 35.0, 50.0, 70.0 } )
         {
@@ -272,15 +272,22 @@ namespace geostation
             break;
           LineProfile profile { kind, 1, width, 0.0 };
           if ( const std::optional<LineHit> hit = locateLine( grey, seedPixel, direction, profile, locate ) )
-            if ( !bestOfKind || hit->contrast > bestOfKind->hit.contrast )
-            {
-              profile.widthPx = hit->widthPx;
-              profile.contrast = hit->contrast;
-              bestOfKind = Candidate { profile, *hit };
-            }
+          {
+            profile.widthPx = hit->widthPx;
+            profile.contrast = hit->contrast;
+            ofKind.push_back( Candidate { profile, *hit } );
+          }
         }
-        if ( bestOfKind )
-          candidates.push_back( *bestOfKind );
+        // of the stripes of a kind, the strongest; or one nearer the click with nearly its contrast (on
+        // cobbles a narrow seam at the click and a wide dark patch of stones beside it are both found)
+        if ( ofKind.empty() )
+          continue;
+        const Candidate *strongest = &*std::max_element( ofKind.begin(), ofKind.end(), []( const Candidate &a, const Candidate &b ) { return a.hit.contrast < b.hit.contrast; } );
+        const Candidate *best = strongest;
+        for ( const Candidate &c : ofKind )
+          if ( c.hit.contrast >= 0.75 * strongest->hit.contrast && std::abs( c.hit.offsetPx ) < std::abs( best->hit.offsetPx ) - 1.0 )
+            best = &c;
+        candidates.push_back( *best );
       }
       locate.maxWidthRatio = locate.minWidthRatio = 2.2;
       for ( const int polarity : { 1, -1 } )
