@@ -102,6 +102,13 @@ namespace geostation
       LineProfile profile;
     };
     std::optional<BridgeState> lastBridge;
+    // where the line was last followed: a hit beyond a gap that the method then follows for less than
+    // LineFollowOptions::minLegPx is no line found (on cobbles or gravel, bridge after bridge finds a
+    // seam and follows nothing); the gap goes on from here, and such hits at the end are dropped
+    Eigen::Vector2d gapFrom = request.start;
+    size_t followedPoints = 0;
+    int followedGaps = 0;
+    double followedGapPx = 0.0;
     for ( int leg = 0; leg < 64; ++leg )
     {
       last = runMethod( grey, current, method, options );
@@ -112,13 +119,20 @@ namespace geostation
           sigmas.push_back( last.sigmaPx[i] );
         }
       out.line.pixelsFollowed += last.pixelsFollowed;
+      const double legLength = last.points.empty() ? 0.0 : ( last.points.back() - last.points.front() ).norm();
+      if ( leg == 0 || legLength >= options.minLegPx )
+      {
+        gapFrom = points.empty() ? current.start : points.back();
+        followedPoints = points.size();
+        followedGaps = out.bridgedGaps;
+        followedGapPx = out.bridgedPx;
+      }
       if ( last.stop != TraceStop::EndOfLine && last.stop != TraceStop::NoEdge )
         break;
       // bridge: straight ahead from the end (or from the start, when that lies in a gap), cross-sections every 3 px
       const Eigen::Vector2d from = points.empty() ? current.start : points.back();
       // the direction of the last 25 px; a short leg (a dash, a worn patch) keeps the direction it was given
       Eigen::Vector2d d = endDirection( points, current.direction, 25.0 );
-      const double legLength = last.points.empty() ? 0.0 : ( last.points.back() - last.points.front() ).norm();
       if ( legLength < 20.0 )
       {
         const Eigen::Vector2d blended = ( 20.0 - legLength ) * current.direction.normalized() + legLength * d;
@@ -161,8 +175,8 @@ namespace geostation
           last.stop = TraceStop::DistanceLimit;
           break;
         }
-        const std::optional<double> ground = options.groundDistanceM ? options.groundDistanceM( from, q ) : std::nullopt;
-        if ( ground ? *ground > options.maxGapM : s > options.maxGapPx )
+        const std::optional<double> ground = options.groundDistanceM ? options.groundDistanceM( gapFrom, q ) : std::nullopt;
+        if ( ground ? *ground > options.maxGapM : ( q - gapFrom ).norm() > options.maxGapPx )
         {
           last.stop = partial > 0 ? TraceStop::GapTooLarge : TraceStop::EndOfLine;
           break;
@@ -204,6 +218,20 @@ namespace geostation
       }
       if ( !resumed )
         break;
+    }
+    // hits beyond the last place the line was followed, none of them followed, where the line was then lost:
+    // not the line (where the image or the distance limit ended the bridge after them, they are kept)
+    const bool lost = last.stop == TraceStop::EndOfLine || last.stop == TraceStop::GapTooLarge || last.stop == TraceStop::NoEdge;
+    if ( lost && points.size() > followedPoints && followedPoints > 0 )
+    {
+      points.resize( followedPoints );
+      sigmas.resize( followedPoints );
+      while ( !runStarts.empty() && runStarts.back() >= followedPoints )
+        runStarts.pop_back();
+      if ( runStarts.empty() )
+        runStarts.push_back( 0 );
+      out.bridgedGaps = followedGaps;
+      out.bridgedPx = followedGapPx;
     }
     out.line.stop = last.stop;
     out.line.profile = last.profile;

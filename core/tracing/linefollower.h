@@ -41,6 +41,14 @@ namespace geostation
      */
     double sideTolerance = 0.15;
     /**
+     * A line found beyond a gap is taken only where the method then follows
+     * it for at least this many pixels; otherwise the gap goes on (its length
+     * counted from where the line was last followed), and such hits at the
+     * end of the line are dropped where the line is lost after them (not
+     * where the image or the distance limit ends it).
+     */
+    double minLegPx = 2.0;
+    /**
      * Ground distance (metres) between two pixels of the image, e.g. through
      * the road plane; nothing where a pixel does not reach the ground.
      */
