@@ -24,6 +24,13 @@ namespace geostation
     return "edge";
   }
 
+  std::vector<TraceMethod> autoMethodOrder( const LineProfile &profile )
+  {
+    if ( profile.kind == LineKind::BrightStripe )
+      return { TraceMethod::Polynomial, TraceMethod::Directional };
+    return { TraceMethod::LeastSquares, TraceMethod::Polynomial, TraceMethod::Directional };
+  }
+
   std::string traceMethodName( TraceMethod method )
   {
     switch ( method )

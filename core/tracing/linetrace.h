@@ -52,6 +52,17 @@ namespace geostation
     Polynomial,   //!< second-order polynomial strips (§6.3.3)
   };
 
+  /**
+   * The methods auto tries for a line of this profile, first choice first.
+   * Bright stripes (paint): polynomial strips (they bridge dashes, wear and
+   * shadows and are the most precise), then the skeleton. Edges and dark
+   * bands (a kerb, a kerb's face, a seam): least squares (it matches the
+   * seed's profile and stops where the line ends; the strips slide onto a
+   * same-polarity edge beside a weak kerb, and onto the seams of cobbles
+   * beyond a kerb's end), then the strips, then the skeleton.
+   */
+  std::vector<TraceMethod> autoMethodOrder( const LineProfile &profile );
+
   //! "auto", "directional", "least_squares", "polynomial"
   std::string traceMethodName( TraceMethod method );
   //! Throws std::invalid_argument naming the methods.

@@ -48,27 +48,23 @@ namespace geostation
 
   /**
    * The line in the reference image: the method asked for, or auto's
-   * choice. Stripes: polynomial strips first (they bridge dashes, wear and
-   * shadows and are the most precise in the tests), the skeleton where
-   * they cover less than half the way. Edges: least squares first (it
-   * matches the seed's edge profile; the strips took a same-polarity edge
-   * 1.5 m beside a weak kerb edge where it faded), then polynomial strips
-   * and the skeleton while the line covers less than half the way.
+   * choice (autoMethodOrder(): for paint the polynomial strips, for edges
+   * and dark bands least squares), the next methods in auto's order tried
+   * while the line covers less than half the way.
    */
   ReferenceLine RoadTraceRun::followInReference( const StationAt &at ) const
   {
     const bool automatic = mOptions.method == TraceMethod::Auto;
     ReferenceLine line;
-    const bool edge = mProfile.kind == LineKind::Edge;
-    line.method = automatic ? ( edge ? TraceMethod::LeastSquares : TraceMethod::Polynomial ) : mOptions.method;
+    const std::vector<TraceMethod> order = autoMethodOrder( mProfile );
+    line.method = automatic ? order.front() : mOptions.method;
     line.followed = keepInCourse( at, followLine( *mReferenceGrey, at.request, line.method, at.follow ) );
     const OrientedImage &reference = *at.reference;
     if ( automatic && at.startGround )
     {
       // while the line covers less than half the way, the other methods are tried in turn; the longest is kept
       const double wanted = at.rangeLimitM - horizontalDistance( *at.startGround, at.centre );
-      const std::vector<TraceMethod> others = edge ? std::vector<TraceMethod> { TraceMethod::Polynomial, TraceMethod::Directional }
-                                              : std::vector<TraceMethod> { TraceMethod::Directional };
+      const std::vector<TraceMethod> others( order.begin() + 1, order.end() );
       double length = groundLength( reference, line.followed.line.points, at.ground );
       for ( const TraceMethod other : others )
       {
