@@ -14,6 +14,10 @@
 // The tracing is scored with the buffer method (3 px: the truth's 1 px and
 // the joint), in the photo and in the photo seen from another point (a known
 // homography), from clicks in three places along the edge, with each method.
+//
+// A second real scene, built differently: a kerb along a cobbled street in
+// two photographs taken from different places at eye height (opencv-doc's
+// leuvenA.jpg and leuvenB.jpg), with its own hand-digitised truth.
 #include <algorithm>
 #include <cstdio>
 #include <optional>
