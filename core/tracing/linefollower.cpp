@@ -102,9 +102,11 @@ namespace geostation
       LineProfile profile;
     };
     std::optional<BridgeState> lastBridge;
-    // where the line was last followed: a hit beyond a gap that the method then follows for less than
+    // where the line was last followed: a hit beyond a gap that least squares then follows for less than
     // LineFollowOptions::minLegPx is no line found (on cobbles or gravel, bridge after bridge finds a
-    // seam and follows nothing); the gap goes on from here, and such hits at the end are dropped
+    // seam and follows nothing); the gap goes on from here, and such hits at the end are dropped. (The
+    // skeleton and the strips follow nothing of a far dash they reach either: for them every hit counts.)
+    const double minLegPx = method == TraceMethod::LeastSquares ? options.minLegPx : 0.0;
     Eigen::Vector2d gapFrom = request.start;
     size_t followedPoints = 0;
     int followedGaps = 0;
@@ -120,7 +122,7 @@ namespace geostation
         }
       out.line.pixelsFollowed += last.pixelsFollowed;
       const double legLength = last.points.empty() ? 0.0 : ( last.points.back() - last.points.front() ).norm();
-      if ( leg == 0 || legLength >= options.minLegPx )
+      if ( leg == 0 || legLength >= minLegPx )
       {
         gapFrom = points.empty() ? current.start : points.back();
         followedPoints = points.size();

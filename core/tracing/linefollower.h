@@ -41,11 +41,13 @@ namespace geostation
      */
     double sideTolerance = 0.15;
     /**
-     * A line found beyond a gap is taken only where the method then follows
-     * it for at least this many pixels; otherwise the gap goes on (its length
-     * counted from where the line was last followed), and such hits at the
-     * end of the line are dropped where the line is lost after them (not
-     * where the image or the distance limit ends it).
+     * Least squares: a line found beyond a gap is taken only where the
+     * follower then follows it for at least this many pixels; otherwise the
+     * gap goes on (its length counted from where the line was last
+     * followed), and such hits at the end of the line are dropped where the
+     * line is lost after them (not where the image or the distance limit
+     * ends it). The skeleton and the polynomial strips follow nothing of a
+     * small far dash they bridge to, so for them every hit counts.
      */
     double minLegPx = 2.0;
     /**
