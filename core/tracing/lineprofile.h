@@ -64,14 +64,17 @@ namespace geostation
   };
 
   /**
-   * The line nearest an operator's click. With no `directionDeg` the
-   * direction is measured (structure tensor, then the line located along
-   * it over +-24 px) and points up the image (the thesis' 0 degrees
-   * default) or, for a line nearly along the rows, to the right. Where the
-   * line is found at fewer than 6 of the 8 positions along that direction
-   * (a crack or a worn notch at the click turns the tensor), the
-   * directions every 15 degrees are tried and the one along which a line
-   * of at least 70 % of the contrast is found furthest is taken.
+   * The line nearest an operator's click: of the stripes of each kind the
+   * strongest, or one nearer the click with at least 75 % of its contrast;
+   * then the nearest of those and the edges (a stripe wins a near tie).
+   * With no `directionDeg` the direction is measured (structure tensor,
+   * then the line located along it over +-24 px) and points up the image
+   * (the thesis' 0 degrees default) or, for a line nearly along the rows,
+   * to the right. Where the line is found at fewer than 6 of the 8
+   * positions along that direction (a crack or a worn notch at the click
+   * turns the tensor), the directions every 15 degrees are tried and the
+   * one along which a line of at least 70 % of the contrast is found
+   * furthest is taken (found at all 8 positions, half the contrast will do).
    */
   SeedAnalysis analyseSeed( const cv::Mat &grey, const Eigen::Vector2d &seedPixel, std::optional<double> directionDeg, const SeedOptions &options = SeedOptions() );
 
