@@ -435,6 +435,36 @@ namespace geostation
           support = other;
         }
       }
+    // a click on a crack or a worn patch across a stripe longer than those positions reach (no line at the
+    // click is found at more than 3 of them): a line found beyond it, 12-24 px along a direction either way,
+    // at 5 or more of the positions around there, that runs through the click - a stripe's middle 60 % or
+    // within 2 px of an edge (not the side of a wide kerb face beside a weak edge clicked); the one nearest
+    // the click (within 0.5 px: found furthest)
+    if ( !directionDeg && support <= 3 )
+    {
+      std::optional<SeedAnalysis> beyond;
+      int beyondSupport = 0;
+      double beyondAcross = 0.0;
+      for ( int degrees = 0; degrees < 180; degrees += 15 )
+        for ( const double step : { -24.0, -18.0, -12.0, 12.0, 18.0, 24.0 } )
+        {
+          const Eigen::Vector2d along = upOrRight( directionFromDegrees( degrees ) );
+          int other = 0;
+          SeedAnalysis a = analyseAlong( grey, seedPixel + step * along, along, options, other );
+          if ( !a.ok || other < 5 || a.profile.contrast < 0.7 * contrast )
+            continue;
+          const double across = std::abs( rightNormal( a.direction ).dot( seedPixel - a.pixelInImage ) );
+          const double reachPx = a.profile.kind == LineKind::Edge ? 2.0 : 0.3 * a.profile.widthPx;
+          if ( across > reachPx || ( beyond && across > beyondAcross - 0.5 && ( across > beyondAcross + 0.5 || other <= beyondSupport ) ) )
+            continue;
+          a.pixelInImage += a.direction.dot( seedPixel - a.pixelInImage ) * a.direction;
+          beyond = a;
+          beyondSupport = other;
+          beyondAcross = across;
+        }
+      if ( beyond )
+        out = *beyond;
+    }
     return out;
   }
 

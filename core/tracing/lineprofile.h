@@ -75,6 +75,10 @@ namespace geostation
    * turns the tensor), the directions every 15 degrees are tried and the
    * one along which a line of at least 70 % of the contrast is found
    * furthest is taken (found at all 8 positions, half the contrast will do).
+   * Where no line at the click is found at more than 3 of them (the click
+   * lies on a crack or a worn patch longer than that), the line found 12-24
+   * px along a direction either way that runs through the click is taken,
+   * snapped to the click's place along it.
    */
   SeedAnalysis analyseSeed( const cv::Mat &grey, const Eigen::Vector2d &seedPixel, std::optional<double> directionDeg, const SeedOptions &options = SeedOptions() );
 

@@ -49,21 +49,40 @@ namespace geostation
       for ( const LineVertex3d *v : ordered )
       {
         const TrackCoordinates c = *trackCoordinates( trajectory, v->point.head<2>() );
-        // the line's offset over the 10 m before this vertex: the median, with the median of the sigmas
+        // the line's offset over the 10 m before this vertex: the median, with the median of the sigmas;
+        // beyond a gap (fewer than 3 there), that of the 3 nearest within 30 m, the allowed step growing by
+        // 2 % of the gap (a follower that bridged a shadow onto the parallel edge beside the line)
         std::vector<double> offsets, sigmas;
+        double gapM = 0.0;
         for ( const Accepted &a : accepted )
           if ( std::abs( a.arc - c.arcM ) <= 10.0 )
           {
             offsets.push_back( a.offset );
             sigmas.push_back( a.sigma );
           }
+        if ( offsets.size() < 3 && accepted.size() >= 3 )
+        {
+          std::vector<const Accepted *> nearest;
+          for ( const Accepted &a : accepted )
+            nearest.push_back( &a );
+          std::partial_sort( nearest.begin(), nearest.begin() + 3, nearest.end(), [&c]( const Accepted *a, const Accepted *b ) { return std::abs( a->arc - c.arcM ) < std::abs( b->arc - c.arcM ); } );
+          gapM = std::abs( nearest[0]->arc - c.arcM );
+          offsets.clear();
+          sigmas.clear();
+          if ( std::abs( nearest[2]->arc - c.arcM ) <= 30.0 )
+            for ( int k = 0; k < 3; ++k )
+            {
+              offsets.push_back( nearest[k]->offset );
+              sigmas.push_back( nearest[k]->sigma );
+            }
+        }
         if ( offsets.size() >= 3 )
         {
           std::nth_element( offsets.begin(), offsets.begin() + offsets.size() / 2, offsets.end() );
           std::nth_element( sigmas.begin(), sigmas.begin() + sigmas.size() / 2, sigmas.end() );
           const double step = std::abs( c.leftOffsetM - offsets[offsets.size() / 2] );
           const double sigma = std::hypot( sigmaAcross( v->covariance ), sigmas[sigmas.size() / 2] );
-          if ( step > std::max( options.maxLateralStepM, options.heightContinuity.sigmaMultiple * sigma ) )
+          if ( step > std::max( options.maxLateralStepM + 0.02 * gapM, options.heightContinuity.sigmaMultiple * sigma ) )
           {
             ++dropped;
             if ( ++inRow >= 2 )

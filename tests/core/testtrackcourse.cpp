@@ -178,3 +178,81 @@ TEST( TrackCourse, AClickOnWornPaintPicksTheStripeNotItsSide )
   EXPECT_EQ( foot.profile.kind, LineKind::Edge );
   EXPECT_NEAR( foot.pixelInImage.x(), 60.0, 1.0 );
 }
+
+TEST( TrackCourse, AVertexBeyondAGapKeepsTheLinesCourse )
+{
+  // a station's follower lost the line at 90 m in a shadow and bridged 11 m onto the parallel edge 1.1 m
+  // beside it: with nothing of the line within 10 m before it, the vertex there is held to the course of the
+  // nearest vertices before the gap, the allowance grown by 2 % of the gap
+  const std::vector<Eigen::Vector3d> track = curvedTrack();
+  RoadTraceOptions options;
+  const auto vertex = [&]( double arc, double left )
+  {
+    LineVertex3d v;
+    v.point = beside( arc, left );
+    v.covariance = Eigen::Vector3d( 0.02 * 0.02, 0.02 * 0.02, 0.03 * 0.03 ).asDiagonal();
+    v.sigmaM = Eigen::Vector3d( 0.02, 0.02, 0.03 );
+    return v;
+  };
+  StationPart part;
+  part.stationId = "S0009";
+  part.referenceImageId = "S0009_FL";
+  part.partnerImageId = "S0009_FR";
+  part.runAlong = ( track[9] - track[8] ).normalized();
+  part.trajectory = &track;
+  std::vector<TracedVertex> line;
+  for ( double s = 75.0; s <= 88.0; s += 1.0 )
+  {
+    TracedVertex t;
+    t.point = beside( s, -3.5 );
+    t.covariance = Eigen::Vector3d( 0.015 * 0.015, 0.015 * 0.015, 0.02 * 0.02 ).asDiagonal();
+    line.push_back( t );
+  }
+  part.keep = line.size();
+  const std::vector<LineVertex3d> astray { vertex( 89.0, -3.5 ), vertex( 89.5, -3.5 ), vertex( 90.0, -3.5 ), vertex( 101.0, -2.4 ) };
+  std::vector<TracedVertex> run = line;
+  StationPartSummary summary = appendStationPart( run, astray, part, options );
+  EXPECT_EQ( summary.ownVertices, 3 );
+  EXPECT_EQ( summary.lateralOutliers, 1 );
+  EXPECT_NEAR( trackCoordinates( track, run.back().point.head<2>() )->arcM, 90.0, 0.1 );
+  // the line itself beyond the same gap (a 5 cm drift) joins
+  const std::vector<LineVertex3d> onCourse { vertex( 89.0, -3.5 ), vertex( 89.5, -3.5 ), vertex( 90.0, -3.5 ), vertex( 101.0, -3.55 ) };
+  run = line;
+  summary = appendStationPart( run, onCourse, part, options );
+  EXPECT_EQ( summary.ownVertices, 4 );
+  EXPECT_EQ( summary.lateralOutliers, 0 );
+  // beyond a gap of more than 30 m nothing is known of the course there: the vertex joins
+  const std::vector<LineVertex3d> farBeyond { vertex( 89.0, -3.5 ), vertex( 89.5, -3.5 ), vertex( 90.0, -3.5 ), vertex( 125.0, -2.4 ) };
+  run = line;
+  EXPECT_EQ( appendStationPart( run, farBeyond, part, options ).ownVertices, 4 );
+}
+
+TEST( TrackCourse, AClickOnALongCrackAcrossAStripeFindsTheStripe )
+{
+  // a 10 px painted stripe at 35 degrees, worn across for 28 px at the click down to a 3 px sliver off its
+  // centre, cracked across twice: the lines nearest the click are the cracks' and the sliver's edges, found
+  // along no direction beyond the worn part; the stripe is found beyond it, through the click
+  cv::Mat upright( 240, 240, CV_8UC1, cv::Scalar( 70 ) );
+  cv::rectangle( upright, cv::Point( 115, 0 ), cv::Point( 124, 239 ), cv::Scalar( 190 ), cv::FILLED );
+  cv::rectangle( upright, cv::Point( 115, 106 ), cv::Point( 124, 133 ), cv::Scalar( 75 ), cv::FILLED );
+  cv::rectangle( upright, cv::Point( 117, 106 ), cv::Point( 119, 133 ), cv::Scalar( 185 ), cv::FILLED );
+  cv::line( upright, cv::Point( 112, 112 ), cv::Point( 126, 116 ), cv::Scalar( 60 ), 2 );
+  cv::line( upright, cv::Point( 112, 124 ), cv::Point( 126, 128 ), cv::Scalar( 60 ), 2 );
+  cv::Mat grey;
+  // (turned about the stripe's centre line, x 119.5 in OpenCV's pixel-centre coordinates, 120.0 in ours)
+  cv::warpAffine( upright, grey, cv::getRotationMatrix2D( cv::Point2f( 119.5f, 119.5f ), -35.0, 1.0 ), upright.size(), cv::INTER_LINEAR, cv::BORDER_REPLICATE );
+  cv::Mat noise( grey.size(), CV_8SC1 );
+  cv::theRNG().state = 7;
+  cv::randn( noise, 0, 3 );
+  cv::add( grey, noise, grey, cv::noArray(), CV_8UC1 );
+  cv::GaussianBlur( grey, grey, cv::Size( 5, 5 ), 0.8 );
+  const Eigen::Vector2d click( 120.0, 120.0 );
+  const SeedAnalysis seed = analyseSeed( grey, click, std::nullopt );
+  ASSERT_TRUE( seed.ok ) << seed.message;
+  EXPECT_EQ( seed.profile.kind, LineKind::BrightStripe );
+  EXPECT_NEAR( seed.profile.widthPx, 10.0, 2.0 );
+  // the stripe runs up the image turned 35 degrees clockwise
+  const Eigen::Vector2d along( std::sin( 35.0 * M_PI / 180.0 ), -std::cos( 35.0 * M_PI / 180.0 ) );
+  EXPECT_GT( std::abs( seed.direction.dot( along ) ), std::cos( 4.0 * M_PI / 180.0 ) );
+  EXPECT_LT( std::abs( ( seed.pixelInImage - click ).dot( Eigen::Vector2d( -along.y(), along.x() ) ) ), 1.5 );
+}
