@@ -44,14 +44,12 @@ namespace geostation
         const TrackCoordinates c = *trackCoordinates( trajectory, v.point.head<2>() );
         accepted.push_back( { c.arcM, c.leftOffsetM, sigmaAcross( v.covariance ) } );
       }
-      std::vector<const LineVertex3d *> out;
-      int inRow = 0;
-      for ( const LineVertex3d *v : ordered )
+      // off the line's course: the line's offset over the 10 m before the vertex, the median, with the median
+      // of the sigmas; beyond a gap (fewer than 3 there), that of the 3 nearest within 30 m, the allowed step
+      // growing by 2 % of the gap (a follower that bridged a shadow onto the parallel edge beside the line)
+      const auto offCourse = [&]( const LineVertex3d &v )
       {
-        const TrackCoordinates c = *trackCoordinates( trajectory, v->point.head<2>() );
-        // the line's offset over the 10 m before this vertex: the median, with the median of the sigmas;
-        // beyond a gap (fewer than 3 there), that of the 3 nearest within 30 m, the allowed step growing by
-        // 2 % of the gap (a follower that bridged a shadow onto the parallel edge beside the line)
+        const TrackCoordinates c = *trackCoordinates( trajectory, v.point.head<2>() );
         std::vector<double> offsets, sigmas;
         double gapM = 0.0;
         for ( const Accepted &a : accepted )
@@ -76,26 +74,34 @@ namespace geostation
               sigmas.push_back( nearest[k]->sigma );
             }
         }
-        if ( offsets.size() >= 3 )
+        if ( offsets.size() < 3 )
+          return false;
+        std::nth_element( offsets.begin(), offsets.begin() + offsets.size() / 2, offsets.end() );
+        std::nth_element( sigmas.begin(), sigmas.begin() + sigmas.size() / 2, sigmas.end() );
+        const double step = std::abs( c.leftOffsetM - offsets[offsets.size() / 2] );
+        const double sigma = std::hypot( sigmaAcross( v.covariance ), sigmas[sigmas.size() / 2] );
+        return step > std::max( options.maxLateralStepM + 0.02 * gapM, options.heightContinuity.sigmaMultiple * sigma );
+      };
+      std::vector<const LineVertex3d *> out;
+      int inRow = 0;
+      for ( size_t i = 0; i < ordered.size(); ++i )
+      {
+        const LineVertex3d *v = ordered[i];
+        if ( offCourse( *v ) )
         {
-          std::nth_element( offsets.begin(), offsets.begin() + offsets.size() / 2, offsets.end() );
-          std::nth_element( sigmas.begin(), sigmas.begin() + sigmas.size() / 2, sigmas.end() );
-          const double step = std::abs( c.leftOffsetM - offsets[offsets.size() / 2] );
-          const double sigma = std::hypot( sigmaAcross( v->covariance ), sigmas[sigmas.size() / 2] );
-          if ( step > std::max( options.maxLateralStepM + 0.02 * gapM, options.heightContinuity.sigmaMultiple * sigma ) )
+          ++dropped;
+          // the follower left the line: the rest of the station's part goes - unless the next 3 vertices are
+          // back on its course (a station's first vertices astray where it was followed back towards its camera)
+          if ( ++inRow >= 2 && !( i + 3 < ordered.size() && !offCourse( *ordered[i + 1] ) && !offCourse( *ordered[i + 2] ) && !offCourse( *ordered[i + 3] ) ) )
           {
-            ++dropped;
-            if ( ++inRow >= 2 )
-            {
-              // the follower left the line: the rest of the station's part goes
-              dropped += static_cast<int>( ordered.end() - std::find( ordered.begin(), ordered.end(), v ) ) - 1;
-              break;
-            }
-            continue;
+            dropped += static_cast<int>( ordered.size() - i ) - 1;
+            break;
           }
+          continue;
         }
         inRow = 0;
         out.push_back( v );
+        const TrackCoordinates c = *trackCoordinates( trajectory, v->point.head<2>() );
         accepted.push_back( { c.arcM, c.leftOffsetM, sigmaAcross( v->covariance ) } );
       }
       return out;

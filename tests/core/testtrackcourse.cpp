@@ -5,8 +5,11 @@
   coordinates on a curved trajectory, the corridor that cuts a follower's
   jump across the road, the recent offset that a stray last vertex does
   not move, the lateral check of a station's vertices as they join the
-  run's line, and the seed that picks a worn stripe, not its side.
+  run's line (beyond a gap too, and a station whose first vertices
+  strayed), and the seed that picks a worn stripe, not its side, or a
+  stripe beyond a long crack at the click.
  ***************************************************************************/
+#include <algorithm>
 #include <cmath>
 #include <random>
 
@@ -255,4 +258,43 @@ TEST( TrackCourse, AClickOnALongCrackAcrossAStripeFindsTheStripe )
   const Eigen::Vector2d along( std::sin( 35.0 * M_PI / 180.0 ), -std::cos( 35.0 * M_PI / 180.0 ) );
   EXPECT_GT( std::abs( seed.direction.dot( along ) ), std::cos( 4.0 * M_PI / 180.0 ) );
   EXPECT_LT( std::abs( ( seed.pixelInImage - click ).dot( Eigen::Vector2d( -along.y(), along.x() ) ) ), 1.5 );
+}
+
+TEST( TrackCourse, AStationsFirstVerticesAstrayDoNotTakeTheRest )
+{
+  // a station followed its line back towards its camera from the start and strayed there: its first two
+  // vertices lie 0.2 m off the line, the rest on it. The two go; the rest, back on the course, stay.
+  const std::vector<Eigen::Vector3d> track = curvedTrack();
+  RoadTraceOptions options;
+  const auto vertex = [&]( double arc, double left )
+  {
+    LineVertex3d v;
+    v.point = beside( arc, left );
+    v.covariance = Eigen::Vector3d( 0.015 * 0.015, 0.015 * 0.015, 0.02 * 0.02 ).asDiagonal();
+    v.sigmaM = Eigen::Vector3d( 0.015, 0.015, 0.02 );
+    return v;
+  };
+  StationPart part;
+  part.stationId = "S0009";
+  part.referenceImageId = "S0009_FL";
+  part.partnerImageId = "S0009_FR";
+  part.runAlong = ( track[9] - track[8] ).normalized();
+  part.trajectory = &track;
+  std::vector<TracedVertex> line;
+  for ( double s = 75.0; s <= 88.0; s += 1.0 )
+  {
+    TracedVertex t;
+    t.point = beside( s, -3.5 );
+    t.covariance = Eigen::Vector3d( 0.015 * 0.015, 0.015 * 0.015, 0.02 * 0.02 ).asDiagonal();
+    line.push_back( t );
+  }
+  part.keep = line.size();
+  std::vector<LineVertex3d> station { vertex( 89.0, -3.7 ), vertex( 89.5, -3.68 ) };
+  for ( double s = 90.0; s <= 96.0; s += 1.0 )
+    station.push_back( vertex( s, -3.5 ) );
+  std::vector<TracedVertex> run = line;
+  const StationPartSummary summary = appendStationPart( run, station, part, options );
+  EXPECT_EQ( summary.lateralOutliers, 2 );
+  EXPECT_EQ( summary.ownVertices, 7 );
+  EXPECT_NEAR( trackCoordinates( track, run[line.size()].point.head<2>() )->arcM, 90.0, 0.1 );
 }
