@@ -12,6 +12,7 @@
 #include <algorithm>
 #include <cmath>
 #include <random>
+#include <string>
 
 #include <gtest/gtest.h>
 #include <opencv2/imgproc.hpp>
@@ -43,6 +44,42 @@ namespace
   {
     const double a = arcM / kRadius, r = kRadius - leftM;
     return { r * std::sin( a ), kRadius - r * std::cos( a ), 100.0 };
+  }
+
+  //! A station's vertex `leftM` to the left of the curve's centre line, `arcM` along it, with σ (m).
+  LineVertex3d vertexBeside( double arcM, double leftM, double sigmaPlanM, double sigmaHeightM )
+  {
+    LineVertex3d v;
+    v.point = beside( arcM, leftM );
+    v.sigmaM = Eigen::Vector3d( sigmaPlanM, sigmaPlanM, sigmaHeightM );
+    v.covariance = v.sigmaM.cwiseAbs2().asDiagonal();
+    return v;
+  }
+
+  //! Station `id`'s part of a run along `track`.
+  StationPart stationPartOn( const std::vector<Eigen::Vector3d> &track, const std::string &id )
+  {
+    StationPart part;
+    part.stationId = id;
+    part.referenceImageId = id + "_FL";
+    part.partnerImageId = id + "_FR";
+    part.runAlong = ( track[9] - track[8] ).normalized();
+    part.trajectory = &track;
+    return part;
+  }
+
+  //! The run's line so far: the paint 3.5 m right of the track from 75 m to 88 m, a vertex every metre.
+  std::vector<TracedVertex> paintTo88m()
+  {
+    std::vector<TracedVertex> line;
+    for ( double s = 75.0; s <= 88.0; s += 1.0 )
+    {
+      TracedVertex t;
+      t.point = beside( s, -3.5 );
+      t.covariance = Eigen::Vector3d( 0.015 * 0.015, 0.015 * 0.015, 0.02 * 0.02 ).asDiagonal();
+      line.push_back( t );
+    }
+    return line;
   }
 }
 
@@ -115,29 +152,9 @@ TEST( TrackCourse, AStationThatSlidOntoTheParallelEdgeIsCut )
 {
   const std::vector<Eigen::Vector3d> track = curvedTrack();
   RoadTraceOptions options;
-  const auto vertex = [&]( double arc, double left )
-  {
-    LineVertex3d v;
-    v.point = beside( arc, left );
-    v.covariance = Eigen::Vector3d( 0.015 * 0.015, 0.015 * 0.015, 0.02 * 0.02 ).asDiagonal();
-    v.sigmaM = Eigen::Vector3d( 0.015, 0.015, 0.02 );
-    return v;
-  };
-  StationPart part;
-  part.stationId = "S0008";
-  part.referenceImageId = "S0008_FL";
-  part.partnerImageId = "S0008_FR";
-  part.runAlong = ( track[9] - track[8] ).normalized();
-  part.trajectory = &track;
-  // the run so far: the paint 3.5 m right of the track up to 88 m
-  std::vector<TracedVertex> line;
-  for ( double s = 75.0; s <= 88.0; s += 1.0 )
-  {
-    TracedVertex t;
-    t.point = beside( s, -3.5 );
-    t.covariance = Eigen::Vector3d( 0.015 * 0.015, 0.015 * 0.015, 0.02 * 0.02 ).asDiagonal();
-    line.push_back( t );
-  }
+  const auto vertex = [&]( double arc, double left ) { return vertexBeside( arc, left, 0.015, 0.02 ); };
+  StationPart part = stationPartOn( track, "S0008" );
+  const std::vector<TracedVertex> line = paintTo88m();
   part.keep = line.size();
   // this station: on the paint to 92 m, one stray vertex, back on the paint, then on the kerb face 0.3 m beside it
   std::vector<LineVertex3d> station;
@@ -189,28 +206,9 @@ TEST( TrackCourse, AVertexBeyondAGapKeepsTheLinesCourse )
   // nearest vertices before the gap, the allowance grown by 2 % of the gap
   const std::vector<Eigen::Vector3d> track = curvedTrack();
   RoadTraceOptions options;
-  const auto vertex = [&]( double arc, double left )
-  {
-    LineVertex3d v;
-    v.point = beside( arc, left );
-    v.covariance = Eigen::Vector3d( 0.02 * 0.02, 0.02 * 0.02, 0.03 * 0.03 ).asDiagonal();
-    v.sigmaM = Eigen::Vector3d( 0.02, 0.02, 0.03 );
-    return v;
-  };
-  StationPart part;
-  part.stationId = "S0009";
-  part.referenceImageId = "S0009_FL";
-  part.partnerImageId = "S0009_FR";
-  part.runAlong = ( track[9] - track[8] ).normalized();
-  part.trajectory = &track;
-  std::vector<TracedVertex> line;
-  for ( double s = 75.0; s <= 88.0; s += 1.0 )
-  {
-    TracedVertex t;
-    t.point = beside( s, -3.5 );
-    t.covariance = Eigen::Vector3d( 0.015 * 0.015, 0.015 * 0.015, 0.02 * 0.02 ).asDiagonal();
-    line.push_back( t );
-  }
+  const auto vertex = [&]( double arc, double left ) { return vertexBeside( arc, left, 0.02, 0.03 ); };
+  StationPart part = stationPartOn( track, "S0009" );
+  const std::vector<TracedVertex> line = paintTo88m();
   part.keep = line.size();
   const std::vector<LineVertex3d> astray { vertex( 89.0, -3.5 ), vertex( 89.5, -3.5 ), vertex( 90.0, -3.5 ), vertex( 101.0, -2.4 ) };
   std::vector<TracedVertex> run = line;
@@ -266,28 +264,9 @@ TEST( TrackCourse, AStationsFirstVerticesAstrayDoNotTakeTheRest )
   // vertices lie 0.2 m off the line, the rest on it. The two go; the rest, back on the course, stay.
   const std::vector<Eigen::Vector3d> track = curvedTrack();
   RoadTraceOptions options;
-  const auto vertex = [&]( double arc, double left )
-  {
-    LineVertex3d v;
-    v.point = beside( arc, left );
-    v.covariance = Eigen::Vector3d( 0.015 * 0.015, 0.015 * 0.015, 0.02 * 0.02 ).asDiagonal();
-    v.sigmaM = Eigen::Vector3d( 0.015, 0.015, 0.02 );
-    return v;
-  };
-  StationPart part;
-  part.stationId = "S0009";
-  part.referenceImageId = "S0009_FL";
-  part.partnerImageId = "S0009_FR";
-  part.runAlong = ( track[9] - track[8] ).normalized();
-  part.trajectory = &track;
-  std::vector<TracedVertex> line;
-  for ( double s = 75.0; s <= 88.0; s += 1.0 )
-  {
-    TracedVertex t;
-    t.point = beside( s, -3.5 );
-    t.covariance = Eigen::Vector3d( 0.015 * 0.015, 0.015 * 0.015, 0.02 * 0.02 ).asDiagonal();
-    line.push_back( t );
-  }
+  const auto vertex = [&]( double arc, double left ) { return vertexBeside( arc, left, 0.015, 0.02 ); };
+  StationPart part = stationPartOn( track, "S0009" );
+  const std::vector<TracedVertex> line = paintTo88m();
   part.keep = line.size();
   std::vector<LineVertex3d> station { vertex( 89.0, -3.7 ), vertex( 89.5, -3.68 ) };
   for ( double s = 90.0; s <= 96.0; s += 1.0 )
