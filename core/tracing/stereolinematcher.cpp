@@ -4,7 +4,9 @@
 #include "tracing/stereolinematcher.h"
 #include "geometry/rotation.h"
 
+#include <algorithm>
 #include <cmath>
+#include <map>
 
 #include <Eigen/Geometry>
 
@@ -16,19 +18,93 @@ namespace geostation
 {
   namespace
   {
-    //! Grey values of a window sampled along (direction, its normal) around a centre; false outside.
-    bool orientedWindow( const cv::Mat &grey, const Eigen::Vector2d &centre, const Eigen::Vector2d &direction, int along, int across, std::vector<double> &values )
+    //! A window's sample offsets (pixels) along (direction, its normal), `along` x `across` samples one pixel apart.
+    std::vector<Eigen::Vector2d> orientedOffsets( const Eigen::Vector2d &direction, int along, int across )
     {
-      values.clear();
+      std::vector<Eigen::Vector2d> offsets;
       const Eigen::Vector2d normal = rightNormal( direction );
       for ( int a = -along / 2; a <= along / 2; ++a )
         for ( int b = -across / 2; b <= across / 2; ++b )
+          offsets.push_back( a * direction + b * normal );
+      return offsets;
+    }
+
+    /**
+     * The reference window's samples on the road surface, to be seen from the partner: each sample's ray
+     * meets the surface, and the surface may lie higher or lower than predicted there (the road plane from
+     * the cameras' heights, a DEM), so the window is mapped for the height each candidate along the
+     * epipolar curve stands for - the surface moved up or down by that much.
+     */
+    class SurfaceWindow
+    {
+      public:
+        SurfaceWindow( const StereoImage &reference, const Eigen::Vector2d &centre, const std::vector<Eigen::Vector2d> &offsets, const StereoImage &partner,
+                       const GroundOfPixel &groundOfPixel )
+          : mPartner( partner )
         {
-          const std::optional<double> g = sampleGrey( grey, centre + a * direction + b * normal );
-          if ( !g )
-            return false;
-          values.push_back( *g );
+          for ( size_t k = 0; k <= offsets.size(); ++k )
+          {
+            // the centre last
+            const Eigen::Vector2d pixel = k < offsets.size() ? Eigen::Vector2d( centre + offsets[k] ) : centre;
+            const std::optional<Ray> ray = reference.image->worldRayFromPixel( pixel );
+            const std::optional<Eigen::Vector3d> ground = groundOfPixel( *reference.image, pixel );
+            if ( !ray || !ground || ray->direction.z() > -1e-3 )
+            {
+              mGround.clear();
+              return;
+            }
+            mGround.push_back( *ground );
+            mRay.push_back( ray->direction );
+          }
         }
+
+        bool ok() const { return !mGround.empty(); }
+
+        //! The samples' offsets in the partner from the centre's, the surface `raisedM` above the prediction (2 cm steps); empty where one does not project.
+        const std::vector<Eigen::Vector2d> &partnerOffsets( double raisedM )
+        {
+          const int level = static_cast<int>( std::lround( raisedM / 0.02 ) );
+          auto it = mLevels.find( level );
+          if ( it != mLevels.end() )
+            return it->second;
+          std::vector<Eigen::Vector2d> &offsets = mLevels[level];
+          const auto seen = [&]( size_t k ) -> std::optional<Eigen::Vector2d>
+          {
+            // along the sample's ray to the raised surface
+            const GroundProjection p = mPartner.image->projectGroundToPixel( mGround[k] + ( 0.02 * level / mRay[k].z() ) * mRay[k] );
+            return p.ok() ? std::optional<Eigen::Vector2d>( p.pixelInImage ) : std::nullopt;
+          };
+          const std::optional<Eigen::Vector2d> centre = seen( mGround.size() - 1 );
+          for ( size_t k = 0; centre && k + 1 < mGround.size(); ++k )
+          {
+            const std::optional<Eigen::Vector2d> sample = seen( k );
+            if ( !sample )
+            {
+              offsets.clear();
+              break;
+            }
+            offsets.push_back( *sample - *centre );
+          }
+          return offsets;
+        }
+
+      private:
+        const StereoImage &mPartner;
+        std::vector<Eigen::Vector3d> mGround, mRay; // per sample, the centre last
+        std::map<int, std::vector<Eigen::Vector2d>> mLevels;
+    };
+
+    //! Grey values at centre + each offset; false where one falls outside the image.
+    bool sampleWindow( const cv::Mat &grey, const Eigen::Vector2d &centre, const std::vector<Eigen::Vector2d> &offsets, std::vector<double> &values )
+    {
+      values.clear();
+      for ( const Eigen::Vector2d &offset : offsets )
+      {
+        const std::optional<double> g = sampleGrey( grey, centre + offset );
+        if ( !g )
+          return false;
+        values.push_back( *g );
+      }
       return true;
     }
 
@@ -131,45 +207,80 @@ namespace geostation
     // the distances along the ray at which the road surface may lie, +- the height tolerance
     const double depression = std::max( 0.02, ( reference.image->exterior().projectionCentre.z() - ground->z() ) / distance );
     const double nearest = distance - options.heightToleranceM / depression, farthest = distance + options.heightToleranceM / depression;
+    // the template's samples in the partner through the road surface (a window of 60 px along a line 15 m
+    // ahead covers 8 m of road, which a partner nearer to it sees scaled and sheared along its length; thesis
+    // ch. 5), else along the line's direction there
+    const std::vector<Eigen::Vector2d> templateOffsets = orientedOffsets( directionInReference, along, across );
+    const std::vector<Eigen::Vector2d> orientedInPartner = orientedOffsets( directionInPartner, along, across );
+    SurfaceWindow surface( reference, pixelInReference, templateOffsets, partner, groundOfPixel );
+    const Eigen::Vector3d rayDirection = ( *ground - reference.image->exterior().projectionCentre ).normalized();
     std::vector<double> templateValues, values;
-    if ( !orientedWindow( *reference.grey, pixelInReference, directionInReference, along, across, templateValues ) )
+    if ( !sampleWindow( *reference.grey, pixelInReference, templateOffsets, templateValues ) )
       return fail( "the start is too close to the border of " + reference.imageId );
     // the curve's vertex nearest the prediction, then every vertex within the search length either side
     size_t foot = 0;
     for ( size_t i = 1; i < curve.size(); ++i )
       if ( ( curve[i] - predicted.pixelInImage ).squaredNorm() < ( curve[foot] - predicted.pixelInImage ).squaredNorm() )
         foot = i;
-    std::vector<std::pair<double, Eigen::Vector2d>> scored; // score, pixel
+    struct Candidate
+    {
+      double score;
+      Eigen::Vector2d pixel;
+      double raisedM; //!< the surface through it above the prediction
+    };
+    std::vector<Candidate> scored;
     for ( size_t i = 0; i < curve.size(); ++i )
     {
       if ( ( curve[i] - curve[foot] ).norm() > options.searchAlongCurvePx && ( curveDistance[i] < nearest || curveDistance[i] > farthest ) )
         continue;
-      if ( orientedWindow( *partner.grey, curve[i], directionInPartner, along, across, values ) )
-        scored.push_back( { ncc( templateValues, values ), curve[i] } );
+      const std::vector<Eigen::Vector2d> *offsets = &orientedInPartner;
+      // the surface through this candidate: as far above the prediction as its point on the start's ray
+      const double raised = std::clamp( ( reference.image->exterior().projectionCentre + curveDistance[i] * rayDirection ).z() - ground->z(),
+                                        -options.heightToleranceM, options.heightToleranceM );
+      if ( surface.ok() )
+      {
+        const std::vector<Eigen::Vector2d> &shaped = surface.partnerOffsets( raised );
+        if ( !shaped.empty() )
+          offsets = &shaped;
+      }
+      if ( sampleWindow( *partner.grey, curve[i], *offsets, values ) )
+        scored.push_back( { ncc( templateValues, values ), curve[i], raised } );
     }
     size_t best = 0;
     for ( size_t i = 1; i < scored.size(); ++i )
-      if ( scored[i].first > scored[best].first )
+      if ( scored[i].score > scored[best].score )
         best = i;
-    if ( scored.empty() || scored[best].first < options.minScore )
+    if ( scored.empty() || scored[best].score < options.minScore )
       return fail( "the line was not found in " + partner.imageId + " along the start's epipolar curve (best correlation " +
-                   std::to_string( scored.empty() ? 0.0 : scored[best].first ).substr( 0, 4 ) + ")" );
-    Eigen::Vector2d pixel = scored[best].second;
+                   std::to_string( scored.empty() ? 0.0 : scored[best].score ).substr( 0, 4 ) + ")" );
+    Eigen::Vector2d pixel = scored[best].pixel;
     if ( best > 0 && best + 1 < scored.size() )
     {
       // parabola through the neighbours along the curve
-      const double a = scored[best - 1].first, b = scored[best].first, c = scored[best + 1].first;
+      const double a = scored[best - 1].score, b = scored[best].score, c = scored[best + 1].score;
       const double den = a - 2 * b + c;
       if ( den < 0 )
       {
         const double shift = std::clamp( 0.5 * ( a - c ) / den, -0.5, 0.5 );
-        pixel = shift > 0 ? Eigen::Vector2d( pixel + shift * ( scored[best + 1].second - pixel ) ) : Eigen::Vector2d( pixel - shift * ( scored[best - 1].second - pixel ) );
+        pixel = shift > 0 ? Eigen::Vector2d( pixel + shift * ( scored[best + 1].pixel - pixel ) ) : Eigen::Vector2d( pixel - shift * ( scored[best - 1].pixel - pixel ) );
       }
     }
     out.ok = true;
     out.pixelInImage = pixel;
     out.direction = directionInPartner;
-    out.score = scored[best].first;
+    {
+      // the line's direction on the surface through the match
+      const Eigen::Vector3d centre = reference.image->exterior().projectionCentre;
+      const auto raise = [&]( const Eigen::Vector3d &p )
+      {
+        const Eigen::Vector3d ray = ( p - centre ).normalized();
+        return Eigen::Vector3d( p + ( scored[best].raisedM / std::min( ray.z(), -1e-3 ) ) * ray );
+      };
+      const GroundProjection at = partner.image->projectGroundToPixel( raise( *ground ) ), beyond = partner.image->projectGroundToPixel( raise( *further ) );
+      if ( at.ok() && beyond.ok() && ( beyond.pixelInImage - at.pixelInImage ).norm() > 1e-6 )
+        out.direction = ( beyond.pixelInImage - at.pixelInImage ).normalized();
+    }
+    out.score = scored[best].score;
     return out;
   }
 

@@ -62,7 +62,13 @@ namespace geostation
   /**
    * The reference line's start (pixel and direction in the reference) in
    * the partner image: prediction from `groundOfPixel`, then correlation
-   * along the epipolar curve.
+   * along the epipolar curve. The window follows the surface into the
+   * partner: each template sample's ray meets the surface, moved up or
+   * down to pass through the candidate's point on the start's ray (within
+   * heightToleranceM), and is projected into the partner, so a partner
+   * that sees the road at another scale or shear still correlates. Where a
+   * sample's ray misses the surface the window is the reference's shape
+   * turned to the line's predicted direction.
    */
   StartMatch matchStartInPartner( const StereoImage &reference, const Eigen::Vector2d &pixelInReference, const Eigen::Vector2d &directionInReference,
                                   const StereoImage &partner, const GroundOfPixel &groundOfPixel, const LineProfile &profile,

@@ -35,6 +35,19 @@ def truth_tables(gpkg):
     return objects, pixels, roads
 
 
+def across_and_beyond(p, line):
+    """Plan distance from a point to the line through a dash's nearest segment, and how far along the dash
+    the point lies beyond its ends (0 when between them), metres."""
+    best = (float("inf"), float("inf"))
+    for a, b in zip(line, line[1:]):
+        dx, dy = b[0] - a[0], b[1] - a[1]
+        length = (dx * dx + dy * dy) ** 0.5 or 1.0
+        along = ((p[0] - a[0]) * dx + (p[1] - a[1]) * dy) / length
+        across = abs((p[0] - a[0]) * dy - (p[1] - a[1]) * dx) / length
+        best = min(best, (across, max(0.0, -along, along - length)), key=sum)
+    return best
+
+
 class DesktopMultiviewTest(unittest.TestCase):
     @classmethod
     def setUpClass(cls):
@@ -185,10 +198,14 @@ class DesktopMultiviewTest(unittest.TestCase):
         self.assertIn("end_of_run", self.result.get("lane_status", ""))
         vertices = lanes[0]["vertices"]
         self.assertGreaterEqual(len(vertices), 6)
-        # every vertex on a dash of the lane line (exact orientation: within 0.10 m in plan)
+        # every vertex on a dash of the lane line (exact orientation: within 0.10 m of the dash's line across it).
+        # Along the line a dash's end is placed to a pixel or so: at 20 m in these 640 px images a pixel covers
+        # about 0.3 m of road along the line, so a vertex may stop that far beyond a dash's painted end.
         dashes = list(self.lane_truth.values())
-        plan = sorted(min(desktop_harness.distance_to_polyline(v, d)[0] for d in dashes) for v in vertices)
-        self.assertLess(plan[-1], 0.10, plan)
+        placed = sorted(min((across_and_beyond(v, d) for d in dashes), key=sum) for v in vertices)
+        for across, beyond in placed:
+            self.assertLess(across, 0.10, placed)
+            self.assertLess(beyond, 0.30, placed)
 
     def test_session_is_restored_from_the_project(self):
         self.assertTrue(self.result.get("saved"))

@@ -1,0 +1,90 @@
+// The traced line's start found in a partner image (matchStartInPartner(),
+// core/tracing/stereolinematcher) on a scene built here (stripedroad.h):
+// a stripe painted in short patches of irregular length on a flat road,
+// seen by a van's forward camera and by partners that see the same patch
+// of road at a different scale and shear - the stereo partner beside it,
+// and a camera 8 m further along the road. The correlation window follows
+// the road surface into the partner, so the start is found where a window
+// of the reference's shape no longer correlates.
+#include <cmath>
+#include <random>
+
+#include <gtest/gtest.h>
+#include <opencv2/core.hpp>
+
+#include "tracing/stereolinematcher.h"
+#include "stripedroad.h"
+#include "vanrig.h"
+
+using namespace geostation;
+
+namespace
+{
+  using namespace stripedroad;
+
+  //! Paint in patches 0.15-0.45 m long with gaps of 0.1-0.3 m between them (a worn, broken stripe).
+  bool brokenStripe( double x, double y )
+  {
+    if ( std::abs( x - kStripeX ) > kStripeHalfWidth )
+      return false;
+    const int cell = static_cast<int>( std::floor( y / 0.6 ) );
+    const unsigned hash = static_cast<unsigned>( cell * 2654435761u );
+    const double paintFrom = 0.1 + 0.2 * ( ( hash >> 24 ) & 0xff ) / 255.0, paintTo = 0.45 + 0.15 * ( ( hash >> 16 ) & 0xff ) / 255.0;
+    const double u = y - 0.6 * cell;
+    return u >= paintFrom && u < paintTo;
+  }
+
+  struct View
+  {
+    OrientedImage image;
+    cv::Mat grey;
+  };
+
+  View viewFrom( const Eigen::Vector3d &centre, const Eigen::Vector3d &target, std::mt19937 &rng )
+  {
+    OrientedImage image( vanCamera(), vanrig::lookAt( centre, target ) );
+    cv::Mat grey = render( image, brokenStripe, 2.0, rng );
+    return { std::move( image ), grey };
+  }
+}
+
+TEST( StartInPartner, FoundThroughTheRoadSurfaceAtAnotherScale )
+{
+  std::mt19937 rng( 11 );
+  const Eigen::Vector3d van( 1.0, 0.0, kRoadZ + 2.65 );
+  const View reference = viewFrom( van, van + Eigen::Vector3d( 0.0, 30.0, -3.7 ), rng );
+  // the stereo partner 1.4 m to the right, toed in; a camera of the van 8 m further along, looking down more steeply
+  const Eigen::Vector3d right = van + Eigen::Vector3d( 1.4, 0.0, 0.0 ), further = van + Eigen::Vector3d( 0.0, 8.0, 0.0 );
+  const View beside = viewFrom( right, right + Eigen::Vector3d( -2.0, 30.0, -3.7 ), rng );
+  const View ahead = viewFrom( further, further + Eigen::Vector3d( 0.6, 30.0, -6.0 ), rng );
+
+  // the start on the stripe 15.3 m ahead of the reference, the line running up the image
+  const Eigen::Vector3d start( kStripeX, 15.3, kRoadZ );
+  const Eigen::Vector2d pixel = reference.image.projectGroundToPixel( start ).pixelInImage;
+  const Eigen::Vector2d direction = ( reference.image.projectGroundToPixel( start + Eigen::Vector3d( 0, 1, 0 ) ).pixelInImage - pixel ).normalized();
+  LineProfile stripe;
+  stripe.kind = LineKind::BrightStripe;
+  stripe.contrast = 140.0;
+  stripe.widthPx = 2 * kStripeHalfWidth * pixelsPerMetreAcross( reference.image, start, Eigen::Vector3d::UnitY() );
+  const StereoImage ref { "reference", &reference.image, &reference.grey };
+
+  for ( const View *partner : { &beside, &ahead } )
+  {
+    const Eigen::Vector2d truth = partner->image.projectGroundToPixel( start ).pixelInImage;
+    // the road plane 0.25 m too high (a crossfall the plane from the cameras' heights does not know): the start is
+    // found by correlation along the epipolar curve, the window shaped for each candidate's height, not copied
+    const GroundOfPixel raised = [&]( const OrientedImage &i, const Eigen::Vector2d &p ) -> std::optional<Eigen::Vector3d>
+    {
+      const std::optional<Ray> ray = i.worldRayFromPixel( p );
+      if ( !ray || ray->direction.z() > -1e-6 )
+        return std::nullopt;
+      return Eigen::Vector3d( ray->origin + ( kRoadZ + 0.25 - ray->origin.z() ) / ray->direction.z() * ray->direction );
+    };
+    const StartMatch match = matchStartInPartner( ref, pixel, direction, { "partner", &partner->image, &partner->grey }, raised, stripe );
+    ASSERT_TRUE( match.ok ) << ( partner == &ahead ? "ahead: " : "beside: " ) << match.message;
+    EXPECT_LT( ( match.pixelInImage - truth ).norm(), 0.7 ) << ( partner == &ahead ? "ahead" : "beside" );
+    EXPECT_GT( match.score, 0.8 );
+    const Eigen::Vector2d truthDirection = ( partner->image.projectGroundToPixel( start + Eigen::Vector3d( 0, 1, 0 ) ).pixelInImage - truth ).normalized();
+    EXPECT_GT( match.direction.dot( truthDirection ), std::cos( 3.0 * M_PI / 180.0 ) );
+  }
+}
