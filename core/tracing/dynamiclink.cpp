@@ -29,6 +29,13 @@ namespace geostation
     const double widthTimesRange = in.widthTimesRange;
     const GroundOfPixel &nextGround = in.nextGround;
     const Eigen::Vector3d nextCentre = next.exterior().projectionCentre;
+    // the line's direction at a point: the chord over its last 20 m turned with the track (on the 220 m curve the
+    // chord is 2.6 degrees off the line's tangent at its end, more beyond it)
+    size_t chordFrom = groundLine.size() - 1;
+    while ( chordFrom > 0 && horizontalDistance( groundLine.back(), groundLine[chordFrom - 1] ) < 20.0 )
+      --chordFrom;
+    const Eigen::Vector3d chordMiddle = 0.5 * ( groundLine[chordFrom] + groundLine.back() );
+    const auto directionAt = [&]( const Eigen::Vector3d &point ) { return lineDirectionAt( trajectory, lineDirection, chordMiddle, point ); };
     // candidates: this station's vertices, then the line's straight continuation across a gap
     std::vector<std::pair<Eigen::Vector3d, size_t>> candidates; // point, vertices kept if taken
     for ( size_t i = firstOfStation; i < vertices.size(); ++i )
@@ -82,8 +89,9 @@ namespace geostation
       {
         const size_t i = byRange[c].second;
         const Eigen::Vector3d &point = vertices[i].point;
-        const GroundProjection p = next.projectGroundToPixel( point ), ahead = next.projectGroundToPixel( point + lineDirection );
-        const Eigen::Vector3d across = Eigen::Vector3d( -lineDirection.y(), lineDirection.x(), 0.0 ).normalized();
+        const Eigen::Vector3d along = directionAt( point );
+        const GroundProjection p = next.projectGroundToPixel( point ), ahead = next.projectGroundToPixel( point + along );
+        const Eigen::Vector3d across = Eigen::Vector3d( -along.y(), along.x(), 0.0 ).normalized();
         const GroundProjection side = next.projectGroundToPixel( point + across );
         if ( !p.ok() || !ahead.ok() || !side.ok() || !p.inFrame )
           continue;
@@ -120,7 +128,8 @@ namespace geostation
       const double range = horizontalDistance( point, nextCentre );
       if ( range < options.handoverRangeM || ( point - nextCentre ).dot( lineDirection ) <= 0 )
         continue;
-      const GroundProjection p = next.projectGroundToPixel( point ), ahead = next.projectGroundToPixel( point + lineDirection );
+      const Eigen::Vector3d along = directionAt( point );
+      const GroundProjection p = next.projectGroundToPixel( point ), ahead = next.projectGroundToPixel( point + along );
       if ( !p.ok() || !ahead.ok() || p.pixelInImage.x() < 12 || p.pixelInImage.y() < 12 || p.pixelInImage.x() > in.nextGrey->cols - 12 || p.pixelInImage.y() > in.nextGrey->rows - 12 )
         continue;
       const Eigen::Vector2d d = ( ahead.pixelInImage - p.pixelInImage ).normalized();
@@ -133,7 +142,7 @@ namespace geostation
       if ( kept == vertices.size() )
       {
         const double lateralM = 0.15 + 0.02 * horizontalDistance( point, groundLine.back() );
-        const Eigen::Vector3d across = Eigen::Vector3d( -lineDirection.y(), lineDirection.x(), 0.0 ).normalized();
+        const Eigen::Vector3d across = Eigen::Vector3d( -along.y(), along.x(), 0.0 ).normalized();
         const GroundProjection side = next.projectGroundToPixel( point + lateralM * across );
         if ( side.ok() )
           around.searchHalfPx = std::clamp( ( side.pixelInImage - p.pixelInImage ).norm(), locate.searchHalfPx, 20.0 );

@@ -253,8 +253,12 @@ namespace geostation
     if ( scored.empty() || scored[best].score < options.minScore )
       return fail( "the line was not found in " + partner.imageId + " along the start's epipolar curve (best correlation " +
                    std::to_string( scored.empty() ? 0.0 : scored[best].score ).substr( 0, 4 ) + ")" );
+    // a best score at either end of the candidates is no peak: the correlation still rises where the search
+    // ends or the window leaves the partner image, and the line lies beyond (the caller tries a point further on)
+    if ( ( best == 0 || best + 1 == scored.size() ) )
+      return fail( "the line's correlation in " + partner.imageId + " peaks at the end of the start's search (best correlation " +
+                   std::to_string( scored[best].score ).substr( 0, 4 ) + "): the start is not in full view there" );
     Eigen::Vector2d pixel = scored[best].pixel;
-    if ( best > 0 && best + 1 < scored.size() )
     {
       // parabola through the neighbours along the curve
       const double a = scored[best - 1].score, b = scored[best].score, c = scored[best + 1].score;

@@ -134,6 +134,46 @@ namespace geostation
     return best;
   }
 
+  namespace
+  {
+    //! The trajectory's plan point at arc length `arcM`; the first and last legs extend straight on.
+    Eigen::Vector2d trackPointAt( const std::vector<Eigen::Vector3d> &trajectory, double arcM )
+    {
+      double arcSoFar = 0.0;
+      for ( size_t i = 0; i + 1 < trajectory.size(); ++i )
+      {
+        const Eigen::Vector2d a = trajectory[i].head<2>(), ab = trajectory[i + 1].head<2>() - a;
+        const double length = ab.norm();
+        if ( length > 0 && ( arcM <= arcSoFar + length || i + 2 == trajectory.size() ) )
+          return a + ( std::max( arcM - arcSoFar, i == 0 ? -std::numeric_limits<double>::infinity() : 0.0 ) / length ) * ab;
+        arcSoFar += length;
+      }
+      return trajectory.back().head<2>();
+    }
+
+    std::optional<Eigen::Vector2d> trackHeadingAt( const std::vector<Eigen::Vector3d> &trajectory, const Eigen::Vector3d &point )
+    {
+      const std::optional<TrackCoordinates> at = trackCoordinates( trajectory, point.head<2>() );
+      if ( !at )
+        return std::nullopt;
+      const Eigen::Vector2d chord = trackPointAt( trajectory, at->arcM + 5.0 ) - trackPointAt( trajectory, at->arcM - 5.0 );
+      if ( chord.norm() < 1e-6 )
+        return std::nullopt;
+      return Eigen::Vector2d( chord.normalized() );
+    }
+  }
+
+  Eigen::Vector3d lineDirectionAt( const std::vector<Eigen::Vector3d> &trajectory, const Eigen::Vector3d &lineDirection, const Eigen::Vector3d &chordMiddle,
+                                   const Eigen::Vector3d &point )
+  {
+    const std::optional<Eigen::Vector2d> from = trackHeadingAt( trajectory, chordMiddle ), to = trackHeadingAt( trajectory, point );
+    if ( !from || !to )
+      return lineDirection;
+    const double turn = std::atan2( from->x() * to->y() - from->y() * to->x(), from->dot( *to ) );
+    const double c = std::cos( turn ), s = std::sin( turn );
+    return Eigen::Vector3d( c * lineDirection.x() - s * lineDirection.y(), s * lineDirection.x() + c * lineDirection.y(), lineDirection.z() ).normalized();
+  }
+
   std::optional<double> recentTrackOffset( const std::vector<Eigen::Vector3d> &trajectory, const std::vector<Eigen::Vector3d> &line, double withinM, size_t minPoints )
   {
     if ( line.empty() || trajectory.size() < 2 )

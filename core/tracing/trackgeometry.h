@@ -52,6 +52,18 @@ namespace geostation
   std::optional<TrackCoordinates> trackCoordinates( const std::vector<Eigen::Vector3d> &trajectory, const Eigen::Vector2d &xy );
 
   /**
+   * A road line's direction at `point` (block CRS, unit): `lineDirection`,
+   * the chord over the line's last stretch (centred at `chordMiddle`),
+   * turned as far as the track turns from the chord's middle to the
+   * point - on a curve a 20 m chord points several degrees off the line's
+   * tangent at its ends and beyond them. The track's heading at a place
+   * is the chord of the track 5 m either side of it. `lineDirection`
+   * unchanged for fewer than two trajectory points.
+   */
+  Eigen::Vector3d lineDirectionAt( const std::vector<Eigen::Vector3d> &trajectory, const Eigen::Vector3d &lineDirection, const Eigen::Vector3d &chordMiddle,
+                                   const Eigen::Vector3d &point );
+
+  /**
    * The median offset from the trajectory of the line's points within
    * `withinM` along the track of its last one (at least `minPoints` of
    * them, else nothing): where the line goes on, not moved by one stray

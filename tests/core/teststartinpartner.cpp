@@ -88,3 +88,38 @@ TEST( StartInPartner, FoundThroughTheRoadSurfaceAtAnotherScale )
     EXPECT_GT( match.direction.dot( truthDirection ), std::cos( 3.0 * M_PI / 180.0 ) );
   }
 }
+
+TEST( StartInPartner, NoMatchWhereTheWindowLeavesThePartner )
+{
+  // the stereo partner 1.4 m to the left, turned 14.6 degrees to the left, sees the start 12.5 m ahead 40 px from
+  // its right border, the line running up and to the left from there: the window (some 60 px along the line) fits only
+  // beside the true place, where the correlation still rises towards it. That is no match - the caller tries a
+  // point further along the line - not the best of the candidates that fit.
+  std::mt19937 rng( 12 );
+  const Eigen::Vector3d van( 1.0, 0.0, kRoadZ + 2.65 ), left = van - Eigen::Vector3d( 1.4, 0.0, 0.0 );
+  const View reference = viewFrom( van, van + Eigen::Vector3d( 0.0, 30.0, -3.7 ), rng );
+  const double turn = 14.6 * M_PI / 180.0;
+  const View partner = viewFrom( left, left + Eigen::Vector3d( -30.0 * std::sin( turn ), 30.0 * std::cos( turn ), -3.7 ), rng );
+  const Eigen::Vector3d start( kStripeX, 12.5, kRoadZ );
+  const Eigen::Vector2d truth = partner.image.projectGroundToPixel( start ).pixelInImage;
+  ASSERT_GT( truth.x(), 755.0 );
+  ASSERT_LT( truth.x(), 765.0 );
+
+  const Eigen::Vector2d pixel = reference.image.projectGroundToPixel( start ).pixelInImage;
+  const Eigen::Vector2d direction = ( reference.image.projectGroundToPixel( start + Eigen::Vector3d( 0, 1, 0 ) ).pixelInImage - pixel ).normalized();
+  LineProfile stripe;
+  stripe.kind = LineKind::BrightStripe;
+  stripe.contrast = 140.0;
+  stripe.widthPx = 2 * kStripeHalfWidth * pixelsPerMetreAcross( reference.image, start, Eigen::Vector3d::UnitY() );
+  const GroundOfPixel ground = []( const OrientedImage &i, const Eigen::Vector2d &p ) { return onRoad( i, p ); };
+  const StereoImage ref { "reference", &reference.image, &reference.grey }, par { "partner", &partner.image, &partner.grey };
+  const StartMatch match = matchStartInPartner( ref, pixel, direction, par, ground, stripe );
+  EXPECT_FALSE( match.ok ) << "matched at " << match.pixelInImage.transpose() << ", the line is at " << truth.transpose();
+  EXPECT_NE( match.message.find( "end of the start's search" ), std::string::npos ) << match.message << " " << truth.transpose();
+  // 2 m further along the line, in full view of the partner: found
+  const Eigen::Vector3d further( kStripeX, 14.5, kRoadZ );
+  const Eigen::Vector2d furtherPixel = reference.image.projectGroundToPixel( further ).pixelInImage;
+  const StartMatch found = matchStartInPartner( ref, furtherPixel, direction, par, ground, stripe );
+  ASSERT_TRUE( found.ok ) << found.message;
+  EXPECT_LT( ( found.pixelInImage - partner.image.projectGroundToPixel( further ).pixelInImage ).norm(), 0.7 );
+}

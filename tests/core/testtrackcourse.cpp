@@ -2,7 +2,8 @@
   testtrackcourse.cpp - a road line keeps its course beside the van's track
   -------------------------------------------------------------------------
   The guards that keep a traced line on its own road line: track
-  coordinates on a curved trajectory, the corridor that cuts a follower's
+  coordinates on a curved trajectory, the line's direction turned with
+  the track beyond its last chord, the corridor that cuts a follower's
   jump across the road, the recent offset that a stray last vertex does
   not move, the lateral check of a station's vertices as they join the
   run's line (beyond a gap too, and a station whose first vertices
@@ -128,6 +129,33 @@ TEST( TrackCourse, TheCorridorCutsAJumpAcrossTheRoadOnly )
   EXPECT_EQ( pointsInCourse( track, anchor, jumped, 0.6, 0.08 ), 10u );
   // no trajectory: nothing to compare with, everything kept
   EXPECT_EQ( pointsInCourse( { track.front() }, anchor, jumped, 0.6, 0.08 ), jumped.size() );
+}
+
+TEST( TrackCourse, TheLinesDirectionTurnsWithTheTrack )
+{
+  // a line's 20 m chord (60-80 m along the 220 m curve) points 2.6 degrees off its tangent at 80 m and 6.5
+  // degrees off at 95 m; turned with the track it is the tangent there
+  const std::vector<Eigen::Vector3d> track = curvedTrack();
+  const auto tangent = []( double arc ) { return Eigen::Vector3d( std::cos( arc / kRadius ), std::sin( arc / kRadius ), 0.0 ); };
+  const auto degreesBetween = []( const Eigen::Vector3d &a, const Eigen::Vector3d &b ) { return std::acos( std::min( 1.0, a.normalized().dot( b.normalized() ) ) ) * 180.0 / M_PI; };
+  for ( const double left : { -3.5, 3.5 } )
+  {
+    const Eigen::Vector3d chord = ( beside( 80.0, left ) - beside( 60.0, left ) ).normalized(), middle = 0.5 * ( beside( 80.0, left ) + beside( 60.0, left ) );
+    for ( const double arc : { 80.0, 95.0 } )
+    {
+      EXPECT_GT( degreesBetween( chord, tangent( arc ) ), 2.5 );
+      EXPECT_LT( degreesBetween( lineDirectionAt( track, chord, middle, beside( arc, left ) ), tangent( arc ) ), 0.2 ) << left << " " << arc;
+    }
+  }
+  // a line that is not parallel to the track (turned 4 degrees off it) keeps its angle to the track
+  const double off = 4.0 * M_PI / 180.0;
+  const auto turned = [&]( const Eigen::Vector3d &d ) { return Eigen::Vector3d( std::cos( off ) * d.x() - std::sin( off ) * d.y(), std::sin( off ) * d.x() + std::cos( off ) * d.y(), 0.0 ); };
+  const Eigen::Vector3d skew = turned( tangent( 70.0 ) );
+  EXPECT_NEAR( degreesBetween( lineDirectionAt( track, skew, beside( 70.0, 0.0 ), beside( 100.0, 1.0 ) ), tangent( 100.0 ) ), 4.0, 0.2 );
+  // the line's slope is kept; with no track to turn with, the chord is the direction
+  const Eigen::Vector3d climbing = ( tangent( 70.0 ) + Eigen::Vector3d( 0, 0, 0.05 ) ).normalized();
+  EXPECT_NEAR( lineDirectionAt( track, climbing, beside( 70.0, 0.0 ), beside( 100.0, 0.0 ) ).z(), climbing.z(), 1e-9 );
+  EXPECT_EQ( lineDirectionAt( { track.front() }, climbing, beside( 70.0, 0.0 ), beside( 100.0, 0.0 ) ), climbing );
 }
 
 TEST( TrackCourse, AStrayLastVertexDoesNotMoveTheRecentOffset )
