@@ -227,6 +227,41 @@ TEST( TrackCourse, AClickOnWornPaintPicksTheStripeNotItsSide )
   EXPECT_NEAR( foot.pixelInImage.x(), 60.0, 1.0 );
 }
 
+TEST( TrackCourse, AClickOnAStripeWornHalfAwayOverALongStretchPicksTheStripe )
+{
+  // a 10 px stripe whose left half is worn away over 44 px around the click, clicked at the stripe's centre:
+  // there the paint's left side is the nearest line and is found all along the worn stretch. The stripe, at
+  // its full width beyond the wear, is what was meant (a seed on the side traced the whole run 7 cm off).
+  cv::Mat grey( 140, 120, CV_8UC1, cv::Scalar( 60 ) );
+  cv::rectangle( grey, cv::Point( 55, 0 ), cv::Point( 64, 139 ), cv::Scalar( 200 ), cv::FILLED );
+  cv::rectangle( grey, cv::Point( 55, 48 ), cv::Point( 59, 91 ), cv::Scalar( 62 ), cv::FILLED );
+  cv::Mat noise( grey.size(), CV_8SC1 );
+  cv::theRNG().state = 5;
+  cv::randn( noise, 0, 3 );
+  cv::add( grey, noise, grey, cv::noArray(), CV_8UC1 );
+  cv::GaussianBlur( grey, grey, cv::Size( 5, 5 ), 0.8 );
+  const SeedAnalysis seed = analyseSeed( grey, Eigen::Vector2d( 60.3, 70.0 ), std::nullopt );
+  ASSERT_TRUE( seed.ok ) << seed.message;
+  EXPECT_EQ( seed.profile.kind, LineKind::BrightStripe );
+  EXPECT_NEAR( seed.profile.widthPx, 10.0, 1.5 );
+  EXPECT_NEAR( seed.pixelInImage.x(), 60.0, 0.7 );
+  EXPECT_GT( std::abs( seed.direction.y() ), std::cos( 3.0 * M_PI / 180.0 ) );
+  // the same stripe unworn, and a kerb face clicked at its foot (a band as wide all along): as before
+  cv::Mat whole( 140, 120, CV_8UC1, cv::Scalar( 60 ) );
+  cv::rectangle( whole, cv::Point( 55, 0 ), cv::Point( 64, 139 ), cv::Scalar( 200 ), cv::FILLED );
+  cv::GaussianBlur( whole, whole, cv::Size( 5, 5 ), 0.8 );
+  const SeedAnalysis clean = analyseSeed( whole, Eigen::Vector2d( 60.3, 70.0 ), std::nullopt );
+  EXPECT_EQ( clean.profile.kind, LineKind::BrightStripe );
+  EXPECT_NEAR( clean.profile.widthPx, 10.0, 1.0 );
+  EXPECT_NEAR( clean.pixelInImage.x(), 60.0, 0.5 );
+  cv::Mat kerb( 140, 120, CV_8UC1, cv::Scalar( 60 ) );
+  cv::rectangle( kerb, cv::Point( 60, 0 ), cv::Point( 77, 139 ), cv::Scalar( 150 ), cv::FILLED );
+  cv::rectangle( kerb, cv::Point( 78, 0 ), cv::Point( 119, 139 ), cv::Scalar( 110 ), cv::FILLED );
+  cv::GaussianBlur( kerb, kerb, cv::Size( 5, 5 ), 0.8 );
+  const SeedAnalysis foot = analyseSeed( kerb, Eigen::Vector2d( 60.8, 70.0 ), 0.0 );
+  EXPECT_EQ( foot.profile.kind, LineKind::Edge );
+}
+
 TEST( TrackCourse, AVertexBeyondAGapKeepsTheLinesCourse )
 {
   // a station's follower lost the line at 90 m in a shadow and bridged 11 m onto the parallel edge 1.1 m
