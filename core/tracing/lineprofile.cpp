@@ -244,50 +244,58 @@ namespace geostation
       return Eigen::Vector2d( eigen.eigenvectors().col( 1 ).normalized() );
     }
 
+    //! A stripe's full width and centre line beyond a stretch where it is worn to part of its width.
+    struct WornStripe
+    {
+      double widthPx = 0.0;                                      //!< median of the wider hits
+      Eigen::Vector2d onCentreLine = Eigen::Vector2d::Zero();    //!< the hits' mean
+      Eigen::Vector2d course = Eigen::Vector2d( 0, -1 );         //!< the centre line's direction (unit)
+    };
+
     /**
      * A stripe at `pixel` worn to part of its width over a stretch: where it
      * is found 1.4 times as wide or more 18-30 px along `direction`, at 3 or
      * more of those 6 positions, 2 of them up the image (further from a
      * forward camera, where perspective narrows a line: wider there is the
      * wear, wider only towards the camera is perspective), all on one course
-     * within 1 px, and the paint at `pixel` inside their width. Those hits;
-     * none otherwise (on cobbles two dark patches beside a kerb's far end
-     * are wider too).
+     * within 1 px, and the paint at `pixel` inside their width. Nothing
+     * otherwise (on cobbles two dark patches beside a kerb's far end are
+     * wider too).
      */
-    std::vector<LineHit> wornBeyond( const cv::Mat &grey, const Eigen::Vector2d &pixel, const Eigen::Vector2d &direction, const LineProfile &profile, double widthPx )
+    std::optional<WornStripe> wornBeyond( const cv::Mat &grey, const Eigen::Vector2d &pixel, const Eigen::Vector2d &direction, const LineProfile &profile, double widthPx )
     {
       LocateOptions either = locateOptionsFor( profile, FollowOptions(), 3.0 );
       either.maxWidthRatio = either.minWidthRatio = 2.5;
-      std::vector<LineHit> wider;
+      std::vector<Eigen::Vector2d> centres;
+      std::vector<double> widths;
       int up = 0;
       for ( const double step : { -30.0, -24.0, -18.0, 18.0, 24.0, 30.0 } )
         if ( const std::optional<LineHit> h = locateLine( grey, pixel + step * direction, direction, profile, either );
              h && h->widthPx >= 1.4 * widthPx )
         {
-          wider.push_back( *h );
+          centres.push_back( h->pixelInImage );
+          widths.push_back( h->widthPx );
           up += step * direction.y() < 0;
         }
-      if ( up < 2 || wider.size() < 3 )
-        return {};
+      if ( up < 2 || centres.size() < 3 )
+        return std::nullopt;
       // one stripe: the wider hits on one course (within 1 px), the paint left at the click inside its full width
-      std::vector<Eigen::Vector2d> centres;
-      double fullWidth = 0.0;
-      for ( const LineHit &h : wider )
-      {
-        centres.push_back( h.pixelInImage );
-        fullWidth += h.widthPx / static_cast<double>( wider.size() );
-      }
       const std::optional<Eigen::Vector2d> course = principalDirection( centres );
       if ( !course || std::abs( course->dot( direction ) ) < std::cos( 10.0 * kPi / 180.0 ) )
-        return {};
-      const Eigen::Vector2d mean = std::accumulate( centres.begin(), centres.end(), Eigen::Vector2d( Eigen::Vector2d::Zero() ) ) / static_cast<double>( centres.size() );
-      const Eigen::Vector2d normal( -course->y(), course->x() );
+        return std::nullopt;
+      WornStripe out;
+      out.course = course->dot( direction ) < 0 ? Eigen::Vector2d( -*course ) : *course;
+      out.onCentreLine = std::accumulate( centres.begin(), centres.end(), Eigen::Vector2d( Eigen::Vector2d::Zero() ) ) / static_cast<double>( centres.size() );
+      const Eigen::Vector2d normal( -out.course.y(), out.course.x() );
       for ( const Eigen::Vector2d &c : centres )
-        if ( std::abs( normal.dot( c - mean ) ) > 1.0 )
-          return {};
-      if ( std::abs( normal.dot( pixel - mean ) ) > 0.5 * fullWidth + 1.0 )
-        return {};
-      return wider;
+        if ( std::abs( normal.dot( c - out.onCentreLine ) ) > 1.0 )
+          return std::nullopt;
+      const double meanWidth = std::accumulate( widths.begin(), widths.end(), 0.0 ) / static_cast<double>( widths.size() );
+      if ( std::abs( normal.dot( pixel - out.onCentreLine ) ) > 0.5 * meanWidth + 1.0 )
+        return std::nullopt;
+      std::nth_element( widths.begin(), widths.begin() + widths.size() / 2, widths.end() );
+      out.widthPx = widths[widths.size() / 2];
+      return out;
     }
 
     /**
@@ -380,7 +388,7 @@ namespace geostation
             return true;
         }
         // worn over a longer stretch: the full width beyond it, 18-30 px along
-        return wornBeyond( grey, stripe.hit.pixelInImage, direction, stripe.profile, stripe.hit.widthPx ).size() >= 2;
+        return wornBeyond( grey, stripe.hit.pixelInImage, direction, stripe.profile, stripe.hit.widthPx ).has_value();
       };
       const auto sideOfStripeAroundClick = [&]( const Candidate &edge )
       {
@@ -420,31 +428,13 @@ namespace geostation
         out.profile.widthPx = widths[widths.size() / 2];
       }
       // paint worn to part of its width over the stretch either side too: the stripe's full width, and its
-      // centre line at the click, from where it is 1.4 times wider or more 18-30 px along both ways
+      // centre line at the click, from beyond the wear
       if ( out.profile.kind != LineKind::Edge )
-      {
-        const std::vector<LineHit> wider = wornBeyond( grey, out.pixelInImage, direction, out.profile, out.profile.widthPx );
-        std::vector<Eigen::Vector2d> centres;
-        std::vector<double> fullWidths;
-        for ( const LineHit &h : wider )
+        if ( const std::optional<WornStripe> worn = wornBeyond( grey, out.pixelInImage, direction, out.profile, out.profile.widthPx ) )
         {
-          centres.push_back( h.pixelInImage );
-          fullWidths.push_back( h.widthPx );
+          out.profile.widthPx = worn->widthPx;
+          out.pixelInImage = worn->onCentreLine + worn->course.dot( out.pixelInImage - worn->onCentreLine ) * worn->course;
         }
-        if ( centres.size() >= 2 )
-        {
-          const std::optional<Eigen::Vector2d> course = principalDirection( centres );
-          Eigen::Vector2d mean = Eigen::Vector2d::Zero();
-          for ( const Eigen::Vector2d &c : centres )
-            mean += c / static_cast<double>( centres.size() );
-          if ( course && std::abs( course->dot( direction ) ) > std::cos( 25.0 * kPi / 180.0 ) )
-          {
-            std::nth_element( fullWidths.begin(), fullWidths.begin() + fullWidths.size() / 2, fullWidths.end() );
-            out.profile.widthPx = fullWidths[fullWidths.size() / 2];
-            out.pixelInImage = mean + course->dot( out.pixelInImage - mean ) * *course;
-          }
-        }
-      }
       if ( points.size() >= 3 )
         if ( const std::optional<Eigen::Vector2d> measured = principalDirection( points ); measured && std::abs( measured->dot( direction ) ) > std::cos( 25.0 * kPi / 180.0 ) )
           direction = measured->dot( direction ) < 0 ? Eigen::Vector2d( -*measured ) : *measured; // (an edge's polarity is relative to the sense of travel, which is kept)
