@@ -8,6 +8,7 @@
 // of the reference's shape no longer correlates.
 #include <cmath>
 #include <random>
+#include <utility>
 
 #include <gtest/gtest.h>
 #include <opencv2/core.hpp>
@@ -46,6 +47,23 @@ namespace
     cv::Mat grey = render( image, brokenStripe, 2.0, rng );
     return { std::move( image ), grey };
   }
+
+  //! The stripe's point at `start` in an image, and the stripe's direction there (unit, along +Y on the road).
+  std::pair<Eigen::Vector2d, Eigen::Vector2d> seenAt( const OrientedImage &image, const Eigen::Vector3d &start )
+  {
+    const Eigen::Vector2d pixel = image.projectGroundToPixel( start ).pixelInImage;
+    return { pixel, ( image.projectGroundToPixel( start + Eigen::Vector3d( 0, 1, 0 ) ).pixelInImage - pixel ).normalized() };
+  }
+
+  //! The stripe's profile as the reference sees it at `start`.
+  LineProfile stripeAt( const OrientedImage &reference, const Eigen::Vector3d &start )
+  {
+    LineProfile stripe;
+    stripe.kind = LineKind::BrightStripe;
+    stripe.contrast = 140.0;
+    stripe.widthPx = 2 * kStripeHalfWidth * pixelsPerMetreAcross( reference, start, Eigen::Vector3d::UnitY() );
+    return stripe;
+  }
 }
 
 TEST( StartInPartner, FoundThroughTheRoadSurfaceAtAnotherScale )
@@ -60,17 +78,13 @@ TEST( StartInPartner, FoundThroughTheRoadSurfaceAtAnotherScale )
 
   // the start on the stripe 15.3 m ahead of the reference, the line running up the image
   const Eigen::Vector3d start( kStripeX, 15.3, kRoadZ );
-  const Eigen::Vector2d pixel = reference.image.projectGroundToPixel( start ).pixelInImage;
-  const Eigen::Vector2d direction = ( reference.image.projectGroundToPixel( start + Eigen::Vector3d( 0, 1, 0 ) ).pixelInImage - pixel ).normalized();
-  LineProfile stripe;
-  stripe.kind = LineKind::BrightStripe;
-  stripe.contrast = 140.0;
-  stripe.widthPx = 2 * kStripeHalfWidth * pixelsPerMetreAcross( reference.image, start, Eigen::Vector3d::UnitY() );
+  const auto [pixel, direction] = seenAt( reference.image, start );
+  const LineProfile stripe = stripeAt( reference.image, start );
   const StereoImage ref { "reference", &reference.image, &reference.grey };
 
   for ( const View *partner : { &beside, &ahead } )
   {
-    const Eigen::Vector2d truth = partner->image.projectGroundToPixel( start ).pixelInImage;
+    const auto [truth, truthDirection] = seenAt( partner->image, start );
     // the road plane 0.25 m too high (a crossfall the plane from the cameras' heights does not know): the start is
     // found by correlation along the epipolar curve, the window shaped for each candidate's height, not copied
     const GroundOfPixel raised = [&]( const OrientedImage &i, const Eigen::Vector2d &p ) -> std::optional<Eigen::Vector3d>
@@ -84,7 +98,6 @@ TEST( StartInPartner, FoundThroughTheRoadSurfaceAtAnotherScale )
     ASSERT_TRUE( match.ok ) << ( partner == &ahead ? "ahead: " : "beside: " ) << match.message;
     EXPECT_LT( ( match.pixelInImage - truth ).norm(), 0.7 ) << ( partner == &ahead ? "ahead" : "beside" );
     EXPECT_GT( match.score, 0.8 );
-    const Eigen::Vector2d truthDirection = ( partner->image.projectGroundToPixel( start + Eigen::Vector3d( 0, 1, 0 ) ).pixelInImage - truth ).normalized();
     EXPECT_GT( match.direction.dot( truthDirection ), std::cos( 3.0 * M_PI / 180.0 ) );
   }
 }
@@ -105,12 +118,8 @@ TEST( StartInPartner, NoMatchWhereTheWindowLeavesThePartner )
   ASSERT_GT( truth.x(), 755.0 );
   ASSERT_LT( truth.x(), 765.0 );
 
-  const Eigen::Vector2d pixel = reference.image.projectGroundToPixel( start ).pixelInImage;
-  const Eigen::Vector2d direction = ( reference.image.projectGroundToPixel( start + Eigen::Vector3d( 0, 1, 0 ) ).pixelInImage - pixel ).normalized();
-  LineProfile stripe;
-  stripe.kind = LineKind::BrightStripe;
-  stripe.contrast = 140.0;
-  stripe.widthPx = 2 * kStripeHalfWidth * pixelsPerMetreAcross( reference.image, start, Eigen::Vector3d::UnitY() );
+  const auto [pixel, direction] = seenAt( reference.image, start );
+  const LineProfile stripe = stripeAt( reference.image, start );
   const GroundOfPixel ground = []( const OrientedImage &i, const Eigen::Vector2d &p ) { return onRoad( i, p ); };
   const StereoImage ref { "reference", &reference.image, &reference.grey }, par { "partner", &partner.image, &partner.grey };
   const StartMatch match = matchStartInPartner( ref, pixel, direction, par, ground, stripe );
