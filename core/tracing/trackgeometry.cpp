@@ -54,36 +54,59 @@ namespace geostation
     return out;
   }
 
+  namespace
+  {
+    //! A place on the trajectory: the point (block CRS) and the direction of its leg (plan, unit).
+    struct TrackPoint
+    {
+      Eigen::Vector3d point;
+      Eigen::Vector2d legDirection;
+    };
+
+    /**
+     * The trajectory at arc length `arcM` (plan metres from its first
+     * point); the first and last legs extend straight on, legs of no
+     * length are passed over.
+     */
+    TrackPoint trackPointAt( const std::vector<Eigen::Vector3d> &trajectory, double arcM )
+    {
+      TrackPoint out { trajectory.back(), Eigen::Vector2d::UnitX() };
+      double arcSoFar = 0.0;
+      bool firstLeg = true;
+      for ( size_t i = 0; i + 1 < trajectory.size(); ++i )
+      {
+        const Eigen::Vector3d ab = trajectory[i + 1] - trajectory[i];
+        const double length = ab.head<2>().norm();
+        if ( length <= 0 )
+          continue;
+        out.legDirection = ab.head<2>() / length;
+        if ( arcM <= arcSoFar + length || i + 2 == trajectory.size() )
+        {
+          const double along = firstLeg ? arcM - arcSoFar : std::max( arcM - arcSoFar, 0.0 );
+          out.point = trajectory[i] + ( along / length ) * ab;
+          return out;
+        }
+        firstLeg = false;
+        arcSoFar += length;
+      }
+      return out;
+    }
+  }
+
   std::vector<Eigen::Vector3d> trajectoryContinuation( const std::vector<Eigen::Vector3d> &trajectory, const Eigen::Vector3d &last, int stepSign, double length, double step,
       std::optional<double> leftOffsetM )
   {
     std::vector<Eigen::Vector3d> out;
     if ( trajectory.size() < 2 )
       return out;
-    std::vector<double> arc { 0.0 };
-    for ( size_t i = 1; i < trajectory.size(); ++i )
-      arc.push_back( arc.back() + ( trajectory[i] - trajectory[i - 1] ).head<2>().norm() );
     const TrackCoordinates lastOnTrack = *trackCoordinates( trajectory, last.head<2>() );
     const double at = lastOnTrack.arcM, offset = leftOffsetM ? *leftOffsetM : lastOnTrack.leftOffsetM;
-    const auto pointAt = [&]( double s, double &z ) -> Eigen::Vector2d
-    {
-      size_t i = 0;
-      while ( i + 2 < trajectory.size() && arc[i + 1] < s )
-        ++i;
-      const double len = arc[i + 1] - arc[i];
-      const double t = len > 0 ? ( s - arc[i] ) / len : 0.0;
-      const Eigen::Vector3d p = trajectory[i] + t * ( trajectory[i + 1] - trajectory[i] );
-      const Eigen::Vector2d ab = ( trajectory[i + 1] - trajectory[i] ).head<2>().normalized();
-      z = p.z();
-      return p.head<2>() + offset * Eigen::Vector2d( -ab.y(), ab.x() );
-    };
-    double z0 = 0.0;
-    pointAt( at, z0 );
+    const double z0 = trackPointAt( trajectory, at ).point.z();
     for ( double s = step; s <= length + 1e-9; s += step )
     {
-      double z = 0.0;
-      const Eigen::Vector2d xy = pointAt( at + stepSign * s, z );
-      out.push_back( Eigen::Vector3d( xy.x(), xy.y(), last.z() + ( z - z0 ) ) );
+      const TrackPoint p = trackPointAt( trajectory, at + stepSign * s );
+      const Eigen::Vector2d xy = p.point.head<2>() + offset * Eigen::Vector2d( -p.legDirection.y(), p.legDirection.x() );
+      out.push_back( Eigen::Vector3d( xy.x(), xy.y(), last.z() + ( p.point.z() - z0 ) ) );
     }
     return out;
   }
@@ -136,27 +159,12 @@ namespace geostation
 
   namespace
   {
-    //! The trajectory's plan point at arc length `arcM`; the first and last legs extend straight on.
-    Eigen::Vector2d trackPointAt( const std::vector<Eigen::Vector3d> &trajectory, double arcM )
-    {
-      double arcSoFar = 0.0;
-      for ( size_t i = 0; i + 1 < trajectory.size(); ++i )
-      {
-        const Eigen::Vector2d a = trajectory[i].head<2>(), ab = trajectory[i + 1].head<2>() - a;
-        const double length = ab.norm();
-        if ( length > 0 && ( arcM <= arcSoFar + length || i + 2 == trajectory.size() ) )
-          return a + ( std::max( arcM - arcSoFar, i == 0 ? -std::numeric_limits<double>::infinity() : 0.0 ) / length ) * ab;
-        arcSoFar += length;
-      }
-      return trajectory.back().head<2>();
-    }
-
     std::optional<Eigen::Vector2d> trackHeadingAt( const std::vector<Eigen::Vector3d> &trajectory, const Eigen::Vector3d &point )
     {
       const std::optional<TrackCoordinates> at = trackCoordinates( trajectory, point.head<2>() );
       if ( !at )
         return std::nullopt;
-      const Eigen::Vector2d chord = trackPointAt( trajectory, at->arcM + 5.0 ) - trackPointAt( trajectory, at->arcM - 5.0 );
+      const Eigen::Vector2d chord = ( trackPointAt( trajectory, at->arcM + 5.0 ).point - trackPointAt( trajectory, at->arcM - 5.0 ).point ).head<2>();
       if ( chord.norm() < 1e-6 )
         return std::nullopt;
       return Eigen::Vector2d( chord.normalized() );
