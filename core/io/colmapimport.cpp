@@ -4,6 +4,7 @@
 #include "io/colmapimport.h"
 
 #include <algorithm>
+#include <limits>
 #include <map>
 #include <set>
 #include <stdexcept>
@@ -30,6 +31,87 @@ namespace geostation
         ids[im->id] = stemCount[stem] == 1 && !stem.empty() ? stem : im->name;
       }
       return ids;
+    }
+
+    /**
+     * The exposure station of each imported image (block image id to station id) from the model's frames:
+     * the images a rig took at one instant. The station is named after the image of the rig's reference
+     * camera (else the frame's first image id), so stations sort as that camera's images do. Images in no
+     * frame are left out (each becomes its own station). Throws std::invalid_argument for an image in two
+     * frames or a frame that names an image's camera wrongly.
+     */
+    std::map<std::string, std::string> stationsFromFrames( const ColmapModel &model, const std::map<std::uint32_t, const ColmapImage *> &importedById,
+                                                           const std::map<std::uint32_t, std::string> &idOf, BlockImportSummary &import )
+    {
+      std::map<std::string, std::string> stationOf;
+      if ( model.frames.empty() )
+        return stationOf;
+      std::map<std::uint32_t, const ColmapRig *> rigById;
+      for ( const ColmapRig &rig : model.rigs )
+        rigById[rig.id] = &rig;
+      std::set<std::uint32_t> modelImages;
+      for ( const ColmapImage &im : model.images )
+        modelImages.insert( im.id );
+      std::map<std::uint32_t, std::uint32_t> frameOfImage;
+      std::map<std::uint32_t, std::pair<int, size_t>> stationsPerRig; // rig: stations, most images in one
+      int unknownImages = 0;
+      for ( const ColmapFrame &frame : model.frames )
+      {
+        std::vector<std::pair<std::uint32_t, std::string>> members; // camera, block image id
+        for ( const ColmapFrameData &d : frame.data )
+        {
+          if ( d.sensor.type != ColmapSensor::Type::Camera )
+            continue;
+          const std::uint32_t imageId = static_cast<std::uint32_t>( d.dataId );
+          if ( d.dataId > std::numeric_limits<std::uint32_t>::max() || !modelImages.count( imageId ) )
+          {
+            ++unknownImages;
+            continue;
+          }
+          const auto [previous, first] = frameOfImage.emplace( imageId, frame.id );
+          if ( !first )
+            throw std::invalid_argument( "the COLMAP model is inconsistent: image " + std::to_string( imageId ) + " is in frame " + std::to_string( previous->second )
+                                         + " and in frame " + std::to_string( frame.id ) );
+          const auto imported = importedById.find( imageId );
+          if ( imported == importedById.end() )
+            continue; // dropped, and said so
+          if ( imported->second->cameraId != d.sensor.id )
+            throw std::invalid_argument( "the COLMAP model is inconsistent: frame " + std::to_string( frame.id ) + " says image " + std::to_string( imageId ) + " (" + imported->second->name
+                                         + ") was taken by camera " + std::to_string( d.sensor.id ) + ", the image says camera " + std::to_string( imported->second->cameraId ) );
+          members.emplace_back( d.sensor.id, idOf.at( imageId ) );
+        }
+        if ( members.empty() )
+          continue;
+        std::string station = std::min_element( members.begin(), members.end(), []( const auto &a, const auto &b ) { return a.second < b.second; } )->second;
+        const auto rig = rigById.find( frame.rigId );
+        if ( rig != rigById.end() && rig->second->reference && rig->second->reference->type == ColmapSensor::Type::Camera )
+          for ( const auto &[camera, imageId] : members )
+            if ( camera == rig->second->reference->id )
+              station = imageId;
+        for ( const auto &member : members )
+          stationOf[member.second] = station;
+        auto &[stations, largest] = stationsPerRig[frame.rigId];
+        ++stations;
+        largest = std::max( largest, members.size() );
+      }
+      for ( const auto &[rigId, counts] : stationsPerRig )
+      {
+        const auto rig = rigById.find( rigId );
+        std::string cameras;
+        if ( rig != rigById.end() && rig->second->reference )
+        {
+          cameras = ", reference " + colmapSensorTypeName( rig->second->reference->type ) + " " + std::to_string( rig->second->reference->id );
+          cameras += ", " + std::to_string( rig->second->others.size() + 1 ) + " sensor(s)";
+        }
+        import.converted.push_back( std::to_string( counts.first ) + " frame(s) of COLMAP rig " + std::to_string( rigId ) + cameras + " became exposure stations of up to "
+                                    + std::to_string( counts.second ) + " image(s)" );
+      }
+      if ( unknownImages > 0 )
+        import.dropped.push_back( std::to_string( unknownImages ) + " image(s) named by the COLMAP frames are not in the model's images (not registered)" );
+      const size_t alone = std::count_if( importedById.begin(), importedById.end(), [&]( const auto &entry ) { return !frameOfImage.count( entry.first ); } );
+      if ( alone > 0 )
+        import.warnings.push_back( std::to_string( alone ) + " image(s) are in no COLMAP frame; each became a station of its own" );
+      return stationOf;
     }
   }
 
@@ -102,7 +184,6 @@ namespace geostation
       BlockImage image;
       image.id = idOf.at( im->id );
       image.cameraId = cameraIdOf.at( im->cameraId );
-      image.stationId = image.id;
       image.path = im->name;
       try
       {
@@ -113,9 +194,6 @@ namespace geostation
         import.dropped.push_back( "COLMAP image " + std::to_string( im->id ) + " (" + im->name + "): " + e.what() + "; dropped" );
         continue;
       }
-      Station station;
-      station.id = image.id;
-      block.stations.push_back( station );
       block.images.push_back( image );
       import.imageIdBySourceName[im->name] = image.id;
       importedById[im->id] = im;
@@ -123,7 +201,23 @@ namespace geostation
     if ( block.images.empty() )
       throw std::invalid_argument( "no image of the COLMAP model can be imported"
                                    + ( import.dropped.empty() ? std::string( ": the model has no registered images" ) : ": " + import.dropped.front() ) );
-    import.converted.push_back( std::to_string( block.images.size() ) + " registered image(s) became oriented images, each its own station (COLMAP has no exposure stations)" );
+    // exposure stations: COLMAP's frames (3.12 and on), else one per image
+    const std::map<std::string, std::string> stationOf = stationsFromFrames( model, importedById, idOf, import );
+    std::set<std::string> stations;
+    for ( BlockImage &image : block.images )
+    {
+      const auto found = stationOf.find( image.id );
+      image.stationId = found != stationOf.end() ? found->second : image.id;
+      if ( stations.insert( image.stationId ).second )
+      {
+        Station station;
+        station.id = image.stationId;
+        block.stations.push_back( station );
+      }
+    }
+    import.converted.push_back( std::to_string( block.images.size() ) + " registered image(s) became oriented images"
+                                + ( model.frames.empty() ? std::string( ", each its own station (a model without frames: COLMAP before 3.12)" )
+                                                         : " in " + std::to_string( block.stations.size() ) + " exposure station(s)" ) );
 
     // image files
     fs::path imageFolder = options.imageFolder;

@@ -1,9 +1,12 @@
 /***************************************************************************
   colmapimport.h - a COLMAP sparse model as a GeoStation block
   -------------------------------------------------------------------------
-  Cameras and poses are converted exactly (colmapconversion.h); every image
-  becomes its own station (COLMAP has no exposure stations), in the order of
-  the image names; the 3-D points become tie points with their observations.
+  Cameras and poses are converted exactly (colmapconversion.h). The images
+  of one COLMAP frame (from COLMAP 3.12: the images a rig of cameras took at
+  one instant, a van's exposure) become one exposure station, named after
+  the image of the rig's reference camera; without frames (an older COLMAP)
+  every image becomes its own station. The 3-D points become tie points
+  with their observations.
   Cameras GeoStation cannot represent are dropped by name with their images,
   and the summary says so.
  ***************************************************************************/

@@ -2,6 +2,7 @@
   colmapmodel.cpp - COLMAP sparse models, text and binary
  ***************************************************************************/
 #include "io/colmapmodel.h"
+#include "io/internal/colmapfiles.h"
 
 #include <cmath>
 #include <cstring>
@@ -16,6 +17,8 @@ namespace fs = std::filesystem;
 
 namespace geostation
 {
+  using namespace colmapfiles;
+
   namespace
   {
     struct ModelInfo
@@ -47,65 +50,6 @@ namespace geostation
           return &m;
       return nullptr;
     }
-
-    std::string readWholeFile( const fs::path &file )
-    {
-      std::ifstream in( file, std::ios::binary );
-      if ( !in )
-        throw ColmapFormatError( "cannot open the COLMAP file " + file.string() );
-      std::ostringstream s;
-      s << in.rdbuf();
-      return s.str();
-    }
-
-    // ---- binary ------------------------------------------------------------
-
-    class BinaryCursor
-    {
-      public:
-        BinaryCursor( const fs::path &file )
-          : mFile( file ), mData( readWholeFile( file ) ) {}
-
-        template <typename T> T read( const char *what )
-        {
-          if ( mData.size() - mOffset < sizeof( T ) )
-            throw ColmapFormatError( "the COLMAP file " + mFile.string() + " ends in the middle of " + what + " (truncated or not a COLMAP binary file)" );
-          T value;
-          std::memcpy( &value, mData.data() + mOffset, sizeof( T ) );
-          mOffset += sizeof( T );
-          if constexpr ( std::is_floating_point_v<T> )
-            if ( !std::isfinite( value ) )
-              throw ColmapFormatError( "the COLMAP file " + mFile.string() + " holds a value that is not a finite number in " + what );
-          return value;
-        }
-
-        std::string readString( const char *what )
-        {
-          const size_t end = mData.find( '\0', mOffset );
-          if ( end == std::string::npos )
-            throw ColmapFormatError( "the COLMAP file " + mFile.string() + " ends in the middle of " + what + " (truncated or not a COLMAP binary file)" );
-          std::string s = mData.substr( mOffset, end - mOffset );
-          mOffset = end + 1;
-          return s;
-        }
-
-        //! A record count, checked against the bytes left so that a corrupt count cannot allocate gigabytes.
-        std::uint64_t readCount( size_t minRecordBytes, const char *what )
-        {
-          const std::uint64_t n = read<std::uint64_t>( what );
-          if ( minRecordBytes > 0 && n > ( mData.size() - mOffset ) / minRecordBytes )
-            throw ColmapFormatError( "the COLMAP file " + mFile.string() + " declares " + std::to_string( n ) + " " + what + " but is too short for them (truncated or not a COLMAP binary file)" );
-          return n;
-        }
-
-        bool atEnd() const { return mOffset == mData.size(); }
-        const fs::path &file() const { return mFile; }
-
-      private:
-        fs::path mFile;
-        std::string mData;
-        size_t mOffset = 0;
-    };
 
     std::vector<ColmapCamera> readCamerasBinary( const fs::path &file )
     {
@@ -182,56 +126,6 @@ namespace geostation
       if ( !in.atEnd() )
         throw ColmapFormatError( "the COLMAP file " + file.string() + " has bytes after its last 3-D point (not a COLMAP binary file of this version)" );
       return points;
-    }
-
-    // ---- text --------------------------------------------------------------
-
-    class TextLines
-    {
-      public:
-        explicit TextLines( const fs::path &file )
-          : mFile( file ), mIn( readWholeFile( file ) ) {}
-
-        //! The next line that is neither empty nor a comment; false at the end.
-        bool nextRecord( std::string &line )
-        {
-          while ( nextLine( line ) )
-          {
-            const size_t first = line.find_first_not_of( " \t\r" );
-            if ( first != std::string::npos && line[first] != '#' )
-              return true;
-          }
-          return false;
-        }
-
-        //! The very next line, empty or not (images.txt's point lines may be empty).
-        bool nextLine( std::string &line )
-        {
-          if ( !std::getline( mIn, line ) )
-            return false;
-          ++mLineNumber;
-          if ( !line.empty() && line.back() == '\r' )
-            line.pop_back();
-          return true;
-        }
-
-        [[noreturn]] void fail( const std::string &problem ) const
-        {
-          throw ColmapFormatError( "the COLMAP file " + mFile.string() + ", line " + std::to_string( mLineNumber ) + ": " + problem );
-        }
-
-      private:
-        fs::path mFile;
-        std::istringstream mIn;
-        int mLineNumber = 0;
-    };
-
-    template <typename T> T parseField( std::istringstream &fields, const TextLines &lines, const char *what )
-    {
-      T value;
-      if ( !( fields >> value ) )
-        lines.fail( std::string( "expected " ) + what );
-      return value;
     }
 
     std::vector<ColmapCamera> readCamerasText( const fs::path &file )
@@ -336,27 +230,6 @@ namespace geostation
       return points;
     }
 
-    std::ofstream openForWriting( const fs::path &file, bool binary )
-    {
-      std::ofstream out( file, binary ? std::ios::binary : std::ios::out );
-      if ( !out )
-        throw std::runtime_error( "cannot write " + file.string() + ": the folder is missing or not writable" );
-      if ( !binary )
-        out << std::setprecision( 17 );
-      return out;
-    }
-
-    void finish( std::ofstream &out, const fs::path &file )
-    {
-      out.close();
-      if ( !out )
-        throw std::runtime_error( "writing " + file.string() + " failed (disk full?)" );
-    }
-
-    template <typename T> void put( std::ofstream &out, T value )
-    {
-      out.write( reinterpret_cast<const char *>( &value ), sizeof( T ) );
-    }
   } // namespace
 
   int colmapCameraModelParameterCount( const std::string &modelName )
@@ -431,6 +304,11 @@ namespace geostation
       if ( fs::exists( folder / "points3D.txt", ec ) )
         model.points3D = readPointsText( folder / "points3D.txt" );
     }
+    const std::string extension = binary ? ".bin" : ".txt";
+    if ( fs::exists( folder / ( "rigs" + extension ), ec ) )
+      model.rigs = readColmapRigs( folder / ( "rigs" + extension ), binary );
+    if ( fs::exists( folder / ( "frames" + extension ), ec ) )
+      model.frames = readColmapFrames( folder / ( "frames" + extension ), binary );
     return model;
   }
 
@@ -490,6 +368,21 @@ namespace geostation
       }
       finish( out, file );
     }
+    writeRigsAndFrames( folder, false );
+  }
+
+  void ColmapModel::writeRigsAndFrames( const fs::path &folder, bool binary ) const
+  {
+    const std::string extension = binary ? ".bin" : ".txt";
+    std::error_code ec;
+    if ( rigs.empty() )
+      fs::remove( folder / ( "rigs" + extension ), ec );
+    else
+      writeColmapRigs( rigs, folder / ( "rigs" + extension ), binary );
+    if ( frames.empty() )
+      fs::remove( folder / ( "frames" + extension ), ec );
+    else
+      writeColmapFrames( frames, folder / ( "frames" + extension ), binary );
   }
 
   void ColmapModel::writeBinary( const fs::path &folder ) const
@@ -558,6 +451,7 @@ namespace geostation
       }
       finish( out, file );
     }
+    writeRigsAndFrames( folder, true );
   }
 
 } // namespace geostation

@@ -2,7 +2,8 @@
   colmapmodel.h - COLMAP sparse models, text and binary, read and written
   -------------------------------------------------------------------------
   A COLMAP model folder holds cameras, images and points3D, either as
-  cameras.txt / images.txt / points3D.txt or as the same names with .bin.
+  cameras.txt / images.txt / points3D.txt or as the same names with .bin,
+  and from COLMAP 3.12 on also rigs and frames (colmaprigs.h).
   This is that model as COLMAP stores it, without any conversion: COLMAP's
   camera models with their parameter arrays, world-to-camera quaternions
   (w, x, y, z) and translations, 2-D points per image and 3-D points with
@@ -28,6 +29,8 @@
 #include <vector>
 
 #include <Eigen/Core>
+
+#include "io/colmaprigs.h"
 
 namespace geostation
 {
@@ -98,11 +101,14 @@ namespace geostation
       std::vector<ColmapCamera> cameras;
       std::vector<ColmapImage> images;
       std::vector<ColmapPoint3D> points3D;
+      std::vector<ColmapRig> rigs;     //!< empty for a model of a COLMAP before 3.12
+      std::vector<ColmapFrame> frames; //!< empty for a model of a COLMAP before 3.12
 
       /**
        * Reads a model folder, binary files preferred when both kinds exist.
        * `path` may be the folder or any of its cameras/images/points3D files.
-       * points3D is optional (a model of posed images only). Throws
+       * points3D is optional (a model of posed images only), and so are
+       * rigs and frames (models of COLMAP before 3.12). Throws
        * ColmapFormatError naming the file and the record at fault.
        */
       static ColmapModel read( const std::filesystem::path &path );
@@ -114,15 +120,20 @@ namespace geostation
       static bool isModel( const std::filesystem::path &path );
 
       /**
-       * Writes cameras.txt, images.txt and points3D.txt (full precision).
-       * The folder is created if needed. Throws std::runtime_error.
+       * Writes cameras.txt, images.txt and points3D.txt (full precision),
+       * and rigs.txt and frames.txt when the model has rigs or frames (a
+       * rigs or frames file already in the folder is removed when it has
+       * none). The folder is created if needed. Throws std::runtime_error.
        */
       void writeText( const std::filesystem::path &folder ) const;
 
-      //! Writes the three .bin files in COLMAP's binary layout. Throws std::runtime_error.
+      //! Writes the .bin files in COLMAP's binary layout, as writeText() the text files. Throws std::runtime_error.
       void writeBinary( const std::filesystem::path &folder ) const;
 
       const ColmapCamera *findCamera( std::uint32_t id ) const;
+
+    private:
+      void writeRigsAndFrames( const std::filesystem::path &folder, bool binary ) const;
   };
 
 } // namespace geostation

@@ -1,8 +1,9 @@
 /***************************************************************************
   fuzzcolmapmodel.cpp - COLMAP sparse models, text and binary
   -------------------------------------------------------------------------
-  The input holds the model's three files, cut at "%%" lines (cameras,
-  images, points3D), text for colmap_text and binary for colmap_binary.
+  The input holds the model's files, cut at "%%" lines (cameras, images,
+  points3D, rigs, frames; an empty part is a file the model does not
+  have), text for colmap_text and binary for colmap_binary.
   ColmapModel::read() either throws ColmapFormatError
   with a message or gives a model that, written and read again, writes the
   same files; importColmapModel() (without image files) either throws
@@ -46,14 +47,14 @@ namespace
   {
     namespace fuzz = geostation::fuzz;
     const std::filesystem::path folder = fuzz::scratchFolder( binary ? "colmap_binary" : "colmap_text" );
-    const std::vector<std::string> parts = fuzz::splitParts( data, size, 3 );
-    const char *names[3] = { "cameras", "images", "points3D" };
+    const std::vector<std::string> parts = fuzz::splitParts( data, size, 5 );
+    const char *names[5] = { "cameras", "images", "points3D", "rigs", "frames" };
     const std::filesystem::path model = folder / "model";
     std::filesystem::create_directories( model );
-    for ( int i = 0; i < 3; ++i )
+    for ( int i = 0; i < 5; ++i )
     {
-      // an empty third part stands for a model without points3D (allowed)
-      if ( i == 2 && parts[2].empty() )
+      // an empty part after the first two stands for a model without that file (allowed)
+      if ( i >= 2 && parts[i].empty() )
         continue;
       fuzz::writeBytes( model / ( std::string( names[i] ) + ( binary ? ".bin" : ".txt" ) ), reinterpret_cast<const std::uint8_t *>( parts[i].data() ), parts[i].size() );
     }
@@ -69,7 +70,8 @@ namespace
       return 0;
     }
 
-    fuzz::outcome( "read: " + std::to_string( read.cameras.size() ) + " cameras, " + std::to_string( read.images.size() ) + " images, " + std::to_string( read.points3D.size() ) + " points" );
+    fuzz::outcome( "read: " + std::to_string( read.cameras.size() ) + " cameras, " + std::to_string( read.images.size() ) + " images, " + std::to_string( read.points3D.size() ) + " points, "
+                   + std::to_string( read.rigs.size() ) + " rigs, " + std::to_string( read.frames.size() ) + " frames" );
     // written and read again, the model writes the same files
     const std::filesystem::path first = folder / "first";
     const std::filesystem::path second = folder / "second";
@@ -87,7 +89,10 @@ namespace
     for ( const char *name : names )
     {
       const std::string file = std::string( name ) + ".txt";
-      requireSameFile( first / file, second / file, "changes on its second round trip" );
+      if ( std::filesystem::exists( first / file ) != std::filesystem::exists( second / file ) )
+        fuzz::violated( file + " is written on one round trip and not on the other" );
+      if ( std::filesystem::exists( first / file ) )
+        requireSameFile( first / file, second / file, "changes on its second round trip" );
     }
     if ( binary )
     {
@@ -97,7 +102,10 @@ namespace
       for ( const char *name : names )
       {
         const std::string file = std::string( name ) + ".txt";
-        requireSameFile( first / file, folder / "frombinary" / file, "differs between the text and the binary round trip" );
+        if ( std::filesystem::exists( first / file ) != std::filesystem::exists( folder / "frombinary" / file ) )
+          fuzz::violated( file + " is written by one of the text and binary round trips only" );
+        if ( std::filesystem::exists( first / file ) )
+          requireSameFile( first / file, folder / "frombinary" / file, "differs between the text and the binary round trip" );
       }
     }
 
@@ -109,8 +117,12 @@ namespace
       const geostation::BlockImportSummary import = geostation::importColmapModel( read, model, options );
       fuzz::outcome( "imported: " + std::to_string( import.block.images.size() ) + " images, " + std::to_string( import.tiePoints.size() ) + " tie points" );
       for ( const auto &image : import.block.images )
+      {
         if ( !import.block.findCamera( image.cameraId ) )
           fuzz::violated( "an imported image without its camera: " + image.id );
+        if ( !import.block.findStation( image.stationId ) )
+          fuzz::violated( "an imported image without its station: " + image.id );
+      }
     }
     catch ( const std::invalid_argument &error )
     {

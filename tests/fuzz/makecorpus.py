@@ -73,6 +73,14 @@ def colmap_text():
     write("colmap_text", "model.txt", COLMAP_CAMERAS + "%%\n" + COLMAP_IMAGES + "%%\n" + COLMAP_POINTS)
     write("colmap_text", "posed_only.txt", COLMAP_CAMERAS + "%%\n" + COLMAP_IMAGES)
     write("colmap_text", "bad_model.txt", COLMAP_CAMERAS.replace("PINHOLE 64", "PINHOL 64") + "%%\n" + COLMAP_IMAGES)
+    # COLMAP 3.12: a rig of cameras 1 and 3 (and an IMU) and its frames; image 3 in no frame
+    rigs = ("# Rig calib list with one line of data per calib:\n"
+            "1 3 CAMERA 1 CAMERA 3 1 0.70710678118654757 0 0.70710678118654757 0 -0.5 0 0.25 IMU 1 0\n"
+            "2 1 CAMERA 5\n")
+    frames = ("# Frame list with one line of data per frame:\n"
+              "1 1 1 0 0 0 0 0 0 3 CAMERA 1 1 CAMERA 3 2 IMU 1 50\n"
+              "2 2 0 1 0 0 2 0 0 0\n")
+    write("colmap_text", "rig_model.txt", COLMAP_CAMERAS + "%%\n" + COLMAP_IMAGES + "%%\n" + COLMAP_POINTS + "%%\n" + rigs + "%%\n" + frames)
 
 
 def colmap_binary():
@@ -89,6 +97,11 @@ def colmap_binary():
     points += struct.pack("<Q", 2) + struct.pack("<II", 1, 0) + struct.pack("<II", 2, 0)
     write("colmap_binary", "model.bin", cameras + b"\n%%\n" + images + b"\n%%\n" + points)
     write("colmap_binary", "posed_only.bin", cameras + b"\n%%\n" + images)
+    # COLMAP 3.12 (src/colmap/scene/reconstruction_io_binary.cc): a rig of both cameras, one frame of both images
+    rigs = struct.pack("<Q", 1) + struct.pack("<IIiI", 1, 2, 0, 1) + struct.pack("<iIB", 0, 2, 1) + struct.pack("<7d", 1, 0, 0, 0, -0.5, 0, 0)
+    frames = struct.pack("<Q", 1) + struct.pack("<II7dI", 1, 1, 1, 0, 0, 0, 0, 0, 0, 2)
+    frames += struct.pack("<iIQ", 0, 1, 1) + struct.pack("<iIQ", 0, 2, 2)
+    write("colmap_binary", "rig_model.bin", cameras + b"\n%%\n" + images + b"\n%%\n" + points + b"\n%%\n" + rigs + b"\n%%\n" + frames)
 
 
 def trajectory_csv():
