@@ -1,15 +1,16 @@
 """Runs inside QGIS desktop (qgis.bin --code this_file): checks that the
-GeoStation plugin is loaded, exercises it, writes the findings as JSON and a
-screenshot, and quits QGIS. Driven by test_desktop_smoke.py."""
+GeoStation plugin is loaded, exercises it (blocks good and bad, Block
+Information, an algorithm dialog, Import Block through its dialog), writes
+the findings as JSON and a screenshot, and quits QGIS. Driven by test_desktop_smoke.py."""
 
 import json
 import os
 import time
 import traceback
 
-from qgis.core import QgsApplication, QgsProject
+from qgis.core import QgsApplication, QgsCoordinateReferenceSystem, QgsProject
 from qgis.PyQt.QtCore import Q_ARG, Q_RETURN_ARG, QMetaObject, QObject, Qt, QTimer
-from qgis.PyQt.QtWidgets import QAction, QApplication, QDialog, QMenu, QTableView, QToolBar
+from qgis.PyQt.QtWidgets import QAction, QApplication, QDialog, QDockWidget, QMenu, QTableView, QToolBar
 from qgis.utils import iface
 
 RESULT = os.environ["GEOSTATION_SMOKE_RESULT"]
@@ -17,6 +18,8 @@ SCREENSHOT = os.environ["GEOSTATION_SMOKE_SCREENSHOT"]
 GOOD_BLOCK = os.environ["GEOSTATION_SMOKE_BLOCK"]
 BAD_BLOCK = os.environ["GEOSTATION_SMOKE_BAD_BLOCK"]
 OBJECTS = os.environ["GEOSTATION_SMOKE_OBJECTS"]
+COLMAP_MODEL = os.environ["GEOSTATION_SMOKE_COLMAP"]
+IMPORTED_BLOCK = os.environ["GEOSTATION_SMOKE_IMPORTED"]
 
 
 def message_bar_texts():
@@ -79,6 +82,48 @@ def open_algorithm_dialog(window, action_name):
     return seen
 
 
+def import_through_the_dialog(window):
+    """GeoStation > Import Block...: fills the algorithm dialog with a COLMAP
+    model, runs it, closes the dialog when it has finished; then records
+    what the plugin opened (the Multiview's title, its views)."""
+    action = window.findChild(QAction, "mActionGeoStationImportBlock")
+    seen = {"tries": 0}
+
+    def drive():
+        # the algorithm dialog, modal or not (under xvfb it need not be the active modal widget)
+        dialogs = [w for w in QApplication.topLevelWidgets() if w.isVisible() and hasattr(w, "setParameters")]
+        dialog = dialogs[0] if dialogs else None
+        seen["tries"] += 1
+        if dialog is None:
+            if seen["tries"] < 80:
+                QTimer.singleShot(250, drive)
+            return
+        seen["title"] = dialog.windowTitle()
+
+        def finished(successful, results):
+            seen["successful"] = successful
+            seen["results"] = {k: str(v) for k, v in results.items()}
+            QTimer.singleShot(200, dialog.close)
+
+        dialog.algorithmFinished.connect(finished)
+        dialog.setParameters({"INPUT": COLMAP_MODEL, "CRS": QgsCoordinateReferenceSystem("EPSG:32617"), "OUTPUT_BLOCK": IMPORTED_BLOCK})
+        dialog.runAlgorithm()
+
+    if action is None:
+        return seen
+    QTimer.singleShot(500, drive)
+    action.trigger()  # returns when the dialog has closed and the plugin has opened the block
+    for _ in range(40):
+        QgsApplication.processEvents()
+        time.sleep(0.05)
+    dock = window.findChild(QDockWidget, "GeoStationMultiviewDock")
+    seen["dock_title"] = dock.windowTitle() if dock else None
+    seen["views"] = sum(1 for i in range(6) if dock and dock.findChild(QObject, "mGeoStationImageView%d" % i) is not None
+                        and dock.findChild(QObject, "mGeoStationImageView%d" % i).isVisible())
+    seen["messages"] = message_bar_texts()
+    return seen
+
+
 def check():
     result = {}
     try:
@@ -106,6 +151,8 @@ def check():
             result["good_block_messages"] = message_bar_texts()
             result["block_info"] = show_block_info(window)
             result["resection_dialog"] = open_algorithm_dialog(window, "mActionGeoStationResection")
+            iface.messageBar().clearWidgets()
+            result["import_dialog"] = import_through_the_dialog(window)
 
         import processing
         output = processing.run("geostation:project_to_image", {

@@ -1,8 +1,11 @@
 #!/usr/bin/python3
 """QGIS desktop smoke test: installs GeoStation into a temporary profile,
 starts qgis.bin under xvfb-run with desktop_smoke_script.py, and checks what
-the script found: menu, toolbar, provider, block errors in the message bar.
-The screenshot is kept as a test artifact.
+the script found: menu, toolbar, provider, block errors in the message bar,
+and GeoStation > Import Block... run through its dialog on the demo run
+written as a COLMAP 3.12 model with a rig and frames (the Multiview opens
+on it station by station; the orientations are the run's). The screenshot
+is kept as a test artifact.
 
     test_desktop_smoke.py SOURCE_DIR BUILD_DIR ARTIFACT_DIR
 """
@@ -17,6 +20,7 @@ import unittest
 SOURCE_DIR, BUILD_DIR, ARTIFACT_DIR = sys.argv[1:4]
 sys.path.insert(0, os.path.join(SOURCE_DIR, "scripts"))
 import geostation_demo_data  # noqa: E402
+import colmap_rig_model  # noqa: E402
 import desktop_harness  # noqa: E402
 
 HERE = os.path.dirname(os.path.abspath(__file__))
@@ -29,6 +33,11 @@ class DesktopSmokeTest(unittest.TestCase):
         env, profiles = desktop_harness.install_plugin(SOURCE_DIR, BUILD_DIR, cls.tmp)
         data = os.path.join(cls.tmp, "data")
         block, _ = geostation_demo_data.make_demo_block(data, stations=3, seed=5)
+        cls.demo_block = block
+        # the run's two front cameras as a COLMAP 3.12 model: a rig, one frame per station
+        cls.colmap_model = os.path.join(data, "sparse")
+        cls.frames = colmap_rig_model.write_rig_model(block, cls.colmap_model)
+        cls.imported_block = os.path.join(data, "imported.geostation.json")
         with open(block) as f:
             bad = json.load(f)
         bad["crs"] = "EPSG:4326"
@@ -41,7 +50,8 @@ class DesktopSmokeTest(unittest.TestCase):
         result_path = os.path.join(cls.tmp, "result.json")
         env.update(GEOSTATION_SMOKE_RESULT=result_path, GEOSTATION_SMOKE_SCREENSHOT=cls.screenshot,
                    GEOSTATION_SMOKE_BLOCK=block, GEOSTATION_SMOKE_BAD_BLOCK=bad_path,
-                   GEOSTATION_SMOKE_OBJECTS=os.path.join(data, "objects.gpkg"))
+                   GEOSTATION_SMOKE_OBJECTS=os.path.join(data, "objects.gpkg"),
+                   GEOSTATION_SMOKE_COLMAP=cls.colmap_model, GEOSTATION_SMOKE_IMPORTED=cls.imported_block)
         cls.exit_code, cls.log = desktop_harness.run_qgis(os.path.join(HERE, "desktop_smoke_script.py"), env, profiles)
         cls.result = {}
         if os.path.exists(result_path):
@@ -103,6 +113,29 @@ class DesktopSmokeTest(unittest.TestCase):
 
     def test_menu_opens_the_algorithm_dialog(self):
         self.assertEqual(self.result.get("resection_dialog", {}).get("title"), "Space resection of an image")
+
+    def test_import_block_opens_a_colmap_rig_run_station_by_station(self):
+        seen = self.result.get("import_dialog", {})
+        self.assertEqual(seen.get("title"), "Import block (COLMAP, Metashape, calibration + trajectory)", seen)
+        self.assertTrue(seen.get("successful"), seen)
+        self.assertEqual(seen.get("results", {}).get("IMAGES_IMPORTED"), "6", seen)
+        # the Multiview shows the first of the three frames, with both cameras' images
+        self.assertEqual(seen.get("dock_title"), "GeoStation Multiview — station S0001_front_left (1 of %d)" % self.frames, seen)
+        self.assertEqual(seen.get("views"), 2, seen)
+        # the imported orientations are the run's: centres to a micrometre, angles to 1e-6 degrees
+        with open(self.demo_block) as f:
+            truth = {image["id"]: image for image in json.load(f)["images"]}
+        with open(self.imported_block) as f:
+            imported = json.load(f)
+        self.assertEqual(len(imported["stations"]), self.frames)
+        self.assertEqual(len(imported["images"]), 6)
+        for image in imported["images"]:
+            expected = truth[image["id"]]
+            self.assertEqual(image["station"], expected["station"] + "_front_left")
+            for key in ("X", "Y", "Z"):
+                self.assertAlmostEqual(image[key], expected[key], delta=1e-6, msg=image["id"])
+            for key in ("omega", "phi", "kappa"):
+                self.assertAlmostEqual((image[key] - expected[key] + 180.0) % 360.0 - 180.0, 0.0, delta=1e-6, msg=image["id"])
 
     def test_screenshot_saved(self):
         self.assertTrue(self.result.get("screenshot"))
