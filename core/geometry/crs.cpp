@@ -48,6 +48,42 @@ namespace geostation
           return "other";
       }
     }
+    bool threeDimensional( PJ_TYPE type )
+    {
+      return type == PJ_TYPE_GEOGRAPHIC_3D_CRS || type == PJ_TYPE_GEOCENTRIC_CRS || type == PJ_TYPE_COMPOUND_CRS;
+    }
+
+    //! The vertical CRS of a compound CRS (a bound one unwrapped), or nothing.
+    PjPtr verticalPart( PJ_CONTEXT *ctx, PJ *crs )
+    {
+      PjPtr bare( proj_get_type( crs ) == PJ_TYPE_BOUND_CRS ? proj_get_source_crs( ctx, crs ) : proj_clone( ctx, crs ) );
+      if ( !bare || proj_get_type( bare.get() ) != PJ_TYPE_COMPOUND_CRS )
+        return nullptr;
+      return PjPtr( proj_crs_get_sub_crs( ctx, bare.get(), 1 ) );
+    }
+
+    /**
+     * Whether PROJ can bring heights from `from` (3-D) to the vertical CRS of `to` by more than
+     * a ballpark (heights passed through unchanged): the geoid model it needs is installed.
+     */
+    bool heightsReachable( PJ_CONTEXT *ctx, PJ *from, PJ *to )
+    {
+      PJ_OPERATION_FACTORY_CONTEXT *factory = proj_create_operation_factory_context( ctx, nullptr );
+      if ( !factory )
+        return false;
+      proj_operation_factory_context_set_grid_availability_use( ctx, factory, PROJ_GRID_AVAILABILITY_DISCARD_OPERATION_IF_MISSING_GRID );
+      proj_operation_factory_context_set_spatial_criterion( ctx, factory, PROJ_SPATIAL_CRITERION_PARTIAL_INTERSECTION );
+      PJ_OBJ_LIST *operations = proj_create_operations( ctx, from, to, factory );
+      bool reachable = false;
+      for ( int i = 0; operations && i < proj_list_get_count( operations ) && !reachable; ++i )
+      {
+        PjPtr operation( proj_list_get( ctx, operations, i ) );
+        reachable = operation && !proj_coordoperation_has_ballpark_transformation( ctx, operation.get() );
+      }
+      proj_list_destroy( operations );
+      proj_operation_factory_context_destroy( factory );
+      return reachable;
+    }
   } // namespace
 
   CrsDescription describeCrs( const std::string &definition )
@@ -88,6 +124,18 @@ namespace geostation
     return description;
   }
 
+  std::string verticalCrsName( const std::string &definition )
+  {
+    ContextPtr ctx( proj_context_create() );
+    proj_log_level( ctx.get(), PJ_LOG_NONE );
+    PjPtr crs( proj_create( ctx.get(), definition.c_str() ) );
+    if ( !crs || !proj_is_crs( crs.get() ) )
+      throw std::invalid_argument( "'" + definition + "' is not a coordinate reference system PROJ recognises" );
+    const PjPtr vertical = verticalPart( ctx.get(), crs.get() );
+    const char *name = vertical ? proj_get_name( vertical.get() ) : nullptr;
+    return name ? name : "";
+  }
+
   void requireProjectedMetricCrs( const std::string &definition )
   {
     const CrsDescription d = describeCrs( definition );
@@ -114,8 +162,22 @@ namespace geostation
       throw std::invalid_argument( "a CRS PROJ does not recognise: '" + ( a ? to : from ) + "'" );
     }
     mIdentity = proj_is_equivalent_to( a, b, PJ_COMP_EQUIVALENT );
+    // heights with a datum (ellipsoidal, geocentric) into a vertical datum: never passed through unchanged
+    // because the geoid model is missing (PROJ would fall back to a ballpark without a word)
+    std::string verticalName;
+    if ( !mIdentity && threeDimensional( proj_get_type( a ) ) )
+      if ( PjPtr vertical = verticalPart( ctx, b ) )
+        if ( !heightsReachable( ctx, a, b ) )
+          verticalName = proj_get_name( vertical.get() ) ? proj_get_name( vertical.get() ) : to;
     proj_destroy( a );
     proj_destroy( b );
+    if ( !verticalName.empty() )
+    {
+      proj_context_destroy( ctx );
+      mContext = nullptr;
+      throw std::invalid_argument( "heights cannot be brought into " + verticalName + ": PROJ knows no way there but a ballpark that leaves them unchanged "
+                                   "(the geoid model it needs is not installed: add its grid, e.g. with projsync, or give a CRS without a vertical datum to keep ellipsoidal heights)" );
+    }
     if ( mIdentity )
       return;
     PJ *raw = proj_create_crs_to_crs( ctx, from.c_str(), to.c_str(), nullptr );

@@ -33,14 +33,28 @@ namespace geostation
   void requireProjectedMetricCrs( const std::string &definition );
 
   /**
+   * The name of the vertical CRS of a compound CRS (e.g. "EGM96 height"), or
+   * an empty string for a CRS without one. Throws std::invalid_argument when
+   * PROJ does not recognise the CRS.
+   */
+  std::string verticalCrsName( const std::string &definition );
+
+  /**
    * Coordinates from one CRS to another with PROJ, in the axis order GIS
    * data uses (x = easting / longitude, y = northing / latitude); heights are
-   * passed through the transformation. Not thread-safe: one per thread.
+   * passed through the transformation: from a 3-D CRS (ellipsoidal heights,
+   * geocentric) into a compound CRS with a vertical datum they become heights
+   * in that datum through its geoid model. Not thread-safe: one per thread.
    */
   class CrsTransform
   {
     public:
-      //! Throws std::invalid_argument when PROJ cannot relate the two CRSs.
+      /**
+       * Throws std::invalid_argument when PROJ cannot relate the two CRSs, or
+       * cannot bring heights from a 3-D CRS into the vertical datum of
+       * `to` because the geoid model is not installed (PROJ would pass them
+       * through unchanged).
+       */
       CrsTransform( const std::string &from, const std::string &to );
       ~CrsTransform();
       CrsTransform( const CrsTransform & ) = delete;

@@ -263,7 +263,7 @@ namespace geostation
 
     std::unique_ptr<CrsTransform> fromWgs84;
     if ( geographic )
-      fromWgs84 = std::make_unique<CrsTransform>( "EPSG:4326", options.crs );
+      fromWgs84 = std::make_unique<CrsTransform>( "EPSG:4979", options.crs ); // GNSS heights are ellipsoidal
     const Convergence convergence( options.crs );
 
     // the trajectory's rows: the stations, or the samples the events are interpolated in
@@ -339,6 +339,12 @@ namespace geostation
       import.converted.push_back( std::to_string( block.stations.size() ) + " trajectory row(s) became stations with " + std::to_string( block.images.size() ) + " image(s)" );
     else
       import.converted.push_back( std::to_string( block.stations.size() ) + " event(s) became stations with " + std::to_string( block.images.size() ) + " image(s)" );
+    if ( geographic )
+    {
+      const std::string vertical = verticalCrsName( options.crs );
+      import.converted.push_back( vertical.empty() ? "heights kept as given: ellipsoidal heights above WGS 84 (give a CRS with a vertical datum, e.g. EPSG:32617+5773, for heights above the geoid)"
+                                                   : "ellipsoidal heights above WGS 84 became " + vertical + "s through its geoid model" );
+    }
     if ( body )
       import.converted.push_back( convergence.available() ? "headings turned from true to grid north by the meridian convergence at each station"
                                                           : "the CRS has no geographic relation: headings are taken as grid headings" );
