@@ -3,7 +3,9 @@ plugin: opens a simulated highway block, navigates the Multiview with the
 keyboard, clicks the true pixel of a pole foot in the first view with QTest,
 accepts the proposed matches, and records what went into the GeoPackage;
 then traces the kerb from one click with the Trace tool and writes it (F);
-then saves the project, reopens it and records the restored session.
+then saves the project, reopens it and records the restored session; then
+measures the pole again with its layer in editing and quits, answering
+QGIS's question about the unsaved edits with Save.
 Screenshots of the Multiview and the Overview are saved. Driven by
 test_desktop_multiview.py, which checks the findings against the truth."""
 
@@ -185,9 +187,40 @@ def run():
         result["restored_title"] = dock_state(dock)["title"] if dock else None
         result["saved_title"] = saved_title
         result["restored_layers"] = sorted(l.name() for l in QgsProject.instance().mapLayers().values())
+
+        checkpoint(result, RESULT, "measuring into an edit buffer")
+        # the operator has the pole layer in editing: the pole measured again stays in its edit buffer,
+        # and QGIS asks at exit whether to save it (answered Save below; the driver finds it on disk)
+        pole = next(l for l in QgsProject.instance().mapLayers().values() if l.name() == "pole")
+        result["pole_editing"] = pole.startEditing()
+        combo = dock.findChild(QComboBox, "mClassCombo")
+        combo.setCurrentIndex(combo.findData("Pole"))
+        combo.activated.emit(combo.currentIndex())
+        canvas0 = dock.findChild(QgsMapCanvas, "mGeoStationViewCanvas0")
+        canvas0.setFocus()
+        QTest.keyClick(canvas0, Qt.Key_Home)
+        wait(0.3)
+        for _ in range(CLICK["station_index"]):
+            QTest.keyClick(canvas0, Qt.Key_PageDown)
+            wait(0.4)
+        result["buffer_station"] = dock_state(dock)["title"]
+        invoke(dock, "zoomViewToPixel", 0, float(CLICK["col"]), float(CLICK["row"]), 40.0)
+        wait(0.5)
+        screen = canvas0.getCoordinateTransform().transform(QgsPointXY(CLICK["col"], -CLICK["row"]))
+        QTest.mouseClick(canvas0.viewport(), Qt.LeftButton, Qt.NoModifier, screen.toQPointF().toPoint())
+        wait(0.5)
+        QTest.keyClick(canvas0, Qt.Key_Return)
+        wait(1.0)
+        result["buffer_messages"] = invoke(dock, "messagesText", returns=str)
+        result["pole_layers"] = [[l.id(), l.source(), l.isEditable()] for l in QgsProject.instance().mapLayers().values() if l.name() == "pole"]
+        result["buffered_features"] = len(pole.editBuffer().addedFeatures()) if pole.editBuffer() else 0
+        on_disk = QgsVectorLayer(TARGET + "|layername=pole", "pole on disk", "ogr")
+        result["poles_on_disk_before_exit"] = on_disk.featureCount() if on_disk.isValid() else -1
+        del on_disk
     except Exception:  # reported to the driver, which fails the test
         result["exception"] = traceback.format_exc()
-    finish(result, RESULT)
+    from qgis.PyQt.QtWidgets import QMessageBox
+    finish(result, RESULT, answer=lambda text: QMessageBox.Save if "pole" in text else None)
 
 
 QTimer.singleShot(3000, run)

@@ -33,9 +33,10 @@ def checkpoint(result, path, stage):
         json.dump(result, f, indent=2)
 
 
-def finish(result, path):
-    """Writes the result and quits QGIS; a dialog at exit (nothing should ask anything) is recorded in
-    the result's `exit_dialogs` and answered."""
+def finish(result, path, answer=None):
+    """Writes the result and quits QGIS. A dialog at exit is recorded in the result's `exit_dialogs`;
+    `answer(text)` may name the QMessageBox button to press for it (e.g. QMessageBox.Save), else it is
+    rejected."""
     with open(path, "w") as f:
         json.dump(result, f, indent=2)
     QgsProject.instance().setDirty(False)
@@ -51,7 +52,11 @@ def finish(result, path):
         saved.setdefault("exit_dialogs", []).append(text)
         with open(path, "w") as f:
             json.dump(saved, f, indent=2)
-        dialog.reject()
+        button = answer(text) if answer else None
+        if button is not None and isinstance(dialog, QMessageBox) and dialog.button(button) is not None:
+            dialog.button(button).click()
+        else:
+            dialog.reject()
         QTimer.singleShot(2000, modal_at_exit)
 
     QTimer.singleShot(3000, modal_at_exit)

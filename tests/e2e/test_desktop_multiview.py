@@ -5,7 +5,8 @@ navigation, a click on the true pixel of a pole foot, the proposed matches
 accepted, and the feature in the GeoPackage within 3 sigma of the truth;
 the kerb traced from one click with the Trace tool, written as one line
 on the truth kerb; then the project saved and reopened with the session
-restored.
+restored; and the pole measured again into its layer's edit buffer kept
+when QGIS, quitting, asks about the edits and is answered Save.
 Screenshots of the Multiview and the Overview are kept as artifacts.
 
     test_desktop_multiview.py SOURCE_DIR BUILD_DIR ARTIFACT_DIR
@@ -136,8 +137,21 @@ class DesktopMultiviewTest(unittest.TestCase):
         self.assertNotIn("exception", self.result, self.result.get("exception"))
         self.assertEqual(self.exit_code, 0, self.log)
 
-    def test_quitting_asks_nothing(self):
-        self.assertEqual(self.result.get("exit_dialogs", []), [])
+    def test_quitting_with_edits_asks_once_and_saving_keeps_the_feature(self):
+        # the pole measured with its layer in editing waits in the edit buffer, not yet on disk
+        self.assertTrue(self.result.get("pole_editing"))
+        self.assertEqual(self.result.get("buffered_features"), 1, [self.result.get(k) for k in ("buffer_station", "buffer_messages", "pole_layers", "poles_on_disk_before_exit", "exit_dialogs")])
+        self.assertEqual(self.result.get("poles_on_disk_before_exit"), 1)
+        # QGIS asks once, about that layer, and nothing else; answered Save, both poles and their vertex rows are on disk
+        dialogs = self.result.get("exit_dialogs", [])
+        self.assertEqual(len(dialogs), 1, dialogs)
+        self.assertIn("pole", dialogs[0])
+        ds = ogr.Open(self.target)
+        poles = list(ds.GetLayerByName("pole"))
+        self.assertEqual(len(poles), 2)
+        vertex_rows = [f for f in ds.GetLayerByName("vertices") if f["layer"] == "pole"]
+        self.assertEqual(len(vertex_rows), 2)
+        self.assertEqual(sorted(f["feature_fid"] for f in vertex_rows), sorted(f.GetFID() for f in poles))
 
     def test_block_opens_with_overview_layers(self):
         self.assertTrue(self.result.get("block_opened"))
