@@ -48,6 +48,7 @@ namespace geostation
           return "other";
       }
     }
+
     bool threeDimensional( PJ_TYPE type )
     {
       return type == PJ_TYPE_GEOGRAPHIC_3D_CRS || type == PJ_TYPE_GEOCENTRIC_CRS || type == PJ_TYPE_COMPOUND_CRS;

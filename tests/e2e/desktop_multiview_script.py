@@ -19,7 +19,7 @@ from qgis.core import QgsPointXY, QgsProject, QgsVectorLayer
 from qgis.gui import QgsMapCanvas
 from qgis.PyQt.QtCore import QObject, Qt, QTimer
 from qgis.PyQt.QtTest import QTest
-from qgis.PyQt.QtWidgets import QAction, QComboBox, QDockWidget, QLabel
+from qgis.PyQt.QtWidgets import QAction, QComboBox, QDockWidget, QLabel, QMessageBox
 from qgis.utils import iface
 
 sys.path.insert(0, os.environ["GEOSTATION_E2E_SCRIPTS"])
@@ -219,7 +219,6 @@ def run():
         del on_disk
     except Exception:  # reported to the driver, which fails the test
         result["exception"] = traceback.format_exc()
-    from qgis.PyQt.QtWidgets import QMessageBox
     finish(result, RESULT, answer=lambda text: QMessageBox.Save if "pole" in text else None)
 
 
