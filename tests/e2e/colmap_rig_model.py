@@ -10,14 +10,7 @@ import os
 
 import numpy as np
 
-
-def rotation_from_opk(omega, phi, kappa):
-    """world_from_camera for R = Rx(omega) Ry(phi) Rz(kappa) (CONVENTIONS §3; camera x right, y up, z back)."""
-    o, p, k = (math.radians(a) for a in (omega, phi, kappa))
-    rx = np.array([[1, 0, 0], [0, math.cos(o), -math.sin(o)], [0, math.sin(o), math.cos(o)]])
-    ry = np.array([[math.cos(p), 0, math.sin(p)], [0, 1, 0], [-math.sin(p), 0, math.cos(p)]])
-    rz = np.array([[math.cos(k), -math.sin(k), 0], [math.sin(k), math.cos(k), 0], [0, 0, 1]])
-    return rx @ ry @ rz
+from conventions_reference import rotation  # R = Rx(omega) Ry(phi) Rz(kappa), camera -> world
 
 
 def quaternion(r):
@@ -52,7 +45,7 @@ def write_rig_model(block_path, model_dir):
         for n, image in enumerate(block["images"], start=1):
             if image["camera"] not in camera_number:
                 continue
-            cam_from_world = flip @ rotation_from_opk(image["omega"], image["phi"], image["kappa"]).T
+            cam_from_world = flip @ rotation(image["omega"], image["phi"], image["kappa"]).T
             t = -cam_from_world @ np.array([image["X"], image["Y"], image["Z"]])
             poses[n] = (cam_from_world, t)
             frames.setdefault(image["station"], []).append((camera_number[image["camera"]], n))
