@@ -62,7 +62,9 @@ QString ImportBlockAlgorithm::shortHelpString() const
                       "COLMAP: INPUT is the model folder (cameras, images and points3D, text or binary) or any of its files.\n\n"
                       "Cameras SIMPLE_PINHOLE, PINHOLE, SIMPLE_RADIAL, RADIAL, OPENCV and FULL_OPENCV (without k4-k6) "
                       "convert exactly; other models are refused by name and their images left out, as the report says. "
-                      "Every registered image becomes an oriented image and its own station.\n\n"
+                      "Every registered image becomes an oriented image; the images of one COLMAP frame (COLMAP 3.12 and "
+                      "later: a rig's exposure) become one station, named after the reference camera's image, and without "
+                      "frames every image is its own station.\n\n"
                       "IMAGES is the folder COLMAP's image names are relative to (default: beside the model or an "
                       "\"images\" folder above it); every image must be there, readable and of its camera's size.\n\n"
                       "CRS is the block's CRS (projected, or a local engineering CRS, in metres). GEOREFERENCE brings "
@@ -74,7 +76,10 @@ QString ImportBlockAlgorithm::shortHelpString() const
                       "Metashape: INPUT is the XML of File > Export > Export Cameras. Frame sensors convert exactly (Metashape's "
                       "P1, P2 are OpenCV's p2, p1; fx = f + b1); k4, p3, p4, skew b2 and other sensor types are refused by name. "
                       "A referenced chunk's cameras are brought from geocentric coordinates into CRS; images are found by "
-                      "label in IMAGES (default: beside the XML).\n\n"
+                      "label in IMAGES (default: beside the XML). Markers with reference coordinates become control points "
+                      "(check points where the reference is not enabled), brought from the chunk's reference CRS into CRS: "
+                      "OUTPUT_CONTROL (point_id, X, Y, Z, sx, sy, sz, role) is bundle_adjust's GCPS table, and their pinned "
+                      "projections go into OUTPUT_OBSERVATIONS.\n\n"
                       "Calibration + trajectory: INPUT is an OpenCV calibration (YAML or XML: camera_matrix, "
                       "distortion_coefficients, image_width, image_height; or a sequence \"cameras\" whose entries also "
                       "have id, lever_arm [x, y, z] m in the body frame x forward, y right, z down, boresight [roll, pitch, "
@@ -111,9 +116,11 @@ void ImportBlockAlgorithm::initAlgorithm( const QVariantMap & )
                 QList<int>() << QgsProcessing::TypeVector, QVariant(), true ) );
   addParameter( new QgsProcessingParameterFileDestination( QStringLiteral( "OUTPUT_BLOCK" ), QObject::tr( "Block" ), QObject::tr( "GeoStation block (*.geostation.json)" ) ) );
   addParameter( new QgsProcessingParameterFileDestination( QStringLiteral( "REPORT" ), QObject::tr( "Report" ), QObject::tr( "JSON (*.json)" ), QVariant(), true ) );
-  addParameter( new QgsProcessingParameterFileDestination( QStringLiteral( "OUTPUT_OBSERVATIONS" ), QObject::tr( "Tie-point observations" ), QObject::tr( "CSV (*.csv)" ), QVariant(), true, false ) );
+  addParameter( new QgsProcessingParameterFileDestination( QStringLiteral( "OUTPUT_OBSERVATIONS" ), QObject::tr( "Image observations of tie and control points" ), QObject::tr( "CSV (*.csv)" ), QVariant(), true, false ) );
   addParameter( new QgsProcessingParameterFileDestination( QStringLiteral( "OUTPUT_POINTS" ), QObject::tr( "Tie points" ), QObject::tr( "CSV (*.csv)" ), QVariant(), true, false ) );
+  addParameter( new QgsProcessingParameterFileDestination( QStringLiteral( "OUTPUT_CONTROL" ), QObject::tr( "Control and check points (Metashape markers)" ), QObject::tr( "CSV (*.csv)" ), QVariant(), true, false ) );
   addOutput( new QgsProcessingOutputNumber( QStringLiteral( "IMAGES_IMPORTED" ), QObject::tr( "Images imported" ) ) );
+  addOutput( new QgsProcessingOutputNumber( QStringLiteral( "CONTROL_POINTS" ), QObject::tr( "Control and check points imported" ) ) );
   addOutput( new QgsProcessingOutputNumber( QStringLiteral( "GEOREFERENCE_RMS_M" ), QObject::tr( "Georeference RMS residual (m)" ) ) );
 }
 
@@ -213,9 +220,12 @@ QVariantMap ImportBlockAlgorithm::processGeoStation( const QVariantMap &paramete
   const QString reportPath = parameterAsFileOutput( parameters, QStringLiteral( "REPORT" ), context );
   const QString observationsPath = parameterAsFileOutput( parameters, QStringLiteral( "OUTPUT_OBSERVATIONS" ), context );
   const QString pointsPath = parameterAsFileOutput( parameters, QStringLiteral( "OUTPUT_POINTS" ), context );
+  const QString controlPath = parameterAsFileOutput( parameters, QStringLiteral( "OUTPUT_CONTROL" ), context );
   try
   {
     geostation::writeTiePointTables( import, observationsPath.toStdString(), pointsPath.toStdString() );
+    if ( !controlPath.isEmpty() )
+      geostation::writeControlTable( import, controlPath.toStdString() );
     if ( !reportPath.isEmpty() )
       geostation::writeTextFileAtomically( reportPath.toStdString(), geostation::importReportJsonText( import ) );
     import.block.save( blockPath.toStdString() );
@@ -224,6 +234,7 @@ QVariantMap ImportBlockAlgorithm::processGeoStation( const QVariantMap &paramete
   {
     removeIfWritten( observationsPath );
     removeIfWritten( pointsPath );
+    removeIfWritten( controlPath );
     removeIfWritten( reportPath );
     throw QgsProcessingException( QString::fromStdString( e.what() ) );
   }
@@ -235,6 +246,8 @@ QVariantMap ImportBlockAlgorithm::processGeoStation( const QVariantMap &paramete
   outputs.insert( QStringLiteral( "REPORT" ), reportPath );
   outputs.insert( QStringLiteral( "OUTPUT_OBSERVATIONS" ), observationsPath );
   outputs.insert( QStringLiteral( "OUTPUT_POINTS" ), pointsPath );
+  outputs.insert( QStringLiteral( "OUTPUT_CONTROL" ), controlPath );
+  outputs.insert( QStringLiteral( "CONTROL_POINTS" ), static_cast<int>( import.controlPoints.size() ) );
   outputs.insert( QStringLiteral( "IMAGES_IMPORTED" ), static_cast<int>( import.block.images.size() ) );
   outputs.insert( QStringLiteral( "GEOREFERENCE_RMS_M" ), import.georeference ? QVariant( import.georeference->rmsM ) : QVariant() );
   return outputs;

@@ -98,6 +98,7 @@ namespace geostation
     report["stations"] = import.block.stations.size();
     report["tie_points"] = import.tiePoints.size();
     report["observations"] = import.observations.size();
+    report["control_points"] = import.controlPoints.size();
     report["converted"] = import.converted;
     report["dropped"] = import.dropped;
     report["warnings"] = import.warnings;
@@ -145,6 +146,24 @@ namespace geostation
         out << csvField( p.pointId ) << ',' << p.world.x() << ',' << p.world.y() << ',' << p.world.z() << ',' << p.errorPx << '\n';
       writeTextFileAtomically( pointsFile, out.str() );
     }
+  }
+
+  void writeControlTable( const BlockImportSummary &import, const std::filesystem::path &controlFile )
+  {
+    std::ostringstream out;
+    out << std::setprecision( 17 ) << "point_id,X,Y,Z,sx,sy,sz,role\n";
+    for ( const ImportedControlPoint &p : import.controlPoints )
+    {
+      out << csvField( p.pointId ) << ',' << p.world.x() << ',' << p.world.y() << ',' << p.world.z();
+      for ( int k = 0; k < 3; ++k )
+      {
+        out << ',';
+        if ( p.sigmaM )
+          out << ( *p.sigmaM )[k];
+      }
+      out << ',' << ( p.check ? "check" : "control" ) << '\n';
+    }
+    writeTextFileAtomically( controlFile, out.str() );
   }
 
 } // namespace geostation

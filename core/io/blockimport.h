@@ -39,12 +39,22 @@ namespace geostation
     Eigen::Vector2d pixelInImage = Eigen::Vector2d::Zero();
   };
 
+  //! A control or check point brought along by an import (Metashape's markers), in the block CRS.
+  struct ImportedControlPoint
+  {
+    std::string pointId;
+    Eigen::Vector3d world = Eigen::Vector3d::Zero();
+    std::optional<Eigen::Vector3d> sigmaM; //!< the source's accuracy (metres), if it gives one
+    bool check = false;                    //!< a check point: its reference not used for the orientation
+  };
+
   struct BlockImportSummary
   {
     std::string format;   //!< e.g. "colmap-binary"
     Block block;          //!< sourceFile set so that image paths resolve; save() rebases them
     std::vector<ImportedTiePoint> tiePoints;
-    std::vector<ImportedObservation> observations;
+    std::vector<ImportedObservation> observations;    //!< of tie points and of control points
+    std::vector<ImportedControlPoint> controlPoints;
     std::map<std::string, std::string> imageIdBySourceName; //!< the source's image name (COLMAP's NAME) to the block's id
     std::vector<std::string> converted; //!< sentences: what was converted, and how
     std::vector<std::string> dropped;   //!< sentences: what was left out, and why
@@ -78,6 +88,14 @@ namespace geostation
    * each through a temporary file renamed into place. Throws std::runtime_error.
    */
   void writeTiePointTables( const BlockImportSummary &import, const std::filesystem::path &observationsFile, const std::filesystem::path &pointsFile );
+
+  /**
+   * Writes the control and check points as the CSV table bundle_adjust's
+   * GCPS reads: point_id,X,Y,Z,sx,sy,sz,role (sx, sy, sz empty where the
+   * source gave no accuracy: fixed), through a temporary file renamed into
+   * place. Throws std::runtime_error.
+   */
+  void writeControlTable( const BlockImportSummary &import, const std::filesystem::path &controlFile );
 
 } // namespace geostation
 

@@ -5,9 +5,10 @@
 
 #include <cmath>
 #include <functional>
-#include <optional>
 #include <map>
 #include <memory>
+#include <optional>
+#include <set>
 #include <sstream>
 #include <stdexcept>
 
@@ -74,6 +75,111 @@ namespace geostation
           else if ( EQUAL( child->pszValue, "group" ) )
             forEachElement( child, name, visit ); // camera groups (folders)
         }
+    }
+
+    //! A required number in an attribute (or element) of a node.
+    double requiredValue( const CPLXMLNode *node, const char *name, const fs::path &file, const std::string &what )
+    {
+      if ( !CPLGetXMLValue( node, name, nullptr ) )
+        throw std::invalid_argument( "the Metashape file " + file.string() + ": " + what + " has no " + name );
+      return value( node, name, file );
+    }
+
+    bool isFalse( const char *text ) { return text && ( EQUAL( text, "false" ) || EQUAL( text, "0" ) ); }
+
+    /**
+     * Metashape's markers: each with a reference becomes a control point, a check point where its
+     * reference is not enabled, brought from the chunk's reference CRS into the block CRS (taken as
+     * it is for a local chunk); its projections in the imported cameras that the operator placed
+     * (pinned) become its observations. Metashape's own projections of a marker (not pinned) are
+     * estimates, not measurements, and are left out.
+     */
+    void importMarkers( const CPLXMLNode *chunk, const fs::path &file, const std::string &reference, bool camerasInCrs, const std::string &crs,
+                        const std::map<std::string, std::string> &labelOfCamera, BlockImportSummary &import )
+    {
+      const CPLXMLNode *markers = CPLGetXMLNode( const_cast<CPLXMLNode *>( chunk ), "markers" );
+      if ( !markers )
+        return;
+      std::map<std::string, std::vector<ImportedObservation>> observed;
+      int unpinned = 0;
+      forEachElement( CPLGetXMLNode( const_cast<CPLXMLNode *>( chunk ), "frames" ), "frame", [&]( const CPLXMLNode *frame ) {
+        forEachElement( CPLGetXMLNode( const_cast<CPLXMLNode *>( frame ), "markers" ), "marker", [&]( const CPLXMLNode *marker ) {
+          const std::string markerId = CPLGetXMLValue( marker, "marker_id", "" );
+          forEachElement( marker, "location", [&]( const CPLXMLNode *location ) {
+            const auto camera = labelOfCamera.find( CPLGetXMLValue( location, "camera_id", "" ) );
+            if ( camera == labelOfCamera.end() )
+              return;
+            if ( isFalse( CPLGetXMLValue( location, "pinned", nullptr ) ) )
+            {
+              ++unpinned;
+              return;
+            }
+            const std::string what = "a location of marker " + markerId;
+            ImportedObservation o;
+            o.imageId = camera->second;
+            o.pixelInImage = Eigen::Vector2d( requiredValue( location, "x", file, what ), requiredValue( location, "y", file, what ) );
+            observed[markerId].push_back( o );
+          } );
+        } );
+      } );
+      const bool local = reference.empty() || reference.rfind( "LOCAL_CS", 0 ) == 0;
+      std::unique_ptr<CrsTransform> toCrs;
+      try
+      {
+        if ( !local )
+          toCrs = std::make_unique<CrsTransform>( reference, crs );
+      }
+      catch ( const std::invalid_argument &e )
+      {
+        throw std::invalid_argument( "the Metashape file " + file.string() + ": the markers' reference CRS cannot be brought into " + crs + ": " + e.what() );
+      }
+      std::set<std::string> labels;
+      int controls = 0, checks = 0, withoutReference = 0, unobserved = 0;
+      forEachElement( markers, "marker", [&]( const CPLXMLNode *marker ) {
+        const std::string id = CPLGetXMLValue( marker, "id", "" ), label = CPLGetXMLValue( marker, "label", id.c_str() );
+        const CPLXMLNode *ref = CPLGetXMLNode( const_cast<CPLXMLNode *>( marker ), "reference" );
+        if ( !ref || !CPLGetXMLValue( ref, "x", nullptr ) || !CPLGetXMLValue( ref, "y", nullptr ) || !CPLGetXMLValue( ref, "z", nullptr ) )
+        {
+          ++withoutReference;
+          return;
+        }
+        if ( !labels.insert( label ).second )
+          throw std::invalid_argument( "the Metashape file " + file.string() + " has the marker label \"" + label + "\" twice" );
+        ImportedControlPoint point;
+        point.pointId = label;
+        point.world = Eigen::Vector3d( value( ref, "x", file ), value( ref, "y", file ), value( ref, "z", file ) );
+        if ( toCrs )
+        {
+          point.world = toCrs->transform( point.world );
+          if ( !point.world.allFinite() )
+            throw std::invalid_argument( "marker \"" + label + "\" cannot be brought into " + crs );
+        }
+        if ( CPLGetXMLValue( ref, "sx", nullptr ) && CPLGetXMLValue( ref, "sy", nullptr ) && CPLGetXMLValue( ref, "sz", nullptr ) )
+          point.sigmaM = Eigen::Vector3d( value( ref, "sx", file ), value( ref, "sy", file ), value( ref, "sz", file ) );
+        point.check = isFalse( CPLGetXMLValue( ref, "enabled", nullptr ) );
+        ++( point.check ? checks : controls );
+        const auto seen = observed.find( id );
+        if ( seen == observed.end() )
+          ++unobserved;
+        else
+          for ( ImportedObservation o : seen->second )
+          {
+            o.pointId = label;
+            import.observations.push_back( o );
+          }
+        import.controlPoints.push_back( point );
+      } );
+      if ( controls + checks > 0 )
+        import.converted.push_back( std::to_string( controls ) + " marker(s) became control points and " + std::to_string( checks ) + " (reference not enabled) check points"
+                                    + ( local ? std::string( ", their references as they are" ) : ", their references brought into " + crs ) + ", measured where pinned" );
+      if ( withoutReference > 0 )
+        import.dropped.push_back( std::to_string( withoutReference ) + " marker(s) without reference coordinates were left out" );
+      if ( unpinned > 0 )
+        import.dropped.push_back( std::to_string( unpinned ) + " marker projection(s) not pinned (Metashape's estimates, not measurements) were left out" );
+      if ( unobserved > 0 )
+        import.warnings.push_back( std::to_string( unobserved ) + " marker(s) are measured in no imported image" );
+      if ( controls + checks > 0 && !local && !camerasInCrs )
+        import.warnings.push_back( "the markers are in " + crs + ", but the cameras in the chunk's internal frame (the chunk has no transform): orient the block on the markers before using both" );
     }
 
     //! The camera of a frame sensor, or nothing with `*whyNot`.
@@ -252,6 +358,7 @@ namespace geostation
 
     const fs::path imageFolder = options.imageFolder.empty() ? fs::absolute( xmlFile ).parent_path() : fs::absolute( options.imageFolder );
     int unaligned = 0;
+    std::map<std::string, std::string> labelOfCamera; // Metashape's camera id -> image id
     forEachElement( CPLGetXMLNode( chunk, "cameras" ), "camera", [&]( const CPLXMLNode *node ) {
       const std::string label = CPLGetXMLValue( node, "label", CPLGetXMLValue( node, "id", "" ) );
       const std::string sensorId = CPLGetXMLValue( node, "sensor_id", "" );
@@ -299,12 +406,14 @@ namespace geostation
       block.stations.push_back( station );
       block.images.push_back( image );
       import.imageIdBySourceName[label] = label;
+      labelOfCamera[CPLGetXMLValue( node, "id", "" )] = label;
     } );
     if ( unaligned > 0 )
       import.dropped.push_back( std::to_string( unaligned ) + " camera(s) without a <transform> (not aligned in Metashape) were dropped" );
     if ( block.images.empty() )
       throw std::invalid_argument( "no camera of the Metashape file " + xmlFile.string() + " can be imported" + ( import.dropped.empty() ? std::string() : ": " + import.dropped.front() ) );
     import.converted.push_back( std::to_string( block.images.size() ) + " aligned camera(s) became oriented images, each its own station" );
+    importMarkers( chunk, xmlFile, reference, geocentric, options.crs, labelOfCamera, import );
 
     block.sourceFile = imageFolder / "metashape-import.geostation.json";
     if ( options.requireImageFiles )

@@ -24,6 +24,12 @@
   convergence), taken from PROJ's derivatives at each centre. An
   unreferenced chunk keeps its internal frame (georeference it with
   georeferenceImport()).
+
+  Markers with reference coordinates become control points (check points
+  where the reference is not enabled), brought from the chunk's reference
+  CRS into the block CRS; their pinned projections in the imported cameras
+  become their observations (Metashape's own estimates, not pinned, are
+  left out).
  ***************************************************************************/
 #ifndef GEOSTATION_IO_METASHAPEIMPORT_H
 #define GEOSTATION_IO_METASHAPEIMPORT_H
