@@ -12,7 +12,7 @@
   Each either throws std::invalid_argument with a message or gives cameras
   and images that are complete: every image has its camera and a finite
   exterior orientation, every camera a positive size and finite focal
-  length.
+  length; Metashape's markers finite, observed in imported images.
  ***************************************************************************/
 #include "fuzztarget.h"
 
@@ -115,7 +115,15 @@ GEOSTATION_FUZZ_TARGET( metashape_xml )
   geostation::isMetashapeCameras( folder / "cameras.xml" );
   try
   {
-    requireCompleteBlock( geostation::importMetashapeCameras( folder / "cameras.xml", options ).block );
+    const geostation::BlockImportSummary import = geostation::importMetashapeCameras( folder / "cameras.xml", options );
+    requireCompleteBlock( import.block );
+    fuzz::outcome( "markers: " + std::to_string( import.controlPoints.size() ) + " control and check points, " + std::to_string( import.observations.size() ) + " observations" );
+    for ( const auto &point : import.controlPoints )
+      if ( !point.world.allFinite() || ( point.sigmaM && !point.sigmaM->allFinite() ) )
+        fuzz::violated( "marker \"" + point.pointId + "\" with a position or accuracy that is not finite" );
+    for ( const auto &o : import.observations )
+      if ( !import.block.findImage( o.imageId ) || !o.pixelInImage.allFinite() )
+        fuzz::violated( "an observation of marker \"" + o.pointId + "\" not in an imported image, or not finite" );
   }
   catch ( const std::invalid_argument &error )
   {

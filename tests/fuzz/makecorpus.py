@@ -151,6 +151,17 @@ def metashape_xml():
           'PRIMEM["Greenwich",0],UNIT["degree",0.01745329251994328],AUTHORITY["EPSG","4326"]]</reference>\n'
           '</chunk>\n</document>\n')
     write("metashape_xml", "broken.xml", head + '<sensors>\n' + sensor)
+    markers = ('<markers>\n<marker id="0" label="GCP1"><reference x="-78.1" y="40.2" z="250" sx="0.02" sy="0.02" sz="0.05" enabled="true"/></marker>\n'
+               '<marker id="1" label="GCP2"><reference x="-78.1001" y="40.2" z="251" enabled="false"/></marker>\n<marker id="2" label="tie"/>\n</markers>\n'
+               '<frames><frame id="0"><markers>\n<marker marker_id="0"><location camera_id="0" pinned="true" x="310.5" y="180.25"/>'
+               '<location camera_id="1" pinned="true" x="10" y="10"/></marker>\n'
+               '<marker marker_id="1"><location camera_id="0" pinned="false" x="250" y="190"/></marker>\n</markers></frame></frames>\n')
+    write("metashape_xml", "markers.xml", head + '<sensors next_id="1">\n' + sensor + '</sensors>\n<cameras next_id="2">\n'
+          + camera + '</cameras>\n' + markers + '<transform><rotation>1 0 0 0 1 0 0 0 1</rotation>'
+          '<translation>4517000 -6000 4490000</translation><scale>1.5</scale></transform>\n'
+          '<reference>GEOGCS["WGS 84",DATUM["World Geodetic System 1984",SPHEROID["WGS 84",6378137,298.257223563]],'
+          'PRIMEM["Greenwich",0],UNIT["degree",0.01745329251994328],AUTHORITY["EPSG","4326"]]</reference>\n'
+          '</chunk>\n</document>\n')
 
 
 def opencv_calibration():
