@@ -382,3 +382,50 @@ TEST( MatchImageCache, ThreadsShareLoadsWithinTheBudget )
   EXPECT_LE( cache.bytes(), 2 * imageBytes );
   std::filesystem::remove_all( dir );
 }
+
+TEST( MatchImageCache, ThreadsAskingForWindowsOfLargeImagesGetTheirOwnPixels )
+{
+  // images too large to prepare whole are read a window at a time, one window kept per image: four threads
+  // asking for different windows of two such images at once each get a window holding theirs, with the file's
+  // pixels (the window a thread holds stays valid while another replaces the one kept)
+  const std::filesystem::path dir = std::filesystem::temp_directory_path() / ( "geostation-cache-windows-" + std::to_string( ::getpid() ) );
+  std::filesystem::create_directories( dir );
+  std::vector<std::string> paths;
+  std::vector<cv::Mat> truth;
+  for ( int i = 0; i < 2; ++i )
+  {
+    cv::Mat pixels( 300, 400, CV_8UC1 );
+    cv::randu( pixels, 0, 255 );
+    paths.push_back( ( dir / ( "large" + std::to_string( i ) + ".png" ) ).string() );
+    ASSERT_TRUE( cv::imwrite( paths.back(), pixels ) );
+    truth.push_back( pixels );
+  }
+  MatchImageCache cache( 18, size_t( 1 ) << 30, 20'000 ); // 120 000 px: too large to prepare whole
+  ASSERT_TRUE( cache.get( paths[0] ).needsWindow );
+  const std::vector<cv::Rect> windows { { 10, 10, 100, 80 }, { 250, 40, 120, 90 }, { 150, 200, 90, 90 }, { 0, 150, 110, 100 }, { 280, 190, 110, 100 } };
+  std::atomic<int> wrong { 0 }, asked { 0 };
+  std::vector<std::thread> threads;
+  for ( int t = 0; t < 4; ++t )
+    threads.emplace_back( [&, t] {
+      for ( int k = 0; k < 40; ++k )
+      {
+        const size_t image = ( t + k ) % 2;
+        const cv::Rect &window = windows[( 3 * t + k ) % windows.size()];
+        const MatchImageCache::Entry e = cache.get( paths[image], window );
+        ++asked;
+        if ( !e.image || !e.image->holds( window ) )
+        {
+          ++wrong;
+          continue;
+        }
+        for ( const cv::Point &p : { window.tl(), window.br() - cv::Point( 1, 1 ), cv::Point( window.x + window.width / 2, window.y + window.height / 2 ) } )
+          if ( e.image->valueAt( p.x, p.y ) != static_cast<float>( truth[image].at<uint8_t>( p ) ) )
+            ++wrong;
+      }
+    } );
+  for ( std::thread &thread : threads )
+    thread.join();
+  EXPECT_EQ( asked.load(), 160 );
+  EXPECT_EQ( wrong.load(), 0 );
+  std::filesystem::remove_all( dir );
+}
