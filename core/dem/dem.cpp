@@ -2,6 +2,7 @@
   dem.cpp - a digital elevation model read through GDAL
  ***************************************************************************/
 #include "dem/dem.h"
+#include "io/rasterfile.h"
 
 #include <algorithm>
 #include <cmath>
@@ -34,7 +35,7 @@ namespace geostation
       throw std::invalid_argument( "DEM options: tiles of a multiple of 8 cells, a non-negative halo and at least 9 cached tiles" );
     if ( options.bridgeHolesUpToCells < 0 || options.bridgeHolesUpToCells > 4096 || !( options.bridgeSigmaPerMetre >= 0.0 ) )
       throw std::invalid_argument( "DEM options: holes are bridged up to 0 (none) to 4096 cells across, with a non-negative sigma per metre" );
-    GDALAllRegister();
+    registerGdalDrivers();
     CPLPushErrorHandler( CPLQuietErrorHandler );
     mDataset = GDALOpenEx( path.c_str(), GDAL_OF_RASTER | GDAL_OF_READONLY, nullptr, nullptr, nullptr );
     CPLPopErrorHandler();

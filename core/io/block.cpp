@@ -4,7 +4,6 @@
 #include "io/block.h"
 
 #include <fstream>
-#include <mutex>
 #include <regex>
 #include <set>
 #include <sstream>
@@ -17,6 +16,7 @@
 #include "geometry/crs.h"
 #include "io/textfile.h"
 #include "io/internal/jsonnode.h"
+#include "io/rasterfile.h"
 
 namespace geostation
 {
@@ -504,8 +504,7 @@ namespace geostation
 
   void requireReadableImageFile( const Block &block, const BlockImage &image )
   {
-    static std::once_flag registered;
-    std::call_once( registered, [] { GDALAllRegister(); } );
+    registerGdalDrivers();
 
     const std::filesystem::path path = block.imageFilePath( image );
     if ( !std::filesystem::exists( path ) )

@@ -2,10 +2,10 @@
   photoimport.cpp - a single photo added to a block (Add Photo)
  ***************************************************************************/
 #include "io/photoimport.h"
+#include "io/rasterfile.h"
 
 #include <cmath>
 #include <cstdlib>
-#include <mutex>
 #include <stdexcept>
 
 #include <gdal.h>
@@ -35,8 +35,7 @@ namespace geostation
 
     GDALDatasetH openRaster( const std::filesystem::path &photo )
     {
-      static std::once_flag registered;
-      std::call_once( registered, [] { GDALAllRegister(); } );
+      registerGdalDrivers();
       if ( !std::filesystem::exists( photo ) )
         throw std::runtime_error( "The photo " + photo.string() + " does not exist." );
       CPLPushErrorHandler( CPLQuietErrorHandler );

@@ -2,6 +2,7 @@
   pixelspacegpkg.cpp - GeoPackage layers in image (pixel) space
  ***************************************************************************/
 #include "io/pixelspacegpkg.h"
+#include "io/rasterfile.h"
 
 #include <stdexcept>
 #include <vector>
@@ -55,7 +56,7 @@ namespace geostation
 
   void markGeoPackageLayerAsPixelSpace( const std::filesystem::path &file, const std::string &layerName )
   {
-    GDALAllRegister();
+    registerGdalDrivers();
     GDALDatasetH ds = openForUpdate( file );
     OGRLayerH layer = layerName.empty() ? ( GDALDatasetGetLayerCount( ds ) == 1 ? GDALDatasetGetLayer( ds, 0 ) : nullptr )
                       : GDALDatasetGetLayerByName( ds, layerName.c_str() );

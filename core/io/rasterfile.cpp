@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <memory>
+#include <mutex>
 #include <stdexcept>
 #include <vector>
 
@@ -90,7 +91,7 @@ namespace geostation
   {
     std::unique_ptr<void, DatasetCloser> openRaster( const std::string &path )
     {
-      GDALAllRegister();
+      registerGdalDrivers();
       CPLPushErrorHandler( CPLQuietErrorHandler );
       std::unique_ptr<void, DatasetCloser> ds( GDALOpen( path.c_str(), GA_ReadOnly ) );
       CPLPopErrorHandler();
@@ -140,6 +141,12 @@ namespace geostation
     return readPixels( ds.get(), path, std::nullopt );
   }
 
+  void registerGdalDrivers()
+  {
+    static std::once_flag registered;
+    std::call_once( registered, [] { GDALAllRegister(); } );
+  }
+
   RasterImage readRasterWindow( const std::string &path, const cv::Rect &window )
   {
     const auto ds = openRaster( path );
@@ -173,7 +180,7 @@ namespace geostation
 
   void writeGeoTiffLike( const std::string &path, const cv::Mat &pixels, const RasterImage &like )
   {
-    GDALAllRegister();
+    registerGdalDrivers();
     // an in-memory raster (/vsimem/, e.g. an enhanced view) is written in place, uncompressed
     const bool memory = path.rfind( "/vsimem/", 0 ) == 0;
     const std::string temporary = memory ? path : path + ".tmp-write.tif";

@@ -37,6 +37,13 @@ namespace geostation
   RasterImage readRaster( const std::string &path );
 
   /**
+   * Registers GDAL's drivers, once per process (GDALAllRegister() itself
+   * must not run in two threads at once). Every GDAL reader and writer here
+   * calls it first.
+   */
+  void registerGdalDrivers();
+
+  /**
    * The pixels `window` (raster pixels) of a raster, as readRaster() reads
    * them all; the geotransform is the whole raster's. Throws like
    * readRaster(), and if the window does not lie in the raster.

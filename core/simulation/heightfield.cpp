@@ -2,6 +2,7 @@
   heightfield.cpp - the simulator's terrain grid and exact ray casting
  ***************************************************************************/
 #include "simulation/heightfield.h"
+#include "io/rasterfile.h"
 
 #include <algorithm>
 #include <array>
@@ -251,7 +252,7 @@ namespace geostation
 
   void HeightField::writeGeoTiff( const std::string &path, const std::string &crs ) const
   {
-    GDALAllRegister();
+    registerGdalDrivers();
     GDALDriverH driver = GDALGetDriverByName( "GTiff" );
     const char *options[] = { "TILED=YES", "COMPRESS=DEFLATE", "PREDICTOR=3", nullptr };
     GDALDatasetH ds = GDALCreate( driver, path.c_str(), mWidth, mHeight, 1, GDT_Float32, const_cast<char **>( options ) );

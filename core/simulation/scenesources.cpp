@@ -18,6 +18,7 @@
 
 #include "dem/dem.h"
 #include "geometry/crs.h"
+#include "io/rasterfile.h"
 
 namespace geostation
 {
@@ -40,7 +41,7 @@ namespace geostation
   //! Line features of an OGR layer as roads in the block CRS.
   std::vector<Road> loadRoads( const std::string &path, const std::string &blockCrs, std::vector<std::string> &notes )
   {
-    GDALAllRegister();
+    registerGdalDrivers();
     // "file|layername=name" picks a layer; otherwise the first
     std::string file = path, layerName;
     if ( const size_t bar = path.find( '|' ); bar != std::string::npos )
@@ -155,7 +156,7 @@ namespace geostation
 
   std::shared_ptr<OrthoTexture> loadOrtho( const std::string &path, const std::string &blockCrs, const Eigen::Vector2d &lo, const Eigen::Vector2d &hi )
   {
-    GDALAllRegister();
+    registerGdalDrivers();
     GDALDatasetH source = GDALOpen( path.c_str(), GA_ReadOnly );
     if ( !source )
       throw std::invalid_argument( "the orthophoto " + path + " cannot be opened" );

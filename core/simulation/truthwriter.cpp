@@ -15,6 +15,7 @@
 
 #include "geometry/projection.h"
 #include "simulation/filmscan.h"
+#include "io/rasterfile.h"
 
 namespace geostation
 {
@@ -216,7 +217,7 @@ namespace geostation
   void writeTruthGeoPackage( const std::filesystem::path &path, const std::string &crs, const Scene &scene,
                              const std::vector<TruthLine> &lines, const std::vector<ImageTruthRow> &rows )
   {
-    GDALAllRegister();
+    registerGdalDrivers();
     GDALDriverH driver = GDALGetDriverByName( "GPKG" );
     std::unique_ptr<void, DatasetCloser> ds( GDALCreate( driver, path.string().c_str(), 0, 0, 0, GDT_Unknown, nullptr ) );
     if ( !ds )
