@@ -173,6 +173,8 @@ namespace geostation
         std::getline( f, im.name ); // names may contain spaces
         if ( im.name.empty() )
           lines.fail( "expected NAME" );
+        if ( im.name.find_first_of( std::string( "\r\0", 2 ) ) != std::string::npos )
+          lines.fail( "an image NAME that holds a carriage return or a NUL character" ); // as the binary reader refuses line breaks
         // the last image's empty line of 2-D points may be missing (an editor dropped it); COLMAP reads it as empty too
         std::string points;
         lines.nextLine( points );
