@@ -74,6 +74,20 @@ namespace geostation
     mTilesX = ( mWidth + options.tileSize - 1 ) / options.tileSize;
     mTilesY = ( mHeight + options.tileSize - 1 ) / options.tileSize;
     mIndex.assign( static_cast<size_t>( mTilesX ) * mTilesY, nullptr );
+    // integers up to 32 bits are exact as floats within kMaxAbsHeight (beyond it, holes either way)
+    switch ( GDALGetRasterDataType( GDALGetRasterBand( mDataset, 1 ) ) )
+    {
+      case GDT_Byte:
+      case GDT_UInt16:
+      case GDT_Int16:
+      case GDT_UInt32:
+      case GDT_Int32:
+      case GDT_Float32:
+        mCellsExactAsFloat = true;
+        break;
+      default:
+        mCellsExactAsFloat = false;
+    }
   }
 
   Dem::~Dem()
@@ -175,12 +189,40 @@ namespace geostation
     return left;
   }
 
-  void Dem::setBlockMaxima( Tile &t, int x0, int y0 ) const
+  void Dem::setBlockMaxima( Tile &t, int x0, int y0, bool mayHaveHoles ) const
   {
     // Block maxima over the corners of each block's cells; blocks with holes
     // take the tile's highest valid height (+inf if it has none).
     const int B = kBlockSize, blocks = mOptions.tileSize / B, stride = mOptions.tileSize + 1;
     t.blockMax.assign( static_cast<size_t>( blocks ) * blocks, 0.0f );
+    if ( !mayHaveHoles )
+    {
+      // every cell in the DEM holds a height: the maxima of each column over a block's rows, then over its columns
+      const int rows = std::min( mOptions.tileSize, mHeight - 1 - y0 ) + 1, cols = std::min( mOptions.tileSize, mWidth - 1 - x0 ) + 1;
+      std::vector<float> &columnMax = mColumnMax;
+      columnMax.resize( static_cast<size_t>( cols ) );
+      float tileMax = -std::numeric_limits<float>::infinity();
+      for ( int by = 0; by < blocks; ++by )
+      {
+        std::fill( columnMax.begin(), columnMax.end(), -std::numeric_limits<float>::infinity() );
+        for ( int r = by * B; r <= std::min( by * B + B, rows - 1 ); ++r )
+        {
+          const float *row = t.vertices.data() + static_cast<size_t>( r ) * stride;
+          for ( int c = 0; c < cols; ++c )
+            columnMax[c] = std::max( columnMax[c], row[c] );
+        }
+        for ( int bx = 0; bx < blocks; ++bx )
+        {
+          float m = -std::numeric_limits<float>::infinity();
+          for ( int c = bx * B; c <= std::min( bx * B + B, cols - 1 ); ++c )
+            m = std::max( m, columnMax[c] );
+          t.blockMax[static_cast<size_t>( by ) * blocks + bx] = m;
+          tileMax = std::max( tileMax, m );
+        }
+      }
+      t.maxHeight = tileMax;
+      return;
+    }
     std::vector<char> blockHasHole( t.blockMax.size(), 0 );
     float tileMax = -std::numeric_limits<float>::infinity();
     bool tileHasHole = false;
@@ -213,58 +255,96 @@ namespace geostation
     t.maxHeight = tileMax;
   }
 
+  bool Dem::readTileCells( int x0, int y0, Tile &t ) const
+  {
+    if ( !mCellsExactAsFloat )
+      return false;
+    const int T = mOptions.tileSize, stride = T + 1;
+    const int cols = std::min( x0 + T, mWidth - 1 ) - x0 + 1, rows = std::min( y0 + T, mHeight - 1 ) - y0 + 1;
+    t.vertices.resize( static_cast<size_t>( stride ) * stride );
+    if ( GDALRasterIO( GDALGetRasterBand( static_cast<GDALDatasetH>( mDataset ), 1 ), GF_Read, x0, y0, cols, rows, t.vertices.data(), cols, rows, GDT_Float32,
+                       sizeof( float ), static_cast<GSpacing>( stride * sizeof( float ) ) ) != CE_None )
+      throw std::runtime_error( std::string( "reading the DEM failed: " ) + CPLGetLastErrorMsg() );
+    for ( int r = 0; r < rows; ++r )
+    {
+      const float *row = t.vertices.data() + static_cast<size_t>( r ) * stride;
+      for ( int c = 0; c < cols; ++c )
+        if ( !std::isfinite( row[c] ) || ( mNoData && row[c] == *mNoData ) || std::abs( row[c] ) > kMaxAbsHeight )
+          return false;
+    }
+    // beyond the DEM (the last tiles' extra column and row)
+    for ( int r = 0; r < stride; ++r )
+      for ( int c = r < rows ? cols : 0; c < stride; ++c )
+        t.vertices[static_cast<size_t>( r ) * stride + c] = std::numeric_limits<float>::quiet_NaN();
+    return true;
+  }
+
   const Dem::Tile *Dem::readTile( int tileX, int tileY ) const
   {
     const int T = mOptions.tileSize, H = mOptions.holeFillHalo;
     const int x0 = tileX * T, y0 = tileY * T;
-    // Read the tile with a halo, so holes near its edge see their neighbours.
-    // Filling runs H passes and a pass's error at the region's border moves
-    // in one cell per pass, so cells at least H in from the border come out
-    // as if the whole raster were filled: the tile and its extra last column
-    // and row (the neighbours' first ones) agree with the neighbouring tiles.
-    // (the region's buffer and an evicted tile's storage are reused: no allocation, no page faults per tile)
-    Region at;
-    long leftEmpty = readRegion( x0, y0, H, at, nullptr );
-    // holes too large to fill: bridged where asked, from a region wide enough to hold their rims (the fill
-    // gives the same cells from it: its reach is the smaller halo)
-    const int bridge = mOptions.bridgeHolesUpToCells;
-    std::vector<float> bridgeSigma;
-    if ( bridge > 0 && leftEmpty > 0 )
-    {
-      std::vector<double> original; // the region as read, where holes are bridged
-      leftEmpty = readRegion( x0, y0, std::max( bridge, H ), at, &original );
-      bridgeSigma = bridgeHoles( mRegion, original, at.x0, at.y0, at.width, at.height, x0, y0 );
-    }
-    mFilledCells += at.filledInTile;
+    const size_t index = static_cast<size_t>( tileY ) * mTilesX + tileX;
 
-    // the least recently used tile gives way when the cache is full
-    std::unique_ptr<Tile> t;
-    size_t slot = mCache.size();
+    // the least recently used tile gives way when the cache is full (its storage is reused: no allocation, no
+    // page faults per tile); a tile whose read throws is left out of the index, as the least recently used
+    Tile *t = nullptr;
+    std::unique_ptr<Tile> fresh;
     if ( mCache.size() >= mOptions.cacheTiles )
     {
-      slot = static_cast<size_t>( std::min_element( mCache.begin(), mCache.end(), []( const auto & a, const auto & b ) { return a->lastUse < b->lastUse; } ) - mCache.begin() );
-      mIndex[mCache[slot]->index] = nullptr;
-      t = std::move( mCache[slot] );
+      t = std::min_element( mCache.begin(), mCache.end(), []( const auto & a, const auto & b ) { return a->lastUse < b->lastUse; } )->get();
+      if ( t->index < mIndex.size() && mIndex[t->index] == t )
+        mIndex[t->index] = nullptr;
+      t->index = mIndex.size();
+      t->lastUse = 0;
     }
     else
-      t = std::make_unique<Tile>();
-    const int stride = T + 1;
-    t->vertices.assign( static_cast<size_t>( stride ) * stride, std::numeric_limits<float>::quiet_NaN() );
-    for ( int row = y0; row <= std::min( y0 + T, mHeight - 1 ); ++row )
-      for ( int col = x0; col <= std::min( x0 + T, mWidth - 1 ); ++col )
-        t->vertices[static_cast<size_t>( row - y0 ) * stride + ( col - x0 )] = static_cast<float>( mRegion[static_cast<size_t>( row - at.y0 ) * at.width + ( col - at.x0 )] );
-    t->bridgeSigma = std::move( bridgeSigma );
-    setBlockMaxima( *t, x0, y0 );
+    {
+      fresh = std::make_unique<Tile>();
+      t = fresh.get();
+    }
 
-    t->index = static_cast<size_t>( tileY ) * mTilesX + tileX;
-    t->lastUse = ++mClock;
-    Tile *result = t.get();
-    if ( slot < mCache.size() )
-      mCache[slot] = std::move( t );
+    if ( readTileCells( x0, y0, *t ) )
+    {
+      // no holes: nothing to fill or bridge, so no halo is needed
+      t->bridgeSigma.clear();
+      setBlockMaxima( *t, x0, y0, false );
+    }
     else
-      mCache.push_back( std::move( t ) );
-    mIndex[result->index] = result;
-    return result;
+    {
+      // Read the tile with a halo, so holes near its edge see their neighbours.
+      // Filling runs H passes and a pass's error at the region's border moves
+      // in one cell per pass, so cells at least H in from the border come out
+      // as if the whole raster were filled: the tile and its extra last column
+      // and row (the neighbours' first ones) agree with the neighbouring tiles.
+      Region at;
+      long leftEmpty = readRegion( x0, y0, H, at, nullptr );
+      // holes too large to fill: bridged where asked, from a region wide enough to hold their rims (the fill
+      // gives the same cells from it: its reach is the smaller halo)
+      const int bridge = mOptions.bridgeHolesUpToCells;
+      std::vector<float> bridgeSigma;
+      if ( bridge > 0 && leftEmpty > 0 )
+      {
+        std::vector<double> original; // the region as read, where holes are bridged
+        leftEmpty = readRegion( x0, y0, std::max( bridge, H ), at, &original );
+        bridgeSigma = bridgeHoles( mRegion, original, at.x0, at.y0, at.width, at.height, x0, y0 );
+      }
+      mFilledCells += at.filledInTile;
+      const int stride = T + 1;
+      t->vertices.assign( static_cast<size_t>( stride ) * stride, std::numeric_limits<float>::quiet_NaN() );
+      for ( int row = y0; row <= std::min( y0 + T, mHeight - 1 ); ++row )
+        for ( int col = x0; col <= std::min( x0 + T, mWidth - 1 ); ++col )
+          t->vertices[static_cast<size_t>( row - y0 ) * stride + ( col - x0 )] = static_cast<float>( mRegion[static_cast<size_t>( row - at.y0 ) * at.width + ( col - at.x0 )] );
+      t->bridgeSigma = std::move( bridgeSigma );
+      setBlockMaxima( *t, x0, y0, true );
+    }
+
+    ++mTileReads;
+    t->index = index;
+    t->lastUse = ++mClock;
+    if ( fresh )
+      mCache.push_back( std::move( fresh ) );
+    mIndex[index] = t;
+    return t;
   }
 
   std::vector<float> Dem::bridgeHoles( std::vector<double> &region, const std::vector<double> &original, int rx0, int ry0, int rw, int rh, int x0, int y0 ) const

@@ -127,6 +127,8 @@ namespace geostation
       //! Horizontal metres per CRS unit near (x, y) along x and y (1 for projected CRSs).
       Eigen::Vector2d metresPerUnit( double x, double y ) const;
 
+      //! Tiles read from the raster so far (a tile read again after the cache dropped it counts again).
+      long tileReadCount() const { return mTileReads; }
       //! Cells filled so far (in tiles read so far).
       long filledCellCount() const { return mFilledCells; }
       //! Cells bridged so far (in tiles read so far; DemOptions::bridgeHolesUpToCells).
@@ -148,7 +150,7 @@ namespace geostation
         std::vector<float> blockMax; //!< as TileView
         std::vector<float> bridgeSigma; //!< as vertices: the bridged cells' height sigma (m), 0 elsewhere; empty if none
         float maxHeight = 0.0f;      //!< as TileView
-        size_t index = 0;            //!< in mIndex
+        size_t index = 0;            //!< in mIndex (mIndex.size(): in no slot)
         unsigned long lastUse = 0;   //!< mClock at the last use
       };
       //! The tile, read if need be; nothing outside the DEM.
@@ -177,8 +179,16 @@ namespace geostation
        * tile (and its extra last row and column) left empty.
        */
       long readRegion( int x0, int y0, int halo, Region &at, std::vector<double> *original ) const;
-      //! The tile's block maxima and its highest height, from its vertices (tile from cell x0, y0).
-      void setBlockMaxima( Tile &t, int x0, int y0 ) const;
+      //! The tile's block maxima and its highest height, from its vertices (tile from cell x0, y0; without holes: faster).
+      void setBlockMaxima( Tile &t, int x0, int y0, bool mayHaveHoles ) const;
+      /**
+       * Most tiles of most DEMs have no hole: where the raster's values are
+       * exact as floats (types up to 32 bits), reads the tile's cells
+       * straight into its vertices, without the halo the fill would need;
+       * false (vertices to be read again) where one of them is a hole or the
+       * values are not exact as floats.
+       */
+      bool readTileCells( int x0, int y0, Tile &t ) const;
       /**
        * Bridges the holes of `region` (filled; rw x rh cells from column rx0,
        * row ry0; `original` as read) that the fill left partly empty, in the
@@ -202,10 +212,13 @@ namespace geostation
       mutable std::vector<Tile *> mIndex;                //!< per tile, row by row: the cached tile or null
       mutable std::vector<std::unique_ptr<Tile>> mCache; //!< at most cacheTiles; a new tile replaces the least recently used
       mutable unsigned long mClock = 0;
+      mutable long mTileReads = 0;
       mutable long mFilledCells = 0;
       mutable long mBridgedCells = 0;
       mutable std::vector<double> mRegion;      //!< a tile's region as read, reused
       mutable std::vector<double> mFillScratch; //!< the hole fill's next pass, reused
+      mutable std::vector<float> mColumnMax;    //!< setBlockMaxima's column maxima, reused
+      bool mCellsExactAsFloat = false;          //!< the band's values are exact as floats (readTileCells())
   };
 
 } // namespace geostation

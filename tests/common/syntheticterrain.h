@@ -37,10 +37,11 @@ namespace syntheticterrain
    * centre; `crs` may be null (no CRS); `hole(c, r)` marks nodata cells.
    */
   inline void writeDem( const std::string &path, const char *crs, const std::array<double, 6> &geoTransform, int width, int height,
-                        const std::function<double( double, double )> &value, const std::function<bool( int, int )> &hole = nullptr )
+                        const std::function<double( double, double )> &value, const std::function<bool( int, int )> &hole = nullptr,
+                        GDALDataType type = GDT_Float32 )
   {
     GDALAllRegister();
-    GDALDatasetH ds = GDALCreate( GDALGetDriverByName( "GTiff" ), path.c_str(), width, height, 1, GDT_Float32, nullptr );
+    GDALDatasetH ds = GDALCreate( GDALGetDriverByName( "GTiff" ), path.c_str(), width, height, 1, type, nullptr );
     if ( !ds )
       throw std::runtime_error( "cannot create " + path );
     std::array<double, 6> gt = geoTransform;
