@@ -255,12 +255,15 @@ namespace geostation
     /**
      * A stripe at `pixel` worn to part of its width over a stretch: where it
      * is found 1.4 times as wide or more 18-30 px along `direction`, at 3 or
-     * more of those 6 positions, 2 of them up the image (further from a
-     * forward camera, where perspective narrows a line: wider there is the
-     * wear, wider only towards the camera is perspective), all on one course
-     * within 1 px, and the paint at `pixel` inside their width. Nothing
-     * otherwise (on cobbles two dark patches beside a kerb's far end are
-     * wider too).
+     * more of those 6 positions, all on one course within 1 px, and the paint
+     * at `pixel` inside their width. Nothing otherwise (on cobbles two dark
+     * patches beside a kerb's far end are wider too). Towards a forward
+     * camera (down the image) perspective widens a line too, so wider hits
+     * must include 2 up the image, or else be all 3 down it with the line up
+     * the image found at 2 or more positions as wide as at `pixel` (within
+     * 0.8-1.25): where perspective makes a line 1.4 times as wide 18 px down,
+     * it makes it 0.6 times as wide or less 18 px up; worn paint stays as
+     * narrow up to the wear's end.
      */
     std::optional<WornStripe> wornBeyond( const cv::Mat &grey, const Eigen::Vector2d &pixel, const Eigen::Vector2d &direction, const LineProfile &profile, double widthPx )
     {
@@ -268,16 +271,22 @@ namespace geostation
       either.maxWidthRatio = either.minWidthRatio = 2.5;
       std::vector<Eigen::Vector2d> centres;
       std::vector<double> widths;
-      int up = 0;
+      int up = 0, asNarrowUp = 0;
       for ( const double step : { -30.0, -24.0, -18.0, 18.0, 24.0, 30.0 } )
-        if ( const std::optional<LineHit> h = locateLine( grey, pixel + step * direction, direction, profile, either );
-             h && h->widthPx >= 1.4 * widthPx )
+        if ( const std::optional<LineHit> h = locateLine( grey, pixel + step * direction, direction, profile, either ) )
         {
-          centres.push_back( h->pixelInImage );
-          widths.push_back( h->widthPx );
-          up += step * direction.y() < 0;
+          const bool isUp = step * direction.y() < 0;
+          if ( h->widthPx >= 1.4 * widthPx )
+          {
+            centres.push_back( h->pixelInImage );
+            widths.push_back( h->widthPx );
+            up += isUp;
+          }
+          else if ( isUp && h->widthPx >= 0.8 * widthPx && h->widthPx <= 1.25 * widthPx )
+            ++asNarrowUp;
         }
-      if ( up < 2 || centres.size() < 3 )
+      const bool wornUpTheImage = up == 0 && centres.size() == 3 && asNarrowUp >= 2;
+      if ( centres.size() < 3 || ( up < 2 && !wornUpTheImage ) )
         return std::nullopt;
       // one stripe: the wider hits on one course (within 1 px), the paint left at the click inside its full width
       const std::optional<Eigen::Vector2d> course = principalDirection( centres );
@@ -296,6 +305,30 @@ namespace geostation
       std::nth_element( widths.begin(), widths.begin() + widths.size() / 2, widths.end() );
       out.widthPx = widths[widths.size() / 2];
       return out;
+    }
+
+    /**
+     * A stripe found at a click (`hit`) worn there to part of its width: the
+     * median width 6-12 px either way along `direction` 1.4 times the width at
+     * the click or more, or the full width beyond a longer worn stretch
+     * (wornBeyond()).
+     */
+    bool wornAtClick( const cv::Mat &grey, const LineProfile &profile, const LineHit &hit, const Eigen::Vector2d &direction )
+    {
+      LocateOptions either = locateOptionsFor( profile, FollowOptions(), 3.0 );
+      either.maxWidthRatio = either.minWidthRatio = 2.5;
+      std::vector<double> widths;
+      for ( const double step : { -12.0, -6.0, 6.0, 12.0 } )
+        if ( const std::optional<LineHit> h = locateLine( grey, hit.pixelInImage + step * direction, direction, profile, either ) )
+          widths.push_back( h->widthPx );
+      if ( widths.size() >= 2 )
+      {
+        std::nth_element( widths.begin(), widths.begin() + widths.size() / 2, widths.end() );
+        if ( widths[widths.size() / 2] >= 1.4 * hit.widthPx )
+          return true;
+      }
+      // worn over a longer stretch: the full width beyond it, 18-30 px along
+      return wornBeyond( grey, hit.pixelInImage, direction, profile, hit.widthPx ).has_value();
     }
 
     /**
@@ -373,23 +406,6 @@ namespace geostation
       // to a part of its width (narrower there than along the line either side), the side of what is left can
       // lie nearer the click than its centre. (Elsewhere the nearest wins: a click at the foot of a kerb face,
       // a bright band of its own, means the edge.)
-      const auto wornStripe = [&]( const Candidate &stripe )
-      {
-        LocateOptions either = locateOptionsFor( stripe.profile, FollowOptions(), 3.0 );
-        either.maxWidthRatio = either.minWidthRatio = 2.5;
-        std::vector<double> widths;
-        for ( const double step : { -12.0, -6.0, 6.0, 12.0 } )
-          if ( const std::optional<LineHit> h = locateLine( grey, stripe.hit.pixelInImage + step * direction, direction, stripe.profile, either ) )
-            widths.push_back( h->widthPx );
-        if ( widths.size() >= 2 )
-        {
-          std::nth_element( widths.begin(), widths.begin() + widths.size() / 2, widths.end() );
-          if ( widths[widths.size() / 2] >= 1.4 * stripe.hit.widthPx )
-            return true;
-        }
-        // worn over a longer stretch: the full width beyond it, 18-30 px along
-        return wornBeyond( grey, stripe.hit.pixelInImage, direction, stripe.profile, stripe.hit.widthPx ).has_value();
-      };
       const auto sideOfStripeAroundClick = [&]( const Candidate &edge )
       {
         return edge.profile.kind == LineKind::Edge &&
@@ -399,7 +415,7 @@ namespace geostation
             return false;
           const double half = 0.5 * stripe.hit.widthPx;
           return std::abs( stripe.hit.offsetPx ) <= half + 1.0 && std::abs( std::abs( edge.hit.offsetPx - stripe.hit.offsetPx ) - half ) <= std::max( 2.0, 0.3 * half ) &&
-                 wornStripe( stripe );
+                 wornAtClick( grey, stripe.profile, stripe.hit, direction );
         } );
       };
       for ( const Candidate &c : candidates )

@@ -262,6 +262,59 @@ TEST( TrackCourse, AClickOnAStripeWornHalfAwayOverALongStretchPicksTheStripe )
   EXPECT_EQ( foot.profile.kind, LineKind::Edge );
 }
 
+TEST( TrackCourse, AClickAtTheNearEndOfAStretchWornHalfAwayPicksTheStripe )
+{
+  // the same stripe worn half away from the top of the image down to 15 px below the click: the full width
+  // is found only down the image (towards the camera), where perspective alone also widens a line. The
+  // paint up the image is as narrow as at the click - perspective would narrow it further - so it is wear.
+  cv::Mat grey( 140, 120, CV_8UC1, cv::Scalar( 60 ) );
+  cv::rectangle( grey, cv::Point( 55, 0 ), cv::Point( 64, 139 ), cv::Scalar( 200 ), cv::FILLED );
+  cv::rectangle( grey, cv::Point( 55, 0 ), cv::Point( 59, 85 ), cv::Scalar( 62 ), cv::FILLED );
+  cv::Mat noise( grey.size(), CV_8SC1 );
+  cv::theRNG().state = 5;
+  cv::randn( noise, 0, 3 );
+  cv::add( grey, noise, grey, cv::noArray(), CV_8UC1 );
+  cv::GaussianBlur( grey, grey, cv::Size( 5, 5 ), 0.8 );
+  const SeedAnalysis seed = analyseSeed( grey, Eigen::Vector2d( 60.3, 70.0 ), std::nullopt );
+  ASSERT_TRUE( seed.ok ) << seed.message;
+  EXPECT_EQ( seed.profile.kind, LineKind::BrightStripe );
+  EXPECT_NEAR( seed.profile.widthPx, 10.0, 1.5 );
+  EXPECT_NEAR( seed.pixelInImage.x(), 60.0, 0.7 );
+  // a kerb face seen in perspective - a bright band that widens down the image, 1.4 times as wide 18 px
+  // below the click and narrower above it - clicked at its foot: the edge, as on a band as wide all along
+  cv::Mat kerb( 140, 160, CV_8UC1, cv::Scalar( 60 ) );
+  for ( int r = 0; r < 140; ++r )
+  {
+    const int width = std::max( 1, static_cast<int>( std::lround( 18.0 * ( r - 25.0 ) / 45.0 ) ) );
+    cv::line( kerb, cv::Point( 60, r ), cv::Point( 60 + width - 1, r ), cv::Scalar( 150 ) );
+    cv::line( kerb, cv::Point( 60 + width, r ), cv::Point( 159, r ), cv::Scalar( 110 ) );
+  }
+  cv::GaussianBlur( kerb, kerb, cv::Size( 5, 5 ), 0.8 );
+  const SeedAnalysis foot = analyseSeed( kerb, Eigen::Vector2d( 60.8, 70.0 ), 0.0 );
+  ASSERT_TRUE( foot.ok ) << foot.message;
+  EXPECT_EQ( foot.profile.kind, LineKind::Edge );
+  EXPECT_NEAR( foot.pixelInImage.x(), 60.0, 1.0 );
+  // a clean stripe narrower up the image and wider down it, as perspective makes a line (8 px at the click,
+  // 14 px from 10 px below it, 3 px from 10 px above it), clicked on its left side: wider only down the image
+  // and narrower up it is not wear - the edge clicked is kept, as on a stripe as wide all along
+  cv::Mat narrowing( 140, 120, CV_8UC1, cv::Scalar( 60 ) );
+  for ( int r = 0; r < 140; ++r )
+  {
+    const double half = r < 60 ? 1.5 : r <= 80 ? 4.0 : 7.0;
+    for ( int c = 0; c < 120; ++c )
+    {
+      // the stripe's cover of each pixel
+      const double cover = std::clamp( std::min( c + 1.0, 60.0 + half ) - std::max( static_cast<double>( c ), 60.0 - half ), 0.0, 1.0 );
+      narrowing.at<uchar>( r, c ) = cv::saturate_cast<uchar>( 60.0 + 140.0 * cover );
+    }
+  }
+  cv::GaussianBlur( narrowing, narrowing, cv::Size( 5, 5 ), 0.8 );
+  const SeedAnalysis side = analyseSeed( narrowing, Eigen::Vector2d( 56.3, 70.0 ), 0.0 );
+  ASSERT_TRUE( side.ok ) << side.message;
+  EXPECT_EQ( side.profile.kind, LineKind::Edge );
+  EXPECT_NEAR( side.pixelInImage.x(), 56.0, 1.0 );
+}
+
 TEST( TrackCourse, AVertexBeyondAGapKeepsTheLinesCourse )
 {
   // a station's follower lost the line at 90 m in a shadow and bridged 11 m onto the parallel edge 1.1 m
