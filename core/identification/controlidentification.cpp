@@ -135,25 +135,104 @@ namespace geostation
         n += std::binary_search( b.begin(), b.end(), p ) ? 1 : 0;
       return n;
     }
+
+    //! Throws std::invalid_argument on a camera, options, control or candidates that cannot be used.
+    void checkInputs( const Camera &camera, const std::vector<ControlPoint> &control, const std::vector<Eigen::Vector2d> &candidatesPx, const ControlIdentificationOptions &options )
+    {
+      camera.validate();
+      options.check();
+      std::set<std::string> ids;
+      for ( const ControlPoint &c : control )
+      {
+        if ( !c.world.allFinite() )
+          throw std::invalid_argument( "control point " + c.id + " has no finite coordinates" );
+        if ( !ids.insert( c.id ).second )
+          throw std::invalid_argument( "control point " + c.id + " is listed twice" );
+      }
+      for ( const Eigen::Vector2d &p : candidatesPx )
+        if ( !p.allFinite() )
+          throw std::invalid_argument( "a candidate has no finite position" );
+    }
+
+    //! The control points a search may pair, and (with an approximate orientation) each one's candidates.
+    struct EligibleControl
+    {
+      std::vector<int> eligible;             //!< indices into the control
+      std::vector<std::vector<int>> allowed; //!< per control point, the candidates near its prediction; empty: any
+    };
+
+    /**
+     * Without an approximate orientation every control point; with one, those
+     * whose prediction has a candidate within the search radius, with those candidates.
+     */
+    EligibleControl eligibleControl( const Camera &camera, const std::vector<ControlPoint> &control, const std::vector<Eigen::Vector2d> &usablePx,
+                                     const ControlIdentificationOptions &options )
+    {
+      EligibleControl out;
+      if ( !options.approximate )
+      {
+        for ( int j = 0; j < static_cast<int>( control.size() ); ++j )
+          out.eligible.push_back( j );
+        return out;
+      }
+      out.allowed.resize( control.size() );
+      const OrientedImage approximate( camera, *options.approximate );
+      for ( int j = 0; j < static_cast<int>( control.size() ); ++j )
+      {
+        const GroundProjection g = approximate.projectGroundToPixel( control[j].world );
+        if ( !g.ok() )
+          continue;
+        for ( int k = 0; k < static_cast<int>( usablePx.size() ); ++k )
+          if ( ( usablePx[k] - g.pixelInImage ).norm() <= options.searchRadiusPx )
+            out.allowed[j].push_back( k );
+        if ( !out.allowed[j].empty() )
+          out.eligible.push_back( j );
+      }
+      return out;
+    }
+
+    //! What a match on each candidate is worth: -log of the chance of landing on it, from the candidates around it.
+    std::vector<double> candidateWorth( const std::vector<Eigen::Vector2d> &usablePx, const ControlIdentificationOptions &options )
+    {
+      std::vector<double> worth( usablePx.size() );
+      for ( size_t k = 0; k < usablePx.size(); ++k )
+      {
+        int near = 0;
+        for ( size_t m = 0; m < usablePx.size(); ++m )
+          near += ( m != k && ( usablePx[m] - usablePx[k] ).norm() <= options.densityRadiusPx ) ? 1 : 0;
+        const double chance = ( near + 1.0 ) * options.hypothesisTolerancePx * options.hypothesisTolerancePx / ( options.densityRadiusPx * options.densityRadiusPx );
+        worth[k] = -std::log( std::min( 0.5, chance ) );
+      }
+      return worth;
+    }
+
+    //! How often chance would give a verified identification as good, over `tests` poses tested (the a-contrario test).
+    double falseAlarmsOf( const Verified &v, const Camera &camera, const std::vector<ControlPoint> &control, const std::vector<Eigen::Vector2d> &usablePx,
+                          const ControlIdentificationOptions &options, double tests )
+    {
+      const OrientedImage oriented( camera, v.resection.exterior );
+      std::vector<Eigen::Vector2d> predicted;
+      for ( const ControlPoint &c : control )
+      {
+        const GroundProjection g = oriented.projectGroundToPixel( c.world );
+        if ( g.ok() && g.inFrame )
+          predicted.push_back( g.pixelInImage );
+      }
+      std::vector<double> residuals;
+      for ( const auto &[j, i] : v.pairs )
+      {
+        const GroundProjection g = oriented.projectGroundToPixel( control[j].world );
+        residuals.push_back( g.ok() ? ( g.pixelInImage - usablePx[i] ).norm() : 1e300 );
+      }
+      return identificationFalseAlarms( predicted, usablePx, residuals, options.tolerancePx, options.densityRadiusPx, tests );
+    }
   } // namespace
 
   ControlIdentificationSummary identifyControl( const Camera &camera, const std::vector<ControlPoint> &control, const std::vector<Eigen::Vector2d> &candidatesPx,
       const ControlIdentificationOptions &options )
   {
     const auto started = std::chrono::steady_clock::now();
-    camera.validate();
-    options.check();
-    std::set<std::string> ids;
-    for ( const ControlPoint &c : control )
-    {
-      if ( !c.world.allFinite() )
-        throw std::invalid_argument( "control point " + c.id + " has no finite coordinates" );
-      if ( !ids.insert( c.id ).second )
-        throw std::invalid_argument( "control point " + c.id + " is listed twice" );
-    }
-    for ( const Eigen::Vector2d &p : candidatesPx )
-      if ( !p.allFinite() )
-        throw std::invalid_argument( "a candidate has no finite position" );
+    checkInputs( camera, control, candidatesPx, options );
 
     ControlIdentificationSummary summary;
     auto finish = [&]( ControlIdentificationSummary::Status status, const std::string &message ) {
@@ -184,47 +263,15 @@ namespace geostation
     for ( const ControlPoint &c : control )
       local.push_back( c.world - origin );
 
-    // with an approximate orientation: each control point's candidates near its prediction
-    std::vector<std::vector<int>> allowed;
-    std::vector<int> eligible;
-    std::optional<OrientedImage> approximate;
-    if ( options.approximate )
-    {
-      allowed.resize( control.size() );
-      approximate.emplace( camera, *options.approximate );
-    }
-    for ( int j = 0; j < static_cast<int>( control.size() ); ++j )
-    {
-      if ( !options.approximate )
-      {
-        eligible.push_back( j );
-        continue;
-      }
-      const GroundProjection g = approximate->projectGroundToPixel( control[j].world );
-      if ( !g.ok() )
-        continue;
-      for ( int k = 0; k < static_cast<int>( usablePx.size() ); ++k )
-        if ( ( usablePx[k] - g.pixelInImage ).norm() <= options.searchRadiusPx )
-          allowed[j].push_back( k );
-      if ( !allowed[j].empty() )
-        eligible.push_back( j );
-    }
+    const EligibleControl near = eligibleControl( camera, control, usablePx, options );
+    const std::vector<int> &eligible = near.eligible;
     if ( static_cast<int>( eligible.size() ) < options.minPairs )
       return finish( ControlIdentificationSummary::Status::TooFewControl,
                      options.approximate ? "only " + std::to_string( eligible.size() ) + " control points have a candidate within " + std::to_string( static_cast<int>( options.searchRadiusPx ) ) +
                      " px of where the approximate orientation puts them; at least " + std::to_string( options.minPairs ) + " are needed"
                      : "only " + std::to_string( control.size() ) + " control points were given; at least " + std::to_string( options.minPairs ) + " are needed" );
 
-    // what a match on each candidate is worth: -log of the chance of landing on it, from the candidates around it
-    std::vector<double> worth( ideal.size() );
-    for ( size_t k = 0; k < ideal.size(); ++k )
-    {
-      int near = 0;
-      for ( size_t m = 0; m < ideal.size(); ++m )
-        near += ( m != k && ( usablePx[m] - usablePx[k] ).norm() <= options.densityRadiusPx ) ? 1 : 0;
-      const double chance = ( near + 1.0 ) * options.hypothesisTolerancePx * options.hypothesisTolerancePx / ( options.densityRadiusPx * options.densityRadiusPx );
-      worth[k] = -std::log( std::min( 0.5, chance ) );
-    }
+    const std::vector<double> worth = candidateWorth( usablePx, options );
     // triangles in the image among the strongest candidates (all near the prediction with an approximate orientation)
     std::vector<int> firsts;
     for ( int k = 0; k < static_cast<int>( ideal.size() ); ++k )
@@ -237,7 +284,7 @@ namespace geostation
     hypothesisOptions.tolerance = options.hypothesisTolerancePx / camera.fx();
     hypothesisOptions.minSideIdeal = 2.0 / camera.fx();
     hypothesisOptions.kept = static_cast<size_t>( options.hypothesesVerified ) * 16;
-    PoseHypotheses hypotheses( local, ideal, worth, eligible, firsts, allowed, hypothesisOptions );
+    PoseHypotheses hypotheses( local, ideal, worth, eligible, firsts, near.allowed, hypothesisOptions );
 
     // strongest candidates first; at checkpoints (after 6, 12, 24, ... and all) the best hypotheses are
     // verified, and the search stops at an identification chance cannot explain
@@ -260,24 +307,7 @@ namespace geostation
       summary.hypothesesVerified = static_cast<int>( tried.size() );
       // tested so far: the poses scored, at every look
       for ( Verified &v : solutions )
-      {
-        const OrientedImage oriented( camera, v.resection.exterior );
-        std::vector<Eigen::Vector2d> predicted;
-        for ( const ControlPoint &c : control )
-        {
-          const GroundProjection g = oriented.projectGroundToPixel( c.world );
-          if ( g.ok() && g.inFrame )
-            predicted.push_back( g.pixelInImage );
-        }
-        std::vector<double> residuals;
-        for ( const auto &[j, i] : v.pairs )
-        {
-          const GroundProjection g = oriented.projectGroundToPixel( control[j].world );
-          residuals.push_back( g.ok() ? ( g.pixelInImage - usablePx[i] ).norm() : 1e300 );
-        }
-        v.falseAlarms = identificationFalseAlarms( predicted, usablePx, residuals, options.tolerancePx, options.densityRadiusPx,
-                        static_cast<double>( looks ) * static_cast<double>( hypotheses.poses() ) );
-      }
+        v.falseAlarms = falseAlarmsOf( v, camera, control, usablePx, options, static_cast<double>( looks ) * static_cast<double>( hypotheses.poses() ) );
       std::vector<const Verified *> good;
       for ( const Verified &v : solutions )
         if ( v.falseAlarms <= options.maxFalseAlarms && static_cast<int>( v.pairs.size() ) >= options.minPairs )

@@ -129,6 +129,80 @@ namespace geostation
     return {};
   }
 
+  namespace
+  {
+    //! The model's cameras into the block; returns the block camera id of each COLMAP camera kept (the others are reported dropped).
+    std::map<std::uint32_t, std::string> addCameras( const ColmapModel &model, BlockImportSummary &import )
+    {
+      std::map<std::uint32_t, std::string> cameraIdOf;
+      std::map<std::uint32_t, int> imagesPerCamera;
+      for ( const ColmapImage &im : model.images )
+        ++imagesPerCamera[im.cameraId];
+      for ( const ColmapCamera &c : model.cameras )
+      {
+        std::string whyNot;
+        std::optional<Camera> camera = cameraFromColmap( c, "camera" + std::to_string( c.id ), &whyNot );
+        if ( !camera )
+        {
+          import.dropped.push_back( whyNot + "; its " + std::to_string( imagesPerCamera[c.id] ) + " image(s) were dropped" );
+          continue;
+        }
+        cameraIdOf[c.id] = camera->id;
+        import.converted.push_back( "COLMAP camera " + std::to_string( c.id ) + " (" + c.model + ") became camera \"" + camera->id + "\" with lens model "
+                                    + distortionModelName( camera->distortion.model ) );
+        import.block.cameras.push_back( *camera );
+      }
+      return cameraIdOf;
+    }
+
+    //! The 3-D points seen in two or more imported images (`importedById`, block ids `idOf`) as tie points with their observations.
+    void addTiePoints( const ColmapModel &model, const std::map<std::uint32_t, const ColmapImage *> &importedById, const std::map<std::uint32_t, std::string> &idOf,
+                       BlockImportSummary &import )
+    {
+      int pointsDropped = 0;
+      std::set<std::uint64_t> seenPoints;
+      for ( const ColmapPoint3D &p : model.points3D )
+      {
+        if ( !seenPoints.insert( p.id ).second )
+          throw std::invalid_argument( "the COLMAP model has 3-D point id " + std::to_string( p.id ) + " twice" );
+        std::vector<ImportedObservation> observations;
+        std::set<std::uint32_t> imagesSeen;
+        for ( const ColmapTrackElement &t : p.track )
+        {
+          auto it = importedById.find( t.imageId );
+          if ( it == importedById.end() )
+            continue;
+          const ColmapImage &im = *it->second;
+          if ( t.point2DIndex >= im.points2D.size() )
+            throw std::invalid_argument( "the COLMAP model is inconsistent: 3-D point " + std::to_string( p.id ) + " is observed as 2-D point " + std::to_string( t.point2DIndex )
+                                         + " of image " + std::to_string( im.id ) + ", which has " + std::to_string( im.points2D.size() ) );
+          if ( !imagesSeen.insert( im.id ).second )
+            continue; // one observation per image and point
+          ImportedObservation o;
+          o.pointId = std::to_string( p.id );
+          o.imageId = idOf.at( im.id );
+          o.pixelInImage = im.points2D[t.point2DIndex].pixel;
+          observations.push_back( o );
+        }
+        if ( observations.size() < 2 || !p.xyz.allFinite() )
+        {
+          ++pointsDropped;
+          continue;
+        }
+        ImportedTiePoint tie;
+        tie.pointId = std::to_string( p.id );
+        tie.world = p.xyz;
+        tie.errorPx = p.error;
+        import.tiePoints.push_back( tie );
+        import.observations.insert( import.observations.end(), observations.begin(), observations.end() );
+      }
+      if ( !model.points3D.empty() )
+        import.converted.push_back( std::to_string( import.tiePoints.size() ) + " 3-D point(s) became tie points with " + std::to_string( import.observations.size() ) + " image observations" );
+      if ( pointsDropped > 0 )
+        import.dropped.push_back( std::to_string( pointsDropped ) + " 3-D point(s) seen in fewer than two imported images were dropped" );
+    }
+  }
+
   BlockImportSummary importColmapModel( const ColmapModel &model, const fs::path &modelFolder, const ColmapImportOptions &options )
   {
     if ( options.crs.empty() )
@@ -142,27 +216,7 @@ namespace geostation
     Block &block = import.block;
     block.crs = options.crs;
 
-    // cameras
-    std::map<std::uint32_t, std::string> cameraIdOf;
-    std::map<std::uint32_t, std::string> droppedCameraWhy;
-    std::map<std::uint32_t, int> imagesPerCamera;
-    for ( const ColmapImage &im : model.images )
-      ++imagesPerCamera[im.cameraId];
-    for ( const ColmapCamera &c : model.cameras )
-    {
-      std::string whyNot;
-      std::optional<Camera> camera = cameraFromColmap( c, "camera" + std::to_string( c.id ), &whyNot );
-      if ( !camera )
-      {
-        droppedCameraWhy[c.id] = whyNot;
-        import.dropped.push_back( whyNot + "; its " + std::to_string( imagesPerCamera[c.id] ) + " image(s) were dropped" );
-        continue;
-      }
-      cameraIdOf[c.id] = camera->id;
-      import.converted.push_back( "COLMAP camera " + std::to_string( c.id ) + " (" + c.model + ") became camera \"" + camera->id + "\" with lens model "
-                                  + distortionModelName( camera->distortion.model ) );
-      block.cameras.push_back( *camera );
-    }
+    const std::map<std::uint32_t, std::string> cameraIdOf = addCameras( model, import );
 
     // images, in name order (capture order for most cameras' file names)
     std::vector<const ColmapImage *> images;
@@ -246,48 +300,7 @@ namespace geostation
       }
     }
 
-    // tie points: the 3-D points and their observations in the imported images
-    int pointsDropped = 0;
-    std::set<std::uint64_t> seenPoints;
-    for ( const ColmapPoint3D &p : model.points3D )
-    {
-      if ( !seenPoints.insert( p.id ).second )
-        throw std::invalid_argument( "the COLMAP model has 3-D point id " + std::to_string( p.id ) + " twice" );
-      std::vector<ImportedObservation> observations;
-      std::set<std::uint32_t> imagesSeen;
-      for ( const ColmapTrackElement &t : p.track )
-      {
-        auto it = importedById.find( t.imageId );
-        if ( it == importedById.end() )
-          continue;
-        const ColmapImage &im = *it->second;
-        if ( t.point2DIndex >= im.points2D.size() )
-          throw std::invalid_argument( "the COLMAP model is inconsistent: 3-D point " + std::to_string( p.id ) + " is observed as 2-D point " + std::to_string( t.point2DIndex )
-                                       + " of image " + std::to_string( im.id ) + ", which has " + std::to_string( im.points2D.size() ) );
-        if ( !imagesSeen.insert( im.id ).second )
-          continue; // one observation per image and point
-        ImportedObservation o;
-        o.pointId = std::to_string( p.id );
-        o.imageId = idOf.at( im.id );
-        o.pixelInImage = im.points2D[t.point2DIndex].pixel;
-        observations.push_back( o );
-      }
-      if ( observations.size() < 2 || !p.xyz.allFinite() )
-      {
-        ++pointsDropped;
-        continue;
-      }
-      ImportedTiePoint tie;
-      tie.pointId = std::to_string( p.id );
-      tie.world = p.xyz;
-      tie.errorPx = p.error;
-      import.tiePoints.push_back( tie );
-      import.observations.insert( import.observations.end(), observations.begin(), observations.end() );
-    }
-    if ( !model.points3D.empty() )
-      import.converted.push_back( std::to_string( import.tiePoints.size() ) + " 3-D point(s) became tie points with " + std::to_string( import.observations.size() ) + " image observations" );
-    if ( pointsDropped > 0 )
-      import.dropped.push_back( std::to_string( pointsDropped ) + " 3-D point(s) seen in fewer than two imported images were dropped" );
+    addTiePoints( model, importedById, idOf, import );
     return import;
   }
 

@@ -85,6 +85,119 @@ namespace geostation
       };
       return LineSides { median( left ), median( right ), median( contrast ) };
     }
+    //! Where a bridge starts: its first point, its direction (unit) and where the line was last followed.
+    struct BridgeStart
+    {
+      Eigen::Vector2d from, direction, gapFrom;
+    };
+
+    //! What a bridge found: the hit the line resumes at, or nothing and why it stopped.
+    struct BridgeScan
+    {
+      std::optional<LineHit> hit;
+      TraceStop stop = TraceStop::EndOfLine;
+    };
+
+    /**
+     * Looks for the line beyond a gap: straight ahead from the bridge's start,
+     * a cross-section every 3 px; the first hit confirmed 2.5 px further on,
+     * with on its sides what lay beside the line before the gap (`points`, the
+     * line followed so far), resumes it. The image's border, the distance
+     * limit and the largest gap (on the ground where known, counted from
+     * where the line was last followed) end the search.
+     */
+    BridgeScan scanBridge( const cv::Mat &grey, const BridgeStart &bridge, const FollowRequest &current, TraceMethod method, const LineProfile &profile,
+                           const std::vector<Eigen::Vector2d> &points, const LineFollowOptions &options )
+    {
+      const Eigen::Vector2d &d = bridge.direction;
+      BridgeScan out;
+      // what lies beside the line before the gap (over its last 100 px: a follower may have run along an
+      // obstacle's outline for a while before it lost the line): a hit beyond it must have the like on its
+      // sides (measured at the first hit: most bridges find none)
+      std::optional<LineSides> sidesBefore;
+      bool sidesMeasured = options.sideTolerance <= 0.0;
+      LocateOptions locate = locateOptionsFor( profile, options.directional.follow, 2.0 );
+      locate.minWidthRatio = 6.0; // a stripe narrows with distance across a long gap
+      int partial = 0;
+      // (bounded also by the image: a bridge never scans further than the image's diagonal)
+      const double diagonal = std::hypot( grey.cols, grey.rows );
+      for ( double s = 3.0; s <= diagonal; s += 3.0 )
+      {
+        const Eigen::Vector2d q = bridge.from + s * d;
+        if ( !sampleGrey( grey, q - 4.0 * rightNormal( d ) ) || !sampleGrey( grey, q + 4.0 * rightNormal( d ) ) )
+        {
+          out.stop = TraceStop::LeftImage;
+          break;
+        }
+        if ( current.withinLimit && !current.withinLimit( q ) )
+        {
+          out.stop = TraceStop::DistanceLimit;
+          break;
+        }
+        const std::optional<double> ground = options.groundDistanceM ? options.groundDistanceM( bridge.gapFrom, q ) : std::nullopt;
+        if ( ground ? *ground > options.maxGapM : ( q - bridge.gapFrom ).norm() > options.maxGapPx )
+        {
+          out.stop = partial > 0 ? TraceStop::GapTooLarge : TraceStop::EndOfLine;
+          break;
+        }
+        // worn paint: the visible part of a stripe may lie to either side of the line, up to half its width
+        // (the polynomial strips span short worn patches; the skeleton and least squares stop at them)
+        const bool wornSide = method != TraceMethod::Polynomial && profile.kind != LineKind::Edge;
+        locate.searchHalfPx = 3.0 + 0.1 * s + ( wornSide ? 0.5 * profile.widthPx : 0.0 );
+        const std::optional<LineHit> hit = locateLine( grey, q, d, profile, locate );
+        if ( !hit )
+          continue;
+        ++partial;
+        // confirmed a little further on (a far dash is only a few pixels long)
+        LocateOptions confirm = locate;
+        confirm.searchHalfPx = 2.0;
+        const std::optional<LineHit> further = locateLine( grey, hit->pixelInImage + 2.5 * d, d, profile, confirm );
+        if ( !further )
+          continue;
+        if ( !sidesMeasured )
+        {
+          sidesBefore = recentSides( grey, points, profile, 100.0 );
+          sidesMeasured = true;
+        }
+        if ( sidesBefore )
+        {
+          const std::optional<LineSides> seen = lineSides( grey, hit->pixelInImage, d, profile );
+          if ( !seen || !sidesAgree( *sidesBefore, *seen, std::max( 4.0, options.sideTolerance * sidesBefore->contrast ) ) )
+            continue;
+        }
+        out.hit = hit;
+        out.stop = TraceStop::EndOfLine;
+        break;
+      }
+      return out;
+    }
+
+    /**
+     * The vertices: Douglas-Peucker on each followed run (`runStarts`: the
+     * index of each run's first point), each kept point with its sigma; the
+     * runs are joined by bridged segments (`bridged` set on a run's first vertex).
+     */
+    void vectoriseRuns( const std::vector<Eigen::Vector2d> &points, const std::vector<double> &sigmas, std::vector<size_t> runStarts, double tolerancePx, FollowResult &line )
+    {
+      runStarts.push_back( points.size() );
+      for ( size_t r = 0; r + 1 < runStarts.size(); ++r )
+      {
+        const std::vector<Eigen::Vector2d> run( points.begin() + runStarts[r], points.begin() + runStarts[r + 1] );
+        if ( run.empty() )
+          continue;
+        size_t j = runStarts[r];
+        bool first = true;
+        for ( const Eigen::Vector2d &k : douglasPeucker( run, tolerancePx ) )
+        {
+          while ( j < runStarts[r + 1] && ( points[j] - k ).norm() > 1e-9 )
+            ++j;
+          line.points.push_back( k );
+          line.sigmaPx.push_back( j < sigmas.size() ? sigmas[j] : 0.5 );
+          line.bridged.push_back( first && !line.bridged.empty() );
+          first = false;
+        }
+      }
+    }
   }
 
   LineFollowResult followLine( const cv::Mat &grey, const FollowRequest &request, TraceMethod method, const LineFollowOptions &options )
@@ -152,74 +265,17 @@ namespace geostation
         break;
       }
       lastBridge = BridgeState { from, d, points.size(), last.profile };
-      // what lies beside the line before the gap (over its last 100 px: a follower may have run along an
-      // obstacle's outline for a while before it lost the line): a hit beyond it must have the like on its
-      // sides (measured at the first hit: most bridges find none)
-      std::optional<LineSides> sidesBefore;
-      bool sidesMeasured = options.sideTolerance <= 0.0;
-      LocateOptions locate = locateOptionsFor( last.profile, options.directional.follow, 2.0 );
-      locate.minWidthRatio = 6.0; // a stripe narrows with distance across a long gap
-      bool resumed = false;
-      int partial = 0;
-      last.stop = TraceStop::EndOfLine;
-      // (bounded also by the image: a bridge never scans further than the image's diagonal)
-      const double diagonal = std::hypot( grey.cols, grey.rows );
-      for ( double s = 3.0; s <= diagonal; s += 3.0 )
-      {
-        const Eigen::Vector2d q = from + s * d;
-        if ( !sampleGrey( grey, q - 4.0 * rightNormal( d ) ) || !sampleGrey( grey, q + 4.0 * rightNormal( d ) ) )
-        {
-          last.stop = TraceStop::LeftImage;
-          break;
-        }
-        if ( current.withinLimit && !current.withinLimit( q ) )
-        {
-          last.stop = TraceStop::DistanceLimit;
-          break;
-        }
-        const std::optional<double> ground = options.groundDistanceM ? options.groundDistanceM( gapFrom, q ) : std::nullopt;
-        if ( ground ? *ground > options.maxGapM : ( q - gapFrom ).norm() > options.maxGapPx )
-        {
-          last.stop = partial > 0 ? TraceStop::GapTooLarge : TraceStop::EndOfLine;
-          break;
-        }
-        // worn paint: the visible part of a stripe may lie to either side of the line, up to half its width
-        // (the polynomial strips span short worn patches; the skeleton and least squares stop at them)
-        const bool wornSide = method != TraceMethod::Polynomial && last.profile.kind != LineKind::Edge;
-        locate.searchHalfPx = 3.0 + 0.1 * s + ( wornSide ? 0.5 * last.profile.widthPx : 0.0 );
-        const std::optional<LineHit> hit = locateLine( grey, q, d, last.profile, locate );
-        if ( !hit )
-          continue;
-        ++partial;
-        // confirmed a little further on (a far dash is only a few pixels long)
-        LocateOptions confirm = locate;
-        confirm.searchHalfPx = 2.0;
-        const std::optional<LineHit> further = locateLine( grey, hit->pixelInImage + 2.5 * d, d, last.profile, confirm );
-        if ( !further )
-          continue;
-        if ( !sidesMeasured )
-        {
-          sidesBefore = recentSides( grey, points, last.profile, 100.0 );
-          sidesMeasured = true;
-        }
-        if ( sidesBefore )
-        {
-          const std::optional<LineSides> seen = lineSides( grey, hit->pixelInImage, d, last.profile );
-          if ( !seen || !sidesAgree( *sidesBefore, *seen, std::max( 4.0, options.sideTolerance * sidesBefore->contrast ) ) )
-            continue;
-        }
-        current.start = hit->pixelInImage;
-        current.direction = d;
-        if ( !points.empty() )
-          runStarts.push_back( points.size() );
-        current.profile = last.profile;
-        ++out.bridgedGaps;
-        out.bridgedPx += ( hit->pixelInImage - from ).norm();
-        resumed = true;
+      const BridgeScan scan = scanBridge( grey, { from, d, gapFrom }, current, method, last.profile, points, options );
+      last.stop = scan.stop;
+      if ( !scan.hit )
         break;
-      }
-      if ( !resumed )
-        break;
+      current.start = scan.hit->pixelInImage;
+      current.direction = d;
+      if ( !points.empty() )
+        runStarts.push_back( points.size() );
+      current.profile = last.profile;
+      ++out.bridgedGaps;
+      out.bridgedPx += ( scan.hit->pixelInImage - from ).norm();
     }
     // hits beyond the last place the line was followed, none of them followed, where the line was then lost:
     // not the line (where the image or the distance limit ended the bridge after them, they are kept)
@@ -238,26 +294,7 @@ namespace geostation
     out.line.stop = last.stop;
     out.line.profile = last.profile;
     out.line.direction = endDirection( points, last.direction, 25.0 );
-    // vertices: Douglas-Peucker on each followed run, keeping each kept point's sigma; the runs
-    // are joined by bridged segments
-    runStarts.push_back( points.size() );
-    for ( size_t r = 0; r + 1 < runStarts.size(); ++r )
-    {
-      const std::vector<Eigen::Vector2d> run( points.begin() + runStarts[r], points.begin() + runStarts[r + 1] );
-      if ( run.empty() )
-        continue;
-      size_t j = runStarts[r];
-      bool first = true;
-      for ( const Eigen::Vector2d &k : douglasPeucker( run, options.vertexTolerancePx ) )
-      {
-        while ( j < runStarts[r + 1] && ( points[j] - k ).norm() > 1e-9 )
-          ++j;
-        out.line.points.push_back( k );
-        out.line.sigmaPx.push_back( j < sigmas.size() ? sigmas[j] : 0.5 );
-        out.line.bridged.push_back( first && !out.line.bridged.empty() );
-        first = false;
-      }
-    }
+    vectoriseRuns( points, sigmas, runStarts, options.vertexTolerancePx, out.line );
     return out;
   }
 
