@@ -18,6 +18,7 @@
 
 #include "imagepointtool.h"
 #include "imageproc/enhancement.h"
+#include "io/photoimport.h"
 #include "io/rasterfile.h"
 
 GeoStationImageView::GeoStationImageView( int index, QWidget *parent )
@@ -188,7 +189,13 @@ void GeoStationImageView::showImage( const QString &imageId, const QString &path
   updateLayer();
   if ( !mLayer )
     return;
-  if ( sameSize )
+  // a photo tagged to be shown turned (a camera held upright) is shown turned; its pixels, and every
+  // measurement in them, stay as stored (a mirrored one is shown as stored)
+  const int turn = geostation::viewTurnForExifOrientation( geostation::exifOrientationOfFile( path.toStdString() ) ).value_or( 0 );
+  const bool sameTurn = turn == mTurnDeg;
+  mTurnDeg = turn;
+  mCanvas->setRotation( turn );
+  if ( sameSize && sameTurn )
     mCanvas->setExtent( previousExtent );
   else
     zoomToFullImage();
@@ -290,7 +297,11 @@ void GeoStationImageView::zoomToPixel( const QPointF &pixelInImage, double halfW
 
 void GeoStationImageView::zoomToFullImage()
 {
-  mCanvas->setExtent( QgsRectangle( 0, -mHeight, mWidth, 0 ) );
+  // the extent is the view's (turned with it): a photo shown turned a quarter lies across it
+  const bool across = mTurnDeg == 90 || mTurnDeg == 270;
+  const double halfWide = 0.5 * ( across ? mHeight : mWidth ), halfHigh = 0.5 * ( across ? mWidth : mHeight );
+  const QgsPointXY centre = GeoStationImagePointTool::mapFromPixel( 0.5 * mWidth, 0.5 * mHeight );
+  mCanvas->setExtent( QgsRectangle( centre.x() - halfWide, centre.y() - halfHigh, centre.x() + halfWide, centre.y() + halfHigh ) );
   mCanvas->refresh();
 }
 

@@ -66,6 +66,12 @@ class GeoStationImageView : public QWidget
     //! The grey value (or R,G,B) at a pixel, as text; "" outside the image.
     QString valueAt( const QPointF &pixelInImage ) const;
 
+    /**
+     * Clockwise degrees the view is turned by: a photo tagged to be shown
+     * turned (EXIF orientation 3, 6, 8) is shown so, its pixels as stored.
+     */
+    int viewTurnDeg() const { return mTurnDeg; }
+
     //! Zooms so `halfWidthPx` image pixels either side of a pixel fill the view.
     void zoomToPixel( const QPointF &pixelInImage, double halfWidthPx );
     void zoomToFullImage();
@@ -101,6 +107,7 @@ class GeoStationImageView : public QWidget
     int mIndex;
     QString mImageId, mPath, mEnhancement, mMemoryPath;
     int mWidth = 0, mHeight = 0;
+    int mTurnDeg = 0;
     QComboBox *mImageCombo = nullptr;
     QComboBox *mEnhancementCombo = nullptr;
     QLabel *mStatus = nullptr;

@@ -57,8 +57,46 @@ namespace geostation
                                          "turned 90 degrees clockwise", "mirrored across its other diagonal", "turned 90 degrees anticlockwise" };
     if ( exifOrientation <= 1 || exifOrientation > 8 )
       return std::string();
-    return "the file is tagged to be shown " + std::string( shown[exifOrientation] ) + " (EXIF orientation " + std::to_string( exifOrientation ) +
-           "); its pixels are measured as stored, so it appears unturned in the views and its camera is that of the stored pixels";
+    const std::string tagged = "the file is tagged to be shown " + std::string( shown[exifOrientation] ) + " (EXIF orientation " + std::to_string( exifOrientation ) + ")";
+    if ( viewTurnForExifOrientation( exifOrientation ) )
+      return tagged + "; its views show it so, but its pixels are measured as stored and its camera is that of the stored pixels";
+    return tagged + "; its pixels are measured as stored and it appears unmirrored in the views, its camera that of the stored pixels";
+  }
+
+  int exifOrientationOfFile( const std::filesystem::path &image )
+  {
+    GDALDatasetH dataset = nullptr;
+    try
+    {
+      dataset = openRaster( image );
+    }
+    catch ( const std::runtime_error & )
+    {
+      return 1;
+    }
+    const std::optional<double> tag = exifNumber( dataset, "EXIF_Orientation" );
+    GDALClose( dataset );
+    return tag && *tag >= 1.0 && *tag <= 8.0 && *tag == std::floor( *tag ) ? static_cast<int>( *tag ) : 1;
+  }
+
+  std::optional<int> viewTurnForExifOrientation( int tag )
+  {
+    switch ( tag )
+    {
+      case 2:
+      case 4:
+      case 5:
+      case 7:
+        return std::nullopt;
+      case 3:
+        return 180;
+      case 6:
+        return 90;
+      case 8:
+        return 270;
+      default:
+        return 0;
+    }
   }
 
   PhotoFileCamera cameraFromPhotoFile( const std::filesystem::path &photo, const std::string &cameraId )

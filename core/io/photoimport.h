@@ -14,6 +14,7 @@
 #define GEOSTATION_IO_PHOTOIMPORT_H
 
 #include <filesystem>
+#include <optional>
 #include <string>
 
 #include "camera/camera.h"
@@ -30,7 +31,8 @@ namespace geostation
     std::string focalSource;
     /**
      * The EXIF orientation tag (1-8; 1: shown as stored, also when there is none). GeoStation measures the
-     * pixels as stored (CONVENTIONS §1): a photo tagged to be shown rotated or mirrored appears so in the views.
+     * pixels as stored (CONVENTIONS §1); a view shows a photo tagged to be shown turned turned
+     * (viewTurnForExifOrientation()), one tagged to be shown mirrored as stored.
      */
     int exifOrientation = 1;
     //! One sentence for the operator when exifOrientation is not 1, else empty.
@@ -43,6 +45,19 @@ namespace geostation
    * decoded as a raster.
    */
   PhotoFileCamera cameraFromPhotoFile( const std::filesystem::path &photo, const std::string &cameraId );
+  /**
+   * The EXIF orientation tag of an image file (1-8), 1 where it has none, a
+   * tag out of range, or the file cannot be read as a raster.
+   */
+  int exifOrientationOfFile( const std::filesystem::path &image );
+  /**
+   * How a view turns a photo tagged with EXIF orientation `tag` so that it
+   * appears as the file asks, its pixels unchanged: clockwise degrees, 90 for
+   * tag 6 (a camera held upright, turned right), 180 for 3, 270 for 8, 0 for
+   * 1 and anything else. Nothing for the mirrored tags (2, 4, 5, 7), which
+   * no turn shows; a view shows those as stored.
+   */
+  std::optional<int> viewTurnForExifOrientation( int tag );
 
   /**
    * A camera written as in the block file (CONVENTIONS §5: id, width,

@@ -32,6 +32,7 @@
 
 #include "exportmeasurementsalgorithm.h"
 #include "featureclassmodel.h"
+#include "imagepointtool.h"
 #include "imageview.h"
 #include "measurementcontroller.h"
 #include "measurementstore.h"
@@ -67,6 +68,7 @@ class TestMultiview : public QObject
     void imageDeletedWhileItsViewIsOpen();
     void blockFileChangedOnDiskIsReadAgain();
     void viewsShowPlaceholdersEnhancementsAndFeatures();
+    void aPhotoTaggedToBeShownTurnedIsShownTurned();
     void exportWritesShapefileAndDxfWithAttributesAndZ();
     void viewsMoveBetweenTheGridAndDocksOfTheirOwn();
     void overviewShowsRunStationsAndCones();
@@ -792,6 +794,57 @@ void TestMultiview::viewsShowPlaceholdersEnhancementsAndFeatures()
   QTRY_COMPARE( dock.view( 0 )->featureOverlayCount(), 1 );
   QVERIFY( dock.messagesText().contains( QStringLiteral( "intersection" ) ) );
   QVERIFY( dock.lastNavigationMs() >= 0 );
+}
+
+void TestMultiview::aPhotoTaggedToBeShownTurnedIsShownTurned()
+{
+  // a phone photo held upright: stored 64 x 48 pixels, tagged to be shown turned 90 degrees clockwise (EXIF
+  // orientation 6); the view turns it, the pixels measured stay the stored ones
+  const auto writePhoto = [this]( const QString &name, const char *tag ) {
+    const QString path = mDir.filePath( name );
+    GDALDatasetH memory = GDALCreate( GDALGetDriverByName( "MEM" ), "", 64, 48, 1, GDT_Byte, nullptr );
+    std::vector<unsigned char> pixels( 64 * 48 );
+    for ( size_t i = 0; i < pixels.size(); ++i )
+      pixels[i] = static_cast<unsigned char>( 40 + ( i % 64 ) * 3 );
+    if ( GDALRasterIO( GDALGetRasterBand( memory, 1 ), GF_Write, 0, 0, 64, 48, pixels.data(), 64, 48, GDT_Byte, 0, 0 ) != CE_None )
+      qWarning() << "cannot write the test photo";
+    if ( tag )
+      GDALSetMetadataItem( memory, "EXIF_Orientation", tag, nullptr );
+    GDALClose( GDALCreateCopy( GDALGetDriverByName( "JPEG" ), path.toUtf8().constData(), memory, FALSE, nullptr, nullptr, nullptr ) );
+    GDALClose( memory );
+    return path;
+  };
+  GeoStationImageView view( 0 );
+  view.resize( 400, 460 );
+  view.show();
+  view.showImage( QStringLiteral( "upright" ), writePhoto( QStringLiteral( "upright.jpg" ), "6" ), 64, 48 );
+  QVERIFY( view.hasImage() );
+  QCOMPARE( view.viewTurnDeg(), 90 );
+  QCOMPARE( view.canvas()->rotation(), 90.0 );
+  const QgsMapToPixel &toScreen = view.canvas()->mapSettings().mapToPixel();
+  const auto onScreen = [&]( double col, double row ) { return toScreen.transform( GeoStationImagePointTool::mapFromPixel( col, row ) ); };
+  const QgsPointXY topLeft = onScreen( 0, 0 ), topRight = onScreen( 64, 0 ), bottomLeft = onScreen( 0, 48 ), bottomRight = onScreen( 64, 48 );
+  // the stored top row runs down the right side of the view, from its top
+  QVERIFY2( std::abs( topLeft.x() - topRight.x() ) < 0.5 && topRight.y() > topLeft.y() + 100, qPrintable( QStringLiteral( "%1 %2 / %3 %4" ).arg( topLeft.x() ).arg( topLeft.y() ).arg( topRight.x() ).arg( topRight.y() ) ) );
+  QVERIFY( topLeft.x() > bottomLeft.x() + 100 && std::abs( topLeft.y() - bottomLeft.y() ) < 0.5 );
+  // the whole photo in the view
+  const QSize size = view.canvas()->mapSettings().outputSize();
+  for ( const QgsPointXY &corner : { topLeft, topRight, bottomLeft, bottomRight } )
+    QVERIFY2( corner.x() > -1 && corner.y() > -1 && corner.x() < size.width() + 1 && corner.y() < size.height() + 1,
+              qPrintable( QStringLiteral( "%1 %2 in %3 x %4" ).arg( corner.x() ).arg( corner.y() ).arg( size.width() ).arg( size.height() ) ) );
+  // a click on the view is measured in the stored pixels
+  const QPointF clicked = GeoStationImagePointTool::pixelFromMap( view.canvas()->getCoordinateTransform()->toMapCoordinates( QPoint( qRound( onScreen( 10, 20 ).x() ), qRound( onScreen( 10, 20 ).y() ) ) ) );
+  QVERIFY2( std::abs( clicked.x() - 10 ) < 0.5 && std::abs( clicked.y() - 20 ) < 0.5, qPrintable( QStringLiteral( "%1 %2" ).arg( clicked.x() ).arg( clicked.y() ) ) );
+  // a photo without the tag, and one tagged to be shown mirrored (no turn shows that): as stored
+  view.showImage( QStringLiteral( "plain" ), writePhoto( QStringLiteral( "plain.jpg" ), nullptr ), 64, 48 );
+  QCOMPARE( view.viewTurnDeg(), 0 );
+  QCOMPARE( view.canvas()->rotation(), 0.0 );
+  QVERIFY( view.canvas()->mapSettings().mapToPixel().transform( GeoStationImagePointTool::mapFromPixel( 0, 0 ) ).x() <
+           view.canvas()->mapSettings().mapToPixel().transform( GeoStationImagePointTool::mapFromPixel( 64, 0 ) ).x() );
+  view.showImage( QStringLiteral( "mirrored" ), writePhoto( QStringLiteral( "mirrored.jpg" ), "2" ), 64, 48 );
+  QCOMPARE( view.viewTurnDeg(), 0 );
+  view.showImage( QStringLiteral( "upside_down" ), writePhoto( QStringLiteral( "upside_down.jpg" ), "3" ), 64, 48 );
+  QCOMPARE( view.canvas()->rotation(), 180.0 );
 }
 
 void TestMultiview::exportWritesShapefileAndDxfWithAttributesAndZ()

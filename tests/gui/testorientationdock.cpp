@@ -454,7 +454,7 @@ void TestOrientationDock::addPhotoStartsABlockAndOpensThePhotoUnoriented()
   GeoStationAddPhotoDialog dialog( nullptr, crs );
   dialog.setPhotoPath( broken.fileName() );
   QVERIFY2( dialog.problem().contains( QStringLiteral( "cannot be decoded" ) ), qPrintable( dialog.problem() ) );
-  // a phone photo tagged to be shown turned: the dialog says it is measured as stored
+  // a phone photo tagged to be shown turned: the dialog says it is shown turned and measured as stored
   const QString turned = mDir.filePath( QStringLiteral( "added/turned.jpg" ) );
   {
     GDALDatasetH source = GDALOpen( photo.toUtf8().constData(), GA_ReadOnly );
@@ -467,7 +467,7 @@ void TestOrientationDock::addPhotoStartsABlockAndOpensThePhotoUnoriented()
   }
   dialog.setPhotoPath( turned );
   const QString turnedNote = dialog.findChild<QLabel *>( QStringLiteral( "mFocalNote" ) )->text();
-  QVERIFY2( turnedNote.contains( QStringLiteral( "The file is tagged to be shown turned 90 degrees clockwise (EXIF orientation 6); its pixels are measured as stored" ) ), qPrintable( turnedNote ) );
+  QVERIFY2( turnedNote.contains( QStringLiteral( "The file is tagged to be shown turned 90 degrees clockwise (EXIF orientation 6); its views show it so, but its pixels are measured as stored" ) ), qPrintable( turnedNote ) );
   dialog.setPhotoPath( photo );
   QVERIFY( dialog.problem().isEmpty() );
   QVERIFY( !dialog.findChild<QLabel *>( QStringLiteral( "mFocalNote" ) )->text().contains( QStringLiteral( "EXIF orientation" ) ) );
