@@ -31,8 +31,8 @@ namespace geostation
     std::string focalSource;
     /**
      * The EXIF orientation tag (1-8; 1: shown as stored, also when there is none). GeoStation measures the
-     * pixels as stored (CONVENTIONS §1); a view shows a photo tagged to be shown turned turned
-     * (viewTurnForExifOrientation()), one tagged to be shown mirrored as stored.
+     * pixels as stored (CONVENTIONS §1); a view turns a photo tagged to be shown turned
+     * (viewTurnForExifOrientation()) and shows one tagged to be shown mirrored as stored.
      */
     int exifOrientation = 1;
     //! One sentence for the operator when exifOrientation is not 1, else empty.
