@@ -82,6 +82,32 @@ namespace
     }
     return line;
   }
+
+  /**
+   * A 10 px bright stripe running up a 120 x 140 image (columns 55-64), its
+   * left half worn away from row `fromRow` to `toRow`, with noise and blur.
+   */
+  cv::Mat stripeWornOnItsLeft( int fromRow, int toRow )
+  {
+    cv::Mat grey( 140, 120, CV_8UC1, cv::Scalar( 60 ) );
+    cv::rectangle( grey, cv::Point( 55, 0 ), cv::Point( 64, 139 ), cv::Scalar( 200 ), cv::FILLED );
+    cv::rectangle( grey, cv::Point( 55, fromRow ), cv::Point( 59, toRow ), cv::Scalar( 62 ), cv::FILLED );
+    cv::Mat noise( grey.size(), CV_8SC1 );
+    cv::theRNG().state = 5;
+    cv::randn( noise, 0, 3 );
+    cv::add( grey, noise, grey, cv::noArray(), CV_8UC1 );
+    cv::GaussianBlur( grey, grey, cv::Size( 5, 5 ), 0.8 );
+    return grey;
+  }
+
+  //! The seed took that stripe at its full width, through its centre line (column 60).
+  void expectTheWholeStripe( const SeedAnalysis &seed )
+  {
+    ASSERT_TRUE( seed.ok ) << seed.message;
+    EXPECT_EQ( seed.profile.kind, LineKind::BrightStripe );
+    EXPECT_NEAR( seed.profile.widthPx, 10.0, 1.5 );
+    EXPECT_NEAR( seed.pixelInImage.x(), 60.0, 0.7 );
+  }
 }
 
 TEST( TrackCourse, CoordinatesOnACurvedTrack )
@@ -232,19 +258,8 @@ TEST( TrackCourse, AClickOnAStripeWornHalfAwayOverALongStretchPicksTheStripe )
   // a 10 px stripe whose left half is worn away over 44 px around the click, clicked at the stripe's centre:
   // there the paint's left side is the nearest line and is found all along the worn stretch. The stripe, at
   // its full width beyond the wear, is what was meant (a seed on the side traced the whole run 7 cm off).
-  cv::Mat grey( 140, 120, CV_8UC1, cv::Scalar( 60 ) );
-  cv::rectangle( grey, cv::Point( 55, 0 ), cv::Point( 64, 139 ), cv::Scalar( 200 ), cv::FILLED );
-  cv::rectangle( grey, cv::Point( 55, 48 ), cv::Point( 59, 91 ), cv::Scalar( 62 ), cv::FILLED );
-  cv::Mat noise( grey.size(), CV_8SC1 );
-  cv::theRNG().state = 5;
-  cv::randn( noise, 0, 3 );
-  cv::add( grey, noise, grey, cv::noArray(), CV_8UC1 );
-  cv::GaussianBlur( grey, grey, cv::Size( 5, 5 ), 0.8 );
-  const SeedAnalysis seed = analyseSeed( grey, Eigen::Vector2d( 60.3, 70.0 ), std::nullopt );
-  ASSERT_TRUE( seed.ok ) << seed.message;
-  EXPECT_EQ( seed.profile.kind, LineKind::BrightStripe );
-  EXPECT_NEAR( seed.profile.widthPx, 10.0, 1.5 );
-  EXPECT_NEAR( seed.pixelInImage.x(), 60.0, 0.7 );
+  const SeedAnalysis seed = analyseSeed( stripeWornOnItsLeft( 48, 91 ), Eigen::Vector2d( 60.3, 70.0 ), std::nullopt );
+  expectTheWholeStripe( seed );
   EXPECT_GT( std::abs( seed.direction.y() ), std::cos( 3.0 * M_PI / 180.0 ) );
   // the same stripe unworn, and a kerb face clicked at its foot (a band as wide all along): as before
   cv::Mat whole( 140, 120, CV_8UC1, cv::Scalar( 60 ) );
@@ -267,19 +282,8 @@ TEST( TrackCourse, AClickAtTheNearEndOfAStretchWornHalfAwayPicksTheStripe )
   // the same stripe worn half away from the top of the image down to 15 px below the click: the full width
   // is found only down the image (towards the camera), where perspective alone also widens a line. The
   // paint up the image is as narrow as at the click - perspective would narrow it further - so it is wear.
-  cv::Mat grey( 140, 120, CV_8UC1, cv::Scalar( 60 ) );
-  cv::rectangle( grey, cv::Point( 55, 0 ), cv::Point( 64, 139 ), cv::Scalar( 200 ), cv::FILLED );
-  cv::rectangle( grey, cv::Point( 55, 0 ), cv::Point( 59, 85 ), cv::Scalar( 62 ), cv::FILLED );
-  cv::Mat noise( grey.size(), CV_8SC1 );
-  cv::theRNG().state = 5;
-  cv::randn( noise, 0, 3 );
-  cv::add( grey, noise, grey, cv::noArray(), CV_8UC1 );
-  cv::GaussianBlur( grey, grey, cv::Size( 5, 5 ), 0.8 );
-  const SeedAnalysis seed = analyseSeed( grey, Eigen::Vector2d( 60.3, 70.0 ), std::nullopt );
-  ASSERT_TRUE( seed.ok ) << seed.message;
-  EXPECT_EQ( seed.profile.kind, LineKind::BrightStripe );
-  EXPECT_NEAR( seed.profile.widthPx, 10.0, 1.5 );
-  EXPECT_NEAR( seed.pixelInImage.x(), 60.0, 0.7 );
+  const SeedAnalysis seed = analyseSeed( stripeWornOnItsLeft( 0, 85 ), Eigen::Vector2d( 60.3, 70.0 ), std::nullopt );
+  expectTheWholeStripe( seed );
   // a kerb face seen in perspective - a bright band that widens down the image, 1.4 times as wide 18 px
   // below the click and narrower above it - clicked at its foot: the edge, as on a band as wide all along
   cv::Mat kerb( 140, 160, CV_8UC1, cv::Scalar( 60 ) );
