@@ -226,6 +226,12 @@ void GeoStationImageView::updateLayer()
       problem = QString::fromStdString( e.what() );
     }
   }
+  else
+  {
+    // a photo with a world file or a georeferenced TIFF is drawn in its pixels all the same (x = col, y = -row)
+    source = QString::fromStdString( geostation::pixelSpaceSource( mPath.toStdString(),
+                                     QStringLiteral( "/vsimem/geostation/view%1/%2-pixels.vrt" ).arg( mIndex ).arg( mImageId ).toStdString() ) );
+  }
   QgsRasterLayer::LayerOptions options;
   options.skipCrsValidation = true;
   std::unique_ptr<QgsRasterLayer> layer;

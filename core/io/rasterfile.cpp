@@ -3,6 +3,7 @@
  ***************************************************************************/
 #include "io/rasterfile.h"
 
+#include <array>
 #include <cstdio>
 #include <filesystem>
 #include <memory>
@@ -241,6 +242,34 @@ namespace geostation
   {
     if ( path.rfind( "/vsimem/", 0 ) == 0 )
       VSIUnlink( path.c_str() );
+  }
+
+  std::string pixelSpaceSource( const std::string &path, const std::string &memoryPath )
+  {
+    if ( memoryPath.rfind( "/vsimem/", 0 ) != 0 )
+      throw std::invalid_argument( "pixelSpaceSource writes to a /vsimem/ path, not " + memoryPath );
+    registerGdalDrivers();
+    CPLPushErrorHandler( CPLQuietErrorHandler );
+    std::unique_ptr<void, DatasetCloser> source( GDALOpenEx( path.c_str(), GDAL_OF_RASTER | GDAL_OF_READONLY, nullptr, nullptr, nullptr ) );
+    CPLPopErrorHandler();
+    if ( !source )
+      return path;
+    std::array<double, 6> gt {};
+    const bool georeferenced = GDALGetGeoTransform( source.get(), gt.data() ) == CE_None || GDALGetGCPCount( source.get() ) > 0 ||
+                               GDALGetMetadata( source.get(), "RPC" ) != nullptr;
+    if ( !georeferenced )
+      return path;
+    {
+      std::unique_ptr<void, DatasetCloser> view( GDALCreateCopy( GDALGetDriverByName( "VRT" ), memoryPath.c_str(), source.get(), FALSE, nullptr, nullptr, nullptr ) );
+      if ( !view )
+        return path;
+      std::array<double, 6> pixels { 0.0, 1.0, 0.0, 0.0, 0.0, -1.0 };
+      GDALSetGeoTransform( view.get(), pixels.data() );
+      GDALSetProjection( view.get(), "" );
+      GDALSetGCPs( view.get(), 0, nullptr, "" );
+      GDALSetMetadata( view.get(), nullptr, "RPC" );
+    } // closing the VRT writes it
+    return memoryPath;
   }
 
 } // namespace geostation

@@ -88,10 +88,22 @@ namespace geostation
   void writeGeoTiffLike( const std::string &path, const cv::Mat &pixels, const RasterImage &like );
 
   /**
-   * Frees an in-memory raster written by writeGeoTiffLike() to a "/vsimem/"
-   * path (written in place and uncompressed); other paths are left alone.
+   * Frees an in-memory raster written by writeGeoTiffLike() or
+   * pixelSpaceSource() to a "/vsimem/" path; other paths are left alone.
    */
   void discardMemoryRaster( const std::string &path );
+
+  /**
+   * The image file as a raster in pixel space (CONVENTIONS §1: x = col,
+   * y = -row, no CRS), for a viewer that places rasters by their
+   * georeferencing (QGIS): `path` itself where the file has none, else a VRT
+   * written to `memoryPath` (a "/vsimem/" path) that reads the same pixels
+   * with the pixel-space geotransform, no CRS, no GCPs and no RPCs - a
+   * scanned photo with a world file, or a georeferenced TIFF, would otherwise
+   * be drawn where its georeferencing puts it. `path` itself also where the
+   * file cannot be opened (the viewer says why).
+   */
+  std::string pixelSpaceSource( const std::string &path, const std::string &memoryPath );
 
 } // namespace geostation
 

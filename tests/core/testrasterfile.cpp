@@ -1,6 +1,8 @@
 /***************************************************************************
   testrasterfile.cpp - images as they come: alpha, palettes, 16 bits, EXIF
  ***************************************************************************/
+#include <fstream>
+
 #include <gtest/gtest.h>
 
 #include <gdal.h>
@@ -160,4 +162,46 @@ TEST( RasterFile, AReaderKeptOpenReadsWindowsLikeReadRasterWindow )
   EXPECT_NE( outside.find( "does not lie in the raster" ), std::string::npos ) << outside;
   const std::string missing = errorOf( [&] { RasterReader( ( dir / "missing.tif" ).string() ); } );
   EXPECT_NE( missing.find( "missing.tif" ), std::string::npos ) << missing;
+}
+
+TEST( RasterFile, AGeoreferencedImageIsShownInItsPixels )
+{
+  // a scanned photo archived with a world file, and a GeoTIFF: a viewer placing rasters by their georeferencing
+  // is given a VRT of the same pixels in pixel space (x = col, y = -row, no CRS); a plain image is given as it is
+  const fs::path dir = freshTestFolder( "pixelspace" );
+  writeRaster( dir / "scan.jpg", "JPEG", { GCI_GrayIndex } );
+  {
+    std::ofstream world( dir / "scan.wld" );
+    world << "0.5\n0\n0\n-0.5\n500000.25\n5200000.25\n";
+  }
+  const RasterImage plainRead = readRaster( ( dir / "scan.jpg" ).string() );
+  ASSERT_TRUE( plainRead.geoTransform ) << "GDAL reads the world file";
+  const std::string view = pixelSpaceSource( ( dir / "scan.jpg" ).string(), "/vsimem/geostation-test/scan-pixels.vrt" );
+  ASSERT_EQ( view, "/vsimem/geostation-test/scan-pixels.vrt" );
+  GDALDatasetH ds = GDALOpen( view.c_str(), GA_ReadOnly );
+  ASSERT_NE( ds, nullptr );
+  double gt[6] = {};
+  ASSERT_EQ( GDALGetGeoTransform( ds, gt ), CE_None );
+  EXPECT_EQ( std::vector<double>( gt, gt + 6 ), std::vector<double>( { 0.0, 1.0, 0.0, 0.0, 0.0, -1.0 } ) );
+  EXPECT_STREQ( GDALGetProjectionRef( ds ), "" );
+  EXPECT_EQ( GDALGetGCPCount( ds ), 0 );
+  std::vector<unsigned char> pixels( kWidth * kHeight );
+  ASSERT_EQ( GDALRasterIO( GDALGetRasterBand( ds, 1 ), GF_Read, 0, 0, kWidth, kHeight, pixels.data(), kWidth, kHeight, GDT_Byte, 0, 0 ), CE_None );
+  ASSERT_EQ( plainRead.pixels.size(), cv::Size( kWidth, kHeight ) );
+  ASSERT_EQ( plainRead.pixels.type(), CV_8UC1 );
+  EXPECT_EQ( cv::countNonZero( cv::Mat( kHeight, kWidth, CV_8UC1, pixels.data() ) != plainRead.pixels ), 0 ) << "the same pixels";
+  GDALClose( ds );
+  discardMemoryRaster( view );
+
+  // a GeoTIFF with a CRS: the same
+  RasterImage like;
+  like.geoTransform = std::array<double, 6> { 400000.0, 0.2, 0.0, 5100000.0, 0.0, -0.2 };
+  writeGeoTiffLike( ( dir / "ortho.tif" ).string(), plainRead.pixels, like );
+  EXPECT_EQ( pixelSpaceSource( ( dir / "ortho.tif" ).string(), "/vsimem/geostation-test/ortho.vrt" ), "/vsimem/geostation-test/ortho.vrt" );
+  discardMemoryRaster( "/vsimem/geostation-test/ortho.vrt" );
+  // a plain image, and one that cannot be opened: as they are (the viewer says why)
+  writeRaster( dir / "plain.png", "PNG", { GCI_GrayIndex } );
+  EXPECT_EQ( pixelSpaceSource( ( dir / "plain.png" ).string(), "/vsimem/geostation-test/plain.vrt" ), ( dir / "plain.png" ).string() );
+  EXPECT_EQ( pixelSpaceSource( ( dir / "missing.tif" ).string(), "/vsimem/geostation-test/missing.vrt" ), ( dir / "missing.tif" ).string() );
+  EXPECT_THROW( pixelSpaceSource( ( dir / "plain.png" ).string(), ( dir / "view.vrt" ).string() ), std::invalid_argument );
 }

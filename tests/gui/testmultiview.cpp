@@ -68,7 +68,7 @@ class TestMultiview : public QObject
     void imageDeletedWhileItsViewIsOpen();
     void blockFileChangedOnDiskIsReadAgain();
     void viewsShowPlaceholdersEnhancementsAndFeatures();
-    void aPhotoTaggedToBeShownTurnedIsShownTurned();
+    void photosAreShownInTheirPixelsTurnedAsTagged();
     void exportWritesShapefileAndDxfWithAttributesAndZ();
     void viewsMoveBetweenTheGridAndDocksOfTheirOwn();
     void overviewShowsRunStationsAndCones();
@@ -796,7 +796,7 @@ void TestMultiview::viewsShowPlaceholdersEnhancementsAndFeatures()
   QVERIFY( dock.lastNavigationMs() >= 0 );
 }
 
-void TestMultiview::aPhotoTaggedToBeShownTurnedIsShownTurned()
+void TestMultiview::photosAreShownInTheirPixelsTurnedAsTagged()
 {
   // a phone photo held upright: stored 64 x 48 pixels, tagged to be shown turned 90 degrees clockwise (EXIF
   // orientation 6); the view turns it, the pixels measured stay the stored ones
@@ -845,6 +845,22 @@ void TestMultiview::aPhotoTaggedToBeShownTurnedIsShownTurned()
   QCOMPARE( view.viewTurnDeg(), 0 );
   view.showImage( QStringLiteral( "upside_down" ), writePhoto( QStringLiteral( "upside_down.jpg" ), "3" ), 64, 48 );
   QCOMPARE( view.canvas()->rotation(), 180.0 );
+
+  // a scanned photo archived with a world file: drawn in its pixels all the same, where the overlays and clicks are
+  const QString scan = writePhoto( QStringLiteral( "scan.jpg" ), nullptr );
+  {
+    QFile world( mDir.filePath( QStringLiteral( "scan.wld" ) ) );
+    QVERIFY( world.open( QIODevice::WriteOnly ) );
+    world.write( "0.5\n0\n0\n-0.5\n500000.25\n5200000.25\n" );
+  }
+  view.showImage( QStringLiteral( "scan" ), scan, 64, 48 );
+  QVERIFY( view.hasImage() );
+  QgsRasterLayer *shown = qobject_cast<QgsRasterLayer *>( view.canvas()->layers().value( 0 ) );
+  QVERIFY( shown );
+  QCOMPARE( shown->extent(), QgsRectangle( 0, -48, 64, 0 ) );
+  QVERIFY( shown->source().startsWith( QLatin1String( "/vsimem/" ) ) );
+  QVERIFY( !view.valueAt( QPointF( 10.5, 20.5 ) ).isEmpty() );
+  QVERIFY( view.canvas()->mapSettings().visibleExtent().contains( QgsPointXY( 32, -24 ) ) );
 }
 
 void TestMultiview::exportWritesShapefileAndDxfWithAttributesAndZ()
