@@ -191,7 +191,7 @@ void GeoStationImageView::showImage( const QString &imageId, const QString &path
     return;
   // a photo tagged to be shown turned (a camera held upright) is shown turned; its pixels, and every
   // measurement in them, stay as stored (a mirrored one is shown as stored)
-  const int turn = geostation::viewTurnForExifOrientation( geostation::exifOrientationOfFile( path.toStdString() ) ).value_or( 0 );
+  const int turn = geostation::viewTurnForExifOrientation( mExifOrientation ).value_or( 0 );
   const bool sameTurn = turn == mTurnDeg;
   mTurnDeg = turn;
   mCanvas->setRotation( turn );
@@ -204,10 +204,15 @@ void GeoStationImageView::showImage( const QString &imageId, const QString &path
 
 void GeoStationImageView::updateLayer()
 {
-  QString source = mPath;
+  // a photo with a world file or a georeferenced TIFF is drawn in its pixels all the same (x = col, y = -row);
+  // the same opening gives its EXIF orientation
+  const QString pixelsPath = QStringLiteral( "/vsimem/geostation/view%1/%2-pixels.vrt" ).arg( mIndex ).arg( mImageId );
+  QString source = QString::fromStdString( geostation::pixelSpaceSource( mPath.toStdString(), pixelsPath.toStdString(), &mExifOrientation ) );
   QString problem;
   if ( !mEnhancement.isEmpty() )
   {
+    if ( source == pixelsPath )
+      geostation::discardMemoryRaster( pixelsPath.toStdString() ); // the enhanced copy is in pixel space already
     // the enhanced copy lives in GDAL's memory files, never on disk
     try
     {
@@ -225,12 +230,6 @@ void GeoStationImageView::updateLayer()
     {
       problem = QString::fromStdString( e.what() );
     }
-  }
-  else
-  {
-    // a photo with a world file or a georeferenced TIFF is drawn in its pixels all the same (x = col, y = -row)
-    source = QString::fromStdString( geostation::pixelSpaceSource( mPath.toStdString(),
-                                     QStringLiteral( "/vsimem/geostation/view%1/%2-pixels.vrt" ).arg( mIndex ).arg( mImageId ).toStdString() ) );
   }
   QgsRasterLayer::LayerOptions options;
   options.skipCrsValidation = true;

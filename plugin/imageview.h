@@ -108,6 +108,7 @@ class GeoStationImageView : public QWidget
     QString mImageId, mPath, mEnhancement, mMemoryPath;
     int mWidth = 0, mHeight = 0;
     int mTurnDeg = 0;
+    int mExifOrientation = 1; //!< of the file shown (updateLayer())
     QComboBox *mImageCombo = nullptr;
     QComboBox *mEnhancementCombo = nullptr;
     QLabel *mStatus = nullptr;

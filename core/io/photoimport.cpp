@@ -63,22 +63,6 @@ namespace geostation
     return tagged + "; its pixels are measured as stored and it appears unmirrored in the views, its camera that of the stored pixels";
   }
 
-  int exifOrientationOfFile( const std::filesystem::path &image )
-  {
-    GDALDatasetH dataset = nullptr;
-    try
-    {
-      dataset = openRaster( image );
-    }
-    catch ( const std::runtime_error & )
-    {
-      return 1;
-    }
-    const std::optional<double> tag = exifNumber( dataset, "EXIF_Orientation" );
-    GDALClose( dataset );
-    return tag && *tag >= 1.0 && *tag <= 8.0 && *tag == std::floor( *tag ) ? static_cast<int>( *tag ) : 1;
-  }
-
   std::optional<int> viewTurnForExifOrientation( int tag )
   {
     switch ( tag )
@@ -114,8 +98,7 @@ namespace geostation
     const std::optional<double> focalMm = exifNumber( dataset, "EXIF_FocalLength" );
     const std::optional<double> planeResolution = exifNumber( dataset, "EXIF_FocalPlaneXResolution" );
     const std::optional<double> planeUnit = exifNumber( dataset, "EXIF_FocalPlaneResolutionUnit" );
-    if ( const std::optional<double> orientation = exifNumber( dataset, "EXIF_Orientation" ); orientation && *orientation >= 1.0 && *orientation <= 8.0 )
-      result.exifOrientation = static_cast<int>( *orientation );
+    result.exifOrientation = exifOrientationTag( dataset );
     GDALClose( dataset );
     // 35 mm film's diagonal: 43.27 mm
     if ( focalMm && planeResolution && planeUnit && ( *planeUnit == 2.0 || *planeUnit == 3.0 ) )

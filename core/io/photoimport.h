@@ -46,11 +46,6 @@ namespace geostation
    */
   PhotoFileCamera cameraFromPhotoFile( const std::filesystem::path &photo, const std::string &cameraId );
   /**
-   * The EXIF orientation tag of an image file (1-8), 1 where it has none, a
-   * tag out of range, or the file cannot be read as a raster.
-   */
-  int exifOrientationOfFile( const std::filesystem::path &image );
-  /**
    * How a view turns a photo tagged with EXIF orientation `tag` so that it
    * appears as the file asks, its pixels unchanged: clockwise degrees, 90 for
    * tag 6 (a camera held upright, turned right), 180 for 3, 270 for 8, 0 for

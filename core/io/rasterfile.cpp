@@ -5,6 +5,9 @@
 
 #include <array>
 #include <cstdio>
+#include <string>
+#include <cstdlib>
+#include <cmath>
 #include <filesystem>
 #include <memory>
 #include <mutex>
@@ -244,16 +247,34 @@ namespace geostation
       VSIUnlink( path.c_str() );
   }
 
-  std::string pixelSpaceSource( const std::string &path, const std::string &memoryPath )
+  int exifOrientationTag( void *gdalDataset )
+  {
+    const char *value = gdalDataset ? GDALGetMetadataItem( gdalDataset, "EXIF_Orientation", nullptr ) : nullptr;
+    if ( !value )
+      return 1;
+    std::string text( value ); // "6" or "(6)"
+    for ( char &c : text )
+      if ( c == '(' || c == ')' )
+        c = ' ';
+    char *end = nullptr;
+    const double tag = std::strtod( text.c_str(), &end );
+    return end != text.c_str() && tag >= 1.0 && tag <= 8.0 && tag == std::floor( tag ) ? static_cast<int>( tag ) : 1;
+  }
+
+  std::string pixelSpaceSource( const std::string &path, const std::string &memoryPath, int *exifOrientation )
   {
     if ( memoryPath.rfind( "/vsimem/", 0 ) != 0 )
       throw std::invalid_argument( "pixelSpaceSource writes to a /vsimem/ path, not " + memoryPath );
+    if ( exifOrientation )
+      *exifOrientation = 1;
     registerGdalDrivers();
     CPLPushErrorHandler( CPLQuietErrorHandler );
     std::unique_ptr<void, DatasetCloser> source( GDALOpenEx( path.c_str(), GDAL_OF_RASTER | GDAL_OF_READONLY, nullptr, nullptr, nullptr ) );
     CPLPopErrorHandler();
     if ( !source )
       return path;
+    if ( exifOrientation )
+      *exifOrientation = exifOrientationTag( source.get() );
     std::array<double, 6> gt {};
     const bool georeferenced = GDALGetGeoTransform( source.get(), gt.data() ) == CE_None || GDALGetGCPCount( source.get() ) > 0 ||
                                GDALGetMetadata( source.get(), "RPC" ) != nullptr;

@@ -94,6 +94,12 @@ namespace geostation
   void discardMemoryRaster( const std::string &path );
 
   /**
+   * The EXIF orientation tag of an open GDAL dataset (GDALDatasetH): 1-8,
+   * 1 where it has none or a tag out of range.
+   */
+  int exifOrientationTag( void *gdalDataset );
+
+  /**
    * The image file as a raster in pixel space (CONVENTIONS §1: x = col,
    * y = -row, no CRS), for a viewer that places rasters by their
    * georeferencing (QGIS): `path` itself where the file has none, else a VRT
@@ -101,9 +107,11 @@ namespace geostation
    * with the pixel-space geotransform, no CRS, no GCPs and no RPCs - a
    * scanned photo with a world file, or a georeferenced TIFF, would otherwise
    * be drawn where its georeferencing puts it. `path` itself also where the
-   * file cannot be opened (the viewer says why).
+   * file cannot be opened (the viewer says why). `exifOrientation`, if given,
+   * receives the file's EXIF orientation tag from the same opening (1-8; 1
+   * where it has none, or a tag out of range, or the file cannot be opened).
    */
-  std::string pixelSpaceSource( const std::string &path, const std::string &memoryPath );
+  std::string pixelSpaceSource( const std::string &path, const std::string &memoryPath, int *exifOrientation = nullptr );
 
 } // namespace geostation
 
