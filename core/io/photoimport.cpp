@@ -16,23 +16,6 @@ namespace geostation
 {
   namespace
   {
-    //! An EXIF number as GDAL gives it: "(35)" or "(4.5)" or "35".
-    std::optional<double> exifNumber( GDALDatasetH dataset, const char *key )
-    {
-      const char *value = GDALGetMetadataItem( dataset, key, nullptr );
-      if ( !value )
-        return std::nullopt;
-      std::string text( value );
-      for ( char &c : text )
-        if ( c == '(' || c == ')' )
-          c = ' ';
-      char *end = nullptr;
-      const double number = std::strtod( text.c_str(), &end );
-      if ( end == text.c_str() || !std::isfinite( number ) || !( number > 0.0 ) )
-        return std::nullopt;
-      return number;
-    }
-
     GDALDatasetH openRaster( const std::filesystem::path &photo )
     {
       registerGdalDrivers();

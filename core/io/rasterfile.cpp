@@ -4,14 +4,14 @@
 #include "io/rasterfile.h"
 
 #include <array>
-#include <cstdio>
-#include <string>
-#include <cstdlib>
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <memory>
 #include <mutex>
 #include <stdexcept>
+#include <string>
 #include <vector>
 
 #include <cpl_conv.h>
@@ -247,18 +247,26 @@ namespace geostation
       VSIUnlink( path.c_str() );
   }
 
-  int exifOrientationTag( void *gdalDataset )
+  std::optional<double> exifNumber( void *gdalDataset, const char *key )
   {
-    const char *value = gdalDataset ? GDALGetMetadataItem( gdalDataset, "EXIF_Orientation", nullptr ) : nullptr;
+    const char *value = gdalDataset ? GDALGetMetadataItem( gdalDataset, key, nullptr ) : nullptr;
     if ( !value )
-      return 1;
-    std::string text( value ); // "6" or "(6)"
+      return std::nullopt;
+    std::string text( value );
     for ( char &c : text )
       if ( c == '(' || c == ')' )
         c = ' ';
     char *end = nullptr;
-    const double tag = std::strtod( text.c_str(), &end );
-    return end != text.c_str() && tag >= 1.0 && tag <= 8.0 && tag == std::floor( tag ) ? static_cast<int>( tag ) : 1;
+    const double number = std::strtod( text.c_str(), &end );
+    if ( end == text.c_str() || !std::isfinite( number ) || !( number > 0.0 ) )
+      return std::nullopt;
+    return number;
+  }
+
+  int exifOrientationTag( void *gdalDataset )
+  {
+    const std::optional<double> tag = exifNumber( gdalDataset, "EXIF_Orientation" );
+    return tag && *tag <= 8.0 && *tag == std::floor( *tag ) ? static_cast<int>( *tag ) : 1;
   }
 
   std::string pixelSpaceSource( const std::string &path, const std::string &memoryPath, int *exifOrientation )

@@ -94,6 +94,13 @@ namespace geostation
   void discardMemoryRaster( const std::string &path );
 
   /**
+   * A positive EXIF number of an open GDAL dataset (GDALDatasetH) as GDAL
+   * gives it ("(35)", "(4.5)" or "35"), e.g. "EXIF_FocalLength"; nothing
+   * where it is absent, not a number or not positive.
+   */
+  std::optional<double> exifNumber( void *gdalDataset, const char *key );
+
+  /**
    * The EXIF orientation tag of an open GDAL dataset (GDALDatasetH): 1-8,
    * 1 where it has none or a tag out of range.
    */
