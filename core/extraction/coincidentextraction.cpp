@@ -6,6 +6,7 @@
 #include "extraction/stopwatch.h"
 #include "geometry/rotation.h"
 
+#include "extraction/centrerefinement.h"
 #include "extraction/regionalextraction.h"
 
 #include <algorithm>
@@ -381,9 +382,10 @@ namespace geostation
     }
     CompilationSummary finalA = compileMaxLengthPolygons( matrix[0], finalSymbols, false );
     CompilationSummary finalB = compileMaxLengthPolygons( matrix[1], finalSymbols, false );
+    // the lines moved from the pixel staircase onto their band's centre
+    summary.linesA = refineLineCentres( *grey[0], finalA.polygons, options.extraction.object ).lines;
+    summary.linesB = refineLineCentres( *grey[1], finalB.polygons, options.extraction.object ).lines;
     summary.compilationStage.seconds += t0.seconds();
-    summary.linesA = std::move( finalA.polygons );
-    summary.linesB = std::move( finalB.polygons );
     summary.intersectionsA = std::move( finalA.intersections );
     summary.intersectionsB = std::move( finalB.intersections );
     summary.deadEndsA = openEnds( summary.linesA );

@@ -57,7 +57,7 @@ namespace geostation
 
   struct CoincidentExtractionSummary
   {
-    std::vector<CompiledPolygon> linesA, linesB;       //!< final maximum-length polygons (pixelInImage of each image)
+    std::vector<CompiledPolygon> linesA, linesB;       //!< final maximum-length polygons (pixelInImage of each image), moved onto their band's centre (centrerefinement.h)
     std::vector<Eigen::Vector2d> intersectionsA, intersectionsB;
     std::vector<DeadEnd> deadEndsA, deadEndsB;         //!< open ends of the final network
     std::vector<RoundReport> rounds;

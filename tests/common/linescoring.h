@@ -156,6 +156,14 @@ namespace geostation
     double completeness = 0.0, correctness = 0.0;
   };
 
+  //! The buffer method's quality (Wiedemann): matched / (matched + missed + false) = 1 / (1/completeness + 1/correctness - 1).
+  inline double quality( const BufferScore &s )
+  {
+    if ( !( s.completeness > 0.0 ) || !( s.correctness > 0.0 ) )
+      return 0.0;
+    return 1.0 / ( 1.0 / s.completeness + 1.0 / s.correctness - 1.0 );
+  }
+
   inline BufferScore bufferScore( const std::vector<Eigen::Vector3d> &result, const std::vector<Eigen::Vector3d> &truth, double buffer )
   {
     BufferScore s;

@@ -248,10 +248,12 @@ TEST( RoadExtraction, CoincidentExtractionVerifiesInThePartner )
   EXPECT_EQ( e.junctionsFound, 2 );
   // the network's topology against the truth graph (average path-length similarity)
   EXPECT_GT( e.topology.apls, 0.93 );
-  // on the ground, 0.5 m (one pixel): below the aims of 0.85 / 0.95
-  EXPECT_GT( e.onGround.completeness, 0.75 );
-  EXPECT_GT( e.onGround.correctness, 0.85 );
-  EXPECT_GE( e.within2Sigma, 0.88 * e.vertices );
+  // on the ground, 0.5 m (one pixel): the aims are 0.85 / 0.95 and a quality of 0.80 (measured 0.957 / 0.980;
+  // before the lines were moved onto their band's centre 0.876 / 0.893); sigmas honest: 98.4 % within 2 sigma
+  EXPECT_GT( e.onGround.completeness, 0.90 );
+  EXPECT_GT( e.onGround.correctness, 0.95 );
+  EXPECT_GT( quality( e.onGround ), 0.85 );
+  EXPECT_GE( e.within2Sigma, 0.93 * e.vertices );
 }
 
 TEST( RoadExtraction, ANetworkBuiltDifferently )
@@ -458,6 +460,8 @@ TEST( RoadExtraction, FiveMorePairs )
   double completeness = 0, correctness = 0, worstCompleteness = 1, worstCorrectness = 1;
   int junctions = 0, found = 0;
   double topology = 0.0;
+  double groundCompleteness = 0.0, groundCorrectness = 0.0, worstGroundCorrectness = 1.0, worstGroundQuality = 1.0;
+  int vertices = 0, within2Sigma = 0;
   const std::vector<uint32_t> seeds { 1, 2, 4, 5, 6 };
   for ( const uint32_t seed : seeds )
   {
@@ -470,9 +474,17 @@ TEST( RoadExtraction, FiveMorePairs )
     junctions += e.junctions;
     found += e.junctionsFound;
     topology += e.topology.apls;
+    groundCompleteness += e.onGround.completeness / seeds.size();
+    groundCorrectness += e.onGround.correctness / seeds.size();
+    worstGroundCorrectness = std::min( worstGroundCorrectness, e.onGround.correctness );
+    worstGroundQuality = std::min( worstGroundQuality, quality( e.onGround ) );
+    vertices += e.vertices;
+    within2Sigma += e.within2Sigma;
   }
-  std::printf( "five pairs: completeness %.3f (worst %.3f), correctness %.3f (worst %.3f), junctions %d of %d within 3 m, topology %.3f on average\n",
-               completeness, worstCompleteness, correctness, worstCorrectness, found, junctions, topology / seeds.size() );
+  std::printf( "five pairs: completeness %.3f (worst %.3f), correctness %.3f (worst %.3f), junctions %d of %d within 3 m, topology %.3f on average; "
+               "on the ground %.3f / %.3f (worst correctness %.3f, worst quality %.3f), %d of %d 3-D vertices within 2 sigma\n",
+               completeness, worstCompleteness, correctness, worstCorrectness, found, junctions, topology / seeds.size(), groundCompleteness, groundCorrectness,
+               worstGroundCorrectness, worstGroundQuality, within2Sigma, vertices );
   EXPECT_GT( completeness, 0.90 );
   EXPECT_GT( correctness, 0.95 );
   EXPECT_GT( worstCompleteness, 0.80 );
@@ -481,6 +493,13 @@ TEST( RoadExtraction, FiveMorePairs )
   // the band the image shows; one of ten is still missed)
   EXPECT_GE( found, 0.9 * junctions );
   EXPECT_GT( topology / seeds.size(), 0.85 );
+  // on the ground, 0.5 m: the aims 0.85 / 0.95, quality 0.80 (measured 0.904 / 0.977 on average, worst correctness
+  // 0.962, worst quality 0.84; 96 % of the 3-D vertices within 2 sigma)
+  EXPECT_GT( groundCompleteness, 0.85 );
+  EXPECT_GT( groundCorrectness, 0.95 );
+  EXPECT_GT( worstGroundCorrectness, 0.93 );
+  EXPECT_GT( worstGroundQuality, 0.80 );
+  EXPECT_GE( within2Sigma, 0.9 * vertices );
 }
 
 TEST( RoadExtraction, TopologyMeasureSeesGapsAndFalseLinks )

@@ -3,7 +3,10 @@
   -------------------------------------------------------------------------
   raster: any bytes as an image file (TIFF, PNG, JPEG, ... whatever GDAL
   recognises) through readRaster(): std::invalid_argument with a message,
-  or pixels of 1 or 3 channels, 8 or 16 bits, of a positive size.
+  or pixels of 1 or 3 channels, 8 or 16 bits, of a positive size; and
+  through pixelSpaceSource(), as the Multiview opens a photo: the file
+  itself, or a VRT of the same size in pixel space (no CRS, no GCPs),
+  and an EXIF orientation tag of 1-8.
   dem: any bytes as a DEM through Dem (std::runtime_error with a message),
   then heights and a ray's intersection across the whole extent: every
   height finite, the intersection on the ray; a tile that cannot be read
@@ -15,7 +18,9 @@
  ***************************************************************************/
 #include "fuzztarget.h"
 
+#include <array>
 #include <cmath>
+#include <string>
 
 #include <gdal.h>
 #include <cpl_vsi.h>
@@ -113,6 +118,35 @@ namespace
 
   const double kMaxPixels = 16.0e6;
 
+  //! The photo as the Multiview opens it: the file itself, or a pixel-space VRT of the same size.
+  void checkPixelSpaceSource( const std::string &path )
+  {
+    const std::string memoryPath = "/vsimem/fuzz-raster-pixels.vrt";
+    int tag = 0;
+    const std::string source = geostation::pixelSpaceSource( path, memoryPath, &tag );
+    if ( tag < 1 || tag > 8 )
+      fuzz::violated( "pixelSpaceSource() gave an EXIF orientation tag outside 1-8" );
+    if ( source == path )
+      return;
+    if ( source != memoryPath )
+      fuzz::violated( "pixelSpaceSource() gave neither the file nor its memory path" );
+    GDALDatasetH original = GDALOpen( path.c_str(), GA_ReadOnly ), view = GDALOpen( source.c_str(), GA_ReadOnly );
+    std::array<double, 6> gt {};
+    if ( !original || !view )
+      fuzz::violated( "a pixel-space VRT written for a file that does not open again" );
+    else if ( GDALGetRasterXSize( view ) != GDALGetRasterXSize( original ) || GDALGetRasterYSize( view ) != GDALGetRasterYSize( original ) )
+      fuzz::violated( "a pixel-space VRT of another size than its file" );
+    else if ( GDALGetGeoTransform( view, gt.data() ) != CE_None || gt != std::array<double, 6> { 0.0, 1.0, 0.0, 0.0, 0.0, -1.0 } || GDALGetGCPCount( view ) != 0 ||
+              std::string( GDALGetProjectionRef( view ) ) != "" )
+      fuzz::violated( "a pixel-space VRT that is not in pixel space" );
+    if ( view )
+      GDALClose( view );
+    if ( original )
+      GDALClose( original );
+    geostation::discardMemoryRaster( memoryPath );
+    fuzz::outcome( "shown through a pixel-space VRT" );
+  }
+
   struct QuietGdal
   {
     QuietGdal()
@@ -141,6 +175,7 @@ GEOSTATION_FUZZ_TARGET( raster )
   {
     fuzz::requireMessage( error );
   }
+  checkPixelSpaceSource( file.path() );
   return 0;
 }
 

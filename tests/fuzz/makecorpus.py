@@ -188,7 +188,7 @@ def opencv_calibration():
           '  <data>-0.1 0.01 0. 0. 0. 0. 0. 0.</data></distortion_coefficients>\n</opencv_storage>\n')
 
 
-def raster_bytes(driver, array, options=None, geo=False):
+def raster_bytes(driver, array, options=None, geo=False, gcps=False, metadata=None):
     path = "/vsimem/corpus"
     bands = 1 if array.ndim == 2 else array.shape[2]
     gdal_type = gdal.GDT_UInt16 if array.dtype == np.uint16 else gdal.GDT_Float32 if array.dtype == np.float32 else gdal.GDT_Byte
@@ -201,6 +201,12 @@ def raster_bytes(driver, array, options=None, geo=False):
         srs.ImportFromEPSG(32617)
         mem.SetProjection(srs.ExportToWkt())
         mem.GetRasterBand(1).SetNoDataValue(-9999 if array.dtype == np.float32 else 0)
+    if gcps:
+        srs = osr.SpatialReference()
+        srs.ImportFromEPSG(4326)
+        mem.SetGCPs([gdal.GCP(-80.0 + 0.01 * i, 40.0 + 0.01 * j, 0.0, 15.0 * i, 15.0 * j) for i in (0, 1) for j in (0, 1)], srs.ExportToWkt())
+    if metadata:
+        mem.SetMetadata(metadata)
     gdal.GetDriverByName(driver).CreateCopy(path, mem, options=options or [])
     f = gdal.VSIFOpenL(path, "rb")
     gdal.VSIFSeekL(f, 0, 2)
@@ -222,6 +228,10 @@ def raster():
     write("raster", "deep.tif", raster_bytes("GTiff", deep))
     write("raster", "rgb_deflate_tiled.tif", raster_bytes("GTiff", rgb, ["COMPRESS=DEFLATE", "TILED=YES", "BLOCKXSIZE=16", "BLOCKYSIZE=16"]))
     write("raster", "rgba.png", raster_bytes("PNG", np.dstack([rgb, grey])))
+    # photos the Multiview shows in their pixels (pixelSpaceSource) and turned as tagged
+    write("raster", "georeferenced.tif", raster_bytes("GTiff", grey, geo=True))
+    write("raster", "gcps.tif", raster_bytes("GTiff", rgb, gcps=True))
+    write("raster", "turned.jpg", raster_bytes("JPEG", grey, ["QUALITY=80"], metadata={"EXIF_Orientation": "6"}))
 
 
 def dem():
