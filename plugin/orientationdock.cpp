@@ -69,11 +69,7 @@ GeoStationOrientationDock::GeoStationOrientationDock( GeoStationMultiviewSession
   connect( mRefineButton, &QToolButton::clicked, this, &GeoStationOrientationDock::refineSelected );
   connect( mPredictButton, &QToolButton::clicked, this, &GeoStationOrientationDock::predictAndFind );
   connect( mIdentifyButton, &QToolButton::clicked, this, &GeoStationOrientationDock::identifyAutomatically );
-  connect( mAcceptButton, &QToolButton::clicked, this, [this]
-  {
-    const int taken = mModel->acceptOffers( selectedRows() );
-    showMessage( tr( "%n offer(s) accepted.", nullptr, taken ) );
-  } );
+  connect( mAcceptButton, &QToolButton::clicked, this, &GeoStationOrientationDock::acceptFound );
   connect( mRejectButton, &QToolButton::clicked, mModel, &GeoStationControlPointModel::rejectOffers );
   connect( mSaveButton, &QPushButton::clicked, this, &GeoStationOrientationDock::saveToBlock );
   for ( QCheckBox *box : { mFreeF, mFreeCx, mFreeCy, mFreeK1, mFreeK2, mFreeP1, mFreeP2, mFreeK3 } )
@@ -445,7 +441,7 @@ int GeoStationOrientationDock::identifyAutomatically()
 
 int GeoStationOrientationDock::acceptFound()
 {
-  const int taken = mModel->acceptOffers();
+  const int taken = mModel->acceptOffers( selectedRows() );
   showMessage( tr( "%n offer(s) accepted.", nullptr, taken ) );
   return taken;
 }

@@ -91,6 +91,7 @@ class GeoStationOrientationDock : public QgsDockWidget, private Ui::GeoStationOr
     int predictAndFind();
     //! Control identified in the photo with nothing measured (core identifyControlInPhoto()), offered; how many.
     int identifyAutomatically();
+    //! Accept Found: every found offer, and the flagged ones whose rows are selected (reviewed by the operator); how many.
     int acceptFound();
     //! Writes the orientation and the measurements; false (with the message) when it cannot.
     bool saveToBlock();

@@ -226,6 +226,7 @@ namespace geostation
         Solution mSolution;
         Eigen::MatrixXd mCofactor;
         Eigen::VectorXd mW;                            //!< Baarda's w per used point
+        Eigen::VectorXd mRedundancy;                   //!< the smaller redundancy number of each used point's two coordinates
         std::vector<PointResidual> mRemoved;           //!< blunders, worst first
         ResectionSummary mSummary;
     };
@@ -352,10 +353,14 @@ namespace geostation
         mCofactor = normal.inverse();
         const Eigen::VectorXd qvv = ( Eigen::MatrixXd::Identity( sol.jacobian.rows(), sol.jacobian.rows() ) - sol.jacobian * mCofactor * sol.jacobian.transpose() ).diagonal();
         mW = Eigen::VectorXd::Zero( mUsed.size() );
+        mRedundancy = Eigen::VectorXd::Ones( mUsed.size() );
         for ( size_t i = 0; i < mUsed.size(); ++i )
           for ( int k = 0; k < 2; ++k )
+          {
+            mRedundancy( i ) = std::min( mRedundancy( i ), std::max( 0.0, qvv( 2 * i + k ) ) );
             if ( qvv( 2 * i + k ) > 1e-12 )
               mW( i ) = std::max( mW( i ), std::abs( sol.residuals( 2 * i + k ) ) / std::sqrt( qvv( 2 * i + k ) ) );
+          }
 
         Eigen::Index worst = 0;
         const double worstW = mUsed.empty() ? 0.0 : mW.maxCoeff( &worst );
@@ -435,6 +440,7 @@ namespace geostation
         const GroundProjection g = image.projectGroundToPixel( world );
         r.residualPx = g.ok() ? Eigen::Vector2d( g.pixelInImage - mUsed[i].observation->pixelInImage ) : Eigen::Vector2d( mSolution.residuals.segment<2>( 2 * i ) * mUsed[i].observation->sigmaPx );
         r.normalised = mW( i );
+        r.redundancy = mRedundancy( i );
         r.blunder = mW( i ) > mOptions.blunderThreshold;
         sumControl += r.residualPx.squaredNorm();
         summary.residuals.push_back( r );

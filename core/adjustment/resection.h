@@ -48,6 +48,9 @@ namespace geostation
     std::string pointId;
     Eigen::Vector2d residualPx = Eigen::Vector2d::Zero(); //!< projected - observed
     double normalised = 0.0;   //!< Baarda's w (control points used in the adjustment)
+    //! The smaller redundancy number of its two coordinates (control points used): the share of an error in
+    //! it that shows in its residual - 0 where the other points do not check it at all, 1 where they fix it.
+    double redundancy = 1.0;
     bool check = false;
     bool blunder = false;      //!< flagged; removed from the solution when removeBlunders
     //! Check and blunder points: error on the ground, the observed ray cut at the

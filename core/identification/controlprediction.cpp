@@ -22,6 +22,8 @@ namespace geostation
     if ( !( searchRadiusPx >= 3.0 ) )
       throw std::invalid_argument( "the search radius around a predicted control point must be at least 3 px" );
     marks.check();
+    if ( !( minRedundancy >= 0.0 && minRedundancy < 1.0 ) )
+      throw std::invalid_argument( "the smallest redundancy number of a found point must be 0-1" );
     if ( !( sigmaPx > 0.0 ) || !( flagResidualPx > 0.0 ) || !( flagNormalised > 0.0 ) )
       throw std::invalid_argument( "the mark sigma and the flagging thresholds must be positive" );
     if ( !( ambiguityRatio >= 1.0 ) )
@@ -70,7 +72,7 @@ namespace geostation
      */
     template <typename Mark, typename Background, typename Weighed>
     std::optional<Eigen::Vector2d> settledCentreOfGravity( const cv::Mat &grey, const Eigen::Vector2d &approximate, bool brightMark, int rounds, int halfWindowPx,
-        double reachPx, Mark inMark, Background inBackground, Weighed weighed, double *areaPx )
+        double reachPx, Mark inMark, Background inBackground, Weighed weighed, double *areaPx, double *contrast )
     {
       const double sign = brightMark ? 1.0 : -1.0;
       Eigen::Vector2d centre = approximate;
@@ -123,6 +125,8 @@ namespace geostation
         centre = next;
         if ( areaPx )
           *areaPx = area;
+        if ( contrast )
+          *contrast = peak - background;
         if ( settled )
           break;
       }
@@ -130,7 +134,7 @@ namespace geostation
     }
   } // namespace
 
-  std::optional<Eigen::Vector2d> markCentre( const cv::Mat &grey, const Eigen::Vector2d &approximate, double diameterPx, bool brightMark, double *areaPx )
+  std::optional<Eigen::Vector2d> markCentre( const cv::Mat &grey, const Eigen::Vector2d &approximate, double diameterPx, bool brightMark, double *areaPx, double *contrast )
   {
     if ( grey.empty() || grey.type() != CV_8UC1 || !approximate.allFinite() || !( diameterPx > 0.0 ) )
       return std::nullopt;
@@ -139,7 +143,7 @@ namespace geostation
     const auto inMark = [&]( const Eigen::Vector2d &offset ) { return offset.norm() <= markRadius; };
     const auto inBackground = [&]( const Eigen::Vector2d & ) { return true; };
     const auto weighed = [&]( const Eigen::Vector2d &offset ) { return offset.norm() <= markRadius + 1.0; };
-    return settledCentreOfGravity( grey, approximate, brightMark, 3, static_cast<int>( std::ceil( 0.9 * diameterPx ) ) + 1, diameterPx, inMark, inBackground, weighed, areaPx );
+    return settledCentreOfGravity( grey, approximate, brightMark, 3, static_cast<int>( std::ceil( 0.9 * diameterPx ) ) + 1, diameterPx, inMark, inBackground, weighed, areaPx, contrast );
   }
 
   std::optional<Eigen::Vector2d> markCentreInEllipse( const cv::Mat &grey, const Eigen::Vector2d &approximate, const Eigen::Matrix2d &discShape, bool brightMark, double *areaPx )
@@ -163,7 +167,7 @@ namespace geostation
     const auto inMark = [&]( const Eigen::Vector2d &offset ) { return beyondOutlinePx( offset ) <= 1.0 && inSquare( offset ); };
     const auto inBackground = [&]( const Eigen::Vector2d &offset ) { return inSquare( offset ); };
     const int half = static_cast<int>( std::ceil( 1.6 * std::sqrt( 2.0 ) * major + 2.0 ) ); // the whole black square
-    return settledCentreOfGravity( grey, approximate, brightMark, 5, half, major, inMark, inBackground, inMark, areaPx );
+    return settledCentreOfGravity( grey, approximate, brightMark, 5, half, major, inMark, inBackground, inMark, areaPx, nullptr );
   }
 
   namespace
@@ -220,6 +224,60 @@ namespace geostation
       j.col( 0 ) = ( east.pixelInImage - at.pixelInImage ) / 0.1;
       j.col( 1 ) = ( north.pixelInImage - at.pixelInImage ) / 0.1;
       return j;
+    }
+  } // namespace
+
+  namespace
+  {
+    //! The operator's points and the found marks (with the flagged ones if `withFlagged`), for the resection.
+    std::vector<ImagePoint> observationsOf( const std::vector<ImagePoint> &measured, const std::map<std::string, PredictedPoint> &points, bool withFlagged, double sigmaPx )
+    {
+      std::vector<ImagePoint> observations = measured;
+      for ( const auto &[id, p] : points )
+        if ( p.status == PredictedPoint::Status::Found || ( withFlagged && p.status == PredictedPoint::Status::Flagged ) )
+          observations.push_back( { id, p.pixelInImage, sigmaPx } );
+      return observations;
+    }
+
+    /**
+     * Each point's prediction and residual from the orientation; a found mark the resection rejects, or leaves
+     * further off than the thresholds, is flagged. Returns how many were flagged now.
+     */
+    int flagUnsupported( std::map<std::string, PredictedPoint> &points, const ResectionSummary &resection, const OrientedImage &oriented,
+                         const std::vector<ControlPoint> &control, const ControlPredictionOptions &options )
+    {
+      std::map<std::string, const PointResidual *> residuals;
+      for ( const PointResidual &r : resection.residuals )
+        residuals[r.pointId] = &r;
+      int flagged = 0;
+      for ( const ControlPoint &c : control )
+      {
+        auto it = points.find( c.id );
+        if ( it == points.end() )
+          continue;
+        PredictedPoint &point = it->second;
+        const GroundProjection g = oriented.projectGroundToPixel( c.world );
+        point.predictedPx = g.ok() ? g.pixelInImage : point.predictedPx;
+        if ( point.status != PredictedPoint::Status::Found && point.status != PredictedPoint::Status::Flagged )
+          continue;
+        point.residualPx = point.predictedPx - point.pixelInImage;
+        const auto r = residuals.find( c.id );
+        point.normalised = r != residuals.end() ? r->second->normalised : 0.0;
+        const bool blunder = r != residuals.end() && r->second->blunder;
+        // a mark the other points hardly check (a low redundancy number: alone in a corner of the photo) pulls the
+        // orientation to itself, wrong or right; the resection cannot vouch for it
+        const bool unchecked = r != residuals.end() && r->second->redundancy < options.minRedundancy;
+        if ( point.status == PredictedPoint::Status::Found &&
+             ( blunder || unchecked || point.residualPx.norm() > options.flagResidualPx || std::abs( point.normalised ) > options.flagNormalised ) )
+        {
+          point.status = PredictedPoint::Status::Flagged;
+          point.reason = blunder ? "the resection rejects it as a blunder"
+                         : unchecked ? "the other points hardly check it (redundancy " + std::to_string( r->second->redundancy ).substr( 0, 4 ) + ")"
+                                     : "the resection leaves " + std::to_string( point.residualPx.norm() ).substr( 0, 4 ) + " px on it";
+          ++flagged;
+        }
+      }
+      return flagged;
     }
   } // namespace
 
@@ -288,8 +346,8 @@ namespace geostation
         const std::optional<Eigen::Matrix2d> j = groundJacobian( oriented, c.world );
         const double radius = groundRadii[groundRadii.size() / 2];
         const double diameter = j ? 2.0 * radius * Eigen::JacobiSVD<Eigen::Matrix2d>( *j ).singularValues()( 0 ) : 0.0;
-        double area = 0.0;
-        std::optional<Eigen::Vector2d> centre = diameter >= 1.0 ? markCentre( grey, g.pixelInImage, diameter, options.marks.brightMark, &area ) : std::nullopt;
+        double area = 0.0, contrast = 0.0;
+        std::optional<Eigen::Vector2d> centre = diameter >= 1.0 ? markCentre( grey, g.pixelInImage, diameter, options.marks.brightMark, &area, &contrast ) : std::nullopt;
         // (a level disc's area: one on a slope facing away from the camera covers less, down to a third on the
         // simulated hills; one facing it more)
         const double expectedArea = j ? M_PI * radius * radius * std::abs( j->determinant() ) : 0.0;
@@ -312,42 +370,36 @@ namespace geostation
         else if ( point.status == PredictedPoint::Status::NotFound )
           point.reason = "no mark of the expected size at the prediction";
       }
-      // the operator's points and every mark found, robustly; what the resection rejects is flagged
-      std::vector<ImagePoint> observations = measured;
-      for ( const auto &[id, p] : points )
-        if ( p.status == PredictedPoint::Status::Found || p.status == PredictedPoint::Status::Flagged )
-          observations.push_back( { id, p.pixelInImage, options.sigmaPx } );
+      // the operator's points and every mark found, robustly; what the resection rejects is flagged. The
+      // first round takes the flagged ones too (a second mark nearby may be the better prediction's); the
+      // final orientation only the operator's and the found ones: a flagged one waits for the operator
       resectionOptions.initial = orientation;
-      summary.resection = resectImage( camera, control, observations, resectionOptions );
+      summary.resection = resectImage( camera, control, observationsOf( measured, points, round == 0, options.sigmaPx ), resectionOptions );
       if ( !summary.resection.ok() )
         break;
       orientation = summary.resection.exterior;
     }
 
-    const OrientedImage oriented( camera, orientation );
-    std::map<std::string, const PointResidual *> residuals;
-    for ( const PointResidual &r : summary.resection.residuals )
-      residuals[r.pointId] = &r;
+    // a found mark the final orientation leaves far off is flagged, and the orientation taken again without it
+    for ( int pass = 0; pass < 3 && summary.resection.ok(); ++pass )
+    {
+      if ( flagUnsupported( points, summary.resection, OrientedImage( camera, orientation ), control, options ) == 0 )
+        break;
+      resectionOptions.initial = orientation;
+      const ResectionSummary again = resectImage( camera, control, observationsOf( measured, points, false, options.sigmaPx ), resectionOptions );
+      if ( !again.ok() )
+        break;
+      summary.resection = again;
+      orientation = again.exterior;
+    }
+    if ( summary.resection.ok() )
+      flagUnsupported( points, summary.resection, OrientedImage( camera, orientation ), control, options );
     for ( const ControlPoint &c : control )
     {
       auto it = points.find( c.id );
       if ( it == points.end() )
         continue;
-      PredictedPoint point = it->second;
-      const GroundProjection g = oriented.projectGroundToPixel( c.world );
-      point.predictedPx = g.ok() ? g.pixelInImage : point.predictedPx;
-      if ( point.status == PredictedPoint::Status::Found || point.status == PredictedPoint::Status::Flagged )
-      {
-        point.residualPx = point.predictedPx - point.pixelInImage;
-        const auto r = residuals.find( c.id );
-        point.normalised = r != residuals.end() ? r->second->normalised : 0.0;
-        const bool blunder = r != residuals.end() && r->second->blunder;
-        if ( point.status == PredictedPoint::Status::Found && ( blunder || point.residualPx.norm() > options.flagResidualPx || std::abs( point.normalised ) > options.flagNormalised ) )
-        {
-          point.status = PredictedPoint::Status::Flagged;
-          point.reason = blunder ? "the resection rejects it as a blunder" : "the resection leaves " + std::to_string( point.residualPx.norm() ).substr( 0, 4 ) + " px on it";
-        }
-      }
+      const PredictedPoint &point = it->second;
       switch ( point.status )
       {
         case PredictedPoint::Status::Found:

@@ -7,12 +7,16 @@
   nearest the prediction; its centre by the grey-weighted centre of gravity
   of the disc), and all of them, with the points the operator measured, go
   into a robust resection. What the resection does not support is flagged,
-  not dropped: the operator sees it and decides.
+  not dropped: the operator sees it and decides. The final orientation is
+  taken from the operator's points and the found ones only; a found one it
+  flags is left out and the orientation taken again.
 
     status found      a mark near the prediction, consistent with the rest
     status flagged    a mark was found but the resection disagrees with it
-                      (normalised residual or residual too large), or a
-                      second mark is almost as near the prediction
+                      (normalised residual or residual too large) or
+                      cannot check it (a low redundancy number: the other
+                      points hardly constrain it), or a second mark is
+                      almost as near the prediction
     status not_found  no mark in the window (hidden, covered, too small)
     status outside    predicted outside the frame or behind the camera
 
@@ -47,6 +51,7 @@ namespace geostation
     double sigmaPx = 0.5;            //!< σ of a found mark's centre, for the resection
     double flagResidualPx = 1.5;     //!< a found mark further than this from the resection's projection is flagged
     double flagNormalised = 3.5;     //!< ... or with a normalised residual (Baarda's w) above this
+    double minRedundancy = 0.4;      //!< ... or whose redundancy number is below this (the other points hardly check it)
     double ambiguityRatio = 1.5;     //!< flagged when a second mark is within this times the nearest one's distance
     double refineTolerancePx = 2.0;  //!< second round: a mark located at its prediction must be this close to it
     //! Throws std::invalid_argument naming the first bad value.
@@ -101,10 +106,11 @@ namespace geostation
    * A mark's centre to a fraction of a pixel: the centre of gravity of its
    * excess over half its contrast above the background around it,
    * recentred until it settles. `areaPx` receives the pixels above half
-   * the contrast. Nothing when the window leaves the image or holds no mark.
+   * the contrast, `contrast` the mark's peak over its background (grey
+   * levels). Nothing when the window leaves the image or holds no mark.
    */
   std::optional<Eigen::Vector2d> markCentre( const cv::Mat &grey, const Eigen::Vector2d &approximate, double diameterPx, bool brightMark = true,
-      double *areaPx = nullptr );
+      double *areaPx = nullptr, double *contrast = nullptr );
 
   /**
    * markCentre() for a disc whose outline is predicted: `discShape` maps the

@@ -283,6 +283,11 @@ namespace geostation
       return path;
     if ( exifOrientation )
       *exifOrientation = exifOrientationTag( source.get() );
+    // a photo has 1-4 bands; anything else the viewer refuses with its own message, and a VRT of it would
+    // describe every band (tens of thousands in a damaged file)
+    const int bands = GDALGetRasterCount( source.get() );
+    if ( bands < 1 || bands > 4 )
+      return path;
     std::array<double, 6> gt {};
     const bool georeferenced = GDALGetGeoTransform( source.get(), gt.data() ) == CE_None || GDALGetGCPCount( source.get() ) > 0 ||
                                GDALGetMetadata( source.get(), "RPC" ) != nullptr;

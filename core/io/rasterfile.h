@@ -114,7 +114,7 @@ namespace geostation
    * with the pixel-space geotransform, no CRS, no GCPs and no RPCs - a
    * scanned photo with a world file, or a georeferenced TIFF, would otherwise
    * be drawn where its georeferencing puts it. `path` itself also where the
-   * file cannot be opened (the viewer says why). `exifOrientation`, if given,
+   * file cannot be opened or has other than 1-4 bands (the viewer says why). `exifOrientation`, if given,
    * receives the file's EXIF orientation tag from the same opening (1-8; 1
    * where it has none, or a tag out of range, or the file cannot be opened).
    */

@@ -220,16 +220,17 @@ TEST( ControlPrediction, PredictedControlFoundAndFlaggedOnSimulatedPhotos )
             << " whose disc covers 8 px or more, " << total.largeWithin << " within 0.5 px; of the " << total.measurable
             << " of those with 90 % of the disc in view and in sunlight, " << total.measurableWithin << " within 0.5 px\n";
   const double measurableRate = static_cast<double>( total.measurableWithin ) / std::max( 1, total.measurable );
-  // measured: 40 of the 42 targets a surveyor would measure (a white disc of 8 px or more, 90 % of it in view
-  // and in sunlight) are found within 0.5 px (0.95, the issue asks 0.9); of the two missed, scanned film seed 5's
-  // GCP001 (a long ellipse, 5 % hidden) is flagged, seed 34's GCP052 (9 px, a long ellipse) found 1 px off. Of every target whose
-  // centre the truth sees, 49 of 72 (0.68):
-  // the others are specks of 0.8-7 px (a grazing view, a slope facing away), half hidden by a house, a tree or
-  // a fiducial mark's square, or partly in a tree's shadow. One wrong point is accepted unflagged: GCP034 of
-  // seed 8, whose centre is hidden (the truth does not list it) while part of its disc shows; it is located
-  // 2.3 px off, 0.8 px from the prediction.
+  // measured: 39 of the 42 targets a surveyor would measure (a white disc of 8 px or more, 90 % of it in view
+  // and in sunlight) are found within 0.5 px (0.93, the issue asks 0.9); of the three missed, scanned film seed 5's
+  // GCP001 (a long ellipse, 5 % hidden) and GCP016 (alone at the photo's edge: redundancy 0.15, which the resection
+  // cannot check) are flagged, seed 34's GCP052 (9 px, a long ellipse) found 1 px off. Of every target whose
+  // centre the truth sees, 48 of 72 (0.67): the others are specks of 0.8-7 px (a grazing view, a slope facing
+  // away), half hidden by a house, a tree or a fiducial mark's square, or partly in a tree's shadow. No wrong
+  // point is accepted unflagged: GCP034 of seed 8 (its centre hidden, texture found 2.3 px off, alone low in the
+  // photo, redundancy 0.32) was, until a found mark the other points hardly check was flagged and the final
+  // orientation taken without the flagged ones.
   EXPECT_GE( measurableRate, 0.9 );
   EXPECT_GE( total.measurable, 35 );
   EXPECT_GE( rate, 0.65 );
-  EXPECT_LE( total.wrongUnflagged, 1 );
+  EXPECT_EQ( total.wrongUnflagged, 0 );
 }

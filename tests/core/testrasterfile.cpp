@@ -204,4 +204,12 @@ TEST( RasterFile, AGeoreferencedImageIsShownInItsPixels )
   EXPECT_EQ( pixelSpaceSource( ( dir / "plain.png" ).string(), "/vsimem/geostation-test/plain.vrt" ), ( dir / "plain.png" ).string() );
   EXPECT_EQ( pixelSpaceSource( ( dir / "missing.tif" ).string(), "/vsimem/geostation-test/missing.vrt" ), ( dir / "missing.tif" ).string() );
   EXPECT_THROW( pixelSpaceSource( ( dir / "plain.png" ).string(), ( dir / "view.vrt" ).string() ), std::invalid_argument );
+  // a georeferenced raster of 5 bands is no photo: as it is (a damaged file claiming tens of thousands of bands
+  // made the VRT describe each of them; fuzz regression pixel-space-vrt-of-42753-bands)
+  writeRaster( dir / "bands.tif", "GTiff", { GCI_GrayIndex, GCI_Undefined, GCI_Undefined, GCI_Undefined, GCI_Undefined } );
+  {
+    std::ofstream world( dir / "bands.tfw" );
+    world << "0.5\n0\n0\n-0.5\n500000.25\n5200000.25\n";
+  }
+  EXPECT_EQ( pixelSpaceSource( ( dir / "bands.tif" ).string(), "/vsimem/geostation-test/bands.vrt" ), ( dir / "bands.tif" ).string() );
 }

@@ -333,3 +333,42 @@ TEST( Resection, UnmatchedObservationsAreCounted )
   ASSERT_TRUE( s.ok() );
   EXPECT_EQ( s.unmatchedObservations, 1 );
 }
+
+TEST( Resection, APointAloneInACornerIsHardlyChecked )
+{
+  // eight points in one part of the photo and one alone far from them: the alone one pulls the orientation to
+  // itself, so little of an error in it shows in its residual (its redundancy number is small)
+  const auto images = vanrig::images();
+  const OrientedImage &truth = *images[2];
+  const Eigen::Vector3d base = truth.exterior().projectionCentre;
+  std::vector<ControlPoint> control;
+  std::mt19937 rng( 3 );
+  std::uniform_real_distribution<double> along( 25.0, 40.0 ), across( -3.0, 3.0 ), height( 100.0, 106.0 );
+  while ( control.size() < 8 )
+  {
+    const Eigen::Vector3d p( base.x() + across( rng ), base.y() + along( rng ), height( rng ) );
+    const GroundProjection g = truth.projectGroundToPixel( p );
+    if ( g.ok() && g.inFrame )
+      control.push_back( { "GCP" + std::to_string( control.size() + 1 ), p, Eigen::Vector3d::Zero(), false } );
+  }
+  // the alone one: near, low and to the side
+  const Eigen::Vector3d alone( base.x() + 4.5, base.y() + 9.0, 100.0 );
+  ASSERT_TRUE( truth.projectGroundToPixel( alone ).inFrame );
+  control.push_back( { "ALONE", alone, Eigen::Vector3d::Zero(), false } );
+  const ResectionSummary s = resectImage( truth.camera(), control, measure( truth, control, &rng, 0.3 ) );
+  ASSERT_TRUE( s.ok() ) << s.message;
+  double aloneRedundancy = -1.0, leastOfTheOthers = 1.0;
+  for ( const PointResidual &r : s.residuals )
+  {
+    EXPECT_GE( r.redundancy, 0.0 );
+    EXPECT_LE( r.redundancy, 1.0 );
+    if ( r.pointId == "ALONE" )
+      aloneRedundancy = r.redundancy;
+    else
+      leastOfTheOthers = std::min( leastOfTheOthers, r.redundancy );
+  }
+  std::printf( "redundancy: alone %.3f, the others at least %.3f\n", aloneRedundancy, leastOfTheOthers );
+  EXPECT_GE( aloneRedundancy, 0.0 );
+  EXPECT_LT( aloneRedundancy, 0.4 );
+  EXPECT_GT( leastOfTheOthers, aloneRedundancy + 0.2 );
+}
