@@ -72,7 +72,7 @@ namespace geostation
      */
     template <typename Mark, typename Background, typename Weighed>
     std::optional<Eigen::Vector2d> settledCentreOfGravity( const cv::Mat &grey, const Eigen::Vector2d &approximate, bool brightMark, int rounds, int halfWindowPx,
-        double reachPx, Mark inMark, Background inBackground, Weighed weighed, double *areaPx, double *contrast )
+        double reachPx, Mark inMark, Background inBackground, Weighed weighed, double *areaPx )
     {
       const double sign = brightMark ? 1.0 : -1.0;
       Eigen::Vector2d centre = approximate;
@@ -125,8 +125,6 @@ namespace geostation
         centre = next;
         if ( areaPx )
           *areaPx = area;
-        if ( contrast )
-          *contrast = peak - background;
         if ( settled )
           break;
       }
@@ -134,7 +132,7 @@ namespace geostation
     }
   } // namespace
 
-  std::optional<Eigen::Vector2d> markCentre( const cv::Mat &grey, const Eigen::Vector2d &approximate, double diameterPx, bool brightMark, double *areaPx, double *contrast )
+  std::optional<Eigen::Vector2d> markCentre( const cv::Mat &grey, const Eigen::Vector2d &approximate, double diameterPx, bool brightMark, double *areaPx )
   {
     if ( grey.empty() || grey.type() != CV_8UC1 || !approximate.allFinite() || !( diameterPx > 0.0 ) )
       return std::nullopt;
@@ -143,7 +141,7 @@ namespace geostation
     const auto inMark = [&]( const Eigen::Vector2d &offset ) { return offset.norm() <= markRadius; };
     const auto inBackground = [&]( const Eigen::Vector2d & ) { return true; };
     const auto weighed = [&]( const Eigen::Vector2d &offset ) { return offset.norm() <= markRadius + 1.0; };
-    return settledCentreOfGravity( grey, approximate, brightMark, 3, static_cast<int>( std::ceil( 0.9 * diameterPx ) ) + 1, diameterPx, inMark, inBackground, weighed, areaPx, contrast );
+    return settledCentreOfGravity( grey, approximate, brightMark, 3, static_cast<int>( std::ceil( 0.9 * diameterPx ) ) + 1, diameterPx, inMark, inBackground, weighed, areaPx );
   }
 
   std::optional<Eigen::Vector2d> markCentreInEllipse( const cv::Mat &grey, const Eigen::Vector2d &approximate, const Eigen::Matrix2d &discShape, bool brightMark, double *areaPx )
@@ -167,7 +165,7 @@ namespace geostation
     const auto inMark = [&]( const Eigen::Vector2d &offset ) { return beyondOutlinePx( offset ) <= 1.0 && inSquare( offset ); };
     const auto inBackground = [&]( const Eigen::Vector2d &offset ) { return inSquare( offset ); };
     const int half = static_cast<int>( std::ceil( 1.6 * std::sqrt( 2.0 ) * major + 2.0 ) ); // the whole black square
-    return settledCentreOfGravity( grey, approximate, brightMark, 5, half, major, inMark, inBackground, inMark, areaPx, nullptr );
+    return settledCentreOfGravity( grey, approximate, brightMark, 5, half, major, inMark, inBackground, inMark, areaPx );
   }
 
   namespace
@@ -346,8 +344,8 @@ namespace geostation
         const std::optional<Eigen::Matrix2d> j = groundJacobian( oriented, c.world );
         const double radius = groundRadii[groundRadii.size() / 2];
         const double diameter = j ? 2.0 * radius * Eigen::JacobiSVD<Eigen::Matrix2d>( *j ).singularValues()( 0 ) : 0.0;
-        double area = 0.0, contrast = 0.0;
-        std::optional<Eigen::Vector2d> centre = diameter >= 1.0 ? markCentre( grey, g.pixelInImage, diameter, options.marks.brightMark, &area, &contrast ) : std::nullopt;
+        double area = 0.0;
+        std::optional<Eigen::Vector2d> centre = diameter >= 1.0 ? markCentre( grey, g.pixelInImage, diameter, options.marks.brightMark, &area ) : std::nullopt;
         // (a level disc's area: one on a slope facing away from the camera covers less, down to a third on the
         // simulated hills; one facing it more)
         const double expectedArea = j ? M_PI * radius * radius * std::abs( j->determinant() ) : 0.0;

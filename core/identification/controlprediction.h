@@ -106,11 +106,10 @@ namespace geostation
    * A mark's centre to a fraction of a pixel: the centre of gravity of its
    * excess over half its contrast above the background around it,
    * recentred until it settles. `areaPx` receives the pixels above half
-   * the contrast, `contrast` the mark's peak over its background (grey
-   * levels). Nothing when the window leaves the image or holds no mark.
+   * the contrast. Nothing when the window leaves the image or holds no mark.
    */
   std::optional<Eigen::Vector2d> markCentre( const cv::Mat &grey, const Eigen::Vector2d &approximate, double diameterPx, bool brightMark = true,
-      double *areaPx = nullptr, double *contrast = nullptr );
+      double *areaPx = nullptr );
 
   /**
    * markCentre() for a disc whose outline is predicted: `discShape` maps the
