@@ -379,9 +379,10 @@ namespace geostation
     }
 
     // a found mark the final orientation leaves far off is flagged, and the orientation taken again without it
-    for ( int pass = 0; pass < 3 && summary.resection.ok(); ++pass )
+    // (at most twice); every point's residual is then that of the orientation reported
+    for ( int pass = 0; summary.resection.ok(); ++pass )
     {
-      if ( flagUnsupported( points, summary.resection, OrientedImage( camera, orientation ), control, options ) == 0 )
+      if ( flagUnsupported( points, summary.resection, OrientedImage( camera, orientation ), control, options ) == 0 || pass == 2 )
         break;
       resectionOptions.initial = orientation;
       const ResectionSummary again = resectImage( camera, control, observationsOf( measured, points, false, options.sigmaPx ), resectionOptions );
@@ -390,8 +391,6 @@ namespace geostation
       summary.resection = again;
       orientation = again.exterior;
     }
-    if ( summary.resection.ok() )
-      flagUnsupported( points, summary.resection, OrientedImage( camera, orientation ), control, options );
     for ( const ControlPoint &c : control )
     {
       auto it = points.find( c.id );
