@@ -6,7 +6,6 @@
 #include <QDateTime>
 #include <QElapsedTimer>
 #include <QUuid>
-#include <QtConcurrent/QtConcurrentRun>
 
 #include <qgsproject.h>
 #include <qgsrasterlayer.h>
@@ -30,14 +29,15 @@ GeoStationMeasurementController::~GeoStationMeasurementController() = default;
 
 void GeoStationMeasurementController::prefetch( const QStringList &imageIds )
 {
+  std::vector<std::string> paths;
   for ( const QString &id : imageIds )
   {
     const std::string path = mSession->imagePath( id ).toStdString();
-    if ( path.empty() || mCache->contains( path ) )
-      continue;
-    // a pool thread prepares it; get() from the GUI waits for a load in progress
-    ( void )QtConcurrent::run( [cache = mCache, path] { cache->get( path ); } );
+    if ( !path.empty() && !mCache->contains( path ) )
+      paths.push_back( path );
   }
+  // instead of what an earlier station asked for and has not started: get() from the GUI waits for a load in progress
+  mPrefetcher.prefetch( paths );
 }
 
 void GeoStationMeasurementController::resetViews()

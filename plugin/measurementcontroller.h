@@ -24,6 +24,7 @@
 #include <QVector>
 
 #include "measurementstore.h"
+#include "workstation/imageprefetcher.h"
 #include "workstation/matchimagecache.h"
 #include "workstation/pointmeasurer.h"
 
@@ -60,8 +61,14 @@ class GeoStationMeasurementController : public QObject
     ~GeoStationMeasurementController() override;
 
     geostation::MatchImageCache &imageCache() { return *mCache; }
-    //! Prepares the images for matching in the background (e.g. those of the next station).
+    /**
+     * Prepares the images for matching in the background, in this order
+     * (those of the station shown, then the next one's), instead of any
+     * asked for earlier and not started.
+     */
     void prefetch( const QStringList &imageIds );
+    //! The background preparation's counts (core ImagePrefetcher).
+    geostation::ImagePrefetcher::Summary prefetchSummary() const { return mPrefetcher.summary(); }
 
     void pick( int view, const QPointF &pixelInImage );
     bool hasOpenPoint() const { return mReference >= 0; }
@@ -99,8 +106,9 @@ class GeoStationMeasurementController : public QObject
 
     GeoStationMultiviewSession *mSession;
     GeoStationMeasurementStore *mStore;
-    //! shared with the background loads, which may outlive the controller
     std::shared_ptr<geostation::MatchImageCache> mCache = std::make_shared<geostation::MatchImageCache>();
+    //! its thread loads into mCache; destroyed first, it waits for the load in progress
+    geostation::ImagePrefetcher mPrefetcher { mCache };
     geostation::ProposalOptions mOptions;
     QVector<ViewState> mViews;
     int mReference = -1;

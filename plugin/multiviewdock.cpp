@@ -392,16 +392,15 @@ void GeoStationMultiviewDock::showViewImages()
     emit stationShown( mLastNavigationMs );
   }
   mController->viewsChanged();
-  // the images of the neighbouring stations are prepared for matching meanwhile
-  mController->prefetch( shown );
+  // the images shown and the next station's are prepared for matching meanwhile (those of stations passed are dropped)
+  QStringList toPrepare = shown;
   if ( mSession->currentStation() >= 0 )
   {
-    QStringList next;
     const int n = mSession->run().stepped( mSession->currentStation(), 1 );
     for ( const std::string &id : mSession->run().at( n ).imageIds )
-      next << QString::fromStdString( id );
-    mController->prefetch( next );
+      toPrepare << QString::fromStdString( id );
   }
+  mController->prefetch( toPrepare );
   updateCameraPanel();
   scheduleFeatureOverlays();
   updateTraceOverlays();

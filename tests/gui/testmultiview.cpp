@@ -68,6 +68,7 @@ class TestMultiview : public QObject
     void imageDeletedWhileItsViewIsOpen();
     void blockFileChangedOnDiskIsReadAgain();
     void viewsShowPlaceholdersEnhancementsAndFeatures();
+    void navigationPreparesTheStationAndTheNextForMatching();
     void photosAreShownInTheirPixelsTurnedAsTagged();
     void exportWritesShapefileAndDxfWithAttributesAndZ();
     void viewsMoveBetweenTheGridAndDocksOfTheirOwn();
@@ -794,6 +795,29 @@ void TestMultiview::viewsShowPlaceholdersEnhancementsAndFeatures()
   QTRY_COMPARE( dock.view( 0 )->featureOverlayCount(), 1 );
   QVERIFY( dock.messagesText().contains( QStringLiteral( "intersection" ) ) );
   QVERIFY( dock.lastNavigationMs() >= 0 );
+}
+
+void TestMultiview::navigationPreparesTheStationAndTheNextForMatching()
+{
+  GeoStationMultiviewDock dock( mSession.get(), mController.get(), mStore.get() );
+  dock.resize( 900, 600 );
+  dock.show();
+  // stepping on faster than the images load: what the stations passed asked for and was not started is dropped
+  for ( int station = 0; station < 5; ++station )
+    mSession->setCurrentStation( station );
+  // the station shown (S0005) and the next (S0006) are ready for the operator's first click, read by a thread
+  // of the core's ImagePrefetcher (its threading is tested under ThreadSanitizer there)
+  for ( const QString id : { "S0005_FL", "S0005_FR", "S0005_SR", "S0006_FL", "S0006_FR", "S0006_SR" } )
+    QTRY_VERIFY2_WITH_TIMEOUT( mController->imageCache().contains( mSession->imagePath( id ).toStdString() ), qPrintable( id ), 20000 );
+  const geostation::ImagePrefetcher::Summary summary = mController->prefetchSummary();
+  QVERIFY2( summary.requested >= 6 && summary.failed == 0, qPrintable( QStringLiteral( "%1 requested, %2 failed" ).arg( summary.requested ).arg( summary.failed ) ) );
+  QCOMPARE( summary.loaded + summary.superseded, summary.requested );
+  // a station whose images are ready asks for nothing of them again
+  const size_t before = summary.requested;
+  mSession->setCurrentStation( 4 );
+  QCOMPARE( mController->prefetchSummary().requested, before );
+  // loads left pending: the next test's init() deletes the controller, which waits for the one in progress only
+  mSession->setCurrentStation( 8 );
 }
 
 void TestMultiview::photosAreShownInTheirPixelsTurnedAsTagged()
