@@ -6,7 +6,6 @@
 #include <qgsvertexmarker.h>
 
 #include "controlpointmodel.h"
-#include "imagepointtool.h"
 #include "imageview.h"
 #include "multiviewdock.h"
 
@@ -58,7 +57,8 @@ void GeoStationControlPointOverlay::draw( GeoStationMultiviewDock *multiview, co
       if ( !pixel )
         continue;
       QgsVertexMarker *marker = new QgsVertexMarker( view->canvas() );
-      marker->setCenter( GeoStationImagePointTool::mapFromPixel( pixel->x(), pixel->y() ) );
+      const Eigen::Vector2d at = pixel.value_or( Eigen::Vector2d::Zero() ); // (checked above)
+      marker->setCenter( view->mapFromPixel( QPointF( at.x(), at.y() ) ) );
       marker->setIconType( icon );
       marker->setIconSize( 14 );
       marker->setPenWidth( 2 );

@@ -13,14 +13,14 @@ GeoStationImagePointTool::GeoStationImagePointTool( QgsMapCanvas *canvas )
 
 void GeoStationImagePointTool::canvasMoveEvent( QgsMapMouseEvent *e )
 {
-  emit pixelHovered( pixelFromMap( e->mapPoint() ) );
+  emit pixelHovered( pixelFromMap( e->mapPoint(), mMirrored ) );
 }
 
 void GeoStationImagePointTool::canvasPressEvent( QgsMapMouseEvent *e )
 {
   mPressed = e->button() == Qt::LeftButton;
   mPressScreen = e->pos();
-  mPressPixel = pixelFromMap( e->mapPoint() );
+  mPressPixel = pixelFromMap( e->mapPoint(), mMirrored );
 }
 
 void GeoStationImagePointTool::canvasReleaseEvent( QgsMapMouseEvent *e )
@@ -29,9 +29,9 @@ void GeoStationImagePointTool::canvasReleaseEvent( QgsMapMouseEvent *e )
   {
     // a drag of more than a few screen pixels, else a click
     if ( mPressed && ( e->pos() - mPressScreen ).manhattanLength() > 6 )
-      emit pixelDragged( mPressPixel, pixelFromMap( e->mapPoint() ) );
+      emit pixelDragged( mPressPixel, pixelFromMap( e->mapPoint(), mMirrored ) );
     else
-      emit pixelPicked( pixelFromMap( e->mapPoint() ) );
+      emit pixelPicked( pixelFromMap( e->mapPoint(), mMirrored ) );
     mPressed = false;
   }
   else if ( e->button() == Qt::RightButton )

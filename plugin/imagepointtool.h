@@ -5,7 +5,8 @@
   the pixel, a drag its start and end (to move a proposed point, or to give
   a traced line's direction); the mouse position is reported for the cursor
   readout. Pixels follow CONVENTIONS
-  §1: the view shows the image at x = col, y = -row.
+  §1: the view shows the image at x = col, y = -row (x = -col in a view
+  showing a photo mirrored as its EXIF tag asks).
  ***************************************************************************/
 #ifndef GEOSTATIONIMAGEPOINTTOOL_H
 #define GEOSTATIONIMAGEPOINTTOOL_H
@@ -22,9 +23,12 @@ class GeoStationImagePointTool : public QgsMapTool
   public:
     explicit GeoStationImagePointTool( QgsMapCanvas *canvas );
 
-    //! Pixel (col, row) of a point of the view's map.
-    static QPointF pixelFromMap( const QgsPointXY &point ) { return QPointF( point.x(), -point.y() ); }
-    static QgsPointXY mapFromPixel( double col, double row ) { return QgsPointXY( col, -row ); }
+    //! Pixel (col, row) of a point of the view's map; `mirrored`: the view shows the image at x = -col.
+    static QPointF pixelFromMap( const QgsPointXY &point, bool mirrored = false ) { return QPointF( mirrored ? -point.x() : point.x(), -point.y() ); }
+    static QgsPointXY mapFromPixel( double col, double row, bool mirrored = false ) { return QgsPointXY( mirrored ? -col : col, -row ); }
+
+    //! The view shows the image mirrored (x = -col): its clicks are turned back into the stored pixels.
+    void setMirrored( bool mirrored ) { mMirrored = mirrored; }
 
     void canvasMoveEvent( QgsMapMouseEvent *e ) override;
     void canvasPressEvent( QgsMapMouseEvent *e ) override;
@@ -40,6 +44,7 @@ class GeoStationImagePointTool : public QgsMapTool
     void undoRequested();
 
   private:
+    bool mMirrored = false;
     bool mPressed = false;
     QPoint mPressScreen;
     QPointF mPressPixel;

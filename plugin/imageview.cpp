@@ -189,11 +189,13 @@ void GeoStationImageView::showImage( const QString &imageId, const QString &path
   updateLayer();
   if ( !mLayer )
     return;
-  // a photo tagged to be shown turned (a camera held upright) is shown turned; its pixels, and every
-  // measurement in them, stay as stored (a mirrored one is shown as stored)
-  const int turn = geostation::viewTurnForExifOrientation( mExifOrientation ).value_or( 0 );
-  const bool sameTurn = turn == mTurnDeg;
+  // a photo tagged to be shown turned (a camera held upright) or mirrored is shown so; its pixels, and every
+  // measurement in them, stay as stored (updateLayer() gave a mirrored one the map x = -col)
+  const int turn = geostation::viewForExifOrientation( mExifOrientation ).turnDeg;
+  const bool sameTurn = turn == mTurnDeg && mMirrored == mLayerMirrored;
   mTurnDeg = turn;
+  mMirrored = mLayerMirrored;
+  mTool->setMirrored( mMirrored );
   mCanvas->setRotation( turn );
   if ( sameSize && sameTurn )
     mCanvas->setExtent( previousExtent );
@@ -207,7 +209,8 @@ void GeoStationImageView::updateLayer()
   // a photo with a world file or a georeferenced TIFF is drawn in its pixels all the same (x = col, y = -row);
   // the same opening gives its EXIF orientation
   const QString pixelsPath = QStringLiteral( "/vsimem/geostation/view%1/%2-pixels.vrt" ).arg( mIndex ).arg( mImageId );
-  QString source = QString::fromStdString( geostation::pixelSpaceSource( mPath.toStdString(), pixelsPath.toStdString(), &mExifOrientation ) );
+  QString source = QString::fromStdString( geostation::pixelSpaceSource( mPath.toStdString(), pixelsPath.toStdString(), &mExifOrientation, true ) );
+  const bool mirrored = source == pixelsPath && geostation::viewForExifOrientation( mExifOrientation ).mirrored;
   QString problem;
   if ( !mEnhancement.isEmpty() )
   {
@@ -223,7 +226,10 @@ void GeoStationImageView::updateLayer()
         options.clipPercent = 1.0;
       const cv::Mat enhanced = geostation::enhanceImage( original.pixels, options );
       const QString memoryPath = QStringLiteral( "/vsimem/geostation/view%1/%2-%3.tif" ).arg( mIndex ).arg( mImageId, mEnhancement );
-      geostation::writeGeoTiffLike( memoryPath.toStdString(), enhanced, geostation::RasterImage() );
+      geostation::RasterImage like; // pixel space, mirrored as the original's VRT was
+      if ( mirrored )
+        like.geoTransform = std::array<double, 6> { 0.0, -1.0, 0.0, 0.0, 0.0, -1.0 };
+      geostation::writeGeoTiffLike( memoryPath.toStdString(), enhanced, like );
       source = memoryPath;
     }
     catch ( const std::exception &e )
@@ -248,6 +254,7 @@ void GeoStationImageView::updateLayer()
     return;
   }
   layer->setCrs( QgsCoordinateReferenceSystem() );
+  mLayerMirrored = mirrored;
   mCanvas->setLayers( { layer.get() } );
   std::swap( mLayer, layer );
   // the previous memory copy is freed once the canvas no longer uses it
@@ -278,6 +285,20 @@ void GeoStationImageView::setEnhancement( const QString &method )
   }
 }
 
+QgsPointXY GeoStationImageView::mapFromPixel( const QPointF &pixelInImage ) const
+{
+  return GeoStationImagePointTool::mapFromPixel( pixelInImage.x(), pixelInImage.y(), mMirrored );
+}
+
+QgsGeometry GeoStationImageView::inView( const QgsGeometry &pixelSpace ) const
+{
+  if ( !mMirrored || pixelSpace.isNull() )
+    return pixelSpace;
+  QgsGeometry mirrored = pixelSpace;
+  mirrored.transform( QTransform::fromScale( -1.0, 1.0 ) );
+  return mirrored;
+}
+
 QString GeoStationImageView::valueAt( const QPointF &pixelInImage ) const
 {
   if ( !mLayer || pixelInImage.x() < 0 || pixelInImage.y() < 0 || pixelInImage.x() >= mWidth || pixelInImage.y() >= mHeight )
@@ -286,7 +307,7 @@ QString GeoStationImageView::valueAt( const QPointF &pixelInImage ) const
   for ( int band = 1; band <= mLayer->bandCount(); ++band )
   {
     bool ok = false;
-    const double v = mLayer->dataProvider()->sample( GeoStationImagePointTool::mapFromPixel( pixelInImage.x(), pixelInImage.y() ), band, &ok );
+    const double v = mLayer->dataProvider()->sample( mapFromPixel( pixelInImage ), band, &ok );
     values << ( ok ? QString::number( v ) : QStringLiteral( "–" ) );
   }
   return values.join( ',' );
@@ -295,8 +316,8 @@ QString GeoStationImageView::valueAt( const QPointF &pixelInImage ) const
 void GeoStationImageView::zoomToPixel( const QPointF &pixelInImage, double halfWidthPx )
 {
   const double aspect = mCanvas->height() > 0 ? static_cast<double>( mCanvas->height() ) / std::max( 1, mCanvas->width() ) : 0.75;
-  mCanvas->setExtent( QgsRectangle( pixelInImage.x() - halfWidthPx, -pixelInImage.y() - halfWidthPx * aspect, pixelInImage.x() + halfWidthPx,
-                                    -pixelInImage.y() + halfWidthPx * aspect ) );
+  const QgsPointXY centre = mapFromPixel( pixelInImage );
+  mCanvas->setExtent( QgsRectangle( centre.x() - halfWidthPx, centre.y() - halfWidthPx * aspect, centre.x() + halfWidthPx, centre.y() + halfWidthPx * aspect ) );
   mCanvas->refresh();
 }
 
@@ -305,7 +326,7 @@ void GeoStationImageView::zoomToFullImage()
   // the extent is the view's (turned with it): a photo shown turned a quarter lies across it
   const bool across = mTurnDeg == 90 || mTurnDeg == 270;
   const double halfWide = 0.5 * ( across ? mHeight : mWidth ), halfHigh = 0.5 * ( across ? mWidth : mHeight );
-  const QgsPointXY centre = GeoStationImagePointTool::mapFromPixel( 0.5 * mWidth, 0.5 * mHeight );
+  const QgsPointXY centre = mapFromPixel( QPointF( 0.5 * mWidth, 0.5 * mHeight ) );
   mCanvas->setExtent( QgsRectangle( centre.x() - halfWide, centre.y() - halfHigh, centre.x() + halfWide, centre.y() + halfHigh ) );
   mCanvas->refresh();
 }
@@ -319,7 +340,7 @@ void GeoStationImageView::setEpipolarCurves( const geostation::EpipolarCurve &cu
       continue;
     QgsPolylineXY line;
     for ( const geostation::EpipolarVertex &v : piece )
-      line << GeoStationImagePointTool::mapFromPixel( v.pixelInImage.x(), v.pixelInImage.y() );
+      line << GeoStationImagePointTool::mapFromPixel( v.pixelInImage.x(), v.pixelInImage.y(), mMirrored );
     lines << QgsGeometry::fromPolylineXY( line );
   }
   if ( lines.isEmpty() )
@@ -332,7 +353,7 @@ void GeoStationImageView::setProposal( bool matched, const QPointF &pixelInImage
 {
   if ( matched )
   {
-    mProposal->setCenter( GeoStationImagePointTool::mapFromPixel( pixelInImage.x(), pixelInImage.y() ) );
+    mProposal->setCenter( mapFromPixel( pixelInImage ) );
     // a correlation peak only: a red cross, for the operator to confirm
     mProposal->setIconType( doubtful ? QgsVertexMarker::ICON_X : QgsVertexMarker::ICON_BOX );
     mProposal->setColor( doubtful ? QColor( 255, 40, 40 ) : score >= 0.8 ? QColor( 40, 255, 40 ) : QColor( 255, 160, 0 ) );
@@ -350,7 +371,7 @@ void GeoStationImageView::setObservation( bool present, const QPointF &pixelInIm
     mObservation->hide();
     return;
   }
-  mObservation->setCenter( GeoStationImagePointTool::mapFromPixel( pixelInImage.x(), pixelInImage.y() ) );
+  mObservation->setCenter( mapFromPixel( pixelInImage ) );
   mObservation->setColor( reference ? QColor( 255, 40, 40 ) : QColor( 255, 40, 255 ) );
   mObservation->show();
 }
@@ -368,7 +389,7 @@ void GeoStationImageView::setFeatureOverlay( const QVector<QgsGeometry> &geometr
   QVector<QgsGeometry> points, lines;
   for ( const QgsGeometry &g : geometries )
     if ( !g.isNull() )
-      ( g.type() == QgsWkbTypes::PointGeometry ? points : lines ) << g;
+      ( g.type() == QgsWkbTypes::PointGeometry ? points : lines ) << inView( g );
   mFeatureOverlayCount = points.size() + lines.size();
   // setToGeometry() also makes the band's geometry type right, and redraws it
   if ( lines.isEmpty() )
@@ -387,5 +408,5 @@ void GeoStationImageView::setTraceOverlay( const QgsGeometry &geometry )
   if ( geometry.isNull() )
     mTraceOverlay->reset( QgsWkbTypes::LineGeometry );
   else
-    mTraceOverlay->setToGeometry( geometry );
+    mTraceOverlay->setToGeometry( inView( geometry ) );
 }

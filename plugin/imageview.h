@@ -68,9 +68,20 @@ class GeoStationImageView : public QWidget
 
     /**
      * Clockwise degrees the view is turned by: a photo tagged to be shown
-     * turned (EXIF orientation 3, 6, 8) is shown so, its pixels as stored.
+     * turned (EXIF orientation 3, 6, 8; 4, 5, 7 after the mirror) is shown
+     * so, its pixels as stored.
      */
     int viewTurnDeg() const { return mTurnDeg; }
+    /**
+     * Whether the view shows the photo mirrored left to right (EXIF
+     * orientation 2, 4, 5, 7; then turned by viewTurnDeg()): its map is then
+     * x = -col, y = -row. Overlays go through mapFromPixel() or inView().
+     */
+    bool viewMirrored() const { return mMirrored; }
+    //! The point of the view's map showing a pixel (col, row) of the stored image.
+    QgsPointXY mapFromPixel( const QPointF &pixelInImage ) const;
+    //! A geometry in x = col, y = -row, as the view shows it (mirrored with the photo).
+    QgsGeometry inView( const QgsGeometry &pixelSpace ) const;
 
     //! Zooms so `halfWidthPx` image pixels either side of a pixel fill the view.
     void zoomToPixel( const QPointF &pixelInImage, double halfWidthPx );
@@ -108,6 +119,8 @@ class GeoStationImageView : public QWidget
     QString mImageId, mPath, mEnhancement, mMemoryPath;
     int mWidth = 0, mHeight = 0;
     int mTurnDeg = 0;
+    bool mMirrored = false;
+    bool mLayerMirrored = false; //!< the layer updateLayer() made is at x = -col
     int mExifOrientation = 1; //!< of the file shown (updateLayer())
     QComboBox *mImageCombo = nullptr;
     QComboBox *mEnhancementCombo = nullptr;

@@ -191,20 +191,20 @@ void GeoStationLayerInPhoto::redraw()
     b.visible = new QgsRubberBand( view->canvas(), QgsWkbTypes::LineGeometry );
     b.visible->setStrokeColor( QColor( 0, 230, 255, 230 ) );
     b.visible->setWidth( 2 );
-    b.visible->setToGeometry( QgsGeometry( visible.clone() ) );
+    b.visible->setToGeometry( view->inView( QgsGeometry( visible.clone() ) ) );
     b.hidden = new QgsRubberBand( view->canvas(), QgsWkbTypes::LineGeometry );
     b.hidden->setStrokeColor( QColor( 255, 40, 40, 200 ) );
     b.hidden->setLineStyle( Qt::DashLine );
     b.hidden->setWidth( 2 );
-    b.hidden->setToGeometry( QgsGeometry( hidden.clone() ) );
+    b.hidden->setToGeometry( view->inView( QgsGeometry( hidden.clone() ) ) );
     b.visiblePoints = new QgsRubberBand( view->canvas(), QgsWkbTypes::PointGeometry );
     b.visiblePoints->setColor( QColor( 0, 230, 255 ) );
     b.visiblePoints->setIcon( QgsRubberBand::ICON_CIRCLE );
-    b.visiblePoints->setToGeometry( QgsGeometry( visiblePoints.clone() ) );
+    b.visiblePoints->setToGeometry( view->inView( QgsGeometry( visiblePoints.clone() ) ) );
     b.hiddenPoints = new QgsRubberBand( view->canvas(), QgsWkbTypes::PointGeometry );
     b.hiddenPoints->setColor( QColor( 255, 40, 40 ) );
     b.hiddenPoints->setIcon( QgsRubberBand::ICON_X );
-    b.hiddenPoints->setToGeometry( QgsGeometry( hiddenPoints.clone() ) );
+    b.hiddenPoints->setToGeometry( view->inView( QgsGeometry( hiddenPoints.clone() ) ) );
     mBands << b;
   }
 }

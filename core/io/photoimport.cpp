@@ -41,28 +41,29 @@ namespace geostation
     if ( exifOrientation <= 1 || exifOrientation > 8 )
       return std::string();
     const std::string tagged = "the file is tagged to be shown " + std::string( shown[exifOrientation] ) + " (EXIF orientation " + std::to_string( exifOrientation ) + ")";
-    if ( viewTurnForExifOrientation( exifOrientation ) )
-      return tagged + "; its views show it so, but its pixels are measured as stored and its camera is that of the stored pixels";
-    return tagged + "; its pixels are measured as stored and it appears unmirrored in the views, its camera that of the stored pixels";
+    return tagged + "; its views show it so, but its pixels are measured as stored and its camera is that of the stored pixels";
   }
 
-  std::optional<int> viewTurnForExifOrientation( int tag )
+  ExifView viewForExifOrientation( int tag )
   {
     switch ( tag )
     {
       case 2:
-      case 4:
-      case 5:
-      case 7:
-        return std::nullopt;
+        return { true, 0 };
       case 3:
-        return 180;
+        return { false, 180 };
+      case 4:
+        return { true, 180 };
+      case 5:
+        return { true, 270 };
       case 6:
-        return 90;
+        return { false, 90 };
+      case 7:
+        return { true, 90 };
       case 8:
-        return 270;
+        return { false, 270 };
       default:
-        return 0;
+        return {};
     }
   }
 

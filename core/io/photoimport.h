@@ -31,8 +31,8 @@ namespace geostation
     std::string focalSource;
     /**
      * The EXIF orientation tag (1-8; 1: shown as stored, also when there is none). GeoStation measures the
-     * pixels as stored (CONVENTIONS §1); a view turns a photo tagged to be shown turned
-     * (viewTurnForExifOrientation()) and shows one tagged to be shown mirrored as stored.
+     * pixels as stored (CONVENTIONS §1); a view shows the photo turned or mirrored as
+     * tagged (viewForExifOrientation()).
      */
     int exifOrientation = 1;
     //! One sentence for the operator when exifOrientation is not 1, else empty.
@@ -45,14 +45,20 @@ namespace geostation
    * decoded as a raster.
    */
   PhotoFileCamera cameraFromPhotoFile( const std::filesystem::path &photo, const std::string &cameraId );
+  //! How a view shows a photo so that it appears as its EXIF orientation tag asks, its pixels unchanged.
+  struct ExifView
+  {
+    bool mirrored = false; //!< mirrored left to right first (the view's x = -col instead of col)
+    int turnDeg = 0;       //!< then turned clockwise by 0, 90, 180 or 270 degrees
+  };
+
   /**
-   * How a view turns a photo tagged with EXIF orientation `tag` so that it
-   * appears as the file asks, its pixels unchanged: clockwise degrees, 90 for
-   * tag 6 (a camera held upright, turned right), 180 for 3, 270 for 8, 0 for
-   * 1 and anything else. Nothing for the mirrored tags (2, 4, 5, 7), which
-   * no turn shows; a view shows those as stored.
+   * The view of a photo tagged with EXIF orientation `tag`: 6 (a camera
+   * held upright, turned right) turns 90 degrees, 3 turns 180, 8 turns 270;
+   * 2 mirrors, 4 mirrors and turns 180, 5 mirrors and turns 270, 7 mirrors
+   * and turns 90; 1 and anything else as stored.
    */
-  std::optional<int> viewTurnForExifOrientation( int tag );
+  ExifView viewForExifOrientation( int tag );
 
   /**
    * A camera written as in the block file (CONVENTIONS §5: id, width,

@@ -269,7 +269,7 @@ namespace geostation
     return tag && *tag <= 8.0 && *tag == std::floor( *tag ) ? static_cast<int>( *tag ) : 1;
   }
 
-  std::string pixelSpaceSource( const std::string &path, const std::string &memoryPath, int *exifOrientation )
+  std::string pixelSpaceSource( const std::string &path, const std::string &memoryPath, int *exifOrientation, bool mirrorAsTagged )
   {
     if ( memoryPath.rfind( "/vsimem/", 0 ) != 0 )
       throw std::invalid_argument( "pixelSpaceSource writes to a /vsimem/ path, not " + memoryPath );
@@ -281,8 +281,10 @@ namespace geostation
     CPLPopErrorHandler();
     if ( !source )
       return path;
+    const int tag = exifOrientationTag( source.get() );
     if ( exifOrientation )
-      *exifOrientation = exifOrientationTag( source.get() );
+      *exifOrientation = tag;
+    const bool mirrored = mirrorAsTagged && ( tag == 2 || tag == 4 || tag == 5 || tag == 7 );
     // a photo has 1-4 bands; anything else the viewer refuses with its own message, and a VRT of it would
     // describe every band (tens of thousands in a damaged file)
     const int bands = GDALGetRasterCount( source.get() );
@@ -291,13 +293,14 @@ namespace geostation
     std::array<double, 6> gt {};
     const bool georeferenced = GDALGetGeoTransform( source.get(), gt.data() ) == CE_None || GDALGetGCPCount( source.get() ) > 0 ||
                                GDALGetMetadata( source.get(), "RPC" ) != nullptr;
-    if ( !georeferenced )
+    if ( !georeferenced && !mirrored )
       return path;
     {
       std::unique_ptr<void, DatasetCloser> view( GDALCreateCopy( GDALGetDriverByName( "VRT" ), memoryPath.c_str(), source.get(), FALSE, nullptr, nullptr, nullptr ) );
       if ( !view )
         return path;
-      std::array<double, 6> pixels { 0.0, 1.0, 0.0, 0.0, 0.0, -1.0 };
+      // (a viewer draws a negative pixel width mirrored: QGIS resamples it pixel for pixel)
+      std::array<double, 6> pixels { 0.0, mirrored ? -1.0 : 1.0, 0.0, 0.0, 0.0, -1.0 };
       GDALSetGeoTransform( view.get(), pixels.data() );
       GDALSetProjection( view.get(), "" );
       GDALSetGCPs( view.get(), 0, nullptr, "" );

@@ -117,8 +117,12 @@ namespace geostation
    * file cannot be opened or has other than 1-4 bands (the viewer says why). `exifOrientation`, if given,
    * receives the file's EXIF orientation tag from the same opening (1-8; 1
    * where it has none, or a tag out of range, or the file cannot be opened).
+   * With `mirrorAsTagged`, a file tagged to be shown mirrored (2, 4, 5, 7)
+   * becomes a VRT at x = -col, y = -row, which a viewer draws mirrored left
+   * to right (viewForExifOrientation() gives the turn after it); the result
+   * is then `memoryPath`.
    */
-  std::string pixelSpaceSource( const std::string &path, const std::string &memoryPath, int *exifOrientation = nullptr );
+  std::string pixelSpaceSource( const std::string &path, const std::string &memoryPath, int *exifOrientation = nullptr, bool mirrorAsTagged = false );
 
 } // namespace geostation
 

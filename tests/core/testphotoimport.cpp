@@ -4,6 +4,7 @@
 // calibration; the block saved reloads with the photo unoriented.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <unistd.h>
@@ -82,22 +83,41 @@ TEST_F( PhotoImport, CameraFromExifOrANormalLens )
   EXPECT_EQ( c.camera.width, 640 ); // the stored pixels' camera
   EXPECT_NE( c.orientationNote().find( "tagged to be shown turned 90 degrees clockwise (EXIF orientation 6); its views show it so, but its pixels are measured as stored" ),
              std::string::npos ) << c.orientationNote();
-  // the views turn it as tagged (the tag read as the view opens the file); a mirrored one they show as stored
+  // the views turn and mirror it as tagged (the tag read as the view opens the file)
   const auto tagOf = []( const std::filesystem::path &file ) {
     int tag = 0;
     pixelSpaceSource( file.string(), "/vsimem/geostation-test/tag.vrt", &tag );
     return tag;
   };
   EXPECT_EQ( tagOf( mDir / "photos/portrait.jpg" ), 6 );
-  EXPECT_EQ( viewTurnForExifOrientation( 6 ), 90 );
-  EXPECT_EQ( viewTurnForExifOrientation( 3 ), 180 );
-  EXPECT_EQ( viewTurnForExifOrientation( 8 ), 270 );
-  EXPECT_EQ( viewTurnForExifOrientation( 1 ), 0 );
-  EXPECT_EQ( viewTurnForExifOrientation( 0 ), 0 );
-  for ( const int mirrored : { 2, 4, 5, 7 } )
-    EXPECT_FALSE( viewTurnForExifOrientation( mirrored ) ) << mirrored;
+  // (mirrored, clockwise turn) for tags 1-8: the EXIF rows and columns, e.g. 5 (the stored rows are the
+  // columns seen from the left, the stored columns the rows seen from the top) is a transpose: a mirror, then
+  // a quarter turn anticlockwise
+  const std::vector<std::pair<bool, int>> expected { { false, 0 }, { true, 0 }, { false, 180 }, { true, 180 },
+    { true, 270 }, { false, 90 }, { true, 90 }, { false, 270 } };
+  for ( int tag = 1; tag <= 8; ++tag )
+  {
+    const ExifView view = viewForExifOrientation( tag );
+    EXPECT_EQ( std::make_pair( view.mirrored, view.turnDeg ), expected[tag - 1] ) << tag;
+    // the stored pixel (c, r) of a W x H photo appears where the tag's rows and columns put it
+    const auto shown = [&]( double c, double r ) {
+      const double x = view.mirrored ? -c : c; // y down the view: r
+      const double t = view.turnDeg * M_PI / 180.0;
+      return Eigen::Vector2d( x * std::cos( t ) - r * std::sin( t ), x * std::sin( t ) + r * std::cos( t ) );
+    };
+    // the stored first row's direction and the first column's, in the view (x right, y down)
+    const Eigen::Vector2d rowAlong = shown( 1, 0 ) - shown( 0, 0 ), columnDown = shown( 0, 1 ) - shown( 0, 0 );
+    static const Eigen::Vector2d right( 1, 0 ), left( -1, 0 ), down( 0, 1 ), up( 0, -1 );
+    const std::vector<std::pair<Eigen::Vector2d, Eigen::Vector2d>> exif { { right, down }, { left, down }, { left, up }, { right, up },
+      { down, right }, { down, left }, { up, left }, { up, right } };
+    EXPECT_LT( ( rowAlong - exif[tag - 1].first ).norm(), 1e-9 ) << tag;
+    EXPECT_LT( ( columnDown - exif[tag - 1].second ).norm(), 1e-9 ) << tag;
+  }
+  EXPECT_EQ( std::make_pair( viewForExifOrientation( 0 ).mirrored, viewForExifOrientation( 0 ).turnDeg ), std::make_pair( false, 0 ) );
+  EXPECT_EQ( viewForExifOrientation( 9 ).turnDeg, 0 );
   writeJpeg( mDir / "photos/mirrored.jpg", 640, 480, { { "EXIF_Orientation", "2" } } );
-  EXPECT_NE( cameraFromPhotoFile( mDir / "photos/mirrored.jpg", "cam" ).orientationNote().find( "appears unmirrored in the views" ), std::string::npos );
+  EXPECT_NE( cameraFromPhotoFile( mDir / "photos/mirrored.jpg", "cam" ).orientationNote().find( "shown mirrored left to right (EXIF orientation 2); its views show it so" ),
+             std::string::npos );
   EXPECT_EQ( tagOf( mDir / "photos/bare.jpg" ), 1 );
   writeJpeg( mDir / "photos/odd.jpg", 64, 48, { { "EXIF_Orientation", "9" } } );
   EXPECT_EQ( tagOf( mDir / "photos/odd.jpg" ), 1 );

@@ -204,6 +204,26 @@ TEST( RasterFile, AGeoreferencedImageIsShownInItsPixels )
   EXPECT_EQ( pixelSpaceSource( ( dir / "plain.png" ).string(), "/vsimem/geostation-test/plain.vrt" ), ( dir / "plain.png" ).string() );
   EXPECT_EQ( pixelSpaceSource( ( dir / "missing.tif" ).string(), "/vsimem/geostation-test/missing.vrt" ), ( dir / "missing.tif" ).string() );
   EXPECT_THROW( pixelSpaceSource( ( dir / "plain.png" ).string(), ( dir / "view.vrt" ).string() ), std::invalid_argument );
+  // a photo tagged to be shown mirrored, for a viewer that mirrors it: a VRT at x = -col
+  {
+    GDALDatasetH memory = GDALCreate( GDALGetDriverByName( "MEM" ), "", kWidth, kHeight, 1, GDT_Byte, nullptr );
+    GDALSetMetadataItem( memory, "EXIF_Orientation", "5", nullptr );
+    GDALClose( GDALCreateCopy( GDALGetDriverByName( "JPEG" ), ( dir / "transposed.jpg" ).string().c_str(), memory, FALSE, nullptr, nullptr, nullptr ) );
+    GDALClose( memory );
+  }
+  int tag = 0;
+  EXPECT_EQ( pixelSpaceSource( ( dir / "transposed.jpg" ).string(), "/vsimem/geostation-test/transposed.vrt", &tag ), ( dir / "transposed.jpg" ).string() );
+  EXPECT_EQ( tag, 5 );
+  ASSERT_EQ( pixelSpaceSource( ( dir / "transposed.jpg" ).string(), "/vsimem/geostation-test/transposed.vrt", &tag, true ), "/vsimem/geostation-test/transposed.vrt" );
+  ds = GDALOpen( "/vsimem/geostation-test/transposed.vrt", GA_ReadOnly );
+  ASSERT_NE( ds, nullptr );
+  ASSERT_EQ( GDALGetGeoTransform( ds, gt ), CE_None );
+  EXPECT_EQ( std::vector<double>( gt, gt + 6 ), std::vector<double>( { 0.0, -1.0, 0.0, 0.0, 0.0, -1.0 } ) );
+  EXPECT_EQ( GDALGetRasterXSize( ds ), kWidth );
+  GDALClose( ds );
+  discardMemoryRaster( "/vsimem/geostation-test/transposed.vrt" );
+  // not mirrored: as it is
+  EXPECT_EQ( pixelSpaceSource( ( dir / "plain.png" ).string(), "/vsimem/geostation-test/plain.vrt", nullptr, true ), ( dir / "plain.png" ).string() );
   // a georeferenced raster of 5 bands is no photo: as it is (a damaged file claiming tens of thousands of bands
   // made the VRT describe each of them; fuzz regression pixel-space-vrt-of-42753-bands)
   writeRaster( dir / "bands.tif", "GTiff", { GCI_GrayIndex, GCI_Undefined, GCI_Undefined, GCI_Undefined, GCI_Undefined } );

@@ -21,6 +21,7 @@
 #include <qgsapplication.h>
 #include <qgsfeatureiterator.h>
 #include <qgsmapcanvas.h>
+#include <qgsmapmouseevent.h>
 #include <qgsproject.h>
 #include <qgsrasterlayer.h>
 #include <qgsvectorlayer.h>
@@ -829,7 +830,7 @@ void TestMultiview::photosAreShownInTheirPixelsTurnedAsTagged()
     GDALDatasetH memory = GDALCreate( GDALGetDriverByName( "MEM" ), "", 64, 48, 1, GDT_Byte, nullptr );
     std::vector<unsigned char> pixels( 64 * 48 );
     for ( size_t i = 0; i < pixels.size(); ++i )
-      pixels[i] = static_cast<unsigned char>( 40 + ( i % 64 ) * 3 );
+      pixels[i] = static_cast<unsigned char>( 40 + ( i % 64 ) * 2 + i / 64 ); // 40 + 2 col + row
     if ( GDALRasterIO( GDALGetRasterBand( memory, 1 ), GF_Write, 0, 0, 64, 48, pixels.data(), 64, 48, GDT_Byte, 0, 0 ) != CE_None )
       qWarning() << "cannot write the test photo";
     if ( tag )
@@ -859,14 +860,82 @@ void TestMultiview::photosAreShownInTheirPixelsTurnedAsTagged()
   // a click on the view is measured in the stored pixels
   const QPointF clicked = GeoStationImagePointTool::pixelFromMap( view.canvas()->getCoordinateTransform()->toMapCoordinates( QPoint( qRound( onScreen( 10, 20 ).x() ), qRound( onScreen( 10, 20 ).y() ) ) ) );
   QVERIFY2( std::abs( clicked.x() - 10 ) < 0.5 && std::abs( clicked.y() - 20 ) < 0.5, qPrintable( QStringLiteral( "%1 %2" ).arg( clicked.x() ).arg( clicked.y() ) ) );
-  // a photo without the tag, and one tagged to be shown mirrored (no turn shows that): as stored
+  // a photo without the tag: as stored
   view.showImage( QStringLiteral( "plain" ), writePhoto( QStringLiteral( "plain.jpg" ), nullptr ), 64, 48 );
   QCOMPARE( view.viewTurnDeg(), 0 );
+  QVERIFY( !view.viewMirrored() );
   QCOMPARE( view.canvas()->rotation(), 0.0 );
   QVERIFY( view.canvas()->mapSettings().mapToPixel().transform( GeoStationImagePointTool::mapFromPixel( 0, 0 ) ).x() <
            view.canvas()->mapSettings().mapToPixel().transform( GeoStationImagePointTool::mapFromPixel( 64, 0 ) ).x() );
+  // photos tagged to be shown mirrored: 2 (left to right) and 5 (the stored rows as the view's columns, a
+  // transpose: mirrored, then turned 270 degrees). What is drawn on the screen at a stored pixel is that pixel's
+  // value, and a click there is measured at that pixel as stored
+  const auto screenOf = [&view]( double col, double row ) {
+    return view.canvas()->mapSettings().mapToPixel().transform( view.mapFromPixel( QPointF( col, row ) ) );
+  };
+  const auto checkShownAndClicked = [&]( const QString &name ) {
+    view.canvas()->refresh();
+    view.canvas()->waitWhileRendering();
+    QCoreApplication::processEvents();
+    const QImage screen = view.canvas()->grab().toImage();
+    auto *tool = qobject_cast<GeoStationImagePointTool *>( view.canvas()->mapTool() );
+    QVERIFY( tool );
+    QSignalSpy picked( tool, &GeoStationImagePointTool::pixelPicked );
+    // QGIS draws a grey band stretched between its 2 and 98 % values: what is shown is a rising linear
+    // function of the stored value wherever the view shows the right pixel
+    const QVector<QPoint> samples { { 5, 5 }, { 58, 8 }, { 10, 40 }, { 50, 30 }, { 30, 20 }, { 20, 10 }, { 45, 44 }, { 2, 30 } };
+    QVector<double> shown, truth;
+    for ( const QPoint &stored : samples )
+    {
+      const QgsPointXY at = screenOf( stored.x() + 0.5, stored.y() + 0.5 );
+      shown << qGray( screen.pixel( qRound( at.x() - 0.5 ), qRound( at.y() - 0.5 ) ) );
+      truth << 40 + 2 * stored.x() + stored.y();
+      const QPoint onScreen( qRound( at.x() ), qRound( at.y() ) );
+      QgsMapMouseEvent press( view.canvas(), QEvent::MouseButtonPress, onScreen, Qt::LeftButton, Qt::LeftButton );
+      tool->canvasPressEvent( &press );
+      QgsMapMouseEvent release( view.canvas(), QEvent::MouseButtonRelease, onScreen, Qt::LeftButton, Qt::NoButton );
+      tool->canvasReleaseEvent( &release );
+      QVERIFY( !picked.isEmpty() );
+      const QPointF clickedPixel = picked.takeLast().at( 0 ).toPointF();
+      QVERIFY2( std::abs( clickedPixel.x() - stored.x() - 0.5 ) < 1.0 && std::abs( clickedPixel.y() - stored.y() - 0.5 ) < 1.0,
+                qPrintable( QStringLiteral( "%1: clicked at %2 %3 for %4 %5" ).arg( name ).arg( clickedPixel.x() ).arg( clickedPixel.y() ).arg( stored.x() ).arg( stored.y() ) ) );
+    }
+    double mt = 0, ms = 0;
+    for ( int i = 0; i < samples.size(); ++i )
+    {
+      mt += truth[i] / samples.size();
+      ms += shown[i] / samples.size();
+    }
+    double stt = 0, sts = 0;
+    for ( int i = 0; i < samples.size(); ++i )
+    {
+      stt += ( truth[i] - mt ) * ( truth[i] - mt );
+      sts += ( truth[i] - mt ) * ( shown[i] - ms );
+    }
+    const double gain = sts / stt;
+    double worst = 0;
+    for ( int i = 0; i < samples.size(); ++i )
+      worst = std::max( worst, std::abs( ms + gain * ( truth[i] - mt ) - shown[i] ) );
+    QVERIFY2( gain > 0.5 && worst < 10, qPrintable( QStringLiteral( "%1: shown = %2 x stored + c, worst residual %3 grey levels" ).arg( name ).arg( gain ).arg( worst ) ) );
+    // and through the layer's own sampling (to the JPEG's error)
+    QVERIFY2( std::abs( view.valueAt( QPointF( 10.5, 20.5 ) ).toInt() - ( 40 + 20 + 20 ) ) <= 3, qPrintable( view.valueAt( QPointF( 10.5, 20.5 ) ) ) );
+  };
   view.showImage( QStringLiteral( "mirrored" ), writePhoto( QStringLiteral( "mirrored.jpg" ), "2" ), 64, 48 );
+  QVERIFY( view.viewMirrored() );
   QCOMPARE( view.viewTurnDeg(), 0 );
+  QVERIFY( screenOf( 0, 0 ).x() > screenOf( 64, 0 ).x() + 100 && std::abs( screenOf( 0, 0 ).y() - screenOf( 64, 0 ).y() ) < 0.5 ); // the top row right to left
+  QVERIFY( screenOf( 0, 48 ).y() > screenOf( 0, 0 ).y() + 100 );
+  checkShownAndClicked( QStringLiteral( "mirrored" ) );
+  view.showImage( QStringLiteral( "transposed" ), writePhoto( QStringLiteral( "transposed.jpg" ), "5" ), 64, 48 );
+  QVERIFY( view.viewMirrored() );
+  QCOMPARE( view.viewTurnDeg(), 270 );
+  // the stored top row down the left side from the top, the stored left column along the top from the left
+  QVERIFY( std::abs( screenOf( 0, 0 ).x() - screenOf( 64, 0 ).x() ) < 0.5 && screenOf( 64, 0 ).y() > screenOf( 0, 0 ).y() + 100 );
+  QVERIFY( std::abs( screenOf( 0, 0 ).y() - screenOf( 0, 48 ).y() ) < 0.5 && screenOf( 0, 48 ).x() > screenOf( 0, 0 ).x() + 100 );
+  QVERIFY( screenOf( 0, 0 ).x() < screenOf( 64, 48 ).x() && screenOf( 0, 0 ).y() < screenOf( 64, 48 ).y() );
+  checkShownAndClicked( QStringLiteral( "transposed" ) );
+  // an overlay drawn in the stored pixels lands on them
+  QVERIFY( view.inView( QgsGeometry::fromPointXY( QgsPointXY( 10, -20 ) ) ).asPoint() == view.mapFromPixel( QPointF( 10, 20 ) ) );
   view.showImage( QStringLiteral( "upside_down" ), writePhoto( QStringLiteral( "upside_down.jpg" ), "3" ), 64, 48 );
   QCOMPARE( view.canvas()->rotation(), 180.0 );
 
