@@ -28,6 +28,7 @@
 #include "dem/dem.h"
 #include "dem/demintersection.h"
 #include "geometry/crs.h"
+#include "io/photoimport.h"
 #include "io/rasterfile.h"
 
 namespace
@@ -118,12 +119,14 @@ namespace
 
   const double kMaxPixels = 16.0e6;
 
-  //! The photo as the Multiview opens it: the file itself, or a pixel-space VRT of the same size.
+  //! The photo as the Multiview opens it: the file itself, or a pixel-space VRT of the same size (x = -col when mirrored).
   void checkPixelSpaceSource( const std::string &path )
   {
     const std::string memoryPath = "/vsimem/fuzz-raster-pixels.vrt";
     int tag = 0;
-    const std::string source = geostation::pixelSpaceSource( path, memoryPath, &tag );
+    // as the Multiview asks: mirrored where the file is tagged so
+    const std::string source = geostation::pixelSpaceSource( path, memoryPath, &tag, true );
+    const double xStep = geostation::viewForExifOrientation( tag ).mirrored ? -1.0 : 1.0;
     if ( tag < 1 || tag > 8 )
       fuzz::violated( "pixelSpaceSource() gave an EXIF orientation tag outside 1-8" );
     if ( source == path )
@@ -136,7 +139,7 @@ namespace
       fuzz::violated( "a pixel-space VRT written for a file that does not open again" );
     else if ( GDALGetRasterXSize( view ) != GDALGetRasterXSize( original ) || GDALGetRasterYSize( view ) != GDALGetRasterYSize( original ) )
       fuzz::violated( "a pixel-space VRT of another size than its file" );
-    else if ( GDALGetGeoTransform( view, gt.data() ) != CE_None || gt != std::array<double, 6> { 0.0, 1.0, 0.0, 0.0, 0.0, -1.0 } || GDALGetGCPCount( view ) != 0 ||
+    else if ( GDALGetGeoTransform( view, gt.data() ) != CE_None || gt != std::array<double, 6> { 0.0, xStep, 0.0, 0.0, 0.0, -1.0 } || GDALGetGCPCount( view ) != 0 ||
               std::string( GDALGetProjectionRef( view ) ) != "" )
       fuzz::violated( "a pixel-space VRT that is not in pixel space" );
     if ( view )

@@ -228,10 +228,11 @@ def raster():
     write("raster", "deep.tif", raster_bytes("GTiff", deep))
     write("raster", "rgb_deflate_tiled.tif", raster_bytes("GTiff", rgb, ["COMPRESS=DEFLATE", "TILED=YES", "BLOCKXSIZE=16", "BLOCKYSIZE=16"]))
     write("raster", "rgba.png", raster_bytes("PNG", np.dstack([rgb, grey])))
-    # photos the Multiview shows in their pixels (pixelSpaceSource) and turned as tagged
+    # photos the Multiview shows in their pixels (pixelSpaceSource), turned and mirrored as tagged
     write("raster", "georeferenced.tif", raster_bytes("GTiff", grey, geo=True))
     write("raster", "gcps.tif", raster_bytes("GTiff", rgb, gcps=True))
     write("raster", "turned.jpg", raster_bytes("JPEG", grey, ["QUALITY=80"], metadata={"EXIF_Orientation": "6"}))
+    write("raster", "transposed.jpg", raster_bytes("JPEG", grey, ["QUALITY=80"], metadata={"EXIF_Orientation": "5"}))
 
 
 def dem():
