@@ -13,13 +13,16 @@
   within a few profiles of it, fitted again without those it leaves far
   off: a kink the line took round a car is straightened by the centres on
   either side. A short stretch where no centre was found runs straight
-  between its moved ends; a longer one keeps its course. An end at an
-  intersection stays where the branches meet; the move grows from nothing
-  there to full over the road's width, so the branches still meet.
+  between its moved ends; a longer one keeps its course. The ends at an
+  intersection go where the branches, moved, cross (the point nearest the
+  straight lines fitted to each branch beyond the intersection's reach),
+  so they still meet, and the line's own move grows from nothing there to
+  full over half the widest road's width.
  ***************************************************************************/
 #ifndef GEOSTATION_EXTRACTION_CENTREREFINEMENT_H
 #define GEOSTATION_EXTRACTION_CENTREREFINEMENT_H
 
+#include <utility>
 #include <vector>
 
 #include "extraction/crossprofile.h"
@@ -49,6 +52,11 @@ namespace geostation
     int profiles = 0;                   //!< profiles taken
     int bandFound = 0;                  //!< of them, where the band of the line's width was found near it
     double meanShiftPx = 0.0;           //!< mean |shift| applied over all profiles
+    //! Each intersection the lines' ends met at (pixelInImage) and where it went: where its branches, moved, cross.
+    std::vector<std::pair<Eigen::Vector2d, Eigen::Vector2d>> junctions;
+
+    //! `intersections` (compilation's centres), each where its lines' ends went (within 2 px of one here), else as it was.
+    std::vector<Eigen::Vector2d> movedIntersections( const std::vector<Eigen::Vector2d> &intersections ) const;
   };
 
   /**

@@ -383,11 +383,14 @@ namespace geostation
     CompilationSummary finalA = compileMaxLengthPolygons( matrix[0], finalSymbols, false );
     CompilationSummary finalB = compileMaxLengthPolygons( matrix[1], finalSymbols, false );
     // the lines moved from the pixel staircase onto their band's centre
-    summary.linesA = refineLineCentres( *grey[0], finalA.polygons, options.extraction.object ).lines;
-    summary.linesB = refineLineCentres( *grey[1], finalB.polygons, options.extraction.object ).lines;
+    // (and the intersections to where their branches, moved, cross)
+    const CentreRefinementSummary refinedA = refineLineCentres( *grey[0], finalA.polygons, options.extraction.object );
+    const CentreRefinementSummary refinedB = refineLineCentres( *grey[1], finalB.polygons, options.extraction.object );
+    summary.linesA = refinedA.lines;
+    summary.linesB = refinedB.lines;
     summary.compilationStage.seconds += t0.seconds();
-    summary.intersectionsA = std::move( finalA.intersections );
-    summary.intersectionsB = std::move( finalB.intersections );
+    summary.intersectionsA = refinedA.movedIntersections( finalA.intersections );
+    summary.intersectionsB = refinedB.movedIntersections( finalB.intersections );
     summary.deadEndsA = openEnds( summary.linesA );
     summary.deadEndsB = openEnds( summary.linesB );
     if ( progress )

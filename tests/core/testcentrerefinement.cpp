@@ -140,3 +140,67 @@ TEST( CentreRefinement, NoBandLeavesTheLineAndBadOptionsThrow )
   bad.stepPx = 0.0;
   EXPECT_THROW( refineLineCentres( GreyTiles( field ), { line }, LineObjectOptions(), bad ), std::invalid_argument );
 }
+
+namespace
+{
+  //! A T junction: a 10 px dark road across (centre y = 100.3) and one up from it (centre x = 150.6), on a textured field.
+  cv::Mat junctionImage()
+  {
+    cv::Mat grey( 200, 300, CV_8U );
+    std::mt19937 random( 9 );
+    std::normal_distribution<double> noise( 0.0, 3.0 );
+    for ( int row = 0; row < grey.rows; ++row )
+      for ( int col = 0; col < grey.cols; ++col )
+      {
+        double sum = 0.0;
+        for ( int i = 0; i < 4; ++i )
+          for ( int j = 0; j < 4; ++j )
+          {
+            const double x = col + ( i + 0.5 ) / 4.0, y = row + ( j + 0.5 ) / 4.0;
+            const bool across = std::abs( y - 100.3 ) < 5.0, up = std::abs( x - 150.6 ) < 5.0 && y < 100.3;
+            sum += across || up ? 60.0 : 130.0 + 10.0 * std::sin( x / 6.0 ) * std::cos( y / 4.0 );
+          }
+        grey.at<uint8_t>( row, col ) = cv::saturate_cast<uint8_t>( sum / 16.0 + noise( random ) );
+      }
+    return grey;
+  }
+} // namespace
+
+TEST( CentreRefinement, BranchesMeetWhereTheirBandsCross )
+{
+  // three compiled polygons ending at the intersection's centre as the result matrix has it, 1.2 px right of and
+  // 1.2 px below where the roads' centres cross, each a pixel off its band
+  const Eigen::Vector2d truth( 150.6, 100.3 ), compiledCentre( 151.5, 101.5 );
+  CompiledPolygon left, right, up;
+  left.pixels = { { 10.5, 101.5 }, compiledCentre };
+  left.endEnd = PolygonEnd::Intersection;
+  right.pixels = { compiledCentre, { 290.5, 101.5 } };
+  right.startEnd = PolygonEnd::Intersection;
+  up.pixels = { { 151.5, 8.5 }, compiledCentre };
+  up.endEnd = PolygonEnd::Intersection;
+  LineObjectOptions object;
+  object.polarity = -1;
+  object.minContrast = 25.0;
+  object.minWidthPx = 6.0;
+  object.maxWidthPx = 16.0;
+  const CentreRefinementSummary refined = refineLineCentres( GreyTiles( junctionImage() ), { left, right, up }, object );
+  ASSERT_EQ( refined.lines.size(), 3u );
+  const Eigen::Vector2d a = refined.lines[0].pixels.back(), b = refined.lines[1].pixels.front(), c = refined.lines[2].pixels.back();
+  std::printf( "junction: compiled %.2f px from the crossing of the centres, moved %.2f px\n", ( compiledCentre - truth ).norm(), ( a - truth ).norm() );
+  // the branches still meet, now where the bands cross (measured 0.12 px; 1.50 px before)
+  EXPECT_LT( ( a - b ).norm(), 1e-9 );
+  EXPECT_LT( ( a - c ).norm(), 1e-9 );
+  EXPECT_LT( ( a - truth ).norm(), 0.3 );
+  // and run on their centres up to it
+  for ( const Eigen::Vector2d &p : refined.lines[0].pixels )
+    EXPECT_LT( std::abs( p.y() - truth.y() ), 0.4 ) << p.transpose();
+  for ( const Eigen::Vector2d &p : refined.lines[1].pixels )
+    EXPECT_LT( std::abs( p.y() - truth.y() ), 0.4 ) << p.transpose();
+  for ( const Eigen::Vector2d &p : refined.lines[2].pixels )
+  {
+    if ( p.y() > 12.0 ) // the road runs out of the image at the top: its last profiles are cut
+    {
+      EXPECT_LT( std::abs( p.x() - truth.x() ), 0.4 ) << p.transpose();
+    }
+  }
+}
