@@ -98,9 +98,11 @@ namespace geostation
 
     /**
      * OpenCV's YAML parser also loops for ever on a line indented left of
-     * the first key (the top level) and on anything after a document end
-     * marker ("...-"): refused first, naming the line. (Found by fuzzing
-     * OpenCV 4.6; a YAML file OpenCV writes has neither.)
+     * the first key (the top level), on anything after a document end
+     * marker ("...-") and on a key on the document start's line followed by
+     * a line such as "--a-" ("--- a: 5"): refused first, naming the line.
+     * (Found by fuzzing OpenCV 4.6; a YAML file OpenCV writes has none of
+     * them: its "---" stands alone.)
      */
     void requireYamlIndentation( const fs::path &file, const std::string &text )
     {
@@ -116,9 +118,10 @@ namespace geostation
           continue;
         if ( line.compare( first, 3, "---" ) == 0 || line.compare( first, 3, "..." ) == 0 )
         {
-          // a document marker; anything after it but blanks (e.g. "...-") also sends the parser into a loop
-          if ( line.find_first_not_of( " \t\r", first + 3 ) != std::string::npos && line.compare( first, 3, "---" ) != 0 )
-            fail( file, "line " + std::to_string( number ) + " has something after the document end \"...\": not YAML OpenCV can read" );
+          // a document marker; anything after it but blanks (e.g. "...-", "--- a: 5") can send the parser into a loop
+          if ( line.find_first_not_of( " \t\r", first + 3 ) != std::string::npos )
+            fail( file, "line " + std::to_string( number ) + " has something after the document marker \"" + line.substr( first, 3 ) +
+                  "\" on its line: not YAML OpenCV can read" );
           continue;
         }
         if ( !topLevel )
