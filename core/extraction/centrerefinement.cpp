@@ -291,7 +291,7 @@ namespace geostation
       for ( size_t l = 0; l < lines.size(); ++l )
         for ( int e = 0; e < 2; ++e )
         {
-          if ( ( e == 0 ? lines[l].startEnd : lines[l].endEnd ) != PolygonEnd::Intersection || lines[l].pixels.empty() || moved[l].at.empty() )
+          if ( ( e == 0 ? lines[l].startEnd : lines[l].endEnd ) != PolygonEnd::Intersection || lines[l].pixels.empty() )
             continue;
           const Eigen::Vector2d end = e == 0 ? lines[l].pixels.front() : lines[l].pixels.back();
           int found = -1;
@@ -376,6 +376,11 @@ namespace geostation
       const MovedLine &m = moved[l];
       if ( m.at.empty() )
       {
+        // too short to profile: only its ends at an intersection go with it
+        if ( junctionOf[l][0] >= 0 )
+          line.pixels.front() = junctions[junctionOf[l][0]];
+        if ( junctionOf[l][1] >= 0 )
+          line.pixels.back() = junctions[junctionOf[l][1]];
         summary.lines.push_back( line );
         continue;
       }

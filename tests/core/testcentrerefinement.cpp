@@ -183,13 +183,22 @@ TEST( CentreRefinement, BranchesMeetWhereTheirBandsCross )
   object.minContrast = 25.0;
   object.minWidthPx = 6.0;
   object.maxWidthPx = 16.0;
-  const CentreRefinementSummary refined = refineLineCentres( GreyTiles( junctionImage() ), { left, right, up }, object );
-  ASSERT_EQ( refined.lines.size(), 3u );
+  // and a stub too short to profile, from the intersection down
+  CompiledPolygon stub;
+  stub.pixels = { compiledCentre, compiledCentre + Eigen::Vector2d( 0.0, 3.0 ) };
+  stub.startEnd = PolygonEnd::Intersection;
+  const CentreRefinementSummary refined = refineLineCentres( GreyTiles( junctionImage() ), { left, right, up, stub }, object );
+  ASSERT_EQ( refined.lines.size(), 4u );
+  ASSERT_EQ( refined.junctions.size(), 1u );
+  EXPECT_LT( ( refined.junctions.front().first - compiledCentre ).norm(), 1e-9 );
+  EXPECT_LT( ( refined.movedIntersections( { compiledCentre } ).front() - refined.junctions.front().second ).norm(), 1e-9 );
   const Eigen::Vector2d a = refined.lines[0].pixels.back(), b = refined.lines[1].pixels.front(), c = refined.lines[2].pixels.back();
   std::printf( "junction: compiled %.2f px from the crossing of the centres, moved %.2f px\n", ( compiledCentre - truth ).norm(), ( a - truth ).norm() );
   // the branches still meet, now where the bands cross (measured 0.12 px; 1.50 px before)
   EXPECT_LT( ( a - b ).norm(), 1e-9 );
   EXPECT_LT( ( a - c ).norm(), 1e-9 );
+  EXPECT_LT( ( a - refined.lines[3].pixels.front() ).norm(), 1e-9 ); // the stub's end goes with them
+  EXPECT_LT( ( refined.lines[3].pixels.back() - stub.pixels.back() ).norm(), 1e-9 );
   EXPECT_LT( ( a - truth ).norm(), 0.3 );
   // and run on their centres up to it
   for ( const Eigen::Vector2d &p : refined.lines[0].pixels )
