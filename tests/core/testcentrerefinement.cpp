@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <functional>
 #include <random>
 
 #include <opencv2/imgproc.hpp>
@@ -28,47 +29,61 @@ namespace
     return best;
   }
 
-  //! A 10 px dark road between 4 px bright shoulders on a textured field, noise 3 grey levels; a car and a shadow on it.
-  cv::Mat roadImage()
+  /**
+   * A 300 x 200 image of `value`( x, y ) (pixelInImage: pixel (col, row) covers [col, col + 1), its centre is
+   * col + 0.5), averaged over 4 x 4 sub-samples for the edges, with noise of 3 grey levels.
+   */
+  cv::Mat supersampled( unsigned seed, const std::function<double( double, double )> &value )
   {
     cv::Mat grey( 200, 300, CV_8U );
-    std::mt19937 random( 5 );
+    std::mt19937 random( seed );
     std::normal_distribution<double> noise( 0.0, 3.0 );
     for ( int row = 0; row < grey.rows; ++row )
       for ( int col = 0; col < grey.cols; ++col )
       {
-        // pixel (col, row) covers [col, col + 1): its centre is col + 0.5; 4 x 4 sub-samples for the edges
         double sum = 0.0;
         for ( int i = 0; i < 4; ++i )
           for ( int j = 0; j < 4; ++j )
-          {
-            const double x = col + ( i + 0.5 ) / 4.0, y = row + ( j + 0.5 ) / 4.0;
-            const double across = std::abs( y - trueCentreY( x ) );
-            double value = 110.0 + 10.0 * std::sin( x / 7.0 ) * std::cos( y / 5.0 ); // field
-            if ( across < 5.0 )
-              value = 60.0; // asphalt
-            else if ( across < 9.0 )
-              value = 170.0; // shoulders
-            if ( x > 120.0 && x < 132.0 && y > trueCentreY( x ) - 5.0 && y < trueCentreY( x ) - 1.0 )
-              value = 25.0; // a dark car in the upper lane
-            if ( x > 200.0 && x < 214.0 && y < trueCentreY( x ) + 2.0 )
-              value *= 0.45; // a tree's shadow over the upper shoulder and half the road
-            sum += value;
-          }
+            sum += value( col + ( i + 0.5 ) / 4.0, row + ( j + 0.5 ) / 4.0 );
         grey.at<uint8_t>( row, col ) = cv::saturate_cast<uint8_t>( sum / 16.0 + noise( random ) );
       }
     return grey;
+  }
+
+  //! A 10 px dark road between 4 px bright shoulders on a textured field, noise 3 grey levels; a car and a shadow on it.
+  //! A dark band of 6 px to `maxWidthPx`, 25 grey levels or more below its sides.
+  LineObjectOptions darkRoad( double maxWidthPx )
+  {
+    LineObjectOptions object;
+    object.polarity = -1;
+    object.minContrast = 25.0;
+    object.minWidthPx = 6.0;
+    object.maxWidthPx = maxWidthPx;
+    return object;
+  }
+
+  cv::Mat roadImage()
+  {
+    return supersampled( 5, []( double x, double y ) {
+      const double across = std::abs( y - trueCentreY( x ) );
+      double value = 110.0 + 10.0 * std::sin( x / 7.0 ) * std::cos( y / 5.0 ); // field
+      if ( across < 5.0 )
+        value = 60.0; // asphalt
+      else if ( across < 9.0 )
+        value = 170.0; // shoulders
+      if ( x > 120.0 && x < 132.0 && y > trueCentreY( x ) - 5.0 && y < trueCentreY( x ) - 1.0 )
+        value = 25.0; // a dark car in the upper lane
+      if ( x > 200.0 && x < 214.0 && y < trueCentreY( x ) + 2.0 )
+        value *= 0.45; // a tree's shadow over the upper shoulder and half the road
+      return value;
+    } );
   }
 } // namespace
 
 TEST( CentreRefinement, LinesMovedOntoTheBandCentre )
 {
   const cv::Mat grey = roadImage();
-  LineObjectOptions object;
-  object.polarity = -1;
-  object.minContrast = 25.0;
-  object.minWidthPx = 6.0;
-  object.maxWidthPx = 20.0;
+  const LineObjectOptions object = darkRoad( 20.0 );
   // the compiled polygon: pixel centres 0.5-1.5 px off the centre, with a kink of 2 px more round the car
   CompiledPolygon compiled;
   for ( int x = 10; x <= 290; x += 10 )
@@ -146,23 +161,10 @@ namespace
   //! A T junction: a 10 px dark road across (centre y = 100.3) and one up from it (centre x = 150.6), on a textured field.
   cv::Mat junctionImage()
   {
-    cv::Mat grey( 200, 300, CV_8U );
-    std::mt19937 random( 9 );
-    std::normal_distribution<double> noise( 0.0, 3.0 );
-    for ( int row = 0; row < grey.rows; ++row )
-      for ( int col = 0; col < grey.cols; ++col )
-      {
-        double sum = 0.0;
-        for ( int i = 0; i < 4; ++i )
-          for ( int j = 0; j < 4; ++j )
-          {
-            const double x = col + ( i + 0.5 ) / 4.0, y = row + ( j + 0.5 ) / 4.0;
-            const bool across = std::abs( y - 100.3 ) < 5.0, up = std::abs( x - 150.6 ) < 5.0 && y < 100.3;
-            sum += across || up ? 60.0 : 130.0 + 10.0 * std::sin( x / 6.0 ) * std::cos( y / 4.0 );
-          }
-        grey.at<uint8_t>( row, col ) = cv::saturate_cast<uint8_t>( sum / 16.0 + noise( random ) );
-      }
-    return grey;
+    return supersampled( 9, []( double x, double y ) {
+      const bool across = std::abs( y - 100.3 ) < 5.0, up = std::abs( x - 150.6 ) < 5.0 && y < 100.3;
+      return across || up ? 60.0 : 130.0 + 10.0 * std::sin( x / 6.0 ) * std::cos( y / 4.0 );
+    } );
   }
 } // namespace
 
@@ -178,11 +180,7 @@ TEST( CentreRefinement, BranchesMeetWhereTheirBandsCross )
   right.startEnd = PolygonEnd::Intersection;
   up.pixels = { { 151.5, 8.5 }, compiledCentre };
   up.endEnd = PolygonEnd::Intersection;
-  LineObjectOptions object;
-  object.polarity = -1;
-  object.minContrast = 25.0;
-  object.minWidthPx = 6.0;
-  object.maxWidthPx = 16.0;
+  const LineObjectOptions object = darkRoad( 16.0 );
   // and a stub too short to profile, from the intersection down
   CompiledPolygon stub;
   stub.pixels = { compiledCentre, compiledCentre + Eigen::Vector2d( 0.0, 3.0 ) };
