@@ -19,6 +19,8 @@
 #include <cpl_vsi.h>
 #include <gdal.h>
 
+#include "io/photoimport.h"
+
 namespace geostation
 {
   namespace
@@ -284,7 +286,7 @@ namespace geostation
     const int tag = exifOrientationTag( source.get() );
     if ( exifOrientation )
       *exifOrientation = tag;
-    const bool mirrored = mirrorAsTagged && ( tag == 2 || tag == 4 || tag == 5 || tag == 7 );
+    const bool mirrored = mirrorAsTagged && viewForExifOrientation( tag ).mirrored;
     // a photo has 1-4 bands; anything else the viewer refuses with its own message, and a VRT of it would
     // describe every band (tens of thousands in a damaged file)
     const int bands = GDALGetRasterCount( source.get() );
