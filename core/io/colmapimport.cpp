@@ -115,6 +115,57 @@ namespace geostation
     }
   }
 
+  namespace
+  {
+    /**
+     * Exposure stations from the image names, for a model whose frames hold
+     * one image each or that has none: COLMAP's rig convention names a rig's
+     * images by a folder per camera and the same file name at one instant
+     * ("left/0001.jpg", "right/0001.jpg"), whatever camera model they share
+     * (a single_camera model has one for all). Applies only when every
+     * imported image lies in a folder, there are two folders or more, some
+     * file name is in two of them and no folder holds a file name twice;
+     * otherwise empty. A station is named after its image of the first
+     * folder (in name order).
+     */
+    std::map<std::string, std::string> stationsFromFolders( const std::map<std::uint32_t, const ColmapImage *> &importedById,
+                                                            const std::map<std::uint32_t, std::string> &idOf, BlockImportSummary &import )
+    {
+      std::map<std::string, std::vector<std::pair<std::string, std::string>>> byFileName; // file name: (folder, block image id)
+      std::set<std::string> folders;
+      for ( const auto &[colmapId, image] : importedById )
+      {
+        const fs::path name( image->name );
+        if ( !name.has_parent_path() )
+          return {};
+        folders.insert( name.parent_path().generic_string() );
+        byFileName[name.filename().generic_string()].emplace_back( name.parent_path().generic_string(), idOf.at( colmapId ) );
+      }
+      size_t largest = 0, shared = 0;
+      for ( auto &[fileName, members] : byFileName )
+      {
+        std::sort( members.begin(), members.end() );
+        for ( size_t k = 1; k < members.size(); ++k )
+          if ( members[k].first == members[k - 1].first )
+            return {};
+        largest = std::max( largest, members.size() );
+        shared += members.size() > 1 ? 1 : 0;
+      }
+      if ( folders.size() < 2 || largest < 2 )
+        return {};
+      std::map<std::string, std::string> stationOf;
+      for ( const auto &[fileName, members] : byFileName )
+        for ( const auto &member : members )
+          stationOf[member.second] = members.front().second;
+      std::string folderList;
+      for ( const std::string &folder : folders )
+        folderList += ( folderList.empty() ? "" : ", " ) + folder + "/";
+      import.converted.push_back( std::to_string( shared ) + " file name(s) found in more than one of the folders " + folderList +
+                                  " became exposure stations of up to " + std::to_string( largest ) + " image(s) (COLMAP's rig convention: a folder per camera)" );
+      return stationOf;
+    }
+  }
+
   fs::path findColmapImageFolder( const ColmapModel &model, const fs::path &modelFolder )
   {
     if ( model.images.empty() )
@@ -255,8 +306,15 @@ namespace geostation
     if ( block.images.empty() )
       throw std::invalid_argument( "no image of the COLMAP model can be imported"
                                    + ( import.dropped.empty() ? std::string( ": the model has no registered images" ) : ": " + import.dropped.front() ) );
-    // exposure stations: COLMAP's frames (3.12 and on), else one per image
-    const std::map<std::string, std::string> stationOf = stationsFromFrames( model, importedById, idOf, import );
+    // exposure stations: COLMAP's frames (3.12 and on), else the images of one name in a folder per camera, else one per image
+    std::map<std::string, std::string> stationOf = stationsFromFrames( model, importedById, idOf, import );
+    std::set<std::string> frameStations;
+    for ( const auto &entry : stationOf )
+      frameStations.insert( entry.second );
+    const bool framesGroupImages = frameStations.size() < stationOf.size();
+    if ( !framesGroupImages )
+      if ( std::map<std::string, std::string> byFolder = stationsFromFolders( importedById, idOf, import ); !byFolder.empty() )
+        stationOf = std::move( byFolder );
     std::set<std::string> stations;
     for ( BlockImage &image : block.images )
     {
@@ -270,8 +328,8 @@ namespace geostation
       }
     }
     import.converted.push_back( std::to_string( block.images.size() ) + " registered image(s) became oriented images"
-                                + ( model.frames.empty() ? std::string( ", each its own station (a model without frames: COLMAP before 3.12)" )
-                                                         : " in " + std::to_string( block.stations.size() ) + " exposure station(s)" ) );
+                                + ( block.stations.size() == block.images.size() ? std::string( ", each its own station (no COLMAP frame or camera folder groups them)" )
+                                                                                 : " in " + std::to_string( block.stations.size() ) + " exposure station(s)" ) );
 
     // image files
     fs::path imageFolder = options.imageFolder;

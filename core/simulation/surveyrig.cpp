@@ -210,17 +210,18 @@ namespace geostation
       for ( int k = 0; k < n; ++k )
       {
         const Mount &mount = kVanMounts[k];
+        const int model = options.oneCameraModel ? 0 : k; // the intrinsics differ a little from camera to camera
         Camera camera;
-        camera.id = mount.id;
+        camera.id = options.oneCameraModel ? "van" : mount.id;
         camera.width = settings.width;
         camera.height = settings.height;
-        camera.f = 0.8 * w * ( 1.0 + 0.01 * k );
+        camera.f = 0.8 * w * ( 1.0 + 0.01 * model );
         camera.aspect = 1.0;
-        camera.cx = 0.5 * w + 1.3 - 0.4 * k;
-        camera.cy = 0.5 * h - 0.8 + 0.3 * k;
+        camera.cx = 0.5 * w + 1.3 - 0.4 * model;
+        camera.cy = 0.5 * h - 0.8 + 0.3 * model;
         camera.pixelSizeMm = 0.0074 * 640.0 / w;
         camera.distortion.model = DistortionModel::OpenCV;
-        camera.distortion.coeffs = { -0.12 + 0.01 * k, 0.03, 2e-4, -1e-4, 0.0 };
+        camera.distortion.coeffs = { -0.12 + 0.01 * model, 0.03, 2e-4, -1e-4, 0.0 };
         const double yaw = degToRad( mount.yawDeg ), down = degToRad( mount.downDeg );
         const Eigen::Vector3d view( std::cos( down ) * std::cos( yaw ), std::cos( down ) * std::sin( yaw ), -std::sin( down ) );
         Eigen::Matrix<double, 3, 4> vehicleFromCamera;
@@ -345,7 +346,8 @@ namespace geostation
     const std::vector<RigPose> &exact = layout.exact;
 
     for ( const auto &entry : cameras )
-      truth.cameras.push_back( entry.first );
+      if ( !truth.findCamera( entry.first.id ) )
+        truth.cameras.push_back( entry.first );
     const double secondsPerStation = options.preset == SurveyPreset::Highway ? options.stationSpacingM / 12.0 : 2.0;
     for ( size_t i = 0; i < exact.size(); ++i )
     {

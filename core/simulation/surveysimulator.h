@@ -54,6 +54,7 @@ namespace geostation
     int imageWidth = 0;     //!< 0: the preset's default (640, 1024, 1024)
     int imageHeight = 0;    //!< 0: the preset's default (480, 1024, 768)
     int cameras = 3;        //!< highway: cameras on the van, 2..6
+    bool oneCameraModel = false;    //!< highway: the van's cameras identical, one camera entry ("van") for all (a rig of one model)
     double stationSpacingM = 5.0;   //!< highway: metres between stations
     double groundPixelSizeM = 0.10; //!< aerial_stereo: ground sample distance
     bool scannedFilm = false;       //!< oblique_photo: a scanned film photo with fiducial marks (see filmscan.h)

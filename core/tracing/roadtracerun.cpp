@@ -16,7 +16,7 @@ namespace geostation
   namespace
   {
     //! The station's other oriented image that sees the ground point, its optical axis closest to the reference's.
-    const BlockImage *choosePartner( const Block &block, const SequenceStation &station, const BlockImage &reference, const OrientedImage &referenceImage,
+    const BlockImage *partnerSeeing( const Block &block, const SequenceStation &station, const BlockImage &reference, const OrientedImage &referenceImage,
                                      const Eigen::Vector3d &ground )
     {
       const BlockImage *best = nullptr;
@@ -43,12 +43,23 @@ namespace geostation
     }
   } // namespace
 
-  const BlockImage *RoadTraceRun::stationImage( const Block &block, const SequenceStation &station, const std::string &cameraId )
+  //! The seed image's station in the sequence; throws std::invalid_argument for an image not oriented or in no station.
+  int RoadTraceRun::seedStationIndex( const StationSequence &sequence, const BlockImage &seedImage )
   {
-    for ( const std::string &id : station.imageIds )
-      if ( const BlockImage *image = block.findImage( id ); image && image->cameraId == cameraId )
-        return image;
-    return nullptr;
+    if ( !seedImage.exterior )
+      throw std::invalid_argument( "the seed image " + seedImage.id + " is not oriented" );
+    const int k = sequence.indexOf( seedImage.stationId.empty() ? seedImage.id : seedImage.stationId );
+    if ( k < 0 )
+      throw std::invalid_argument( "the seed image " + seedImage.id + " belongs to no station of the block" );
+    return k;
+  }
+
+  const BlockImage *RoadTraceRun::referenceImageAt( int stationIndex ) const
+  {
+    if ( stationIndex < 0 || stationIndex >= static_cast<int>( mReferenceImages.size() ) )
+      return nullptr;
+    const BlockImage *image = mReferenceImages[stationIndex];
+    return image && image->exterior ? image : nullptr;
   }
 
   RoadTraceRun::RoadTraceRun( const Block &block, const TraceSeed &seed, const RoadTraceOptions &options, const GreyImageSource &images )
@@ -58,15 +69,12 @@ namespace geostation
     , mImages( images )
     , mSeedImage( block.image( seed.imageId ) )
     , mSequence( block )
-    , mReferenceCamera( mSeedImage.cameraId )
+    , mSeedStation( seedStationIndex( mSequence, mSeedImage ) )
+    , mReferenceImages( imagesInRole( block, mSequence, mSeedStation, mSeedImage ) )
     , mTrajectory( referenceTrajectory() )
     , mSmoothTrack( smoothedHeights( mTrajectory, 30.0 ) )
+    , mK( mSeedStation )
   {
-    if ( !mSeedImage.exterior )
-      throw std::invalid_argument( "the seed image " + mSeedImage.id + " is not oriented" );
-    mK = mSequence.indexOf( mSeedImage.stationId.empty() ? mSeedImage.id : mSeedImage.stationId );
-    if ( mK < 0 )
-      throw std::invalid_argument( "the seed image " + mSeedImage.id + " belongs to no station of the block" );
   }
 
   const RoadTraceOptions &RoadTraceRun::checked( const RoadTraceOptions &options )
@@ -79,8 +87,8 @@ namespace geostation
   std::vector<Eigen::Vector3d> RoadTraceRun::referenceTrajectory() const
   {
     std::vector<Eigen::Vector3d> trajectory;
-    for ( const SequenceStation &st : mSequence.stations() )
-      if ( const BlockImage *image = stationImage( mBlock, st, mReferenceCamera ); image && image->exterior )
+    for ( int k = 0; k < mSequence.size(); ++k )
+      if ( const BlockImage *image = referenceImageAt( k ) )
       {
         const Eigen::Vector3d &c = image->exterior->projectionCentre;
         if ( trajectory.size() >= 2 && ( c - trajectory.back() ).head<2>().dot( ( trajectory.back() - trajectory[trajectory.size() - 2] ).head<2>() ) <= 0 )
@@ -198,15 +206,21 @@ namespace geostation
   bool RoadTraceRun::openStation( StationAt &at )
   {
     at.station = &mSequence.at( mK );
-    at.referenceImage = stationImage( mBlock, *at.station, mReferenceCamera );
+    at.referenceImage = referenceImageAt( mK );
+    if ( !at.referenceImage )
+    {
+      stopWith( TraceStop::ImageMissing, "station " + at.station->id + " has no oriented image placed in the rig as " + mSeedImage.id + " is" );
+      return false;
+    }
     at.reference.emplace( mBlock.orientedImage( *at.referenceImage ) );
     at.centre = at.reference->exterior().projectionCentre;
-    if ( mPartnerCamera.empty() && !choosePartnerCamera( at ) )
+    if ( mPartnerSeedId.empty() && !choosePartner( at ) )
       return false;
-    at.partnerImage = stationImage( mBlock, *at.station, mPartnerCamera );
-    if ( !at.partnerImage || !at.partnerImage->exterior )
+    at.partnerImage = imageInRelation( mBlock, *at.station, *at.referenceImage, mPartnerRelation, mPartnerCameraId );
+    if ( !at.partnerImage )
     {
-      stopWith( TraceStop::NoStereoPartner, "station " + at.station->id + " has no oriented image of the partner camera " + mPartnerCamera );
+      stopWith( TraceStop::NoStereoPartner, "station " + at.station->id + " has no oriented image placed beside " + at.referenceImage->id + " as the stereo partner " +
+                mPartnerSeedId + " is beside " + mSeedImage.id );
       return false;
     }
     at.partner.emplace( mBlock.orientedImage( *at.partnerImage ) );
@@ -223,20 +237,33 @@ namespace geostation
     return true;
   }
 
-  //! At the seed station: the camera of the image that sees the line's first 200 px on the ground (some of them).
-  bool RoadTraceRun::choosePartnerCamera( const StationAt &at )
+  //! At the seed station: the image that sees the line's first 200 px on the ground (some of them), and where it lies beside the reference.
+  bool RoadTraceRun::choosePartner( const StationAt &at )
   {
     const GroundOfPixel single = mOptions.groundOfPixel ? mOptions.groundOfPixel : roadPlaneOf( at.centre.z(), at.centre.head<2>() );
     const BlockImage *partner = nullptr;
+    bool anyGround = false;
     for ( double s = 0.0; !partner && s <= 200.0; s += 20.0 )
       if ( const std::optional<Eigen::Vector3d> ground = single( *at.reference, mStart + s * mDirection ) )
-        partner = choosePartner( mBlock, *at.station, *at.referenceImage, *at.reference, *ground );
+      {
+        anyGround = true;
+        partner = partnerSeeing( mBlock, *at.station, *at.referenceImage, *at.reference, *ground );
+      }
+    if ( !anyGround )
+    {
+      stopWith( TraceStop::NoStereoPartner, mOptions.groundOfPixel ? "the ground given (the DEM) has no height under the line at the seed in " + at.referenceImage->id +
+                                                                         ": it has no data there (nodata or NaN) or does not cover it"
+                                                                   : "the line at the seed in " + at.referenceImage->id + " does not reach the road surface under the camera (it lies above the horizon)" );
+      return false;
+    }
     if ( !partner )
     {
       stopWith( TraceStop::NoStereoPartner, "the seed image " + at.referenceImage->id + " has no stereo partner: no other oriented image of station " + at.station->id + " sees the line" );
       return false;
     }
-    mPartnerCamera = partner->cameraId;
+    mPartnerSeedId = partner->id;
+    mPartnerCameraId = partner->cameraId;
+    mPartnerRelation = rigRelation( *at.referenceImage, *partner );
     return true;
   }
 
@@ -252,7 +279,7 @@ namespace geostation
     double limit = mOptions.maxRangeM;
     for ( const int s : { 1, -1 } )
       if ( ( mStep == 0 || s == mStep ) && mK + s >= 0 && mK + s < mSequence.size() )
-        if ( const BlockImage *next = stationImage( mBlock, mSequence.at( mK + s ), mReferenceCamera ); next && next->exterior )
+        if ( const BlockImage *next = referenceImageAt( mK + s ) )
           limit = std::min( limit, std::max( horizontalDistance( next->exterior->projectionCentre, centre ) + mOptions.handoverRangeM + 4.0, 18.0 ) );
     return limit;
   }

@@ -20,6 +20,7 @@
 #include <vector>
 
 #include "tracing/dynamiclink.h"
+#include "tracing/rigroles.h"
 #include "tracing/roadtracer.h"
 #include "tracing/runline.h"
 #include "tracing/stationstereo.h"
@@ -91,18 +92,19 @@ namespace geostation
       RoadTraceRun( const Block &block, const TraceSeed &seed, const RoadTraceOptions &options, const GreyImageSource &images );
       RoadTraceSummary run();
 
-      //! The image of a station taken by a camera; nullptr if none.
-      static const BlockImage *stationImage( const Block &block, const SequenceStation &station, const std::string &cameraId );
       static double horizontalDistance( const Eigen::Vector3d &a, const Eigen::Vector3d &b ) { return ( a - b ).head<2>().norm(); }
 
     private:
       static const RoadTraceOptions &checked( const RoadTraceOptions &options );
+      static int seedStationIndex( const StationSequence &sequence, const BlockImage &seedImage );
+      //! The oriented image that plays the seed image's part at a station (rigroles.h); nullptr if none.
+      const BlockImage *referenceImageAt( int stationIndex ) const;
       std::vector<Eigen::Vector3d> referenceTrajectory() const;
       std::optional<double> surfaceHeight( const Eigen::Vector2d &xy, double cameraZ, const Eigen::Vector2d &cameraXY ) const;
       GroundOfPixel roadPlaneOf( double cameraZ, const Eigen::Vector2d &cameraXY ) const;
       bool startAtSeed();
       bool openStation( StationAt &at );
-      bool choosePartnerCamera( const StationAt &at );
+      bool choosePartner( const StationAt &at );
       double rangeLimitAt( const Eigen::Vector3d &centre ) const;
       void prepareFollowing( StationAt &at );
       LineFollowResult keepInCourse( const StationAt &at, LineFollowResult result ) const;
@@ -125,14 +127,16 @@ namespace geostation
       const GreyImageSource &mImages;
       const BlockImage &mSeedImage;
       const StationSequence mSequence;
-      const std::string mReferenceCamera;
+      const int mSeedStation;
+      const std::vector<const BlockImage *> mReferenceImages; //!< the seed image's part at each station
       //! the reference camera's path through the run, in run order, and with heights smoothed over 30 m
       const std::vector<Eigen::Vector3d> mTrajectory, mSmoothTrack;
 
       RoadTraceSummary mOut;
-      int mK = 0;                                  //!< the station being traced, in the sequence
+      int mK;                                      //!< the station being traced, in the sequence
       std::shared_ptr<const cv::Mat> mReferenceGrey;
-      std::string mPartnerCamera;                  //!< chosen at the seed station, then the same throughout
+      std::string mPartnerSeedId, mPartnerCameraId; //!< the partner chosen at the seed station, and its camera
+      RigRelation mPartnerRelation;                //!< where it lies beside the reference; the same at every station
       Eigen::Vector2d mStart = Eigen::Vector2d::Zero(), mDirection = Eigen::Vector2d::Zero(); //!< in the station's reference image
       LineProfile mProfile;
       double mWidthTimesRange = 0.0;               //!< stripes narrow as 1 / range

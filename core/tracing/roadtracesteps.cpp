@@ -213,7 +213,7 @@ namespace geostation
   {
     for ( const int s : { 1, -1 } )
       if ( mK + s >= 0 && mK + s < mSequence.size() )
-        if ( const BlockImage *n = stationImage( mBlock, mSequence.at( mK + s ), mReferenceCamera ); n && n->exterior &&
+        if ( const BlockImage *n = referenceImageAt( mK + s ); n &&
              ( n->exterior->projectionCentre - centre ).dot( mLineDirection ) > 0 )
           return s;
     return 0;
@@ -243,10 +243,10 @@ namespace geostation
       return false;
     }
     const SequenceStation &nextStation = mSequence.at( mK + nextStep );
-    const BlockImage *nextImage = stationImage( mBlock, nextStation, mReferenceCamera );
-    if ( !nextImage || !nextImage->exterior )
+    const BlockImage *nextImage = referenceImageAt( mK + nextStep );
+    if ( !nextImage )
     {
-      stopWith( TraceStop::ImageMissing, "station " + nextStation.id + " has no oriented image of camera " + mReferenceCamera );
+      stopWith( TraceStop::ImageMissing, "station " + nextStation.id + " has no oriented image placed in the rig as " + mSeedImage.id + " is" );
       return false;
     }
     // in order: the next station continues the way the run has gone so far (or, at the first step, along the line)
@@ -271,8 +271,8 @@ namespace geostation
       const int index = mK + further * mStep;
       if ( index < 0 || index >= mSequence.size() )
         break;
-      const BlockImage *laterImage = stationImage( mBlock, mSequence.at( index ), mReferenceCamera );
-      if ( !laterImage || !laterImage->exterior || ( laterImage->exterior->projectionCentre - at.centre ).dot( runDirection ) <= 0 )
+      const BlockImage *laterImage = referenceImageAt( index );
+      if ( !laterImage || ( laterImage->exterior->projectionCentre - at.centre ).dot( runDirection ) <= 0 )
         break;
       std::string laterError;
       const std::shared_ptr<const cv::Mat> laterGrey = mImages( *laterImage, laterError );
