@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <optional>
+#include <map>
 #include <set>
 #include <stdexcept>
 
@@ -21,6 +22,7 @@ namespace geostation
     {
       int col, row;
       int along; //!< index along the curve, for the jump rule and peak separation
+      bool border = false; //!< on the border of a 2-D search area: a neighbour lies outside it
     };
 
     /**
@@ -159,17 +161,28 @@ namespace geostation
       Eigen::Vector2d offset = Eigen::Vector2d::Zero(); //!< the reference point's offset from the template's centre, carried to the peak
     };
 
-    //! Parabola refinement around an integer peak, then LSM from several starts and its checks; fills the result.
+    /**
+     * Parabola refinement around an integer peak, then LSM from several
+     * starts and its checks; fills the result. Without a peak inside the
+     * search area (`peakInArea` false: the correlation is highest on its
+     * border) the peak is as weak as one below the threshold: least squares
+     * starts from the approximate position first, and its solution must lie
+     * inside the area.
+     */
     void refine( const MatchImage &reference, const Eigen::Vector2d &pixelInReference, const MatchImage &search, const WindowShape &shape,
-                 int col, int row, const std::optional<Eigen::Vector2d> &approximate, double radiusPx, const AreaMatchOptions &options, AreaMatch &result )
+                 int col, int row, bool peakInArea, const std::optional<Eigen::Vector2d> &approximate, double radiusPx, const AreaMatchOptions &options,
+                 AreaMatch &result )
     {
       const auto scoreAt = [&]( int c, int r ) { return shape.target->score( search, c, r ).value_or( result.score ); };
       const double dx = parabolaPeakOffset( scoreAt( col - 1, row ), result.score, scoreAt( col + 1, row ) );
       const double dy = parabolaPeakOffset( scoreAt( col, row - 1 ), result.score, scoreAt( col, row + 1 ) );
       result.correlationPixel = Eigen::Vector2d( col + 0.5 + dx, row + 0.5 + dy ) + shape.offset;
       result.pixelInImage = result.correlationPixel;
-      const bool weakPeak = result.score < options.minScore;
-      const std::string weakReason = "best correlation " + std::to_string( result.score ).substr( 0, 5 ) + " is below the threshold " + std::to_string( options.minScore ).substr( 0, 4 );
+      const bool weakPeak = !peakInArea || result.score < options.minScore;
+      const std::string weakReason = !peakInArea ? "the correlation is highest on the border of the search area (" + std::to_string( result.score ).substr( 0, 5 ) +
+                                                   "): there is no peak inside it"
+                                                 : "best correlation " + std::to_string( result.score ).substr( 0, 5 ) + " is below the threshold " +
+                                                   std::to_string( options.minScore ).substr( 0, 4 );
       // a weak peak still gets least squares from the approximate position (strong distortion lowers the
       // correlation of square windows; least squares' affine shape absorbs it), and its checks decide
       if ( weakPeak && ( !options.lsm || !approximate || !options.lsmBelowThreshold ) )
@@ -205,8 +218,10 @@ namespace geostation
       starts.push_back( result.correlationPixel );
       if ( approximate && !weakPeak )
         starts.push_back( *approximate );
-      for ( size_t k = 1; k < result.peaks.size() && static_cast<int>( starts.size() ) < std::max( 1, options.lsmStarts ); ++k )
-        starts.push_back( result.peaks[k].first );
+      // (the best of them is the correlation peak, unless it lies on the border of a 2-D search area)
+      for ( size_t k = 0; k < result.peaks.size() && static_cast<int>( starts.size() ) < std::max( 1, options.lsmStarts ); ++k )
+        if ( ( result.peaks[k].first - result.correlationPixel ).norm() > 1.5 )
+          starts.push_back( result.peaks[k].first );
       starts.resize( std::min<size_t>( starts.size(), std::max( 1, options.lsmStarts ) ) );
       // least squares from the winning window's shape, then (a point off the predicted surface, or a patch
       // that is part surface and part object) from the other one
@@ -233,8 +248,8 @@ namespace geostation
             rejected = r.message;
           else if ( const std::string bad = implausible( r, contrast, lsmOptions.initialAffine, options ); !bad.empty() )
             rejected = bad;
-          else if ( approximate && ( r.pixelInImage - *approximate ).norm() > radiusPx + 0.5 )
-            rejected = "least squares moved " + std::to_string( ( r.pixelInImage - *approximate ).norm() ).substr( 0, 4 ) +
+          else if ( approximate && ( r.pixelInImage - *approximate ).norm() > radiusPx )
+            rejected = "least squares left the search area: it moved " + std::to_string( ( r.pixelInImage - *approximate ).norm() ).substr( 0, 4 ) +
                        " px from the approximate position, beyond the search radius";
           else
             return r;
@@ -306,8 +321,46 @@ namespace geostation
                           " px from the reference point" : "matching back does not converge: " + returned.message;
           return;
         }
+        // least squares' own sigma takes the residuals for white noise; the closure of the way there and back
+        // (in search pixels, two matchings' errors) shows what it leaves out
+        const double closurePx = ( best->affine * ( returned.pixelInImage - pixelInReference ) ).norm();
+        result.sigmaPx = std::max( result.sigmaPx, closurePx / std::sqrt( 2.0 ) );
       }
       result.status = MatchStatus::Lsm;
+    }
+
+    /**
+     * In a 2-D search a maximum on the border of the area is no peak: the
+     * true one may lie outside. The best candidate inside the area that
+     * scores at least as high as each of its neighbours; false if none.
+     */
+    bool peakInside( const std::vector<std::vector<std::pair<double, const Candidate *>>> &scored, double &best, const Candidate *&bestCandidate, size_t &bestShape )
+    {
+      best = -2.0;
+      bestCandidate = nullptr;
+      for ( size_t k = 0; k < scored.size(); ++k )
+      {
+        std::map<std::pair<int, int>, double> scoreAt;
+        for ( const auto &[score, candidate] : scored[k] )
+          scoreAt[{ candidate->col, candidate->row }] = score;
+        for ( const auto &[score, candidate] : scored[k] )
+        {
+          if ( candidate->border || score <= best )
+            continue;
+          bool peak = true;
+          for ( int dr = -1; dr <= 1 && peak; ++dr )
+            for ( int dc = -1; dc <= 1 && peak; ++dc )
+              if ( const auto n = scoreAt.find( { candidate->col + dc, candidate->row + dr } ); ( dc || dr ) && n != scoreAt.end() )
+                peak = n->second <= score;
+          if ( peak )
+          {
+            best = score;
+            bestCandidate = candidate;
+            bestShape = k;
+          }
+        }
+      }
+      return bestCandidate != nullptr;
     }
 
     AreaMatch searchCandidates( const MatchImage &reference, const Eigen::Vector2d &pixelInReference, const MatchImage &search,
@@ -377,6 +430,20 @@ namespace geostation
         result.message = "every search window leaves the search image or is flat";
         return result;
       }
+      bool peakInArea = true;
+      if ( options.borderIsNoPeak && std::any_of( candidates.begin(), candidates.end(), []( const Candidate &c ) { return c.border; } ) )
+      {
+        double inside = -2.0;
+        const Candidate *insideCandidate = nullptr;
+        size_t insideShape = 0;
+        peakInArea = peakInside( scored, inside, insideCandidate, insideShape );
+        if ( peakInArea )
+        {
+          best = inside;
+          bestCandidate = insideCandidate;
+          bestShape = insideShape;
+        }
+      }
       const WindowShape &shape = shapes[bestShape];
       result.shapedWindow = bestShape > 0;
       result.score = best;
@@ -398,7 +465,7 @@ namespace geostation
         if ( result.peaks.size() >= 8 )
           break;
       }
-      refine( reference, pixelInReference, search, shape, bestCandidate->col, bestCandidate->row, approximate, radiusPx, options, result );
+      refine( reference, pixelInReference, search, shape, bestCandidate->col, bestCandidate->row, peakInArea, approximate, radiusPx, options, result );
       return result;
     }
   }
@@ -451,10 +518,17 @@ namespace geostation
     std::vector<Candidate> candidates;
     const int r = static_cast<int>( std::ceil( radiusPx ) );
     const int c0 = static_cast<int>( std::floor( approximate.x() ) ), r0 = static_cast<int>( std::floor( approximate.y() ) );
+    const auto inside = [&]( int dc, int dr ) { return dc * dc + dr * dr <= radiusPx * radiusPx + 1e-9; };
     for ( int dr = -r; dr <= r; ++dr )
       for ( int dc = -r; dc <= r; ++dc )
-        if ( dc * dc + dr * dr <= radiusPx * radiusPx + 1e-9 )
-          candidates.push_back( { c0 + dc, r0 + dr, 0 } );
+        if ( inside( dc, dr ) )
+        {
+          bool border = false;
+          for ( int er = -1; er <= 1; ++er )
+            for ( int ec = -1; ec <= 1; ++ec )
+              border = border || !inside( dc + ec, dr + er );
+          candidates.push_back( { c0 + dc, r0 + dr, 0, border } );
+        }
     return searchCandidates( reference, pixelInReference, search, candidates, approximate, radiusPx, options, false );
   }
 

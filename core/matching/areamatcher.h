@@ -80,6 +80,14 @@ namespace geostation
     bool lsmBelowThreshold = true;
     //! Window scales least squares starts from when no start converged with the same scale (strong scale differences).
     std::vector<double> fallbackScales { 2.0, 0.5 };
+    /**
+     * 2-D search: a correlation maximum on the border of the search area is
+     * no peak (the true one may lie outside); the best peak inside it is
+     * taken, and without one least squares starts from the approximate
+     * position as for a weak peak. Off for areas of a pixel or two that
+     * only refine a peak found before.
+     */
+    bool borderIsNoPeak = true;
     //! A correlation-only match whose second peak scores within this of the best: ambiguous.
     double ambiguityMargin = 0.05;
     /**

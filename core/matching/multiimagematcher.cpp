@@ -81,6 +81,7 @@ namespace geostation
     confirm.lsmStarts = 1;
     confirm.fallbackScales.clear();
     confirm.backMatch = false;
+    confirm.borderIsNoPeak = false; // areas of 1.5-2 px around a peak or a projection: a refinement, not a search
     double bestTotal = -1.0;
     for ( const auto &[peak, peakScore] : pair.peaks )
     {

@@ -104,7 +104,8 @@ namespace geostation
       if ( together && !p.matched() )
         continue;
       const std::vector<Eigen::Vector2d> curve = curvePixels( p.curve );
-      const AreaMatchOptions area = viewAreaOptions( views[reference], pixelInReference, views[i], options );
+      AreaMatchOptions area = viewAreaOptions( views[reference], pixelInReference, views[i], options );
+      area.borderIsNoPeak = !together; // 1.5 px around the multi-image position refines it; it is no search
       const AreaMatch m = together
                           ? matchAroundPosition( *views[reference].pixels, pixelInReference, *views[i].pixels, p.pixelInImage, 1.5, area )
                           : matchAlongEpipolarBand( *views[reference].pixels, pixelInReference, *views[i].pixels, curve, area );

@@ -13,6 +13,7 @@
 #include <Eigen/Geometry>
 #include <Eigen/LU>
 #include <gtest/gtest.h>
+#include <opencv2/calib3d.hpp>
 #include <opencv2/core/persistence.hpp>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
@@ -48,13 +49,20 @@ namespace
     return shift * m * shift.inverse();
   }
 
+  struct ReturnedMatch
+  {
+    Eigen::Vector2d reference, search;
+    double sigmaPx;
+  };
+
   /**
    * Matches corners of `reference` (Shi-Tomasi, as an operator picks
-   * well-defined points) in `search`, whose truth is `searchFromReference`,
-   * from approximate positions within +-2 px.
+   * well-defined points) in `search`, whose truth is `searchFromReference`
+   * (on the reference's rows above `truthBelowRow`), from approximate
+   * positions within +-2 px.
    */
   MatchScore matchWithTruth( const cv::Mat &reference, const cv::Mat &search, const Eigen::Matrix3d &searchFromReference, const AreaMatchOptions &options,
-                            unsigned seed = 5 )
+                            unsigned seed = 5, double searchRadiusPx = 3.0, double truthBelowRow = 1e9, std::vector<ReturnedMatch> *returned = nullptr )
   {
     const MatchImage a( reference ), b( search );
     std::vector<cv::Point2f> corners;
@@ -67,12 +75,14 @@ namespace
       const Eigen::Vector2d p( corner.x + 0.5, corner.y + 0.5 );
       const Eigen::Vector2d truth = ( searchFromReference * p.homogeneous() ).hnormalized();
       if ( p.x() < 30 || p.y() < 30 || p.x() > a.width() - 30 || p.y() > a.height() - 30 || truth.x() < 30 || truth.y() < 30 || truth.x() > b.width() - 30 ||
-           truth.y() > b.height() - 30 )
+           truth.y() > b.height() - 30 || p.y() >= truthBelowRow )
         continue;
       const Eigen::Vector2d approximate = truth + Eigen::Vector2d( within2( random ), within2( random ) );
-      const AreaMatch m = matchAroundPosition( a, p, b, approximate, 3.0, options );
+      const AreaMatch m = matchAroundPosition( a, p, b, approximate, searchRadiusPx, options );
       EXPECT_TRUE( m.matched() || !m.message.empty() ) << "a failed match says why";
-      score.add( matchStatusName( m.status ), m.matched(), ( m.pixelInImage - truth ).norm() );
+      score.add( matchStatusName( m.status ), m.matched(), ( m.pixelInImage - truth ).norm(), m.sigmaPx );
+      if ( returned && m.matched() )
+        returned->push_back( { p, m.pixelInImage, m.sigmaPx } );
     }
     return score;
   }
@@ -115,6 +125,15 @@ namespace
     return back * tilt * scale * rotate * toCentre;
   }
 
+  /**
+   * The published homography holds for the painted wall above the joint
+   * that crosses graf1 at about row 515. The wall's base below it stands
+   * off that plane: every match there lies (+4.3, +1.3) px from where the
+   * homography puts it, the same vector at points 500 px apart - the
+   * homography's error, not the matches'.
+   */
+  constexpr double kGraffitiPlaneAboveRow = 505.0;
+
   //! Mikolajczyk's Graffiti sequence, images 1 and 3 (a 40° viewpoint change) and the homography published with them.
   struct GraffitiPair
   {
@@ -140,14 +159,84 @@ TEST( RealMatching, GraffitiPairWithItsPublishedHomography )
 {
   const GraffitiPair pair = graffitiPair();
   ASSERT_TRUE( pair.ok() ) << kData << " (Debian package opencv-doc, installed by scripts/setup-debian.sh)";
-  const MatchScore s = matchWithTruth( pair.one, pair.three, pair.threeFromOne, userOptions() );
+  const MatchScore s = matchWithTruth( pair.one, pair.three, pair.threeFromOne, userOptions(), 5, 3.0, kGraffitiPlaneAboveRow );
   s.print( "graf1 -> graf3 (published H)" );
-  EXPECT_GE( s.attempted, 300 );
+  EXPECT_GE( s.attempted, 280 );
   EXPECT_GE( s.within1Fraction(), 0.65 );
   EXPECT_LE( s.median, 0.4 );
   EXPECT_LE( s.wrongFraction(), 0.05 );
 }
 
+TEST( RealMatching, GraffitiPairSearchedFourPixelsAround )
+{
+  // match_points' 2-D mode as a user runs it: approximate positions within +-2 px, SEARCH_RADIUS 4, 21 x 21, LSM.
+  // A correlation maximum on the border of the search area is no peak, least squares that leaves the area has
+  // diverged, and a match's sigma is no smaller than its error suggests
+  const GraffitiPair pair = graffitiPair();
+  ASSERT_TRUE( pair.ok() );
+  for ( const unsigned seed : { 5u, 6u, 7u } )
+  {
+    SCOPED_TRACE( seed );
+    const MatchScore s = matchWithTruth( pair.one, pair.three, pair.threeFromOne, userOptions(), seed, 4.0, kGraffitiPlaneAboveRow );
+    s.print( "graf1 -> graf3, radius 4, seed " + std::to_string( seed ) );
+    // the whole image, the wall's base below the joint too (where the published homography is 4.5 px off)
+    matchWithTruth( pair.one, pair.three, pair.threeFromOne, userOptions(), seed, 4.0 ).print( "  with the wall's base (H 4.5 px off there)" );
+    EXPECT_GE( s.attempted, 280 );
+    EXPECT_GE( s.within1Fraction(), 0.85 );
+    EXPECT_LE( s.median, 0.4 );
+    EXPECT_LE( s.wrongFraction(), 0.02 );
+  }
+}
+
+namespace
+{
+  /**
+   * The Graffiti matches (radius 4, the wall above the joint) against the
+   * homography they fit themselves (RANSAC, 1 px): the published one lies
+   * 0.16 px from it at the median, the matches 0.27 px.
+   */
+  MatchScore graffitiAgainstTheirOwnHomography()
+  {
+    const GraffitiPair pair = graffitiPair();
+    std::vector<ReturnedMatch> returned;
+    matchWithTruth( pair.one, pair.three, pair.threeFromOne, userOptions(), 5, 4.0, kGraffitiPlaneAboveRow, &returned );
+    std::vector<cv::Point2f> from, to;
+    for ( const ReturnedMatch &r : returned )
+    {
+      from.emplace_back( r.reference.x(), r.reference.y() );
+      to.emplace_back( r.search.x(), r.search.y() );
+    }
+    cv::Mat inliers;
+    const cv::Mat fitted = cv::findHomography( from, to, cv::RANSAC, 1.0, inliers );
+    Eigen::Matrix3d own;
+    for ( int i = 0; i < 3; ++i )
+      for ( int j = 0; j < 3; ++j )
+        own( i, j ) = fitted.at<double>( i, j );
+    MatchScore score;
+    for ( const ReturnedMatch &r : returned )
+      score.add( "lsm", true, ( r.search - ( own * r.reference.homogeneous() ).hnormalized() ).norm(), r.sigmaPx );
+    score.print( "graf1 -> graf3 against its own homography" );
+    return score;
+  }
+}
+
+TEST( RealMatching, GraffitiMatchesFitOnePlane )
+{
+  ASSERT_TRUE( graffitiPair().ok() );
+  const MatchScore s = graffitiAgainstTheirOwnHomography();
+  EXPECT_LE( s.median, 0.35 );
+  EXPECT_LE( s.wrongFraction(), 0.02 );
+}
+
+// KNOWN FAILING, kept until it passes: on this real pair the sigmas least squares claims (0.02-0.1 px, with the
+// closure of matching back) are an order of magnitude below the errors (0.27 px median against the matches' own
+// homography; RMS error / sigma 20). On real photographs warped by known maps the same sigmas hold (RMS 0.8-3.2,
+// PhotographsUnderKnownWarps): what the Graffiti pair adds - another camera, light and a wall that is not quite a
+// plane - least squares' model does not see.
+TEST( RealMatching, DISABLED_GraffitiSigmasAgreeWithTheErrors )
+{
+  EXPECT_LE( graffitiAgainstTheirOwnHomography().rmsErrorOverSigma(), 3.0 );
+}
 TEST( RealMatching, PhotographsUnderKnownWarps )
 {
   struct Case
@@ -186,6 +275,8 @@ TEST( RealMatching, PhotographsUnderKnownWarps )
     EXPECT_GE( s.within1Fraction(), 0.65 );
     EXPECT_LE( s.median, 0.4 );
     EXPECT_LE( s.wrongFraction(), 0.05 );
+    // the sigmas hold under exact truth: RMS of error / sigma 0.8-3.2 (a 2-D error over the larger shift sigma)
+    EXPECT_LE( s.rmsErrorOverSigma(), 3.5 );
   }
 }
 
