@@ -432,6 +432,9 @@ int GeoStationOrientationDock::identifyAutomatically()
   std::vector<geostation::ControlOffer> offers;
   for ( const geostation::PhotoIdentifiedPoint &p : result.identified )
     offers.push_back( { p.pointId, geostation::PredictedPoint::Status::Found, std::string(), p.pixelInFile, p.predictedInFile } );
+  for ( const geostation::PhotoIdentifiedPoint &p : result.flagged )
+    offers.push_back( { p.pointId, geostation::PredictedPoint::Status::Flagged,
+                        tr( "%1 px from its prediction" ).arg( ( p.pixelInFile - p.predictedInFile ).norm(), 0, 'f', 1 ).toStdString(), p.pixelInFile, p.predictedInFile } );
   mModel->setOffers( offers );
   showMessage( tr( "%1 control points identified among %2 marks (chance explains it with odds %3); accept them with Accept Found." )
                .arg( result.identified.size() ).arg( result.candidates ).arg( result.identification.falseAlarms, 0, 'g', 2 ) );

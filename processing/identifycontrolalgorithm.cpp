@@ -25,9 +25,11 @@ namespace GeoStationProcessing
 
 namespace
 {
-  QJsonObject reportJson( const geostation::ControlIdentificationSummary &s, const QString &imageId, int candidates, bool guided )
+  QJsonObject reportJson( const geostation::PhotoIdentificationSummary &photo, const QString &imageId, bool guided )
   {
+    const geostation::ControlIdentificationSummary &s = photo.identification;
     const geostation::ResectionSummary &r = s.resection;
+    const int candidates = photo.candidates;
     QJsonArray parameters, residuals, notFound, rejected;
     for ( size_t i = 0; i < r.parameterNames.size() && i < r.estimates.size(); ++i )
       parameters.append( QJsonObject { { "name", QString::fromStdString( r.parameterNames[i] ) }, { "value", r.estimates[i] }, { "sigma", r.sigmas[i] },
@@ -42,7 +44,10 @@ namespace
     return QJsonObject {
       { "algorithm", "geostation:identify_control" }, { "image_id", imageId }, { "approximate_orientation_used", guided },
       { "candidates", candidates }, { "triangles", static_cast<double>( s.triangles ) }, { "poses", static_cast<double>( s.poses ) },
-      { "hypotheses_verified", s.hypothesesVerified }, { "pairs_found", static_cast<int>( s.identified.size() ) }, { "runner_up_pairs", s.runnerUpPairs },
+      { "hypotheses_verified", s.hypothesesVerified }, { "pairs_found", static_cast<int>( photo.identified.size() ) },
+      { "pairs_by_distance_lists", static_cast<int>( s.identified.size() ) }, { "measured_at_prediction", photo.relocated },
+      { "found_only_at_prediction", photo.addedAtPrediction }, { "flagged", static_cast<int>( photo.flagged.size() ) }, { "claim_limit_px", photo.claimLimitPx },
+      { "runner_up_pairs", s.runnerUpPairs },
       { "false_alarms", s.falseAlarms }, { "seconds", s.seconds }, { "pairs", residuals }, { "not_found", notFound }, { "rejected", rejected },
       { "sigma0_px", r.sigma0 }, { "iterations", r.iterations }, { "converged", r.converged }, { "parameters", parameters },
       { "rmse_control_px", r.rmseControlPx }, { "message", QString::fromStdString( s.message ) } };
@@ -86,8 +91,13 @@ QString IdentifyControlAlgorithm::shortHelpString() const
                       "answers that fit almost equally well, the algorithm stops with a message and writes nothing.\n\n"
                       "CONTROL is a point layer or a table with point_id, X, Y, Z; without heights, a DEM gives them. OUTPUT is an "
                       "observations table (point_id, image_id, col, row, sigma_px, status) ready for geostation:resection: status "
-                      "identified, or not_found (the control point falls in the photo where no mark was found; pred_col and "
-                      "pred_row give where). REPORT lists the pairs with residuals, the resection, and the search's counts." );
+                      "identified, flagged (a mark there, but further from its prediction than the others allow: for the operator "
+                      "to look at, not a measurement) or not_found (the control point falls in the photo where no mark was found; "
+                      "pred_col and pred_row give where). REPORT lists the pairs with residuals, the resection, and the search's counts.\n\n"
+                      "Marks from MARK_MIN_PX to a tenth of the photo across are found (MARK_MAX_PX 0; give a size to look for less). "
+                      "Once the pairs give the pose, every control point is measured again at its prediction, at the size the "
+                      "marks have on the ground there, and the centre of a disc seen obliquely is taken for the disc's centre, "
+                      "not its ellipse's." );
 }
 
 IdentifyControlAlgorithm *IdentifyControlAlgorithm::createInstance() const
@@ -108,14 +118,14 @@ void IdentifyControlAlgorithm::initAlgorithm( const QVariantMap & )
   };
   advanced( new QgsProcessingParameterNumber( QStringLiteral( "SEARCH_RADIUS_PX" ), QObject::tr( "Search radius around predictions (px)" ), QgsProcessingParameterNumber::Double, 80.0, false, 1.0 ) );
   advanced( new QgsProcessingParameterNumber( QStringLiteral( "MARK_MIN_PX" ), QObject::tr( "Smallest mark diameter (px)" ), QgsProcessingParameterNumber::Double, 3.0, false, 1.0 ) );
-  advanced( new QgsProcessingParameterNumber( QStringLiteral( "MARK_MAX_PX" ), QObject::tr( "Largest mark diameter (px)" ), QgsProcessingParameterNumber::Double, 24.0, false, 1.0, 200.0 ) );
+  advanced( new QgsProcessingParameterNumber( QStringLiteral( "MARK_MAX_PX" ), QObject::tr( "Largest mark diameter (px; 0: a tenth of the photo)" ), QgsProcessingParameterNumber::Double, 0.0, false, 0.0, 200.0 ) );
   advanced( new QgsProcessingParameterNumber( QStringLiteral( "MIN_CONTRAST" ), QObject::tr( "Smallest mark contrast (grey levels)" ), QgsProcessingParameterNumber::Double, 30.0, false, 1.0 ) );
   advanced( new QgsProcessingParameterBoolean( QStringLiteral( "DARK_MARKS" ), QObject::tr( "Marks are dark on a bright background" ), false ) );
   advanced( new QgsProcessingParameterNumber( QStringLiteral( "MAX_CANDIDATES" ), QObject::tr( "Strongest marks kept" ), QgsProcessingParameterNumber::Integer, 60, false, 3, 1000 ) );
   advanced( new QgsProcessingParameterNumber( QStringLiteral( "MIN_PAIRS" ), QObject::tr( "Fewest pairs for an identification" ), QgsProcessingParameterNumber::Integer, 5, false, 4 ) );
   advanced( new QgsProcessingParameterNumber( QStringLiteral( "TOLERANCE_PX" ), QObject::tr( "Matching tolerance after the resection (px)" ), QgsProcessingParameterNumber::Double, 2.5, false, 0.1 ) );
   addParameter( new QgsProcessingParameterFeatureSink( QStringLiteral( "OUTPUT" ), QObject::tr( "Identified control (observations)" ), QgsProcessing::TypeVector ) );
-  addParameter( new QgsProcessingParameterFileDestination( QStringLiteral( "REPORT" ), QObject::tr( "Report" ), QObject::tr( "JSON (*.json)" ), QVariant(), true ) );
+  addParameter( new QgsProcessingParameterFileDestination( QStringLiteral( "REPORT" ), QObject::tr( "Report" ), QObject::tr( "JSON (*.json)" ), QVariant(), true, false ) );
   addOutput( new QgsProcessingOutputNumber( QStringLiteral( "PAIRS_FOUND" ), QObject::tr( "Control points identified" ) ) );
 }
 
@@ -199,21 +209,25 @@ QVariantMap IdentifyControlAlgorithm::processGeoStation( const QVariantMap &para
   // written in the image's own pixels (the scan's, for scanned film), as measured
   for ( const geostation::PhotoIdentifiedPoint &p : result.identified )
     write( p.pointId, p.pixelInFile.x(), p.pixelInFile.y(), p.sigmaPx, QStringLiteral( "identified" ), p.predictedInFile, ( p.predictedInFile - p.pixelInFile ).norm() );
+  for ( const geostation::PhotoIdentifiedPoint &p : result.flagged )
+    write( p.pointId, p.pixelInFile.x(), p.pixelInFile.y(), p.sigmaPx, QStringLiteral( "flagged" ), p.predictedInFile, ( p.predictedInFile - p.pixelInFile ).norm() );
   for ( const auto &[pointId, predicted] : result.notFound )
     write( pointId, QVariant(), QVariant(), QVariant(), QStringLiteral( "not_found" ), predicted, QVariant() );
 
   const QString reportPath = parameterAsFileOutput( parameters, QStringLiteral( "REPORT" ), context );
   if ( !reportPath.isEmpty() )
-    GeoStationProcessing::writeReport( reportJson( summary, imageId, result.candidates, options.approximate.has_value() ), reportPath );
-  feedback->pushInfo( QObject::tr( "%1 control points identified in %2 from %3 poses in %4 s (%5 located again at their predictions); %6 more fall in the photo unfound." )
-                      .arg( summary.identified.size() ).arg( imageId ).arg( summary.poses ).arg( summary.seconds, 0, 'f', 1 ).arg( result.relocated ).arg( summary.notFound.size() ) );
+    GeoStationProcessing::writeReport( reportJson( result, imageId, options.approximate.has_value() ), reportPath );
+  feedback->pushInfo( QObject::tr( "%1 control points identified in %2 from %3 poses in %4 s (%5 measured at their predictions, %6 of them found only there); "
+                                   "%7 flagged further than %8 px from their prediction; %9 more fall in the photo unfound." )
+                      .arg( result.identified.size() ).arg( imageId ).arg( summary.poses ).arg( summary.seconds, 0, 'f', 1 ).arg( result.relocated )
+                      .arg( result.addedAtPrediction ).arg( result.flagged.size() ).arg( identification.agreementPx ).arg( result.notFound.size() ) );
   if ( !summary.rejected.empty() )
     feedback->pushWarning( QObject::tr( "%1 paired control points were rejected by the resection as blunders." ).arg( summary.rejected.size() ) );
   feedback->setProgress( 100 );
   QVariantMap outputs;
   outputs.insert( QStringLiteral( "OUTPUT" ), destination );
   outputs.insert( QStringLiteral( "REPORT" ), reportPath );
-  outputs.insert( QStringLiteral( "PAIRS_FOUND" ), static_cast<int>( summary.identified.size() ) );
+  outputs.insert( QStringLiteral( "PAIRS_FOUND" ), static_cast<int>( result.identified.size() ) );
   return outputs;
 }
 

@@ -19,8 +19,8 @@ namespace geostation
   {
     if ( !( minDiameterPx >= 1.0 ) )
       throw std::invalid_argument( "the smallest mark diameter must be at least 1 px" );
-    if ( !( maxDiameterPx >= minDiameterPx && maxDiameterPx <= 200.0 ) )
-      throw std::invalid_argument( "the largest mark diameter must be between the smallest and 200 px" );
+    if ( !( maxDiameterPx == 0.0 || ( maxDiameterPx >= minDiameterPx && maxDiameterPx <= 200.0 ) ) )
+      throw std::invalid_argument( "the largest mark diameter must be 0 (a tenth of the image) or between the smallest and 200 px" );
     if ( !( minContrast > 0.0 ) )
       throw std::invalid_argument( "the mark contrast must be positive" );
     if ( !( minSideContrast >= 0.0 && minSideContrast <= 1.0 ) )
@@ -67,6 +67,11 @@ namespace geostation
     }
   } // namespace
 
+  double largestMarkPx( const MarkCandidateOptions &options, const cv::Size &size )
+  {
+    return options.maxDiameterPx > 0.0 ? options.maxDiameterPx : std::clamp( 0.1 * std::min( size.width, size.height ), std::max( 3.0, options.minDiameterPx ), 200.0 );
+  }
+
   cv::Mat markGrey( const cv::Mat &image )
   {
     if ( image.empty() || ( image.depth() != CV_8U && image.depth() != CV_16U ) || ( image.channels() != 1 && image.channels() != 3 && image.channels() != 4 ) )
@@ -103,7 +108,8 @@ namespace geostation
       int hx, hy; //!< half sizes of the mark's box; the ring reaches as far again
     };
     std::vector<Shape> shapes;
-    for ( double d = options.minDiameterPx; d <= options.maxDiameterPx * 1.0001; d *= 1.35 )
+    const double maxDiameter = largestMarkPx( options, grey.size() );
+    for ( double d = options.minDiameterPx; d <= maxDiameter * 1.0001; d *= 1.35 )
     {
       const int hx = std::max( 1, static_cast<int>( std::lround( 0.5 * d ) ) );
       for ( double flattening : { 1.0, 0.6, 0.35 } ) // a disc seen obliquely is an ellipse, flatter across the view
@@ -183,16 +189,19 @@ namespace geostation
       if ( static_cast<int>( kept.size() ) >= options.maxCandidates )
         break;
       const int half = static_cast<int>( candidate.diameterPx / 2 );
-      if ( const std::optional<Eigen::Vector2d> located = forstnerCentre( grey, candidate.pixelInImage, half ) )
+      std::optional<Eigen::Vector2d> gravity = centreOfGravity( grey, candidate.pixelInImage, half + 1, options.brightMark );
+      if ( gravity && ( *gravity - candidate.pixelInImage ).norm() > half + 1.0 )
+        gravity.reset();
+      // Förstner's point where it agrees with the centre of gravity (a small mark, a square's corners); on a
+      // large disc in a ring it may be a point of the outline, the strongest corner within its window
+      const std::optional<Eigen::Vector2d> located = forstnerCentre( grey, candidate.pixelInImage, half );
+      if ( located && ( !gravity || ( *located - *gravity ).norm() <= 1.0 ) )
       {
         candidate.pixelInImage = *located;
         candidate.forstner = true;
       }
-      else if ( const std::optional<Eigen::Vector2d> gravity = centreOfGravity( grey, candidate.pixelInImage, half + 1, options.brightMark ) )
-      {
-        if ( ( *gravity - candidate.pixelInImage ).norm() <= half + 1.0 )
-          candidate.pixelInImage = *gravity;
-      }
+      else if ( gravity )
+        candidate.pixelInImage = *gravity;
       // a mark the frame cuts is located at the centre of what is left of it
       const double margin = 0.5 * candidate.diameterPx + 1.0;
       if ( candidate.pixelInImage.x() < margin || candidate.pixelInImage.y() < margin || candidate.pixelInImage.x() > grey.cols - margin ||

@@ -34,7 +34,7 @@ namespace geostation
   struct MarkCandidateOptions
   {
     double minDiameterPx = 3.0;   //!< smallest mark looked for (the disc, not its background)
-    double maxDiameterPx = 24.0;  //!< largest
+    double maxDiameterPx = 0.0;   //!< largest; 0: a tenth of the image's shorter side (at most 200 px)
     double minContrast = 30.0;    //!< grey levels between the mark and the ring around it
     //! Every side of the ring (above, below, left, right) must be darker by this fraction of the contrast.
     double minSideContrast = 0.5;
@@ -51,6 +51,9 @@ namespace geostation
     double diameterPx = 0.0;   //!< the filter size that answered best
     bool forstner = false;     //!< located by Förstner (else by the centre of gravity)
   };
+
+  //! The largest mark looked for in an image of `size`: the options' or, for 0, a tenth of its shorter side (3-200 px).
+  double largestMarkPx( const MarkCandidateOptions &options, const cv::Size &size );
 
   /**
    * Mark candidates of an 8-bit grey image, strongest first. Throws

@@ -307,13 +307,15 @@ namespace geostation
   }
 
   std::optional<Eigen::Vector2d> refineMarkPixel( const cv::Mat &greyFile, const Eigen::Vector2d &clickedInFile, double searchRadiusPx,
-      const MarkCandidateOptions &marks )
+      const MarkCandidateOptions &markOptions )
   {
+    MarkCandidateOptions marks = markOptions;
     if ( greyFile.empty() || greyFile.type() != CV_8UC1 )
       throw std::invalid_argument( "Refining a mark needs an 8-bit grey image." );
     if ( !( searchRadiusPx > 0.0 ) || !clickedInFile.allFinite() )
       throw std::invalid_argument( "Refining a mark needs a finite pixel and a positive search radius." );
-    // the window holds the search radius and a whole mark of the largest size around it
+    // the window holds the search radius and a whole mark of the largest size around it (the photo's, not the window's)
+    marks.maxDiameterPx = largestMarkPx( markOptions, greyFile.size() );
     const int half = static_cast<int>( std::ceil( searchRadiusPx + marks.maxDiameterPx ) );
     const cv::Rect wanted( static_cast<int>( std::floor( clickedInFile.x() ) ) - half, static_cast<int>( std::floor( clickedInFile.y() ) ) - half, 2 * half + 1,
                            2 * half + 1 );
