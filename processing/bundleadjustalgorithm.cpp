@@ -75,8 +75,8 @@ void BundleAdjustAlgorithm::initAlgorithm( const QVariantMap & )
   addParameter( new QgsProcessingParameterNumber( QStringLiteral( "SIGMA_PX" ), QObject::tr( "Pixel sigma where the table has none" ), QgsProcessingParameterNumber::Double, 0.5, false, 1e-6 ) );
   addParameter( new QgsProcessingParameterBoolean( QStringLiteral( "ROBUST" ), QObject::tr( "Robust (Huber) loss while iterating" ), false ) );
   addParameter( new QgsProcessingParameterFileDestination( QStringLiteral( "OUTPUT_BLOCK" ), QObject::tr( "Adjusted block" ), QObject::tr( "GeoStation block (*.geostation.json)" ) ) );
-  addParameter( new QgsProcessingParameterFeatureSink( QStringLiteral( "OUTPUT_POINTS" ), QObject::tr( "Adjusted points" ), QgsProcessing::TypeVectorPoint ) );
-  addParameter( new QgsProcessingParameterFileDestination( QStringLiteral( "REPORT" ), QObject::tr( "Report" ), QObject::tr( "JSON (*.json)" ) ) );
+  addParameter( new QgsProcessingParameterFeatureSink( QStringLiteral( "OUTPUT_POINTS" ), QObject::tr( "Adjusted points" ), QgsProcessing::TypeVectorPoint, QVariant(), true, false ) );
+  addParameter( new QgsProcessingParameterFileDestination( QStringLiteral( "REPORT" ), QObject::tr( "Report" ), QObject::tr( "JSON (*.json)" ), QVariant(), true, false ) );
   addOutput( new QgsProcessingOutputNumber( QStringLiteral( "SIGMA0" ), QObject::tr( "sigma0 (px)" ) ) );
   addOutput( new QgsProcessingOutputNumber( QStringLiteral( "RMSE_CHECK_M" ), QObject::tr( "RMSE on check points (m, 3D)" ) ) );
 }
@@ -180,13 +180,15 @@ QVariantMap BundleAdjustAlgorithm::processGeoStation( const QVariantMap &paramet
   GeoStationProcessing::writeBlockAndReport( block, blockPath, GeoStationProcessing::bundleAdjustReport( summary ), reportPath );
 
   QString pointsDestination;
-  std::unique_ptr<QgsFeatureSink> sink( parameterAsSink( parameters, QStringLiteral( "OUTPUT_POINTS" ), context, pointsDestination, fields, QgsWkbTypes::PointZ, crs ) );
-  if ( !sink )
-    throw QgsProcessingException( invalidSinkError( parameters, QStringLiteral( "OUTPUT_POINTS" ) ) );
-  for ( QgsFeature &f : features )
-    if ( !sink->addFeature( f, QgsFeatureSink::FastInsert ) )
-      throw QgsProcessingException( writeFeatureError( sink.get(), parameters, QStringLiteral( "OUTPUT_POINTS" ) ) );
-  sink.reset();
+  if ( outputRequested( parameters, QStringLiteral( "OUTPUT_POINTS" ) ) )
+  {
+    std::unique_ptr<QgsFeatureSink> sink( parameterAsSink( parameters, QStringLiteral( "OUTPUT_POINTS" ), context, pointsDestination, fields, QgsWkbTypes::PointZ, crs ) );
+    if ( !sink )
+      throw QgsProcessingException( invalidSinkError( parameters, QStringLiteral( "OUTPUT_POINTS" ) ) );
+    for ( QgsFeature &f : features )
+      if ( !sink->addFeature( f, QgsFeatureSink::FastInsert ) )
+        throw QgsProcessingException( writeFeatureError( sink.get(), parameters, QStringLiteral( "OUTPUT_POINTS" ) ) );
+  }
   feedback->setProgress( 100 );
 
   feedback->pushInfo( QObject::tr( "sigma0 = %1 px, residual RMS %2 px, %3 iterations, %4 s." ).arg( summary.sigma0, 0, 'f', 3 ).arg( summary.rmsPx, 0, 'f', 3 )

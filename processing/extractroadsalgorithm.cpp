@@ -77,7 +77,9 @@ QString ExtractRoadsAlgorithm::shortHelpString() const
                       "continues from where verification stopped, alternating between the images until a round adds little, "
                       "and assembles the result into maximum-length lines between dead ends and junctions.\n\n"
                       "Roads are bands ROAD_WIDTH_MIN_PX to ROAD_WIDTH_MAX_PX wide, darker (POLARITY dark) or brighter than "
-                      "both sides by at least MIN_CONTRAST grey levels. An oriented pair is registered through its "
+                      "both sides by at least MIN_CONTRAST grey levels. ROAD_WIDTH_MIN_PX is at least 2: a road's width is measured "
+                      "between the half-contrast crossings of its two edges, which a band one pixel wide (blurred by the optics "
+                      "over two or three) does not have apart, so roads narrower than 2 px are not extracted. An oriented pair is registered through its "
                       "orientation and the DEM, or a mean terrain height (MEAN_HEIGHT_M, otherwise estimated by matching); "
                       "an unoriented pair needs CONTROL (point_id, col_left, row_left, col_right, row_right) and is "
                       "registered by the MAPPING, and then only the image-space outputs are written; the verification then searches "
@@ -85,7 +87,9 @@ QString ExtractRoadsAlgorithm::shortHelpString() const
                       "sought on sample lines START_SPACING_PX apart: closer lines find more of the short roads of a small image.\n\n"
                       "OUTPUT: 3-D lines in the block CRS (line_id, accepted_in, length_m, sigma_max); OUTPUT_LEFT and "
                       "OUTPUT_RIGHT: the lines in each image (x = col, y = -row); DEAD_ENDS: open ends in the left image "
-                      "(kind); REPORT: JSON with the rounds, counts, registration and times per stage." );
+                      "(kind); REPORT: JSON with the rounds, counts, registration and times per stage. Each output is written only "
+                      "when asked for; at least one of OUTPUT, OUTPUT_LEFT and OUTPUT_RIGHT is needed.\n\n"
+                      "POLARITY and MAPPING take their option's name (dark, bright; multiquadric, projective) or its index (0, 1)." );
 }
 
 ExtractRoadsAlgorithm *ExtractRoadsAlgorithm::createInstance() const { return new ExtractRoadsAlgorithm(); }
@@ -108,10 +112,10 @@ void ExtractRoadsAlgorithm::initAlgorithm( const QVariantMap & )
   addParameter( new QgsProcessingParameterFeatureSource( QStringLiteral( "CONTROL" ), QObject::tr( "Control-point pairs (unoriented pair)" ), QList<int>() << QgsProcessing::TypeVector, QVariant(), true ) );
   addParameter( new QgsProcessingParameterEnum( QStringLiteral( "MAPPING" ), QObject::tr( "Mapping from control points" ), kMappings, false, QStringLiteral( "multiquadric" ), false, true ) );
   addParameter( new QgsProcessingParameterFeatureSink( QStringLiteral( "OUTPUT" ), QObject::tr( "Road network (3-D)" ), QgsProcessing::TypeVectorLine, QVariant(), true ) );
-  addParameter( new QgsProcessingParameterFeatureSink( QStringLiteral( "OUTPUT_LEFT" ), QObject::tr( "Roads in the left image" ), QgsProcessing::TypeVectorLine ) );
-  addParameter( new QgsProcessingParameterFeatureSink( QStringLiteral( "OUTPUT_RIGHT" ), QObject::tr( "Roads in the right image" ), QgsProcessing::TypeVectorLine ) );
-  addParameter( new QgsProcessingParameterFeatureSink( QStringLiteral( "DEAD_ENDS" ), QObject::tr( "Open ends (left image)" ), QgsProcessing::TypeVectorPoint, QVariant(), true ) );
-  addParameter( new QgsProcessingParameterFileDestination( QStringLiteral( "REPORT" ), QObject::tr( "Report" ), QObject::tr( "JSON (*.json)" ) ) );
+  addParameter( new QgsProcessingParameterFeatureSink( QStringLiteral( "OUTPUT_LEFT" ), QObject::tr( "Roads in the left image" ), QgsProcessing::TypeVectorLine, QVariant(), true, false ) );
+  addParameter( new QgsProcessingParameterFeatureSink( QStringLiteral( "OUTPUT_RIGHT" ), QObject::tr( "Roads in the right image" ), QgsProcessing::TypeVectorLine, QVariant(), true, false ) );
+  addParameter( new QgsProcessingParameterFeatureSink( QStringLiteral( "DEAD_ENDS" ), QObject::tr( "Open ends (left image)" ), QgsProcessing::TypeVectorPoint, QVariant(), true, false ) );
+  addParameter( new QgsProcessingParameterFileDestination( QStringLiteral( "REPORT" ), QObject::tr( "Report" ), QObject::tr( "JSON (*.json)" ), QVariant(), true, false ) );
   addOutput( new QgsProcessingOutputNumber( QStringLiteral( "LINE_COUNT" ), QObject::tr( "Lines in the left image" ) ) );
 }
 
@@ -145,6 +149,10 @@ QVariantMap ExtractRoadsAlgorithm::processGeoStation( const QVariantMap &paramet
   }
   else if ( options.control.empty() )
     throw QgsProcessingException( QObject::tr( "The pair is not oriented: give CONTROL, a table of point pairs (point_id, col_left, row_left, col_right, row_right)." ) );
+  const bool imageOutputs = outputRequested( parameters, QStringLiteral( "OUTPUT_LEFT" ) ) || outputRequested( parameters, QStringLiteral( "OUTPUT_RIGHT" ) );
+  if ( !imageOutputs && !( oriented && outputRequested( parameters, QStringLiteral( "OUTPUT" ) ) ) )
+    throw QgsProcessingException( oriented ? QObject::tr( "Nothing would be written: give OUTPUT (the 3-D network), OUTPUT_LEFT or OUTPUT_RIGHT." )
+                                           : QObject::tr( "Nothing would be written: a pair registered by CONTROL has lines in image space only; give OUTPUT_LEFT or OUTPUT_RIGHT." ) );
   GeoStationProcessing::LoadedDem dem;
   if ( QgsRasterLayer *demLayer = parameterAsRasterLayer( parameters, QStringLiteral( "DEM" ), context ) )
     dem = GeoStationProcessing::loadDem( demLayer->source(), block );
@@ -174,6 +182,8 @@ QVariantMap ExtractRoadsAlgorithm::processGeoStation( const QVariantMap &paramet
   QVariantMap outputs;
   const auto imageSink = [&]( const QString &name, const std::vector<geostation::CompiledPolygon> &lines, bool inLeft )
   {
+    if ( !outputRequested( parameters, name ) )
+      return;
     QString destination;
     std::unique_ptr<QgsFeatureSink> sink( parameterAsSink( parameters, name, context, destination, lineFields, QgsWkbTypes::LineString, QgsCoordinateReferenceSystem() ) );
     if ( !sink )
@@ -239,8 +249,11 @@ QVariantMap ExtractRoadsAlgorithm::processGeoStation( const QVariantMap &paramet
   }
 
   const QString reportPath = parameterAsFileOutput( parameters, QStringLiteral( "REPORT" ), context );
-  GeoStationProcessing::writeReport( GeoStationProcessing::extractRoadsReport( s, QString::fromStdString( left.id ), QString::fromStdString( right.id ), options.control ), reportPath );
-  outputs.insert( QStringLiteral( "REPORT" ), reportPath );
+  if ( !reportPath.isEmpty() )
+  {
+    GeoStationProcessing::writeReport( GeoStationProcessing::extractRoadsReport( s, QString::fromStdString( left.id ), QString::fromStdString( right.id ), options.control ), reportPath );
+    outputs.insert( QStringLiteral( "REPORT" ), reportPath );
+  }
   outputs.insert( QStringLiteral( "LINE_COUNT" ), static_cast<int>( s.extraction.linesA.size() ) );
   feedback->pushInfo( QObject::tr( "%1 lines in the left image, %2 in the right, %3 rounds, %4 s (mapping: %5)." ).arg( s.extraction.linesA.size() )
                       .arg( s.extraction.linesB.size() ).arg( s.extraction.rounds.size() ).arg( s.seconds, 0, 'f', 2 ).arg( QString::fromStdString( s.mapping ) ) );

@@ -7,6 +7,8 @@
 #include <stdexcept>
 
 #include <qgsprocessingfeedback.h>
+#include <qgsprocessingparameters.h>
+#include <qgsprocessingutils.h>
 
 namespace GeoStationProcessing
 {
@@ -15,7 +17,7 @@ QVariantMap GeoStationAlgorithm::processAlgorithm( const QVariantMap &parameters
 {
   try
   {
-    return processGeoStation( parameters, context, feedback );
+    return processGeoStation( withChoicesByName( parameters ), context, feedback );
   }
   catch ( const QgsProcessingException & )
   {
@@ -29,6 +31,66 @@ QVariantMap GeoStationAlgorithm::processAlgorithm( const QVariantMap &parameters
   {
     throw QgsProcessingException( QObject::tr( "%1 stopped: %2" ).arg( displayName(), QString::fromStdString( e.what() ) ) );
   }
+}
+
+bool GeoStationAlgorithm::checkParameterValues( const QVariantMap &parameters, QgsProcessingContext &context, QString *message ) const
+{
+  return QgsProcessingAlgorithm::checkParameterValues( withChoicesByName( parameters ), context, message );
+}
+
+namespace
+{
+  //! The option an index names (an int, or text that is a whole number within range); the value itself otherwise.
+  QVariant optionOfIndex( const QVariant &value, const QStringList &options )
+  {
+    if ( value.type() == QVariant::String && options.contains( value.toString() ) )
+      return value;
+    bool isIndex = false;
+    const int index = value.toString().trimmed().toInt( &isIndex );
+    return isIndex && index >= 0 && index < options.size() ? QVariant( options.at( index ) ) : value;
+  }
+}
+
+QVariantMap GeoStationAlgorithm::withChoicesByName( const QVariantMap &parameters ) const
+{
+  QVariantMap out = parameters;
+  for ( const QgsProcessingParameterDefinition *definition : parameterDefinitions() )
+  {
+    const QgsProcessingParameterEnum *choice = dynamic_cast<const QgsProcessingParameterEnum *>( definition );
+    if ( !choice || !choice->usesStaticStrings() || !out.contains( choice->name() ) )
+      continue;
+    QVariant &value = out[choice->name()];
+    if ( value.type() == QVariant::List || value.type() == QVariant::StringList )
+    {
+      QVariantList names;
+      for ( const QVariant &v : value.toList() )
+        names << optionOfIndex( v, choice->options() );
+      value = names;
+    }
+    else if ( choice->allowMultiple() && value.type() == QVariant::String && value.toString().contains( ',' ) )
+    {
+      QVariantList names;
+      for ( const QString &part : value.toString().split( ',' ) )
+        names << optionOfIndex( part.trimmed(), choice->options() );
+      value = names;
+    }
+    else if ( value.isValid() && !value.isNull() )
+      value = optionOfIndex( value, choice->options() );
+  }
+  return out;
+}
+
+bool GeoStationAlgorithm::outputRequested( const QVariantMap &parameters, const QString &name )
+{
+  const QVariant value = parameters.value( name );
+  if ( !value.isValid() || value.isNull() )
+    return false;
+  if ( value.userType() == qMetaTypeId<QgsProcessingOutputLayerDefinition>() )
+  {
+    const QgsProcessingOutputLayerDefinition definition = value.value<QgsProcessingOutputLayerDefinition>();
+    return definition.sink.propertyType() != QgsProperty::StaticProperty || !definition.sink.staticValue().toString().trimmed().isEmpty();
+  }
+  return !value.toString().trimmed().isEmpty();
 }
 
 } // namespace GeoStationProcessing

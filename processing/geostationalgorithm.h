@@ -7,6 +7,11 @@
   (a corrupt DEM tile met in the middle of a batch, memory running out) as
   std::exception; this base turns them into one QgsProcessingException
   that names the algorithm and says what happened.
+
+  Its choices (enums) are named by their option ("dark"), as the
+  algorithms' help says, and also taken by their index (0), as QGIS takes
+  any enum's: an index is turned into the option's name before the
+  parameters are checked and run.
  ***************************************************************************/
 #ifndef GEOSTATIONALGORITHM_H
 #define GEOSTATIONALGORITHM_H
@@ -30,6 +35,15 @@ class GEOSTATION_PROCESSING_EXPORT GeoStationAlgorithm : public QgsProcessingAlg
      * says memory ran out.
      */
     QVariantMap processAlgorithm( const QVariantMap &parameters, QgsProcessingContext &context, QgsProcessingFeedback *feedback ) final;
+
+    //! Checks the parameters with each choice given by index taken by its name.
+    bool checkParameterValues( const QVariantMap &parameters, QgsProcessingContext &context, QString *message = nullptr ) const override;
+
+    //! The parameters with every choice (of an enum named by its options) given by index replaced by its option.
+    QVariantMap withChoicesByName( const QVariantMap &parameters ) const;
+
+    //! True if the caller asked for the optional output `name`: a destination given and not left empty.
+    static bool outputRequested( const QVariantMap &parameters, const QString &name );
 };
 
 } // namespace GeoStationProcessing

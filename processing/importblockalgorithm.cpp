@@ -115,7 +115,7 @@ void ImportBlockAlgorithm::initAlgorithm( const QVariantMap & )
   addParameter( new QgsProcessingParameterFeatureSource( QStringLiteral( "GEOREFERENCE" ), QObject::tr( "Known camera centres (image, X, Y, Z) or control points (point_id, X, Y, Z)" ),
                 QList<int>() << QgsProcessing::TypeVector, QVariant(), true ) );
   addParameter( new QgsProcessingParameterFileDestination( QStringLiteral( "OUTPUT_BLOCK" ), QObject::tr( "Block" ), QObject::tr( "GeoStation block (*.geostation.json)" ) ) );
-  addParameter( new QgsProcessingParameterFileDestination( QStringLiteral( "REPORT" ), QObject::tr( "Report" ), QObject::tr( "JSON (*.json)" ), QVariant(), true ) );
+  addParameter( new QgsProcessingParameterFileDestination( QStringLiteral( "REPORT" ), QObject::tr( "Report" ), QObject::tr( "JSON (*.json)" ), QVariant(), true, false ) );
   addParameter( new QgsProcessingParameterFileDestination( QStringLiteral( "OUTPUT_OBSERVATIONS" ), QObject::tr( "Image observations of tie and control points" ), QObject::tr( "CSV (*.csv)" ), QVariant(), true, false ) );
   addParameter( new QgsProcessingParameterFileDestination( QStringLiteral( "OUTPUT_POINTS" ), QObject::tr( "Tie points" ), QObject::tr( "CSV (*.csv)" ), QVariant(), true, false ) );
   addParameter( new QgsProcessingParameterFileDestination( QStringLiteral( "OUTPUT_CONTROL" ), QObject::tr( "Control and check points (Metashape markers)" ), QObject::tr( "CSV (*.csv)" ), QVariant(), true, false ) );

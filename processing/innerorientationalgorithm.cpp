@@ -58,7 +58,7 @@ QString InnerOrientationAlgorithm::shortHelpString() const
                       "transformation estimated from three or more fiducial marks, whose calibrated positions the "
                       "camera defines in the block (fiducials: id, x_mm, y_mm).\n\n"
                       "Measured marks come from FIDUCIALS (fiducial_id, col, row; rows of other images are ignored "
-                      "when the table has image_id), or, with AUTO, are found automatically: one mark in each corner "
+                      "when the table has image_id), or, with AUTO or without FIDUCIALS, are found automatically: one mark in each corner "
                       "window, matched on a subsampled copy against TEMPLATE (or a generic disc of MARK_DIAMETER_PX) "
                       "and refined by a centre of gravity at full resolution.\n\n"
                       "The report gives the scale factors A and B (mm per pixel) with their directions alpha_A and "
@@ -83,7 +83,7 @@ void InnerOrientationAlgorithm::initAlgorithm( const QVariantMap & )
   addParameter( new QgsProcessingParameterBoolean( QStringLiteral( "DARK_MARK" ), QObject::tr( "Generic mark is dark on a bright background" ), false ) );
   addParameter( new QgsProcessingParameterNumber( QStringLiteral( "SCAN_PIXEL_MM" ), QObject::tr( "Scan pixel size (mm; default: the camera's)" ), QgsProcessingParameterNumber::Double, QVariant(), true, 1e-5 ) );
   addParameter( new QgsProcessingParameterFileDestination( QStringLiteral( "OUTPUT_BLOCK" ), QObject::tr( "Block with inner orientation" ), QObject::tr( "GeoStation block (*.geostation.json)" ) ) );
-  addParameter( new QgsProcessingParameterFileDestination( QStringLiteral( "REPORT" ), QObject::tr( "Report" ), QObject::tr( "JSON (*.json)" ) ) );
+  addParameter( new QgsProcessingParameterFileDestination( QStringLiteral( "REPORT" ), QObject::tr( "Report" ), QObject::tr( "JSON (*.json)" ), QVariant(), true, false ) );
   addOutput( new QgsProcessingOutputNumber( QStringLiteral( "SIGMA0_MM" ), QObject::tr( "sigma0 (mm)" ) ) );
   addOutput( new QgsProcessingOutputNumber( QStringLiteral( "AFFINITY_PCT" ), QObject::tr( "Affinity (%)" ) ) );
 }
@@ -98,7 +98,8 @@ QVariantMap InnerOrientationAlgorithm::processGeoStation( const QVariantMap &par
     throw QgsProcessingException( QObject::tr( "Camera \"%1\" defines %2 fiducials; an inner orientation needs at least three (cameras[].fiducials in the block)." )
                                   .arg( QString::fromStdString( camera.id ) ).arg( camera.fiducials.size() ) );
 
-  const bool automatic = parameterAsBool( parameters, QStringLiteral( "AUTO" ), context );
+  // without measured fiducials they are found automatically: what a user running it with the block and the image expects
+  const bool automatic = parameterAsBool( parameters, QStringLiteral( "AUTO" ), context ) || !outputRequested( parameters, QStringLiteral( "FIDUCIALS" ) );
   std::vector<geostation::FiducialMeasurement> measured;
   QJsonArray detections;
   if ( automatic )
@@ -141,7 +142,7 @@ QVariantMap InnerOrientationAlgorithm::processGeoStation( const QVariantMap &par
   {
     std::unique_ptr<QgsProcessingFeatureSource> source( parameterAsSource( parameters, QStringLiteral( "FIDUCIALS" ), context ) );
     if ( !source )
-      throw QgsProcessingException( QObject::tr( "Give the measured fiducials (FIDUCIALS) or set AUTO." ) );
+      throw QgsProcessingException( QObject::tr( "The measured fiducials (FIDUCIALS) cannot be read." ) );
     for ( const GeoStationProcessing::FiducialRecord &r : GeoStationProcessing::readFiducials( source.get(), imageId ) )
       measured.push_back( { r.fiducialId.toStdString(), r.pixel } );
   }

@@ -184,6 +184,7 @@ QVariantMap IntersectAlgorithm::processGeoStation( const QVariantMap &parameters
     if ( !sink->addFeature( f, QgsFeatureSink::FastInsert ) )
       throw QgsProcessingException( writeFeatureError( sink.get(), parameters, QStringLiteral( "OUTPUT" ) ) );
   sink.reset();
+  GeoStationProcessing::storeMissingGeometriesAsNull( destination ); // a point seen once: its row, no NaN
   feedback->setProgress( 100 );
 
   int grossErrors = 0;

@@ -63,8 +63,8 @@ QString MonoplotAlgorithm::shortHelpString() const
                       "sigmas: grazing rays far from the camera are weak, and the numbers show it.\n\n"
                       "Every feature gets a status: ok, or why it cannot be monoplotted - outside_image (a vertex outside "
                       "the frame), misses_dem (a ray above the horizon or past the DEM), below_dem, dem_hole (a nodata hole "
-                      "too large to fill) - with the sentence in message; such a feature keeps its attributes with an empty "
-                      "geometry. A line (not a polygon) that meets a hole or the horizon part-way keeps its longest resolved "
+                      "too large to fill), no_geometry (the input feature has none) - with the sentence in message; such a "
+                      "feature keeps its attributes without geometry (NULL: no coordinate is written for it, never NaN). A line (not a polygon) that meets a hole or the horizon part-way keeps its longest resolved "
                       "part, with the status saying why it was cut (CUT_COUNT counts them). The run fails only when no "
                       "feature can be monoplotted." );
 }
@@ -166,7 +166,17 @@ QVariantMap MonoplotAlgorithm::processGeoStation( const QVariantMap &parameters,
     QgsAttributes attributes = f.attributes();
     mono.reset( QObject::tr( "its geometry cannot be monoplotted" ), QStringLiteral( "no_solution" ) );
     QString status = QStringLiteral( "ok" ), message;
-    if ( f.hasGeometry() )
+    if ( !f.hasGeometry() || f.geometry().isEmpty() )
+    {
+      // nothing to monoplot: its row is kept, and says so
+      status = QStringLiteral( "no_geometry" );
+      message = QObject::tr( "Feature %1 has no geometry in the image." ).arg( f.id() );
+      if ( firstProblem.isEmpty() )
+        firstProblem = message;
+      if ( ++failed + cut <= kWarningsShown )
+        feedback->pushWarning( message );
+    }
+    else
     {
       if ( std::unique_ptr<QgsAbstractGeometry> g = mono.geometry( f.geometry().constGet() ) )
       {
@@ -220,6 +230,7 @@ QVariantMap MonoplotAlgorithm::processGeoStation( const QVariantMap &parameters,
     if ( !sink->addFeature( out, QgsFeatureSink::FastInsert ) )
       throw QgsProcessingException( writeFeatureError( sink.get(), parameters, QStringLiteral( "OUTPUT" ) ) );
   sink.reset();
+  GeoStationProcessing::storeMissingGeometriesAsNull( destination ); // an unresolved feature: its row and status, no NaN
   feedback->setProgress( 100 );
   if ( dem->filledCellCount() > 0 )
     feedback->pushInfo( QObject::tr( "%1 DEM cells in nodata holes were filled from their neighbours." ).arg( dem->filledCellCount() ) );

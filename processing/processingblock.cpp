@@ -114,6 +114,23 @@ namespace GeoStationProcessing
     }
   }
 
+  void storeMissingGeometriesAsNull( const QString &destination )
+  {
+    const QVariantMap parts = QgsProviderRegistry::instance()->decodeUri( QStringLiteral( "ogr" ), destination );
+    const QString path = parts.value( QStringLiteral( "path" ) ).toString();
+    if ( !path.endsWith( QLatin1String( ".gpkg" ), Qt::CaseInsensitive ) )
+      return;
+    try
+    {
+      geostation::nullEmptyGeoPackageGeometries( path.toStdString(), parts.value( QStringLiteral( "layerName" ) ).toString().toStdString() );
+    }
+    catch ( const std::exception &e )
+    {
+      throw QgsProcessingException( QObject::tr( "The output %1 was written but its unresolved features could not be stored without geometry: %2" )
+                                    .arg( path, QString::fromStdString( e.what() ) ) );
+    }
+  }
+
   QgsProcessingParameterFile *blockParameter()
   {
     return new QgsProcessingParameterFile( QStringLiteral( "BLOCK" ), QObject::tr( "GeoStation block" ), QgsProcessingParameterFile::File,
@@ -122,6 +139,18 @@ namespace GeoStationProcessing
 
   void writeBlockAndReport( const geostation::Block &block, const QString &blockPath, const QJsonObject &report, const QString &reportPath )
   {
+    if ( reportPath.isEmpty() )
+    {
+      try
+      {
+        block.save( blockPath.toStdString() );
+      }
+      catch ( const std::exception &e )
+      {
+        throw QgsProcessingException( QString::fromStdString( e.what() ) );
+      }
+      return;
+    }
     QSaveFile reportFile( reportPath );
     if ( !reportFile.open( QIODevice::WriteOnly ) )
       throw QgsProcessingException( QObject::tr( "Cannot write the report %1." ).arg( reportPath ) );

@@ -52,12 +52,21 @@ namespace GeoStationProcessing
    */
   void markPixelSpaceOutput( const QString &destination );
 
+  /**
+   * A written vector output with its unresolved features' geometries NULL:
+   * QGIS writes a feature without geometry as an empty one, which a
+   * GeoPackage stores, for a point, as NaN coordinates (pixelspacegpkg.h).
+   * Other formats are left alone (a Shapefile writes a null shape).
+   */
+  void storeMissingGeometriesAsNull( const QString &destination );
+
   //! The BLOCK parameter every algorithm takes.
   QgsProcessingParameterFile *blockParameter();
 
   /**
    * Writes a JSON report and a block, both or neither: the report is staged
-   * and committed only once the block has been saved (atomically).
+   * and committed only once the block has been saved (atomically). An
+   * empty `reportPath` (the optional report not asked for): the block alone.
    */
   void writeBlockAndReport( const geostation::Block &block, const QString &blockPath, const QJsonObject &report, const QString &reportPath );
   //! Writes a JSON report atomically (a temporary file renamed); throws QgsProcessingException with one sentence.

@@ -148,7 +148,10 @@ namespace GeoStationProcessing
       const QgsCoordinateTransformContext &transformContext, QgsProcessingFeedback *feedback, const HeightSource &heightOf )
   {
     const QgsFields fields = source->fields();
-    const int pointField = requireField( fields, QStringLiteral( "point_id" ), what, QObject::tr( "point_id, X, Y, Z (or PointZ geometries) and optionally sx, sy, sz, role" ) );
+    // a point layer's own "id" (the simulator's control layer, many GIS layers) names its points where there is no point_id
+    const int pointField = fieldIndex( fields, QStringLiteral( "point_id" ) ) < 0 && fieldIndex( fields, QStringLiteral( "id" ) ) >= 0 && source->wkbType() != QgsWkbTypes::NoGeometry
+                           ? fieldIndex( fields, QStringLiteral( "id" ) )
+                           : requireField( fields, QStringLiteral( "point_id" ), what, QObject::tr( "point_id, X, Y, Z (or PointZ geometries) and optionally sx, sy, sz, role" ) );
     const int xField = fieldIndex( fields, QStringLiteral( "X" ) ), yField = fieldIndex( fields, QStringLiteral( "Y" ) ), zField = fieldIndex( fields, QStringLiteral( "Z" ) );
     const bool fromFields = xField >= 0 && yField >= 0 && ( zField >= 0 || heightOf );
     if ( !fromFields && !QgsWkbTypes::hasZ( source->wkbType() ) && !( heightOf && QgsWkbTypes::geometryType( source->wkbType() ) == QgsWkbTypes::PointGeometry ) )
@@ -189,6 +192,8 @@ namespace GeoStationProcessing
       {
         if ( !f.hasGeometry() )
           throw QgsProcessingException( QObject::tr( "Row %1 (%2) of the %3 table has no geometry." ).arg( row ).arg( p.pointId, what ) );
+        if ( f.geometry().isEmpty() )
+          throw QgsProcessingException( QObject::tr( "Row %1 (%2) of the %3 table has an empty geometry: it gives no position." ).arg( row ).arg( p.pointId, what ) );
         const QgsPoint point = *f.geometry().vertices_begin();
         double x = point.x(), y = point.y(), z = point.z();
         const bool hasZ = !std::isnan( z );
@@ -206,6 +211,9 @@ namespace GeoStationProcessing
         }
         p.world = Eigen::Vector3d( x, y, hasZ ? z : height( x, y, p.pointId ) );
       }
+      if ( !( p.world.cwiseAbs().maxCoeff() <= geostation::kMaxPlausibleCoordinateM ) )
+        throw QgsProcessingException( QObject::tr( "Point %1 of the %2 table lies beyond any plausible position (X %3, Y %4, Z %5 m): coordinates in a projected CRS stay within 100 000 km." )
+                                      .arg( p.pointId, what ).arg( p.world.x(), 0, 'g', 6 ).arg( p.world.y(), 0, 'g', 6 ).arg( p.world.z(), 0, 'g', 6 ) );
       const char *axes[3] = { "sx", "sy", "sz" };
       for ( int k = 0; k < 3; ++k )
         if ( sigmaFields[k] >= 0 )

@@ -23,6 +23,7 @@
 
 #include <Eigen/Core>
 
+#include "adjustment/controlpoint.h"
 #include "extraction/pairmapping.h"
 #include "tracing/roadtracer.h"
 

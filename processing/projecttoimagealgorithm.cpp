@@ -220,6 +220,7 @@ QVariantMap ProjectToImageAlgorithm::processGeoStation( const QVariantMap &param
   }
   sink.reset(); // closes a file output
   GeoStationProcessing::markPixelSpaceOutput( destination );
+  GeoStationProcessing::storeMissingGeometriesAsNull( destination ); // behind the camera: its row, no NaN
   feedback->setProgress( 100 );
 
   feedback->pushInfo( QObject::tr( "%1 of %2 features projected into image %3 (%4 in the frame)." )

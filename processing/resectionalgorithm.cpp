@@ -132,7 +132,7 @@ void ResectionAlgorithm::initAlgorithm( const QVariantMap & )
   addParameter( new QgsProcessingParameterBoolean( QStringLiteral( "ROBUST" ), QObject::tr( "Robust (Huber) loss while iterating" ), false ) );
   addParameter( new QgsProcessingParameterNumber( QStringLiteral( "BLUNDER_W" ), QObject::tr( "Blunder threshold (normalised residual)" ), QgsProcessingParameterNumber::Double, 4.0, false, 1.0 ) );
   addParameter( new QgsProcessingParameterFileDestination( QStringLiteral( "OUTPUT_BLOCK" ), QObject::tr( "Oriented block" ), QObject::tr( "GeoStation block (*.geostation.json)" ) ) );
-  addParameter( new QgsProcessingParameterFileDestination( QStringLiteral( "REPORT" ), QObject::tr( "Report" ), QObject::tr( "JSON (*.json)" ) ) );
+  addParameter( new QgsProcessingParameterFileDestination( QStringLiteral( "REPORT" ), QObject::tr( "Report" ), QObject::tr( "JSON (*.json)" ), QVariant(), true, false ) );
   addOutput( new QgsProcessingOutputNumber( QStringLiteral( "SIGMA0" ), QObject::tr( "sigma0 (px)" ) ) );
   addOutput( new QgsProcessingOutputNumber( QStringLiteral( "RMSE_CHECK_M" ), QObject::tr( "RMSE on check points (m)" ) ) );
   addOutput( new QgsProcessingOutputString( QStringLiteral( "BLUNDERS" ), QObject::tr( "Control points removed as blunders" ) ) );

@@ -221,9 +221,13 @@ QVariantMap TraceRoadLinesAlgorithm::processGeoStation( const QVariantMap &param
         throw QgsProcessingException( writeFeatureError( vertexSink.get(), parameters, QStringLiteral( "VERTICES" ) ) );
     }
   }
+  const bool verticesWritten = vertexSink != nullptr;
+  sink.reset();
+  vertexSink.reset();
+  GeoStationProcessing::storeMissingGeometriesAsNull( destination ); // a seed not traced: its row and reason, no geometry
   QVariantMap outputs;
   outputs.insert( QStringLiteral( "OUTPUT" ), destination );
-  if ( vertexSink )
+  if ( verticesWritten )
     outputs.insert( QStringLiteral( "VERTICES" ), vertexDestination );
   outputs.insert( QStringLiteral( "TRACED_COUNT" ), traced );
   outputs.insert( QStringLiteral( "FAILED_COUNT" ), static_cast<int>( results.size() ) - traced );

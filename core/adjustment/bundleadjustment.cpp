@@ -173,6 +173,8 @@ namespace geostation
         if ( !( o.sigmaPx > 0.0 ) )
           throw std::invalid_argument( "point '" + o.pointId + "' in image '" + o.imageId + "': pixel sigma must be positive" );
       }
+      for ( const ControlPoint &c : mGroundPoints )
+        checkPlausiblePosition( c );
     }
 
     //! Poses relative to the mean projection centre, interiors as blocks, and the start orientations for the points' first intersection.

@@ -266,6 +266,8 @@ namespace geostation
         if ( !mObserved.emplace( o.pointId, &o ).second )
           throw std::invalid_argument( "point '" + o.pointId + "' is measured twice in the image" );
       }
+      for ( const ControlPoint &c : mControl )
+        checkPlausiblePosition( c );
     }
 
     //! The control points measured in the image, used or check; the image points without control counted.

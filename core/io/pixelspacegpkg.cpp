@@ -107,4 +107,39 @@ namespace geostation
       throw std::runtime_error( "rewriting the geometries of layer \"" + name + "\" in " + file.string() + " failed" );
   }
 
+  int nullEmptyGeoPackageGeometries( const std::filesystem::path &file, const std::string &layerName )
+  {
+    registerGdalDrivers();
+    GDALDatasetH ds = openForUpdate( file );
+    OGRLayerH layer = layerName.empty() ? ( GDALDatasetGetLayerCount( ds ) == 1 ? GDALDatasetGetLayer( ds, 0 ) : nullptr )
+                      : GDALDatasetGetLayerByName( ds, layerName.c_str() );
+    if ( !layer || GDALDatasetStartTransaction( ds, FALSE ) != OGRERR_NONE )
+    {
+      GDALClose( ds );
+      throw std::runtime_error( layer ? "cannot update " + file.string() : "no layer \"" + layerName + "\" in " + file.string() );
+    }
+    std::vector<OGRFeatureH> empty;
+    OGR_L_ResetReading( layer );
+    while ( OGRFeatureH f = OGR_L_GetNextFeature( layer ) )
+    {
+      const OGRGeometryH g = OGR_F_GetGeometryRef( f );
+      if ( g && OGR_G_IsEmpty( g ) )
+        empty.push_back( f );
+      else
+        OGR_F_Destroy( f );
+    }
+    bool ok = true;
+    for ( OGRFeatureH f : empty )
+    {
+      OGR_F_SetGeometryDirectly( f, nullptr );
+      ok = ok && OGR_L_SetFeature( layer, f ) == OGRERR_NONE;
+      OGR_F_Destroy( f );
+    }
+    ok = ok ? GDALDatasetCommitTransaction( ds ) == OGRERR_NONE : ( GDALDatasetRollbackTransaction( ds ), false );
+    GDALClose( ds );
+    if ( !ok )
+      throw std::runtime_error( "storing the empty geometries of " + file.string() + " as NULL failed" );
+    return static_cast<int>( empty.size() );
+  }
+
 } // namespace geostation

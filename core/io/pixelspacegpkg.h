@@ -5,6 +5,12 @@
   3.6 writes such a layer with srs_id 0, "Undefined geographic SRS", which
   QGIS then reads as a geographic CRS. The GeoPackage way to say "Cartesian,
   no CRS" is srs_id -1; this rewrites a layer to it.
+
+  QGIS 3.22 writes a feature without geometry into a GeoPackage layer of a
+  geometry type as that type's empty geometry, and an empty point is stored
+  as the coordinates NaN, NaN: a feature that could not be resolved would
+  carry NaN coordinates. nullEmptyGeoPackageGeometries() stores NULL for
+  each empty geometry instead.
  ***************************************************************************/
 #ifndef GEOSTATION_IO_PIXELSPACEGPKG_H
 #define GEOSTATION_IO_PIXELSPACEGPKG_H
@@ -21,6 +27,13 @@ namespace geostation
    * layerName means the file's only layer. Throws std::runtime_error.
    */
   void markGeoPackageLayerAsPixelSpace( const std::filesystem::path &file, const std::string &layerName = std::string() );
+
+  /**
+   * Stores NULL for every empty geometry of a GeoPackage layer (an empty
+   * layerName: the file's only layer); returns how many. Throws
+   * std::runtime_error.
+   */
+  int nullEmptyGeoPackageGeometries( const std::filesystem::path &file, const std::string &layerName = std::string() );
 
 } // namespace geostation
 

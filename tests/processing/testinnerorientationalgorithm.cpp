@@ -57,6 +57,7 @@ class TestInnerOrientationAlgorithm : public QObject
     void initTestCase();
     void automaticDetectionOrientsTheScan();
     void measuredFiducialsGiveTheSameResult();
+    void withoutFiducialsTheMarksAreFoundAutomatically();
     void badInput_data();
     void badInput();
 
@@ -161,6 +162,18 @@ void TestInnerOrientationAlgorithm::measuredFiducialsGiveTheSameResult()
   QGSCOMPARENEAR( json.value( "rms_residual_mm" ).toDouble(), 0.0, 1e-6 );
 }
 
+void TestInnerOrientationAlgorithm::withoutFiducialsTheMarksAreFoundAutomatically()
+{
+  // the block and the image alone, as a user runs it first: no FIDUCIALS, so they are found (the defaults' mark size)
+  bool ok = false;
+  RecordingFeedback feedback;
+  const QString outBlock = mDir.filePath( "minimal.geostation.json" );
+  const QVariantMap result = run( { { "BLOCK", mBlock }, { "IMAGE", "scan17" }, { "OUTPUT_BLOCK", outBlock } }, &ok, &feedback );
+  QVERIFY2( ok, qPrintable( feedback.errors.join( '\n' ) ) );
+  QGSCOMPARENEAR( result.value( "AFFINITY_PCT" ).toDouble(), 0.2, 0.005 );
+  QVERIFY( geostation::Block::load( outBlock.toStdString() ).image( "scan17" ).innerOrientation.has_value() );
+}
+
 void TestInnerOrientationAlgorithm::badInput_data()
 {
   QTest::addColumn<QString>( "image" );
@@ -171,7 +184,6 @@ void TestInnerOrientationAlgorithm::badInput_data()
   QTest::newRow( "missing scan" ) << "gone" << true << QString() << "does not exist";
   QTest::newRow( "two fiducials" ) << "scan17" << false << "fiducial_id,col,row\n1,74,74\n2,1974,74\n" << "at least three";
   QTest::newRow( "unknown fiducial" ) << "scan17" << false << "fiducial_id,col,row\n1,74,74\n2,1974,74\n9,1974,1974\n" << "does not define it";
-  QTest::newRow( "neither" ) << "scan17" << false << QString() << "Give the measured fiducials";
 }
 
 void TestInnerOrientationAlgorithm::badInput()
