@@ -3,6 +3,8 @@
  ***************************************************************************/
 #include "processingblock.h"
 
+#include <functional>
+
 #include <QFile>
 #include <QJsonDocument>
 #include <QObject>
@@ -98,37 +100,39 @@ namespace GeoStationProcessing
       QFile::remove( path );
   }
 
+  namespace
+  {
+    /**
+     * Runs `rewrite` on a written GeoPackage output (path, layer name);
+     * other formats are left alone. Its failure says what `purpose` was.
+     */
+    void rewriteGeoPackageOutput( const QString &destination, const QString &purpose, const std::function<void( const std::string &, const std::string & )> &rewrite )
+    {
+      const QVariantMap parts = QgsProviderRegistry::instance()->decodeUri( QStringLiteral( "ogr" ), destination );
+      const QString path = parts.value( QStringLiteral( "path" ) ).toString();
+      if ( !path.endsWith( QLatin1String( ".gpkg" ), Qt::CaseInsensitive ) )
+        return;
+      try
+      {
+        rewrite( path.toStdString(), parts.value( QStringLiteral( "layerName" ) ).toString().toStdString() );
+      }
+      catch ( const std::exception &e )
+      {
+        throw QgsProcessingException( QObject::tr( "The output %1 was written but %2: %3" ).arg( path, purpose, QString::fromStdString( e.what() ) ) );
+      }
+    }
+  } // namespace
+
   void markPixelSpaceOutput( const QString &destination )
   {
-    const QVariantMap parts = QgsProviderRegistry::instance()->decodeUri( QStringLiteral( "ogr" ), destination );
-    const QString path = parts.value( QStringLiteral( "path" ) ).toString();
-    if ( !path.endsWith( QLatin1String( ".gpkg" ), Qt::CaseInsensitive ) )
-      return;
-    try
-    {
-      geostation::markGeoPackageLayerAsPixelSpace( path.toStdString(), parts.value( QStringLiteral( "layerName" ) ).toString().toStdString() );
-    }
-    catch ( const std::exception &e )
-    {
-      throw QgsProcessingException( QObject::tr( "The output %1 was written but could not be marked as image space: %2" ).arg( path, QString::fromStdString( e.what() ) ) );
-    }
+    rewriteGeoPackageOutput( destination, QObject::tr( "could not be marked as image space" ),
+                             []( const std::string &path, const std::string &layer ) { geostation::markGeoPackageLayerAsPixelSpace( path, layer ); } );
   }
 
   void storeMissingGeometriesAsNull( const QString &destination )
   {
-    const QVariantMap parts = QgsProviderRegistry::instance()->decodeUri( QStringLiteral( "ogr" ), destination );
-    const QString path = parts.value( QStringLiteral( "path" ) ).toString();
-    if ( !path.endsWith( QLatin1String( ".gpkg" ), Qt::CaseInsensitive ) )
-      return;
-    try
-    {
-      geostation::nullEmptyGeoPackageGeometries( path.toStdString(), parts.value( QStringLiteral( "layerName" ) ).toString().toStdString() );
-    }
-    catch ( const std::exception &e )
-    {
-      throw QgsProcessingException( QObject::tr( "The output %1 was written but its unresolved features could not be stored without geometry: %2" )
-                                    .arg( path, QString::fromStdString( e.what() ) ) );
-    }
+    rewriteGeoPackageOutput( destination, QObject::tr( "its unresolved features could not be stored without geometry" ),
+                             []( const std::string &path, const std::string &layer ) { geostation::nullEmptyGeoPackageGeometries( path, layer ); } );
   }
 
   QgsProcessingParameterFile *blockParameter()

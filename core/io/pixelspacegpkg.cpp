@@ -54,18 +54,67 @@ namespace geostation
     }
   } // namespace
 
+  namespace
+  {
+    //! The named layer (an empty name: the file's only one); closes the dataset and throws where there is none.
+    OGRLayerH layerOf( GDALDatasetH ds, const std::filesystem::path &file, const std::string &layerName )
+    {
+      OGRLayerH layer = layerName.empty() ? ( GDALDatasetGetLayerCount( ds ) == 1 ? GDALDatasetGetLayer( ds, 0 ) : nullptr )
+                        : GDALDatasetGetLayerByName( ds, layerName.c_str() );
+      if ( !layer )
+      {
+        GDALClose( ds );
+        throw std::runtime_error( "no layer " + ( layerName.empty() ? std::string( "(the file has several; name one)" ) : "\"" + layerName + "\"" ) + " in " +
+                                  file.string() );
+      }
+      return layer;
+    }
+
+    /**
+     * Writes the layer's features again in one transaction - every one, or
+     * only those with an empty geometry - storing NULL for each empty
+     * geometry; returns how many were empty. Throws std::runtime_error.
+     */
+    int rewriteFeatures( const std::filesystem::path &file, const std::string &layerName, bool everyFeature )
+    {
+      GDALDatasetH ds = openForUpdate( file );
+      OGRLayerH layer = layerOf( ds, file, layerName );
+      bool ok = GDALDatasetStartTransaction( ds, FALSE ) == OGRERR_NONE;
+      int emptied = 0;
+      if ( ok )
+      {
+        OGR_L_ResetReading( layer );
+        std::vector<OGRFeatureH> features;
+        while ( OGRFeatureH f = OGR_L_GetNextFeature( layer ) )
+          features.push_back( f );
+        for ( OGRFeatureH f : features )
+        {
+          const OGRGeometryH g = OGR_F_GetGeometryRef( f );
+          const bool empty = g && OGR_G_IsEmpty( g );
+          if ( empty )
+          {
+            OGR_F_SetGeometryDirectly( f, nullptr );
+            ++emptied;
+          }
+          if ( empty || everyFeature )
+            ok = ok && OGR_L_SetFeature( layer, f ) == OGRERR_NONE;
+          OGR_F_Destroy( f );
+        }
+        ok = ok ? GDALDatasetCommitTransaction( ds ) == OGRERR_NONE : ( GDALDatasetRollbackTransaction( ds ), false );
+      }
+      const std::string name = OGR_L_GetName( layer );
+      GDALClose( ds );
+      if ( !ok )
+        throw std::runtime_error( "rewriting the geometries of layer \"" + name + "\" in " + file.string() + " failed" );
+      return emptied;
+    }
+  } // namespace
+
   void markGeoPackageLayerAsPixelSpace( const std::filesystem::path &file, const std::string &layerName )
   {
     registerGdalDrivers();
     GDALDatasetH ds = openForUpdate( file );
-    OGRLayerH layer = layerName.empty() ? ( GDALDatasetGetLayerCount( ds ) == 1 ? GDALDatasetGetLayer( ds, 0 ) : nullptr )
-                      : GDALDatasetGetLayerByName( ds, layerName.c_str() );
-    if ( !layer )
-    {
-      GDALClose( ds );
-      throw std::runtime_error( "no layer " + ( layerName.empty() ? std::string( "(the file has several; name one)" ) : "\"" + layerName + "\"" ) + " in " + file.string() );
-    }
-    const std::string name = OGR_L_GetName( layer );
+    const std::string name = OGR_L_GetName( layerOf( ds, file, layerName ) );
     try
     {
       const std::string table = sqlQuoted( name, '\'' );
@@ -78,68 +127,16 @@ namespace geostation
       throw;
     }
     GDALClose( ds );
-
-    // Each geometry blob repeats the srs_id in its header: rewrite the features
-    // so the driver writes them with the layer's new srs_id.
-    ds = openForUpdate( file );
-    layer = GDALDatasetGetLayerByName( ds, name.c_str() );
-    bool ok = layer && GDALDatasetStartTransaction( ds, FALSE ) == OGRERR_NONE;
-    if ( ok )
-    {
-      OGR_L_ResetReading( layer );
-      std::vector<OGRFeatureH> features;
-      while ( OGRFeatureH f = OGR_L_GetNextFeature( layer ) )
-        features.push_back( f );
-      for ( OGRFeatureH f : features )
-      {
-        // An empty geometry (what QGIS writes for "no geometry") means nothing
-        // in pixel space: store NULL.
-        OGRGeometryH g = OGR_F_GetGeometryRef( f );
-        if ( g && OGR_G_IsEmpty( g ) )
-          OGR_F_SetGeometryDirectly( f, nullptr );
-        ok = ok && OGR_L_SetFeature( layer, f ) == OGRERR_NONE;
-        OGR_F_Destroy( f );
-      }
-      ok = ok ? GDALDatasetCommitTransaction( ds ) == OGRERR_NONE : ( GDALDatasetRollbackTransaction( ds ), false );
-    }
-    GDALClose( ds );
-    if ( !ok )
-      throw std::runtime_error( "rewriting the geometries of layer \"" + name + "\" in " + file.string() + " failed" );
+    // Each geometry blob repeats the srs_id in its header: every feature is written again, so the driver writes it
+    // with the layer's new srs_id; an empty geometry (what QGIS writes for "no geometry") means nothing in pixel
+    // space and becomes NULL
+    rewriteFeatures( file, name, true );
   }
 
   int nullEmptyGeoPackageGeometries( const std::filesystem::path &file, const std::string &layerName )
   {
     registerGdalDrivers();
-    GDALDatasetH ds = openForUpdate( file );
-    OGRLayerH layer = layerName.empty() ? ( GDALDatasetGetLayerCount( ds ) == 1 ? GDALDatasetGetLayer( ds, 0 ) : nullptr )
-                      : GDALDatasetGetLayerByName( ds, layerName.c_str() );
-    if ( !layer || GDALDatasetStartTransaction( ds, FALSE ) != OGRERR_NONE )
-    {
-      GDALClose( ds );
-      throw std::runtime_error( layer ? "cannot update " + file.string() : "no layer \"" + layerName + "\" in " + file.string() );
-    }
-    std::vector<OGRFeatureH> empty;
-    OGR_L_ResetReading( layer );
-    while ( OGRFeatureH f = OGR_L_GetNextFeature( layer ) )
-    {
-      const OGRGeometryH g = OGR_F_GetGeometryRef( f );
-      if ( g && OGR_G_IsEmpty( g ) )
-        empty.push_back( f );
-      else
-        OGR_F_Destroy( f );
-    }
-    bool ok = true;
-    for ( OGRFeatureH f : empty )
-    {
-      OGR_F_SetGeometryDirectly( f, nullptr );
-      ok = ok && OGR_L_SetFeature( layer, f ) == OGRERR_NONE;
-      OGR_F_Destroy( f );
-    }
-    ok = ok ? GDALDatasetCommitTransaction( ds ) == OGRERR_NONE : ( GDALDatasetRollbackTransaction( ds ), false );
-    GDALClose( ds );
-    if ( !ok )
-      throw std::runtime_error( "storing the empty geometries of " + file.string() + " as NULL failed" );
-    return static_cast<int>( empty.size() );
+    return rewriteFeatures( file, layerName, false );
   }
 
 } // namespace geostation

@@ -24,15 +24,12 @@ import numpy as np
 from osgeo import ogr
 
 import conventions_reference as ref
+from headless_support import qgis_env  # noqa: E402
 
 SOURCE_DIR, BUILD_DIR = sys.argv[1], sys.argv[2]
 CRS = "EPSG:32617"
 
 
-def qgis_env(home):
-    env = dict(os.environ, HOME=home, QT_QPA_PLATFORM="offscreen", XDG_RUNTIME_DIR=home)
-    env.pop("GEOSTATION_PROVIDER_LIBRARY", None)
-    return env
 
 
 def run(cmd, **kw):

@@ -16,10 +16,10 @@ import re
 import shutil
 import subprocess
 import sys
-import tempfile
 import unittest
 
 from osgeo import gdal, ogr, osr
+from headless_support import qgis_env, temporary_profile  # noqa: E402
 
 SOURCE_DIR, BUILD_DIR = sys.argv[1], sys.argv[2]
 
@@ -30,10 +30,6 @@ ogr.UseExceptions()
 MAIN_OUTPUT = {"geostation:extract_roads": "OUTPUT"}
 
 
-def qgis_env(home):
-    env = dict(os.environ, HOME=home, QT_QPA_PLATFORM="offscreen", XDG_RUNTIME_DIR=home)
-    env.pop("GEOSTATION_PROVIDER_LIBRARY", None)
-    return env
 
 
 def non_finite_in_json(value):
@@ -64,11 +60,7 @@ NON_FINITE_TEXT = re.compile(r"(?<![A-Za-z_])(nan|-?inf|-?infinity)(?![A-Za-z_])
 class HeadlessMinimalTest(unittest.TestCase):
     @classmethod
     def setUpClass(cls):
-        cls.tmp = tempfile.mkdtemp(prefix="geostation-minimal-")
-        cls.home = os.path.join(cls.tmp, "home")
-        os.makedirs(cls.home)
-        subprocess.run([os.path.join(SOURCE_DIR, "scripts", "install-plugin.sh"), "--build-dir", BUILD_DIR],
-                       env=qgis_env(cls.home), check=True, capture_output=True, text=True)
+        cls.tmp, cls.home = temporary_profile(SOURCE_DIR, BUILD_DIR, "geostation-minimal-")
         listing = json.loads(cls.qgis("--json", "list").stdout)
         cls.algorithms = sorted(listing["providers"]["geostation"]["algorithms"])
         cls.help = {a: json.loads(cls.qgis("--json", "help", a).stdout) for a in cls.algorithms}

@@ -22,17 +22,13 @@ import conventions_reference as ref
 SOURCE_DIR, BUILD_DIR = sys.argv[1], sys.argv[2]
 sys.path.insert(0, os.path.join(SOURCE_DIR, "scripts"))
 import geostation_demo_data  # noqa: E402
+from headless_support import install_plugin, qgis_env  # noqa: E402
 
 
-def qgis_env(home):
-    env = dict(os.environ, HOME=home, QT_QPA_PLATFORM="offscreen", XDG_RUNTIME_DIR=home)
-    env.pop("GEOSTATION_PROVIDER_LIBRARY", None)
-    return env
 
 
 def install(home, *extra):
-    subprocess.run([os.path.join(SOURCE_DIR, "scripts", "install-plugin.sh"), "--build-dir", BUILD_DIR, *extra],
-                   env=qgis_env(home), check=True, capture_output=True, text=True)
+    install_plugin(SOURCE_DIR, BUILD_DIR, home, *extra)
 
 
 def qgis_process(home, *args):

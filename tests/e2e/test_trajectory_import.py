@@ -17,13 +17,13 @@ import os
 import shutil
 import subprocess
 import sys
-import tempfile
 import unittest
 
 import numpy as np
 from osgeo import osr
 
 import conventions_reference as ref
+from headless_support import qgis_env, temporary_profile  # noqa: E402
 
 SOURCE_DIR, BUILD_DIR = sys.argv[1], sys.argv[2]
 CRS = "EPSG:32617"
@@ -32,10 +32,6 @@ ENU_FROM_NED = np.array([[0, 1, 0], [1, 0, 0], [0, 0, -1]], float)
 CODES = {"front_left": "FL", "front_right": "FR", "side_right": "SR"}
 
 
-def qgis_env(home):
-    env = dict(os.environ, HOME=home, QT_QPA_PLATFORM="offscreen", XDG_RUNTIME_DIR=home)
-    env.pop("GEOSTATION_PROVIDER_LIBRARY", None)
-    return env
 
 
 def roll_pitch_heading(R):
@@ -63,11 +59,7 @@ def iso_text(seconds):
 class TrajectoryImportTest(unittest.TestCase):
     @classmethod
     def setUpClass(cls):
-        cls.tmp = tempfile.mkdtemp(prefix="geostation-trajectory-")
-        cls.home = os.path.join(cls.tmp, "home")
-        os.makedirs(cls.home)
-        subprocess.run([os.path.join(SOURCE_DIR, "scripts", "install-plugin.sh"), "--build-dir", BUILD_DIR],
-                       env=qgis_env(cls.home), check=True, capture_output=True)
+        cls.tmp, cls.home = temporary_profile(SOURCE_DIR, BUILD_DIR, "geostation-trajectory-")
         cls.sim = os.path.join(cls.tmp, "sim")
         subprocess.run([os.path.join(BUILD_DIR, "core", "geostation-simulate"), "--preset", "highway", "--output-dir", cls.sim, "--stations", "8",
                         "--cameras", "3", "--image-width", "320", "--image-height", "240", "--quiet"], check=True, capture_output=True)
