@@ -310,6 +310,18 @@ namespace geostation
   //! The sigmas scaled by the a posteriori variance factor of the multi-station adjustments (within a factor 4 either way); length and largest sigma.
   void RoadTraceRun::finish()
   {
+    // followed in the images but nowhere found in the partner: the stop says that, not where following ended
+    const bool endedAsIfTraced = mOut.stop != TraceStop::NoStereoPartner && mOut.stop != TraceStop::ImageMissing && mOut.stop != TraceStop::Cancelled &&
+                                 mOut.stop != TraceStop::NoEdge;
+    if ( mOut.vertices.size() < 2 && mOut.pixelsFollowed > 0 && endedAsIfTraced )
+    {
+      std::string why;
+      for ( const TracedStation &station : mOut.stations )
+        if ( why.empty() && !station.partnerMessage.empty() )
+          why = " (at station " + station.stationId + ": " + station.partnerMessage + ")";
+      stopWith( TraceStop::NoStereoPartner, "the line was followed in the images through " + std::to_string( mOut.stations.size() ) +
+                " station(s), but no vertex of it was found in the stereo partner" + why );
+    }
     mOut.sigma0 = std::sqrt( mOut.multiStation.varianceFactor() );
     if ( mOptions.minRedundancyToScaleSigma > 0 && mOut.multiStation.redundancy >= mOptions.minRedundancyToScaleSigma )
     {

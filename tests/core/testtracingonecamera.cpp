@@ -125,6 +125,23 @@ TEST( TracingOneCameraModel, AStationWithoutThePartnerSaysSo )
   EXPECT_GE( s.lengthM, 30.0 );
 }
 
+TEST( TracingOneCameraModel, APartnerThatNeverMatchesSaysSo )
+{
+  // the right images' orientation 4 degrees off: the line is followed in the left images, but no vertex is found in
+  // the right ones; the stop says so, not "traced to the end of the run"
+  const HighwayRun &run = oneModelRun();
+  Block block = run.block;
+  for ( BlockImage &image : block.images )
+    if ( image.id.size() > 3 && image.id.substr( image.id.size() - 3 ) == "_FR" )
+      image.exterior->kappaDeg += 4.0;
+  const RoadTraceSummary s = traceFromSeed( run, block, kHighwayLines[0].prefix, "S0001_FL", TraceMethod::Auto );
+  EXPECT_FALSE( s.ok() );
+  EXPECT_EQ( s.stop, TraceStop::NoStereoPartner ) << traceStopName( s.stop );
+  EXPECT_NE( s.message.find( "followed in the images through 12 station(s), but no vertex of it was found in the stereo partner (at station S0001: " ),
+             std::string::npos ) << s.message;
+  EXPECT_EQ( s.message.find( "traced to the end of the run" ), std::string::npos ) << s.message;
+}
+
 TEST( TracingOneCameraModel, FromACOLMAPSingleCameraModel )
 {
   // the run as a COLMAP model of one camera, its images named by COLMAP's rig convention (FL/S0001.tif,
