@@ -32,7 +32,8 @@ namespace GeoStationProcessing
     {
       report.insert( "mean_height_m", s.meanHeightM );
       if ( s.terrainEstimate )
-        report.insert( "terrain_estimate", QJsonObject { { "height_m", s.terrainEstimate->heightM }, { "points", s.terrainEstimate->points }, { "spread_m", s.terrainEstimate->spreadM } } );
+        report.insert( "terrain_estimate", QJsonObject { { "height_m", s.terrainEstimate->heightM }, { "points", s.terrainEstimate->points }, { "spread_m", s.terrainEstimate->spreadM },
+                                                         { "voting_points", s.terrainEstimate->votingPoints } } );
       report.insert( "vertices_3d", QJsonObject { { "total", s.network.vertices }, { "by_line_crossing", s.network.byCrossing }, { "by_area_matching", s.network.byArea },
         { "unmatched", s.network.unmatched } } );
     }

@@ -24,63 +24,6 @@ namespace geostation
     return std::clamp( 2.0 * registration.expectedPx + 2.0, std::min( 3.0, ceilingPx ), ceilingPx );
   }
 
-  std::optional<TerrainHeightEstimate> estimateTerrainHeight( const OrientedImage &a, const OrientedImage &b, const MatchImage &imageA, const MatchImage &imageB )
-  {
-    PairMatchWindows images( imageA, imageB );
-    return estimateTerrainHeight( a, b, images );
-  }
-
-  std::optional<TerrainHeightEstimate> estimateTerrainHeight( const OrientedImage &a, const OrientedImage &b, PairMatchWindows &images )
-  {
-    if ( !images.available() )
-      return std::nullopt;
-    EpipolarOptions epipolar;
-    epipolar.minDistanceM = 1.0;
-    epipolar.maxDistanceM = 100000.0;
-    epipolar.maxSegmentPx = 1.0;
-    AreaMatchOptions match;
-    match.windowWidth = match.windowHeight = 21;
-    match.minScore = 0.7;
-    std::vector<double> heights;
-    const int n = 9;
-    for ( int r = 1; r <= n; ++r )
-      for ( int c = 1; c <= n; ++c )
-      {
-        const Eigen::Vector2d p( images.size( 0 ).width * c / ( n + 1.0 ), images.size( 0 ).height * r / ( n + 1.0 ) );
-        const EpipolarCurve curve = epipolarCurve( a, p, b, epipolar );
-        std::vector<Eigen::Vector2d> band;
-        for ( const auto &piece : curve.pieces )
-          for ( const EpipolarVertex &v : piece )
-            if ( v.inFrame )
-              band.push_back( v.pixelInImage );
-        if ( band.size() < 3 )
-          continue;
-        // the curve may cross the whole partner: its window is cut to the part around the curve's middle past this
-        // (grid points lie far apart: their windows are not grown)
-        const MatchImage &imageA = images.holding( 0, matchingWindowAround( p, 0.0, match, images.size( 0 ) ), 0 );
-        const MatchImage &imageB = images.holding( 1, matchingWindowAlong( band, match, images.size( 1 ), 16LL << 20 ), 0 );
-        const AreaMatch m = matchAlongEpipolarBand( imageA, p, imageB, band, match );
-        if ( m.status != MatchStatus::Lsm )
-          continue;
-        const std::vector<RayObservation> rays { { &a, p, 0.5 }, { &b, m.pixelInImage, 0.5 } };
-        const IntersectionSummary x = intersectRays( rays );
-        if ( x.ok() )
-          heights.push_back( x.point.z() );
-      }
-    if ( heights.size() < 5 )
-      return std::nullopt;
-    std::sort( heights.begin(), heights.end() );
-    TerrainHeightEstimate e;
-    e.heightM = heights[heights.size() / 2];
-    e.points = static_cast<int>( heights.size() );
-    std::vector<double> deviations;
-    for ( double h : heights )
-      deviations.push_back( std::abs( h - e.heightM ) );
-    std::sort( deviations.begin(), deviations.end() );
-    e.spreadM = deviations[deviations.size() / 2];
-    return e;
-  }
-
   RoadNetworkSummary extractRoadNetwork( const MatchImage &imageA, const MatchImage &imageB, const OrientedImage *a, const OrientedImage *b,
                                          const RoadNetworkOptions &options, const ExtractionProgress &progress )
   {
@@ -121,9 +64,10 @@ namespace geostation
         summary.meanHeightM = *options.meanHeightM;
       else
       {
-        summary.terrainEstimate = estimateTerrainHeight( *a, *b, matching );
+        std::string whyNot;
+        summary.terrainEstimate = estimateTerrainHeight( *a, *b, matching, &whyNot );
         if ( !summary.terrainEstimate && !options.terrain )
-          throw std::invalid_argument( "the terrain height could not be estimated by matching (the images do not overlap, or have no texture): give a DEM or a mean terrain height" );
+          throw std::invalid_argument( "the terrain height could not be estimated by matching: " + whyNot + "; give a DEM or a mean terrain height" );
         summary.meanHeightM = summary.terrainEstimate ? summary.terrainEstimate->heightM : 0.0;
       }
     }

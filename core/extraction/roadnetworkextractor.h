@@ -19,6 +19,7 @@
 #include "extraction/networkintersection.h"
 #include "extraction/pairmapping.h"
 #include "extraction/pairmatchwindows.h"
+#include "extraction/terrainheight.h"
 #include "io/rasterfile.h"
 #include "geometry/projection.h"
 #include "matching/matchimage.h"
@@ -41,21 +42,6 @@ namespace geostation
     std::vector<ControlPair> control;    //!< an unoriented pair: registration from these pairs
     ControlMapping controlMapping = ControlMapping::Multiquadric;
   };
-
-  struct TerrainHeightEstimate
-  {
-    double heightM = 0.0;
-    int points = 0;   //!< matched (LSM) grid points the median is taken from
-    double spreadM = 0.0; //!< median absolute deviation of their heights
-  };
-
-  /**
-   * The median height of a 9 x 9 grid of points of A matched in B along
-   * their epipolar curves (LSM only); nothing when fewer than 5 match.
-   */
-  std::optional<TerrainHeightEstimate> estimateTerrainHeight( const OrientedImage &a, const OrientedImage &b, PairMatchWindows &images );
-  //! The same over two whole images.
-  std::optional<TerrainHeightEstimate> estimateTerrainHeight( const OrientedImage &a, const OrientedImage &b, const MatchImage &imageA, const MatchImage &imageB );
 
   //! How the pair was read.
   struct PairReading
