@@ -399,10 +399,11 @@ namespace geostation
         if ( ofItsSize( centre, area ) )
         {
           // the disc's centre, not its image's centre of gravity
+          Eigen::Vector2d discCentre = *centre;
           if ( const std::optional<Eigen::Vector2d> offset = discCentroidOffset( oriented, c.world, radius ) )
-            centre = *centre - *offset;
+            discCentre -= *offset;
           point.status = PredictedPoint::Status::Found; // at the prediction: a second mark nearby no longer leaves a doubt
-          point.pixelInImage = *centre;
+          point.pixelInImage = discCentre;
           point.reason.clear();
         }
         else if ( point.status == PredictedPoint::Status::Found )
