@@ -8,8 +8,9 @@
   frame, shaded by its own procedural texture, and targets drawn by ray
   casting with 4 x 4 samples a pixel: a white disc in a dark ring on the
   grass. The camera stands on a 12 m mast and looks down the field, so the
-  targets range from about 80 px across near the mast to 10 px far off,
-  flattened by the view into ellipses. Decoys: white discs without a ring,
+  targets range from about 60 px across near the mast to 19 px far off,
+  flattened by the view into ellipses, and two smaller ones among the far
+  ones are 15 and 8 px across (3 px high). Decoys: white discs without a ring,
   white squares and bright patches of the same sizes. Only the result is
   turned into GeoStation's conventions (camera, exterior orientation,
   control points, the true pixels of the disc centres).
@@ -54,7 +55,7 @@ namespace geostation::mastscene
     std::map<std::string, bool> wholeInFrame;         //!< the ring wholly inside the frame
   };
 
-  //! The scene: 14 targets from 6 to 36 m along the field, 10 decoys, a mast 12 m high (seed: texture, noise, layout jitter).
+  //! The scene: 16 targets from 6 to 38 m along the field, 10 decoys, a mast 12 m high (seed: texture, noise, layout jitter).
   inline MastScene mastScene( uint32_t seed = 1 )
   {
     std::mt19937 random( seed );
@@ -81,6 +82,13 @@ namespace geostation::mastscene
       const double halfWidth = 0.8 * ( n * std::cos( down ) + mastM * std::sin( down ) ) * ( 0.5 * width / f );
       const double e = ( k % 2 ? 1.0 : -1.0 ) * ( 0.15 + 0.6 * std::abs( jitter( random ) ) ) * halfWidth;
       targets.push_back( { "T" + std::to_string( 100 + k ), { n, e }, 0.35, false, 0 } );
+    }
+    // two small targets among the far ones (0.4 and 0.28 m discs): 15 and 8 px across, 3 px high
+    for ( int k = 0; k < 2; ++k )
+    {
+      const double n = 24.0 + 12.0 * k + 0.5 * jitter( random );
+      const double halfWidth = 0.8 * ( n * std::cos( down ) + mastM * std::sin( down ) ) * ( 0.5 * width / f );
+      targets.push_back( { "S" + std::to_string( 200 + k ), { n, ( k % 2 ? -0.35 : 0.4 ) * halfWidth }, k ? 0.14 : 0.2, false, 0 } );
     }
     for ( int k = 0; k < 10; ++k )
     {
