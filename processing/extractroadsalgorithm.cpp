@@ -35,7 +35,8 @@ namespace GeoStationProcessing
 
 namespace
 {
-  const QStringList kPolarities { QStringLiteral( "dark" ), QStringLiteral( "bright" ) };
+  // indices kept from before auto existed: dark 0, bright 1
+  const QStringList kPolarities { QStringLiteral( "dark" ), QStringLiteral( "bright" ), QStringLiteral( "auto" ) };
   const QStringList kMappings { QStringLiteral( "multiquadric" ), QStringLiteral( "projective" ) };
 
   std::shared_ptr<const geostation::RasterReader> openImage( const geostation::Block &block, const geostation::BlockImage &image )
@@ -56,6 +57,12 @@ namespace
   }
 
   //! "right" (extracted in the left image, verified in the right), "left", or "both".
+  bool hasValue( const QVariantMap &parameters, const QString &name )
+  {
+    const QVariant v = parameters.value( name );
+    return v.isValid() && !v.isNull() && !v.toString().trimmed().isEmpty();
+  }
+
   QString acceptedIn( const std::string &symbols, bool inLeft )
   {
     const bool internal = symbols.find( 'I' ) != std::string::npos, external = symbols.find( 'E' ) != std::string::npos;
@@ -76,10 +83,19 @@ QString ExtractRoadsAlgorithm::shortHelpString() const
   return QObject::tr( "Extracts roads automatically from one image of a stereo pair, verifies every line in the other image, "
                       "continues from where verification stopped, alternating between the images until a round adds little, "
                       "and assembles the result into maximum-length lines between dead ends and junctions.\n\n"
-                      "Roads are bands ROAD_WIDTH_MIN_PX to ROAD_WIDTH_MAX_PX wide, darker (POLARITY dark) or brighter than "
-                      "both sides by at least MIN_CONTRAST grey levels. ROAD_WIDTH_MIN_PX is at least 2: a road's width is measured "
-                      "between the half-contrast crossings of its two edges, which a band one pixel wide (blurred by the optics "
-                      "over two or three) does not have apart, so roads narrower than 2 px are not extracted. An oriented pair is registered through its "
+                      "A road is a band with two roughly parallel borders, fairly uniform inside (centre and lane markings, "
+                      "cars and shadows aside), that differs from each side by at least MIN_CONTRAST grey levels. With POLARITY "
+                      "auto (the default) each side may be darker or brighter: asphalt darker than a bright field on one side and "
+                      "brighter than a wood on the other (such a band must show a plateau at least 3 px wide, or every blurred "
+                      "field edge would be one); dark or bright asks for roads darker or brighter than both sides.\n\n"
+                      "Widths: for an oriented pair, from ROAD_WIDTH_MIN_M to ROAD_WIDTH_MAX_M on the ground (3 to 30 m by "
+                      "default), divided by the ground pixel at the left image's centre, kept within 1 and 80 px: one set of "
+                      "defaults serves ground pixels from 0.1 m to 10 m. ROAD_WIDTH_MIN_PX and ROAD_WIDTH_MAX_PX, when given, "
+                      "are used instead (a pair registered by CONTROL has no ground pixel: 4 to 24 px unless given). A road "
+                      "1 px wide is a line brighter or darker than both sides. MIN_CONTRAST, when empty, is 3.3 times the left "
+                      "image's texture (the median standard deviation of 7 x 7 px windows), at least 15 grey levels: on coarse "
+                      "grass, bands a little brighter or darker than their sides are everywhere.\n\n"
+                      "An oriented pair is registered through its "
                       "orientation and the DEM, or a mean terrain height (MEAN_HEIGHT_M, otherwise estimated by matching); "
                       "an unoriented pair needs CONTROL (point_id, col_left, row_left, col_right, row_right) and is "
                       "registered by the MAPPING, and then only the image-space outputs are written; the verification then searches "
@@ -89,7 +105,7 @@ QString ExtractRoadsAlgorithm::shortHelpString() const
                       "OUTPUT_RIGHT: the lines in each image (x = col, y = -row); DEAD_ENDS: open ends in the left image "
                       "(kind); REPORT: JSON with the rounds, counts, registration and times per stage. Each output is written only "
                       "when asked for; at least one of OUTPUT, OUTPUT_LEFT and OUTPUT_RIGHT is needed.\n\n"
-                      "POLARITY and MAPPING take their option's name (dark, bright; multiquadric, projective) or its index (0, 1)." );
+                      "POLARITY and MAPPING take their option's name (dark, bright, auto; multiquadric, projective) or its index (0, 1, 2; 0, 1)." );
 }
 
 ExtractRoadsAlgorithm *ExtractRoadsAlgorithm::createInstance() const { return new ExtractRoadsAlgorithm(); }
@@ -101,10 +117,12 @@ void ExtractRoadsAlgorithm::initAlgorithm( const QVariantMap & )
   addParameter( new QgsProcessingParameterString( QStringLiteral( "RIGHT" ), QObject::tr( "Right image id" ) ) );
   addParameter( new QgsProcessingParameterRasterLayer( QStringLiteral( "DEM" ), QObject::tr( "DEM" ), QVariant(), true ) );
   addParameter( new QgsProcessingParameterNumber( QStringLiteral( "MEAN_HEIGHT_M" ), QObject::tr( "Mean terrain height (m; empty: estimated)" ), QgsProcessingParameterNumber::Double, QVariant(), true ) );
-  addParameter( new QgsProcessingParameterNumber( QStringLiteral( "ROAD_WIDTH_MIN_PX" ), QObject::tr( "Narrowest road (px)" ), QgsProcessingParameterNumber::Double, 6.0, false, 2.0, 200.0 ) );
-  addParameter( new QgsProcessingParameterNumber( QStringLiteral( "ROAD_WIDTH_MAX_PX" ), QObject::tr( "Widest road (px)" ), QgsProcessingParameterNumber::Double, 20.0, false, 2.0, 200.0 ) );
-  addParameter( new QgsProcessingParameterEnum( QStringLiteral( "POLARITY" ), QObject::tr( "Roads are" ), kPolarities, false, QStringLiteral( "dark" ), false, true ) );
-  addParameter( new QgsProcessingParameterNumber( QStringLiteral( "MIN_CONTRAST" ), QObject::tr( "Minimum contrast (grey levels)" ), QgsProcessingParameterNumber::Double, 25.0, false, 1.0, 255.0 ) );
+  addParameter( new QgsProcessingParameterNumber( QStringLiteral( "ROAD_WIDTH_MIN_M" ), QObject::tr( "Narrowest road (m on the ground)" ), QgsProcessingParameterNumber::Double, 3.0, false, 0.01, 1000.0 ) );
+  addParameter( new QgsProcessingParameterNumber( QStringLiteral( "ROAD_WIDTH_MAX_M" ), QObject::tr( "Widest road (m on the ground)" ), QgsProcessingParameterNumber::Double, 30.0, false, 0.01, 1000.0 ) );
+  addParameter( new QgsProcessingParameterNumber( QStringLiteral( "ROAD_WIDTH_MIN_PX" ), QObject::tr( "Narrowest road (px; instead of metres)" ), QgsProcessingParameterNumber::Double, QVariant(), true, 1.0, 200.0 ) );
+  addParameter( new QgsProcessingParameterNumber( QStringLiteral( "ROAD_WIDTH_MAX_PX" ), QObject::tr( "Widest road (px; instead of metres)" ), QgsProcessingParameterNumber::Double, QVariant(), true, 1.0, 200.0 ) );
+  addParameter( new QgsProcessingParameterEnum( QStringLiteral( "POLARITY" ), QObject::tr( "Roads are" ), kPolarities, false, QStringLiteral( "auto" ), false, true ) );
+  addParameter( new QgsProcessingParameterNumber( QStringLiteral( "MIN_CONTRAST" ), QObject::tr( "Minimum contrast (grey levels; empty: from the image's texture)" ), QgsProcessingParameterNumber::Double, QVariant(), true, 1.0, 255.0 ) );
   auto spacing = std::make_unique<QgsProcessingParameterNumber>( QStringLiteral( "START_SPACING_PX" ), QObject::tr( "Starting-point sample lines every (px)" ),
                                                                   QgsProcessingParameterNumber::Integer, 48, false, 4, 1000 );
   spacing->setFlags( spacing->flags() | QgsProcessingParameterDefinition::FlagAdvanced );
@@ -127,12 +145,30 @@ QVariantMap ExtractRoadsAlgorithm::processGeoStation( const QVariantMap &paramet
   if ( left.id == right.id )
     throw QgsProcessingException( QObject::tr( "LEFT and RIGHT are the same image (%1): a stereo pair needs two." ).arg( QString::fromStdString( left.id ) ) );
 
-  geostation::RoadNetworkOptions options;
+  geostation::RoadNetworkOptions options = geostation::defaultRoadNetworkOptions();
+  options.roadWidthM.reset();
+  options.contrastFromTexture = false;
   geostation::LineObjectOptions &object = options.coincident.extraction.object;
-  object.polarity = parameterAsEnumString( parameters, QStringLiteral( "POLARITY" ), context ) == QLatin1String( "bright" ) ? 1 : -1;
-  object.minContrast = parameterAsDouble( parameters, QStringLiteral( "MIN_CONTRAST" ), context );
-  object.minWidthPx = parameterAsDouble( parameters, QStringLiteral( "ROAD_WIDTH_MIN_PX" ), context );
-  object.maxWidthPx = parameterAsDouble( parameters, QStringLiteral( "ROAD_WIDTH_MAX_PX" ), context );
+  const QString polarity = parameterAsEnumString( parameters, QStringLiteral( "POLARITY" ), context );
+  object.polarity = polarity == QLatin1String( "bright" ) ? 1 : polarity == QLatin1String( "dark" ) ? -1 : 0;
+  if ( hasValue( parameters, QStringLiteral( "MIN_CONTRAST" ) ) )
+    object.minContrast = parameterAsDouble( parameters, QStringLiteral( "MIN_CONTRAST" ), context );
+  else
+    options.contrastFromTexture = true; // at least the core's 15 grey levels
+  const bool minPx = hasValue( parameters, QStringLiteral( "ROAD_WIDTH_MIN_PX" ) ), maxPx = hasValue( parameters, QStringLiteral( "ROAD_WIDTH_MAX_PX" ) );
+  if ( minPx )
+    object.minWidthPx = parameterAsDouble( parameters, QStringLiteral( "ROAD_WIDTH_MIN_PX" ), context );
+  if ( maxPx )
+    object.maxWidthPx = parameterAsDouble( parameters, QStringLiteral( "ROAD_WIDTH_MAX_PX" ), context );
+  if ( minPx && !maxPx && object.maxWidthPx < object.minWidthPx )
+    object.maxWidthPx = object.minWidthPx;
+  if ( maxPx && !minPx && object.minWidthPx > object.maxWidthPx )
+    object.minWidthPx = object.maxWidthPx;
+  const double minM = parameterAsDouble( parameters, QStringLiteral( "ROAD_WIDTH_MIN_M" ), context ), maxM = parameterAsDouble( parameters, QStringLiteral( "ROAD_WIDTH_MAX_M" ), context );
+  if ( !( maxM >= minM ) )
+    throw QgsProcessingException( QObject::tr( "ROAD_WIDTH_MAX_M (%1 m) is less than ROAD_WIDTH_MIN_M (%2 m)." ).arg( maxM ).arg( minM ) );
+  if ( !minPx && !maxPx )
+    options.roadWidthM = std::make_pair( minM, maxM ); // used for an oriented pair
   options.coincident.extraction.start.sampleSpacingPx = parameterAsInt( parameters, QStringLiteral( "START_SPACING_PX" ), context );
   if ( parameters.value( QStringLiteral( "MEAN_HEIGHT_M" ) ).isValid() && !parameters.value( QStringLiteral( "MEAN_HEIGHT_M" ) ).toString().isEmpty() )
     options.meanHeightM = parameterAsDouble( parameters, QStringLiteral( "MEAN_HEIGHT_M" ), context );

@@ -24,7 +24,7 @@ namespace GeoStationProcessing
       { "intersections_right", static_cast<int>( s.extraction.intersectionsB.size() ) }, { "gaps_bridged", s.extraction.bridged },
       { "stages", QJsonObject { { "starting_points", stage( s.extraction.startStage ) }, { "lem", stage( s.extraction.lemStage ) }, { "rem", stage( s.extraction.remStage ) },
           { "verification", stage( s.extraction.verificationStage ) }, { "compilation", stage( s.extraction.compilationStage ) } } },
-      { "seconds", s.seconds }, { "empty", s.extraction.linesA.empty() }, { "verification_search_px", s.verificationSearchPx },
+      { "seconds", s.seconds }, { "empty", s.extraction.linesA.empty() }, { "min_contrast", s.minContrast }, { "texture_grey", s.textureGrey }, { "verification_search_px", s.verificationSearchPx },
       { "reading", QJsonObject { { "in_windows", s.reading.inWindows }, { "sub_images", s.extraction.subImages },
           { "temporary_dead_ends", s.extraction.temporaryDeadEnds }, { "grey_tiles_read", static_cast<double>( s.reading.greyTilesRead ) },
           { "matching_windows", static_cast<double>( s.reading.matchingWindows ) }, { "peak_matching_mb", s.reading.peakMatchingBytes / 1048576.0 } } } };
@@ -33,7 +33,10 @@ namespace GeoStationProcessing
       report.insert( "mean_height_m", s.meanHeightM );
       if ( s.terrainEstimate )
         report.insert( "terrain_estimate", QJsonObject { { "height_m", s.terrainEstimate->heightM }, { "points", s.terrainEstimate->points }, { "spread_m", s.terrainEstimate->spreadM },
-                                                         { "voting_points", s.terrainEstimate->votingPoints } } );
+                                                         { "voting_points", s.terrainEstimate->votingPoints }, { "by_least_squares", s.terrainEstimate->byLeastSquares } } );
+      if ( s.widthsFromMetres )
+        report.insert( "road_widths", QJsonObject { { "ground_pixel_m", s.widthsFromMetres->groundPixelM }, { "min_px", s.widthsFromMetres->minPx },
+                                                    { "max_px", s.widthsFromMetres->maxPx }, { "clamped", s.widthsFromMetres->clamped } } );
       report.insert( "vertices_3d", QJsonObject { { "total", s.network.vertices }, { "by_line_crossing", s.network.byCrossing }, { "by_area_matching", s.network.byArea },
         { "unmatched", s.network.unmatched } } );
     }

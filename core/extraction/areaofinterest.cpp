@@ -41,7 +41,7 @@ namespace geostation
     {
       const Eigen::Vector2d centre = area.pointOn( j, 0.0 );
       const std::vector<double> profile = sampleCrossProfile( grey, centre, area.axis, half, options.polarity, 0.5 * area.spacingPx, 3 );
-      const std::vector<double> response = bandResponse( profile, options.widthPx );
+      const std::vector<double> response = bandResponse( profile, options.widthPx, options.polarity );
       std::vector<AreaCandidate> line;
       for ( int i = 1; i + 1 < static_cast<int>( response.size() ); ++i )
       {

@@ -65,7 +65,7 @@ namespace geostation
       const GreyWindow window = image.around( at, half + 4 );
       const std::vector<double> profile = sampleCrossProfile( window.pixels, window.toWindow( at ), direction, half, object.polarity, 1.0, 3 );
       std::optional<CrossSection> best;
-      for ( const CrossSection &c : findCrossSections( profile, object.minWidthPx, object.maxWidthPx, 0.5 * object.minContrast, 2.0 * object.maxVariation ) )
+      for ( const CrossSection &c : findCrossSections( profile, object.minWidthPx, object.maxWidthPx, 0.5 * object.minContrast, 2.0 * object.maxVariation, false, object.polarity ) )
         if ( std::abs( c.offsetPx ) <= searchPx && ( !best || std::abs( c.offsetPx ) < std::abs( best->offsetPx ) ) )
           best = c;
       return best;

@@ -180,7 +180,7 @@ namespace geostation
           const Eigen::Vector2d at = p0 + t * axis + offset * normal;
           const std::vector<double> profile = sampleCrossProfile( grey, at, axis, half, object.polarity, 1.0, 3 );
           std::optional<double> shift;
-          for ( const CrossSection &c : findCrossSections( profile, 0.8 * width, 1.2 * width, 0.5 * object.minContrast, 2.0 * object.maxVariation, true ) )
+          for ( const CrossSection &c : findCrossSections( profile, 0.8 * width, 1.2 * width, 0.5 * object.minContrast, 2.0 * object.maxVariation, true, object.polarity ) )
             if ( std::abs( c.offsetPx ) <= 2.5 && std::abs( offset + c.offsetPx ) <= maxOffset && ( !shift || std::abs( c.offsetPx ) < std::abs( *shift ) ) )
               shift = c.offsetPx;
           if ( shift )

@@ -14,14 +14,14 @@ namespace geostation
 
   void LineObjectOptions::check() const
   {
-    if ( polarity != 1 && polarity != -1 )
-      throw std::invalid_argument( "the polarity must be +1 (bright roads) or -1 (dark roads)" );
+    if ( polarity < -1 || polarity > 1 )
+      throw std::invalid_argument( "the polarity must be +1 (bright roads), -1 (dark roads) or 0 (either, side by side)" );
     if ( !( minContrast > 0.0 ) )
       throw std::invalid_argument( "the minimum contrast must be positive (grey levels)" );
     if ( !( maxVariation > 0.0 ) )
       throw std::invalid_argument( "the maximum variation must be positive (grey levels)" );
-    if ( !( minWidthPx >= 2.0 ) || !( maxWidthPx >= minWidthPx ) || maxWidthPx > 200.0 )
-      throw std::invalid_argument( "the road width must satisfy 2 <= minimum <= maximum <= 200 pixels, got " + std::to_string( minWidthPx ) + " .. " + std::to_string( maxWidthPx ) );
+    if ( !( minWidthPx >= 1.0 ) || !( maxWidthPx >= minWidthPx ) || maxWidthPx > 200.0 )
+      throw std::invalid_argument( "the road width must satisfy 1 <= minimum <= maximum <= 200 pixels, got " + std::to_string( minWidthPx ) + " .. " + std::to_string( maxWidthPx ) );
   }
 
   double greyAt( const cv::Mat &grey, double col, double row )
@@ -55,7 +55,7 @@ namespace geostation
         const Eigen::Vector2d p = centre + t * n + along * direction;
         sum += greyAt( grey, p.x(), p.y() );
       }
-      profile[t + halfLength] = polarity * sum / samples;
+      profile[t + halfLength] = profileSign( polarity ) * sum / samples;
     }
     return profile;
   }
@@ -108,6 +108,22 @@ namespace geostation
       return 1.4826 * v[v.size() / 2];
     }
 
+    /**
+     * A band between a darker and a brighter side must be a plateau, not
+     * the ramp of a blurred edge between them (which has an inside between
+     * its sides too): at least 3 samples, the inside's two halves within
+     * 15 % of the contrast of each other.
+     */
+    bool isPlateau( const ProfileSums &sums, int a, int w, double contrast )
+    {
+      if ( w < 3 )
+        return false;
+      const int from = w0( a, w ), to = w1( a, w ), middle = ( from + to ) / 2;
+      if ( to - from < 2 )
+        return false;
+      return std::abs( sums.mean( from, middle ) - sums.mean( middle, to ) ) <= 0.15 * contrast;
+    }
+
     //! Where the profile crosses `level` between samples a and b (a < b or a > b), walking from a.
     std::optional<double> crossing( const std::vector<double> &p, int from, int to, double level )
     {
@@ -125,7 +141,7 @@ namespace geostation
   } // namespace
 
   std::vector<CrossSection> findCrossSections( const std::vector<double> &profile, double widthMinPx, double widthMaxPx,
-                                               double minContrast, double maxVariation, bool oneSided )
+                                               double minContrast, double maxVariation, bool oneSided, int polarity )
   {
     struct Candidate
     {
@@ -134,7 +150,8 @@ namespace geostation
     };
     const int n = static_cast<int>( profile.size() );
     const ProfileSums sums( profile );
-    const int wMin = std::max( 2, static_cast<int>( std::floor( widthMinPx ) ) );
+    const bool eitherSign = polarity == 0;
+    const int wMin = std::max( 1, static_cast<int>( std::floor( widthMinPx ) ) );
     const int wMax = std::max( wMin, static_cast<int>( std::ceil( widthMaxPx ) ) );
     std::vector<Candidate> candidates;
     constexpr int gap = 1; // blur between the band and its sides
@@ -148,13 +165,23 @@ namespace geostation
         const double inside = sums.mean( a, a + w );
         const double left = sums.mean( a - gap - f, a - gap );
         const double right = sums.mean( a + w + gap, a + w + gap + f );
-        double contrast = std::min( inside - left, inside - right );
-        if ( oneSided && contrast >= -minContrast / 3.0 )
-          contrast = std::max( inside - left, inside - right );
+        double toLeft = inside - left, toRight = inside - right;
+        bool mixed = false;
+        if ( eitherSign )
+        {
+          mixed = toLeft * toRight < 0.0;
+          toLeft = std::abs( toLeft );
+          toRight = std::abs( toRight );
+        }
+        double contrast = std::min( toLeft, toRight );
+        if ( oneSided && ( contrast >= -minContrast / 3.0 || mixed ) )
+          contrast = std::max( toLeft, toRight );
         if ( contrast < minContrast )
           continue;
+        if ( mixed && !( oneSided || isPlateau( sums, a, w, contrast ) ) )
+          continue;
         // a cheap first look: markings and cars inside a road inflate the standard deviation, so allow twice the limit here
-        const double variation = w >= 4 ? sums.stdDev( a + 1, a + w - 1 ) : sums.stdDev( a, a + w );
+        const double variation = w >= 4 ? sums.stdDev( a + 1, a + w - 1 ) : w >= 2 ? sums.stdDev( a, a + w ) : 0.0;
         if ( variation > 2.0 * maxVariation )
           continue;
         candidates.push_back( { a, w, contrast, variation, contrast - 0.5 * variation, inside, left, right } );
@@ -192,7 +219,7 @@ namespace geostation
     return found;
   }
 
-  std::vector<double> bandResponse( const std::vector<double> &profile, double widthPx )
+  std::vector<double> bandResponse( const std::vector<double> &profile, double widthPx, int polarity )
   {
     const int n = static_cast<int>( profile.size() );
     const int half = std::max( 1, static_cast<int>( std::lround( 0.5 * ( widthPx - 1 ) ) ) );
@@ -207,7 +234,8 @@ namespace geostation
       if ( !sums.valid( a - gap - f, a + w + gap + f ) )
         continue;
       const double inside = sums.mean( a, a + w );
-      response[i] = std::min( inside - sums.mean( a - gap - f, a - gap ), inside - sums.mean( a + w + gap, a + w + gap + f ) );
+      const double toLeft = inside - sums.mean( a - gap - f, a - gap ), toRight = inside - sums.mean( a + w + gap, a + w + gap + f );
+      response[i] = polarity != 0 ? std::min( toLeft, toRight ) : toLeft * toRight > 0.0 ? std::min( std::abs( toLeft ), std::abs( toRight ) ) : 0.0;
     }
     return response;
   }

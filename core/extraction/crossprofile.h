@@ -1,8 +1,13 @@
 /***************************************************************************
   crossprofile.h - grey-level profiles across a line object (report §4.1)
   -------------------------------------------------------------------------
-  A road in an aerial image is a band a few pixels wide, brighter (or
-  darker) than both sides, fairly uniform inside. Every stage of the
+  A road in an aerial image is a band from one to some tens of pixels
+  wide, fairly uniform inside (markings and cars aside), with two roughly
+  parallel borders: brighter or darker than both sides, or - polarity 0,
+  the default - either, side by side: asphalt darker than a bright field
+  on one side and brighter than a wood on the other. Such a band, between
+  a darker and a brighter side, must show a plateau at least 3 px wide,
+  or the ramp of any blurred edge between two fields would be one. Every stage of the
   extraction - starting points, LEM, REM, verification - decides on
   profiles sampled across the band: the band's centre, width, contrast
   (the smaller of its two sides, grey levels) and the variation inside.
@@ -27,10 +32,10 @@ namespace geostation
   //! The report's extraction parameters: what a line object looks like.
   struct LineObjectOptions
   {
-    int polarity = 1;           //!< +1: brighter than its surroundings, -1: darker
+    int polarity = 0;           //!< +1: brighter than both sides, -1: darker than both, 0: either, side by side
     double minContrast = 15.0;  //!< grey levels: both sides at least this much darker (polarity applied)
     double maxVariation = 14.0; //!< spread of the grey levels inside the band (robust: 1.4826 x median absolute deviation)
-    double minWidthPx = 4.0;
+    double minWidthPx = 4.0;    //!< from 1 (a line one pixel wide: brighter or darker than both sides)
     double maxWidthPx = 24.0;
 
     //! Throws std::invalid_argument naming the first bad value.
@@ -47,7 +52,7 @@ namespace geostation
   };
 
   /**
-   * Grey values (polarity applied: multiplied by `polarity`) sampled by
+   * Grey values (polarity applied: multiplied by profileSign(polarity)) sampled by
    * bilinear interpolation at centre + t n for t = -halfLength .. +halfLength
    * (1 px apart), each the mean of `alongSamples` samples spread over
    * +-alongHalfPx along `direction`. Samples off the image are NaN.
@@ -60,20 +65,29 @@ namespace geostation
    * sampleCrossProfile() whose both sides are at least `minContrast` darker
    * (polarity applied) and whose inside varies at most `maxVariation`
    * (robust spread); overlapping candidates suppressed, strongest first.
+   * `polarity` 0 (the profile's grey levels as sampled): each side's
+   * contrast in either sign, a band between a darker and a brighter side
+   * only where it shows a plateau (at least 3 samples, its halves within
+   * 15 % of the contrast of each other).
    * Offsets are relative to the profile's centre sample. `oneSided`: one
    * side suffices and the other need only not be darker by more than a
    * third of the minimum contrast (where another road joins, the band opens
    * on that side).
    */
   std::vector<CrossSection> findCrossSections( const std::vector<double> &profile, double widthMinPx, double widthMaxPx,
-                                               double minContrast, double maxVariation, bool oneSided = false );
+                                               double minContrast, double maxVariation, bool oneSided = false, int polarity = 1 );
 
   /**
    * Band response of a fixed width at every sample of the profile: the
    * smaller side's contrast (polarity applied) of a band `widthPx` wide
    * centred there, NaN where the band or its sides leave the profile.
+   * `polarity` 0: the smaller side's contrast in either sign where both
+   * sides differ in the same sign, 0 where they differ in opposite signs.
    */
-  std::vector<double> bandResponse( const std::vector<double> &profile, double widthPx );
+  std::vector<double> bandResponse( const std::vector<double> &profile, double widthPx, int polarity = 1 );
+
+  //! The factor sampleCrossProfile() applies: the polarity, or +1 for 0 (either).
+  inline int profileSign( int polarity ) { return polarity == 0 ? 1 : polarity; }
 
   //! The normal of a direction: (-dir.row, dir.col).
   inline Eigen::Vector2d normalOf( const Eigen::Vector2d &direction ) { return Eigen::Vector2d( -direction.y(), direction.x() ); }

@@ -5,6 +5,7 @@
 #include "extraction/stopwatch.h"
 
 #include <algorithm>
+#include <limits>
 #include <cmath>
 #include <optional>
 #include <stdexcept>
@@ -98,6 +99,13 @@ namespace geostation
         line.remFrom->pixelInImage = window.toImage( line.remFrom->pixelInImage );
     }
 
+    double distanceToSegment( const Eigen::Vector2d &p, const Eigen::Vector2d &a, const Eigen::Vector2d &b )
+    {
+      const Eigen::Vector2d ab = b - a;
+      const double t = ab.squaredNorm() > 0.0 ? std::clamp( ( p - a ).dot( ab ) / ab.squaredNorm(), 0.0, 1.0 ) : 0.0;
+      return ( a + t * ab - p ).norm();
+    }
+
     void draw( ResultMatrix &matrix, const FollowResult &line, LineExtractionSummary &summary )
     {
       for ( const Piece &piece : line.pieces )
@@ -188,8 +196,8 @@ namespace geostation
           mSummary.startingPoints += static_cast<int>( starts.points.size() );
           for ( const LineState &start : starts.points )
           {
-            if ( known.nearestSymbol( start.pixelInImage, std::max( start.widthPx, 6.0 ) ) )
-              continue; // on a known line
+            if ( known.nearestSymbol( start.pixelInImage, std::max( start.widthPx, 6.0 ) ) || besideKnownBand( window.toImage( start.pixelInImage ), start.widthPx ) )
+              continue; // on a known line, or on a marking, kerb or shoulder along one
             LineState backwards = start;
             backwards.direction = -start.direction;
             FollowResult ahead = follow( window.pixels, known, start, mOptions, mSummary );
@@ -204,6 +212,7 @@ namespace geostation
             ++mSummary.linesStarted;
             mMatrix.drawPolyline( { window.toImage( start.pixelInImage ) }, ResultMatrix::kStart, true );
             const std::optional<int> nextAhead = settle( ahead, index, window.rect(), true ), nextBehind = settle( behind, index, window.rect(), true );
+            recordBand( ahead, behind, start.widthPx );
             finish( ahead, nextAhead );
             finish( behind, nextBehind );
           }
@@ -220,6 +229,48 @@ namespace geostation
         }
 
       private:
+        /**
+         * A road is one band, whatever lines run along it: a starting point
+         * whose band lies within a line started before (its band and this
+         * one side by side, 2 px apart at most) is a marking, kerb or
+         * shoulder of that road, not a road of its own. (Starting points come
+         * strongest and widest first, so the road is found before its lines.)
+         */
+        bool besideKnownBand( const Eigen::Vector2d &pixelInImage, double widthPx ) const
+        {
+          for ( const KnownBand &band : mBands )
+          {
+            const double reach = 0.5 * ( band.widthPx + widthPx ) + 2.0;
+            if ( pixelInImage.x() < band.low.x() - reach || pixelInImage.y() < band.low.y() - reach || pixelInImage.x() > band.high.x() + reach ||
+                 pixelInImage.y() > band.high.y() + reach )
+              continue;
+            for ( const std::vector<Eigen::Vector2d> &piece : band.pieces )
+              for ( size_t i = 0; i + 1 < piece.size(); ++i )
+                if ( distanceToSegment( pixelInImage, piece[i], piece[i + 1] ) <= reach )
+                  return true;
+          }
+          return false;
+        }
+
+        void recordBand( const FollowResult &ahead, const FollowResult &behind, double widthPx )
+        {
+          KnownBand band;
+          band.widthPx = widthPx;
+          band.low = Eigen::Vector2d::Constant( std::numeric_limits<double>::max() );
+          band.high = -band.low;
+          for ( const FollowResult *line : { &ahead, &behind } )
+            for ( const Piece &piece : line->pieces )
+            {
+              band.pieces.push_back( piece.pixels );
+              for ( const Eigen::Vector2d &p : piece.pixels )
+              {
+                band.low = band.low.cwiseMin( p );
+                band.high = band.high.cwiseMax( p );
+              }
+            }
+          mBands.push_back( std::move( band ) );
+        }
+
         /**
          * Where a line that stopped goes on. At its window's edge inside the image: in the sub-image it points
          * into. A final break-off of REM whose area of interest reached to the window's edge (the profiles
@@ -279,6 +330,13 @@ namespace geostation
         const LineExtractionOptions &mOptions;
         Mosaic mMosaic;
         std::vector<std::vector<DeadEnd>> mWaiting; //!< temporary and given dead ends, by sub-image (image pixels)
+        struct KnownBand
+        {
+          std::vector<std::vector<Eigen::Vector2d>> pieces; //!< of a started line, both ways, in image pixels
+          double widthPx = 0.0;
+          Eigen::Vector2d low, high; //!< bounds of the pieces
+        };
+        std::vector<KnownBand> mBands; //!< the lines started in this extraction
         LineExtractionSummary mSummary;
     };
   } // namespace

@@ -108,7 +108,7 @@ namespace geostation
     const int half = static_cast<int>( std::ceil( 0.5 * wMax + std::max( 2.0, 0.5 * wMax ) + 2.0 + search ) );
     const std::vector<double> profile = sampleCrossProfile( grey, predicted, from.direction, half, object.polarity, step / 3.0, 3 );
     const double minContrast = std::max( object.minContrast, options.contrastFraction * from.contrast );
-    const std::vector<CrossSection> sections = findCrossSections( profile, wMin, wMax, minContrast, object.maxVariation, openSide );
+    const std::vector<CrossSection> sections = findCrossSections( profile, wMin, wMax, minContrast, object.maxVariation, openSide, object.polarity );
     const CrossSection *chosen = nullptr;
     for ( const CrossSection &s : sections )
       if ( std::abs( s.offsetPx ) <= search && ( !chosen || std::abs( s.offsetPx ) < std::abs( chosen->offsetPx ) ) )

@@ -56,7 +56,7 @@ namespace geostation
     const int half = static_cast<int>( std::ceil( 0.5 * wMax + std::max( 2.0, 0.5 * wMax ) + 2.0 + searchPx ) );
     const std::vector<double> profile = sampleCrossProfile( grey, pixelInImage, direction, half, object.polarity, 1.5, 3 );
     std::optional<CrossSection> best;
-    for ( const CrossSection &s : findCrossSections( profile, wMin, wMax, 0.5 * object.minContrast, 2.0 * object.maxVariation ) )
+    for ( const CrossSection &s : findCrossSections( profile, wMin, wMax, 0.5 * object.minContrast, 2.0 * object.maxVariation, false, object.polarity ) )
       if ( std::abs( s.offsetPx ) <= searchPx && ( !best || std::abs( s.offsetPx ) < std::abs( best->offsetPx ) ) )
         best = s;
     return best;

@@ -8,6 +8,8 @@
 #include <cmath>
 #include <stdexcept>
 
+#include <opencv2/core.hpp>
+
 #include "adjustment/intersection.h"
 #include "extraction/greytiles.h"
 #include "geometry/epipolar.h"
@@ -22,6 +24,66 @@ namespace geostation
     if ( !std::isfinite( registration.expectedPx ) )
       return ceilingPx;
     return std::clamp( 2.0 * registration.expectedPx + 2.0, std::min( 3.0, ceilingPx ), ceilingPx );
+  }
+
+  RoadWidthsPx widthsPxFor( const OrientedImage &a, double heightM, const std::pair<double, double> &widthM )
+  {
+    if ( !( widthM.first > 0.0 ) || !( widthM.second >= widthM.first ) || !std::isfinite( widthM.second ) )
+      throw std::invalid_argument( "the road widths in metres must satisfy 0 < narrowest <= widest" );
+    // the ground pixel: two neighbouring pixels at the image's centre carried to the terrain height
+    const Eigen::Vector2d centre( 0.5 * a.camera().width, 0.5 * a.camera().height );
+    const auto ground = [&]( const Eigen::Vector2d &p ) -> std::optional<Eigen::Vector3d> {
+      const std::optional<Ray> ray = a.worldRayFromPixel( p );
+      if ( !ray || std::abs( ray->direction.z() ) < 1e-9 )
+        return std::nullopt;
+      const double t = ( heightM - ray->origin.z() ) / ray->direction.z();
+      return t > 0.0 ? std::optional<Eigen::Vector3d>( ray->origin + t * ray->direction ) : std::nullopt;
+    };
+    const std::optional<Eigen::Vector3d> p0 = ground( centre ), px = ground( centre + Eigen::Vector2d( 1.0, 0.0 ) ), py = ground( centre + Eigen::Vector2d( 0.0, 1.0 ) );
+    if ( !p0 || !px || !py )
+      throw std::invalid_argument( "the first image's centre does not see the ground at the terrain height: give the road widths in pixels" );
+    RoadWidthsPx w;
+    w.groundPixelM = std::sqrt( ( *px - *p0 ).norm() * ( *py - *p0 ).norm() );
+    const double minPx = widthM.first / w.groundPixelM, maxPx = widthM.second / w.groundPixelM;
+    w.minPx = std::clamp( minPx, 1.0, kMaxRoadWidthPx );
+    w.maxPx = std::clamp( maxPx, w.minPx, kMaxRoadWidthPx );
+    w.clamped = minPx < 1.0 || maxPx > kMaxRoadWidthPx;
+    return w;
+  }
+
+  RoadNetworkOptions defaultRoadNetworkOptions()
+  {
+    RoadNetworkOptions options;
+    options.coincident.extraction.object.polarity = 0;
+    options.roadWidthM = std::make_pair( 3.0, 30.0 );
+    options.contrastFromTexture = true;
+    return options;
+  }
+
+  double textureGrey( const GreyTiles &grey )
+  {
+    constexpr int kPatches = 9, kPatch = 64, kWindow = 7, kSpacing = 16;
+    std::vector<double> deviations;
+    for ( int i = 0; i < kPatches; ++i )
+      for ( int j = 0; j < kPatches; ++j )
+      {
+        const cv::Rect patch( ( grey.width() - kPatch ) * ( j + 0.5 ) / kPatches, ( grey.height() - kPatch ) * ( i + 0.5 ) / kPatches, kPatch, kPatch );
+        const cv::Rect inside = patch & cv::Rect( 0, 0, grey.width(), grey.height() );
+        if ( inside.width < kWindow || inside.height < kWindow )
+          continue;
+        const GreyWindow window = grey.window( inside );
+        for ( int r = 0; r + kWindow <= window.pixels.rows; r += kSpacing )
+          for ( int c = 0; c + kWindow <= window.pixels.cols; c += kSpacing )
+          {
+            cv::Scalar mean, deviation;
+            cv::meanStdDev( window.pixels( cv::Rect( c, r, kWindow, kWindow ) ), mean, deviation );
+            deviations.push_back( deviation[0] );
+          }
+      }
+    if ( deviations.empty() )
+      return 0.0;
+    std::nth_element( deviations.begin(), deviations.begin() + deviations.size() / 2, deviations.end() );
+    return deviations[deviations.size() / 2];
   }
 
   RoadNetworkSummary extractRoadNetwork( const MatchImage &imageA, const MatchImage &imageB, const OrientedImage *a, const OrientedImage *b,
@@ -87,6 +149,19 @@ namespace geostation
     const PairMapping &registration = mapping ? *mapping : static_cast<const PairMapping &>( *oriented );
     summary.mapping = registration.name();
     CoincidentExtractionOptions coincident = options.coincident;
+    if ( options.roadWidthM && summary.oriented )
+    {
+      summary.widthsFromMetres = widthsPxFor( *a, summary.meanHeightM, *options.roadWidthM );
+      coincident.extraction.object.minWidthPx = summary.widthsFromMetres->minPx;
+      coincident.extraction.object.maxWidthPx = summary.widthsFromMetres->maxPx;
+      coincident.check();
+    }
+    if ( options.contrastFromTexture )
+    {
+      summary.textureGrey = textureGrey( greyA );
+      coincident.extraction.object.minContrast = std::max( coincident.extraction.object.minContrast, kContrastPerTexture * summary.textureGrey );
+    }
+    summary.minContrast = coincident.extraction.object.minContrast;
     if ( summary.registration )
       coincident.verification.misregistrationPx = verificationSearchPx( *summary.registration, coincident.verification.misregistrationPx );
     summary.verificationSearchPx = coincident.verification.misregistrationPx;

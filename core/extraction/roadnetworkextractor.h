@@ -41,7 +41,54 @@ namespace geostation
     std::optional<double> meanHeightM;   //!< otherwise, or where the DEM has no height; estimated when absent
     std::vector<ControlPair> control;    //!< an unoriented pair: registration from these pairs
     ControlMapping controlMapping = ControlMapping::Multiquadric;
+    /**
+     * The minimum contrast from the image's texture: at least
+     * kContrastPerTexture x textureGrey() of the first image (and at least
+     * coincident.extraction.object.minContrast). On grass with a coarse
+     * grain, bands of any width a little brighter or darker than their
+     * sides are everywhere; a road stands out of its land by more.
+     */
+    bool contrastFromTexture = false;
+    //! An oriented pair: the roads' widths on the ground (metres, narrowest and widest), which with the ground pixel set the widths in pixels (coincident.extraction.object's are then not used)
+    std::optional<std::pair<double, double>> roadWidthM;
   };
+
+  /**
+   * What extract_roads uses when given nothing: roads of either polarity,
+   * side by side (LineObjectOptions::polarity 0), 3 to 30 m wide on the
+   * ground (an oriented pair), the minimum contrast from the texture.
+   */
+  RoadNetworkOptions defaultRoadNetworkOptions();
+
+  //! The widths in pixels that road widths in metres come to (widthsPxFor()).
+  struct RoadWidthsPx
+  {
+    double groundPixelM = 0.0; //!< at the first image's centre, at the terrain height
+    double minPx = 0.0, maxPx = 0.0;
+    bool clamped = false; //!< the widths in metres reach beyond 1 .. kMaxRoadWidthPx pixels
+  };
+
+  //! The minimum contrast per grey level of texture (contrastFromTexture).
+  constexpr double kContrastPerTexture = 3.3;
+
+  /**
+   * The image's texture in grey levels: the median standard deviation of
+   * 7 x 7 px windows on a grid over 9 x 9 patches of the image (fields,
+   * grass and roofs alike; noise included).
+   */
+  double textureGrey( const GreyTiles &grey );
+
+  //! The widest road extraction looks for, in pixels (wider roads of a large-scale photo are left out).
+  constexpr double kMaxRoadWidthPx = 80.0;
+
+  /**
+   * Road widths `widthM` (narrowest, widest; metres) in pixels of image
+   * `a` at the terrain height `heightM`: divided by the ground pixel at
+   * the image's centre, kept within 1 .. kMaxRoadWidthPx. Throws
+   * std::invalid_argument for widths that are not 0 < narrowest <= widest,
+   * or when the image's centre does not see the ground at that height.
+   */
+  RoadWidthsPx widthsPxFor( const OrientedImage &a, double heightM, const std::pair<double, double> &widthM );
 
   //! How the pair was read.
   struct PairReading
@@ -59,6 +106,9 @@ namespace geostation
     double verificationSearchPx = 0.0;              //!< the verification's search either side of the mapped line (verificationSearchPx())
     std::optional<TerrainHeightEstimate> terrainEstimate;
     double meanHeightM = 0.0;
+    std::optional<RoadWidthsPx> widthsFromMetres;  //!< when RoadNetworkOptions::roadWidthM set the widths in pixels
+    double textureGrey = 0.0;                       //!< the first image's, when the contrast came from it
+    double minContrast = 0.0;                       //!< the minimum contrast used (grey levels)
     CoincidentExtractionSummary extraction;
     NetworkIntersectionSummary network;            //!< empty for an unoriented pair
     bool oriented = false;

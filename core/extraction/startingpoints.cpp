@@ -24,7 +24,7 @@ namespace geostation
         const double v = greyAt( grey, p.x(), p.y() );
         if ( std::isnan( v ) )
           continue;
-        sum += polarity * v;
+        sum += profileSign( polarity ) * v;
         sumSq += v * v;
         ++n;
       }
@@ -40,7 +40,7 @@ namespace geostation
       const int half = static_cast<int>( std::ceil( 0.5 * object.maxWidthPx + std::max( 2.0, 0.5 * object.maxWidthPx ) + 2.0 + searchPx ) );
       const std::vector<double> profile = sampleCrossProfile( grey, centre, direction, half, object.polarity, 2.0, 3 );
       std::optional<CrossSection> best;
-      for ( const CrossSection &s : findCrossSections( profile, object.minWidthPx, object.maxWidthPx, object.minContrast, object.maxVariation ) )
+      for ( const CrossSection &s : findCrossSections( profile, object.minWidthPx, object.maxWidthPx, object.minContrast, object.maxVariation, false, object.polarity ) )
         if ( std::abs( s.offsetPx ) <= searchPx && ( !best || std::abs( s.offsetPx ) < std::abs( best->offsetPx ) ) )
           best = s;
       return best;
@@ -71,7 +71,8 @@ namespace geostation
         const double right = meanAlong( grey, candidate - side * n, d, probe, object.polarity ).first;
         if ( std::isnan( centreMean ) || std::isnan( left ) || std::isnan( right ) )
           continue;
-        const double score = centreMean - std::max( left, right ) - 0.5 * centreSd;
+        const double score = ( object.polarity != 0 ? centreMean - std::max( left, right ) : std::min( std::abs( centreMean - left ), std::abs( centreMean - right ) ) ) -
+                             0.5 * centreSd;
         if ( score > bestScore )
         {
           bestScore = score;
@@ -141,7 +142,7 @@ namespace geostation
       // a profile "across" a direction perpendicular to the sample line runs along the sample line
       const Eigen::Vector2d lineDirection = -normalOf( along ); // normalOf(lineDirection) == along
       const std::vector<double> profile = sampleCrossProfile( grey, centre, lineDirection, halfLength, object.polarity, 1.0, 3 );
-      for ( const CrossSection &s : findCrossSections( profile, object.minWidthPx, apparentMax, object.minContrast, object.maxVariation ) )
+      for ( const CrossSection &s : findCrossSections( profile, object.minWidthPx, apparentMax, object.minContrast, object.maxVariation, false, object.polarity ) )
       {
         ++summary.candidates;
         const Eigen::Vector2d p = centre + s.offsetPx * along;
@@ -168,7 +169,9 @@ namespace geostation
       const int half = inside.height / 2;
       scan( Eigen::Vector2d( col + 0.5, inside.y + half + 0.5 ), Eigen::Vector2d::UnitY(), half );
     }
-    std::stable_sort( points.begin(), points.end(), []( const LineState &a, const LineState &b ) { return a.contrast > b.contrast; } );
+    // strongest and widest first: a road before the markings, kerbs and shoulders along it (contrast x sqrt(width))
+    std::stable_sort( points.begin(), points.end(),
+                      []( const LineState &a, const LineState &b ) { return a.contrast * std::sqrt( a.widthPx ) > b.contrast * std::sqrt( b.widthPx ); } );
     summary.points = std::move( points );
     return summary;
   }

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <map>
 #include <set>
 #include <vector>
 
@@ -134,6 +135,19 @@ namespace geostation
       return { best, runnerUp };
     }
 
+    //! Each grid point's best-correlated vote within the band around `centre`: one height per point.
+    std::vector<double> votedHeights( const std::vector<Vote> &votes, const Vote &centre )
+    {
+      std::map<int, const Vote *> best;
+      for ( const Vote &v : votes )
+        if ( std::abs( v.heightM - centre.heightM ) <= centre.toleranceM && ( !best.count( v.point ) || v.score > best[v.point]->score ) )
+          best[v.point] = &v;
+      std::vector<double> heights;
+      for ( const auto &[point, vote] : best )
+        heights.push_back( vote->heightM );
+      return heights;
+    }
+
     //! `p` matched by least squares where its curve crosses the heights [lowM, highM]; its height, if unambiguous.
     std::optional<double> heightWithinBand( const OrientedImage &a, const OrientedImage &b, PairMatchWindows &images, const Eigen::Vector2d &p, double lowM,
                                             double highM )
@@ -205,14 +219,21 @@ namespace geostation
     for ( const Eigen::Vector2d &p : grid )
       if ( const std::optional<double> z = heightWithinBand( a, b, images, p, band->heightM - halfWidth, band->heightM + halfWidth ) )
         heights.push_back( *z );
-    if ( static_cast<int>( heights.size() ) < kMinPoints )
-      return fail( std::to_string( shared ) + " grid points agree on a terrain height of about " + std::to_string( static_cast<int>( std::lround( band->heightM ) ) ) +
-                   " m, but only " + std::to_string( heights.size() ) + " of them match by least squares without a second peak there" );
-    std::sort( heights.begin(), heights.end() );
     TerrainHeightEstimate e;
+    e.votingPoints = shared;
+    e.byLeastSquares = static_cast<int>( heights.size() ) >= kMinPoints;
+    if ( !e.byLeastSquares )
+    {
+      // fields of one grey each with a fine texture: few points match by least squares without a second peak
+      // within the band, but their correlation peaks agree on it; each point's best peak in the band is its height
+      heights = votedHeights( votes, *band );
+      if ( static_cast<int>( heights.size() ) < kMinPoints )
+        return fail( std::to_string( shared ) + " grid points agree on a terrain height of about " + std::to_string( static_cast<int>( std::lround( band->heightM ) ) ) +
+                     " m, but only " + std::to_string( heights.size() ) + " of them match by least squares without a second peak there" );
+    }
+    std::sort( heights.begin(), heights.end() );
     e.heightM = heights[heights.size() / 2];
     e.points = static_cast<int>( heights.size() );
-    e.votingPoints = shared;
     std::vector<double> deviations;
     for ( double h : heights )
       deviations.push_back( std::abs( h - e.heightM ) );

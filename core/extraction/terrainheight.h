@@ -39,6 +39,7 @@ namespace geostation
     int points = 0;       //!< grid points matched by least squares within the band the median is taken from
     double spreadM = 0.0; //!< median absolute deviation of their heights
     int votingPoints = 0; //!< grid points whose correlation peaks voted for the band
+    bool byLeastSquares = true; //!< the points matched by least squares (else their correlation peaks in the band)
   };
 
   /**

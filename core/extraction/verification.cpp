@@ -61,7 +61,7 @@ namespace geostation
         const GreyWindow w = grey.around( line[i], half + 6 );
         const std::vector<double> profile = sampleCrossProfile( w.pixels, w.toWindow( line[i] ), d, half, object.polarity, 2.0, 3 );
         std::optional<CrossSection> best;
-        for ( const CrossSection &s : findCrossSections( profile, object.minWidthPx, object.maxWidthPx, object.minContrast, object.maxVariation ) )
+        for ( const CrossSection &s : findCrossSections( profile, object.minWidthPx, object.maxWidthPx, object.minContrast, object.maxVariation, false, object.polarity ) )
           if ( std::abs( s.offsetPx ) <= 3.0 && ( !best || std::abs( s.offsetPx ) < std::abs( best->offsetPx ) ) )
             best = s;
         if ( best )

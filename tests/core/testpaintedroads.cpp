@@ -1,0 +1,98 @@
+/***************************************************************************
+  testpaintedroads.cpp - road extraction with its defaults on road scenes
+  painted independently of the survey simulator (paintedroads.h)
+  -------------------------------------------------------------------------
+  One camera model for both photos; fields brighter and darker than the
+  roads; a main road with a dashed centre marking and edge lines; trees
+  over a dark road; ground pixels of 0.15, 0.5, 2 and 10 m, so that the
+  same roads are 40-73 px, 12-22 px, 4-7 px and (wider roads) 1-3 px wide.
+  Scored by the buffer method in the first photo (buffer: the narrowest
+  road's width, at least 2 px), within the part both photos see. The aims
+  (issue "extraction that generalises"): completeness >= 0.85 and
+  correctness >= 0.90 in every scene. A scene that misses them stays here,
+  disabled, until it meets them.
+ ***************************************************************************/
+#include <algorithm>
+#include <cstdio>
+
+#include <gtest/gtest.h>
+
+#include "extraction/roadnetworkextractor.h"
+#include "imagelinescoring.h"
+#include "matching/matchimage.h"
+#include "paintedroads.h"
+
+using namespace geostation;
+using namespace geostation::paintedroads;
+
+namespace
+{
+  struct SceneResult
+  {
+    ImageBufferScore score;
+    RoadNetworkSummary summary;
+  };
+
+  SceneResult extractWithDefaults( const RoadScene &scene )
+  {
+    const PaintedRoadPair pair = paintedRoadPair( scene );
+    const OrientedImage a( pair.camera, pair.exterior[0] ), b( pair.camera, pair.exterior[1] );
+    const MatchImage imageA( pair.grey[0] ), imageB( pair.grey[1] );
+    SceneResult r;
+    r.summary = extractRoadNetwork( imageA, imageB, &a, &b, defaultRoadNetworkOptions() ); // no height, widths or polarity given
+    std::vector<PixelPolyline> lines;
+    for ( const CompiledPolygon &p : r.summary.extraction.linesA )
+      lines.push_back( p.pixels );
+    const double narrowestPx = *std::min_element( scene.widthsM.begin(), scene.widthsM.end() ) / scene.gsdM;
+    r.score = imageBufferScore( lines, truthInPhoto( pair, 0, 10.0 ), std::max( 2.0, narrowestPx ) );
+    const double quality = r.score.completeness * r.score.correctness / ( r.score.completeness + r.score.correctness - r.score.completeness * r.score.correctness );
+    std::printf( "%s: completeness %.2f, correctness %.2f, quality %.2f, RMS %.2f px; height %.1f m (truth 300), widths %.1f-%.1f px, contrast %.0f, %.1f s\n",
+                 scene.name.c_str(), r.score.completeness, r.score.correctness, quality, r.score.rmsPx, r.summary.meanHeightM, r.summary.widthsFromMetres->minPx,
+                 r.summary.widthsFromMetres->maxPx, r.summary.minContrast, r.summary.seconds );
+    return r;
+  }
+
+  void expectAims( const RoadScene &scene )
+  {
+    const SceneResult r = extractWithDefaults( scene );
+    ASSERT_TRUE( r.summary.terrainEstimate ) << "the height is estimated from the pair";
+    EXPECT_NEAR( r.summary.meanHeightM, 300.0, 0.01 * scene.width * scene.gsdM ); // within 1 % of the flying height
+    EXPECT_GE( r.score.completeness, 0.85 );
+    EXPECT_GE( r.score.correctness, 0.90 );
+  }
+
+  const RoadScene &scene( const std::string &prefix )
+  {
+    static const std::vector<RoadScene> all = scenes();
+    return *std::find_if( all.begin(), all.end(), [&]( const RoadScene &s ) { return s.name.rfind( prefix, 0 ) == 0; } );
+  }
+} // namespace
+
+TEST( PaintedRoads, AerialHalfMetrePixels ) { expectAims( scene( "aerial" ) ); }
+
+TEST( PaintedRoads, RegionalTwoMetrePixels ) { expectAims( scene( "regional" ) ); }
+
+TEST( PaintedRoads, SatelliteTenMetrePixelsRoadsOneToThreePixelsWide ) { expectAims( scene( "satellite" ) ); }
+
+// Known failing: completeness 0.72, correctness 0.81. At 40-73 px the winding concrete road is found
+// along only part of its course and a strip of field between the main road and a field's edge (a band
+// of field grey between two darker sides, 30-60 px wide) is taken for a road.
+TEST( PaintedRoads, DISABLED_LowAerialRoadsFortyToSeventyPixelsWide ) { expectAims( scene( "low aerial" ) ); }
+
+TEST( PaintedRoads, WidthsInMetresBecomePixelsByTheGroundPixel )
+{
+  const PaintedRoadPair pair = paintedRoadPair( { "small", 2.0, { 14.0, 10.0, 8.0 }, 200 } );
+  const OrientedImage a( pair.camera, pair.exterior[0] );
+  const RoadWidthsPx w = widthsPxFor( a, 300.0, { 3.0, 30.0 } );
+  EXPECT_NEAR( w.groundPixelM, 2.0, 0.01 );
+  EXPECT_NEAR( w.minPx, 1.5, 0.01 );
+  EXPECT_NEAR( w.maxPx, 15.0, 0.1 );
+  EXPECT_FALSE( w.clamped );
+  const RoadWidthsPx fine = widthsPxFor( a, 300.0, { 1.0, 400.0 } );
+  EXPECT_DOUBLE_EQ( fine.minPx, 1.0 );
+  EXPECT_DOUBLE_EQ( fine.maxPx, kMaxRoadWidthPx );
+  EXPECT_TRUE( fine.clamped );
+  EXPECT_THROW( widthsPxFor( a, 300.0, { 5.0, 3.0 } ), std::invalid_argument );
+  EXPECT_THROW( widthsPxFor( a, 300.0, { 0.0, 3.0 } ), std::invalid_argument );
+  EXPECT_THROW( widthsPxFor( a, 300.0 + 200.0 * 2.0 + 10.0, { 3.0, 30.0 } ), std::invalid_argument ) << "the ground above the camera";
+}
