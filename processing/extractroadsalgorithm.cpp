@@ -92,7 +92,7 @@ QString ExtractRoadsAlgorithm::shortHelpString() const
                       "default), divided by the ground pixel at the left image's centre, kept within 1 and 80 px: one set of "
                       "defaults serves ground pixels from 0.1 m to 10 m. ROAD_WIDTH_MIN_PX and ROAD_WIDTH_MAX_PX, when given, "
                       "are used instead (a pair registered by CONTROL has no ground pixel: 4 to 24 px unless given). A road "
-                      "1 px wide is a line brighter or darker than both sides. MIN_CONTRAST, when empty, is 3.3 times the left "
+                      "1 px wide is a line brighter or darker than both sides. MIN_CONTRAST, when empty, is 1.8 times the left "
                       "image's texture (the median standard deviation of 7 x 7 px windows), at least 15 grey levels: on coarse "
                       "grass, bands a little brighter or darker than their sides are everywhere.\n\n"
                       "An oriented pair is registered through its "
@@ -147,14 +147,15 @@ QVariantMap ExtractRoadsAlgorithm::processGeoStation( const QVariantMap &paramet
 
   geostation::RoadNetworkOptions options = geostation::defaultRoadNetworkOptions();
   options.roadWidthM.reset();
-  options.contrastFromTexture = false;
+  const double contrastPerTexture = options.contrastPerTexture;
+  options.contrastPerTexture = 0.0;
   geostation::LineObjectOptions &object = options.coincident.extraction.object;
   const QString polarity = parameterAsEnumString( parameters, QStringLiteral( "POLARITY" ), context );
   object.polarity = polarity == QLatin1String( "bright" ) ? 1 : polarity == QLatin1String( "dark" ) ? -1 : 0;
   if ( hasValue( parameters, QStringLiteral( "MIN_CONTRAST" ) ) )
     object.minContrast = parameterAsDouble( parameters, QStringLiteral( "MIN_CONTRAST" ), context );
   else
-    options.contrastFromTexture = true; // at least the core's 15 grey levels
+    options.contrastPerTexture = contrastPerTexture; // at least the core's 15 grey levels
   const bool minPx = hasValue( parameters, QStringLiteral( "ROAD_WIDTH_MIN_PX" ) ), maxPx = hasValue( parameters, QStringLiteral( "ROAD_WIDTH_MAX_PX" ) );
   if ( minPx )
     object.minWidthPx = parameterAsDouble( parameters, QStringLiteral( "ROAD_WIDTH_MIN_PX" ), context );

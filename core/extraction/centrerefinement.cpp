@@ -169,11 +169,28 @@ namespace geostation
                                                     const LineObjectOptions &object, const CentreRefinementOptions &options, int &profiles )
     {
       const size_t count = at.size();
+      // the line's width from every eighth sample over the whole range of widths, then every sample
+      // looked at only for bands of about that width (a wide range costs in every profile)
+      LineObjectOptions aroundWidth = object;
+      {
+        std::vector<double> coarse;
+        for ( size_t i = 0; i < count; i += 8 )
+          if ( normal[i].norm() > 0.5 )
+            if ( const std::optional<CrossSection> c = bandCentreNear( image, at[i], Eigen::Vector2d( normal[i].y(), -normal[i].x() ), object, options.searchPx ) )
+              coarse.push_back( c->widthPx );
+        if ( coarse.size() >= 3 )
+        {
+          std::nth_element( coarse.begin(), coarse.begin() + coarse.size() / 2, coarse.end() );
+          const double width = coarse[coarse.size() / 2];
+          aroundWidth.minWidthPx = std::max( object.minWidthPx, 0.6 * width );
+          aroundWidth.maxWidthPx = std::max( aroundWidth.minWidthPx, std::min( object.maxWidthPx, 1.6 * width + 2.0 ) );
+        }
+      }
       std::vector<std::optional<CrossSection>> sections( count );
       for ( size_t i = 0; i < count; ++i )
         if ( normal[i].norm() > 0.5 )
         {
-          sections[i] = bandCentreNear( image, at[i], Eigen::Vector2d( normal[i].y(), -normal[i].x() ), object, options.searchPx );
+          sections[i] = bandCentreNear( image, at[i], Eigen::Vector2d( normal[i].y(), -normal[i].x() ), aroundWidth, options.searchPx );
           ++profiles;
         }
       // a car on the road, a shadow across one side or a marking beside it makes the band wider or narrower

@@ -20,6 +20,7 @@ namespace geostation
   {
     extraction.check();
     verification.check();
+    companions.check();
     if ( maxRounds < 1 || maxRounds > 20 )
       throw std::invalid_argument( "the number of extraction rounds must be 1 to 20" );
     if ( !( minRoundGain >= 0.0 && minRoundGain < 1.0 ) )
@@ -386,8 +387,12 @@ namespace geostation
     // (and the intersections to where their branches, moved, cross)
     const CentreRefinementSummary refinedA = refineLineCentres( *grey[0], finalA.polygons, options.extraction.object );
     const CentreRefinementSummary refinedB = refineLineCentres( *grey[1], finalB.polygons, options.extraction.object );
-    summary.linesA = refinedA.lines;
-    summary.linesB = refinedB.lines;
+    // a road is one band: the markings, kerbs and shoulders found beside it go
+    const CompanionLineSummary keptA = removeCompanionLines( *grey[0], refinedA.lines, options.extraction.object, options.companions );
+    const CompanionLineSummary keptB = removeCompanionLines( *grey[1], refinedB.lines, options.extraction.object, options.companions );
+    summary.companionsRemoved = keptA.removed + keptB.removed;
+    summary.linesA = keptA.lines;
+    summary.linesB = keptB.lines;
     summary.compilationStage.seconds += t0.seconds();
     summary.intersectionsA = refinedA.movedIntersections( finalA.intersections );
     summary.intersectionsB = refinedB.movedIntersections( finalB.intersections );

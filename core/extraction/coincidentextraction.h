@@ -24,6 +24,7 @@
 
 #include <opencv2/core.hpp>
 
+#include "extraction/companionlines.h"
 #include "extraction/lineextractor.h"
 #include "extraction/pairmapping.h"
 #include "extraction/verification.h"
@@ -40,6 +41,7 @@ namespace geostation
     double kiteLengthPx = 0.0;    //!< the intersection search's main axis (§4.4.3: 20); 0: twice the widest road, at least 20 px
     double kiteWidthPx = 0.0;     //!< and its smaller axis (12); 0: the widest road, at least 12 px
     bool verify = true;           //!< false: one extraction in A, nothing verified (for comparison)
+    CompanionLineOptions companions; //!< markings, kerbs and shoulders along a road, removed from the final lines
 
     //! Throws std::invalid_argument naming the first bad value.
     void check() const;
@@ -64,6 +66,7 @@ namespace geostation
     StageCounts startStage, lemStage, remStage, verificationStage, compilationStage;
     int bridged = 0;                                   //!< gaps and intersections closed by the final processing
     int pruned = 0;                                    //!< spurs removed by the final processing
+    int companionsRemoved = 0;                         //!< lines beside a wider one (markings, kerbs, shoulders), both images
     int subImages = 0;                                 //!< sub-images processed, all rounds and runs
     int temporaryDeadEnds = 0;                         //!< lines continued across sub-image borders
     bool cancelled = false;

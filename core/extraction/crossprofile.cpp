@@ -155,10 +155,13 @@ namespace geostation
     const int wMax = std::max( wMin, static_cast<int>( std::ceil( widthMaxPx ) ) );
     std::vector<Candidate> candidates;
     constexpr int gap = 1; // blur between the band and its sides
-    for ( int w = wMin; w <= wMax; ++w )
+    // widths 1 px apart up to 12 px, then about 6 % apart, and positions a sixteenth of the width apart:
+    // the band's own width and centre come from its borders' half-contrast crossings below
+    for ( int w = wMin; w <= wMax; w += std::max( 1, w / 16 ) )
     {
       const int f = flankOf( w );
-      for ( int a = gap + f; a + w + gap + f <= n; ++a )
+      const int stride = std::max( 1, w / 16 );
+      for ( int a = gap + f; a + w + gap + f <= n; a += stride )
       {
         if ( !sums.valid( a - gap - f, a + w + gap + f ) )
           continue;

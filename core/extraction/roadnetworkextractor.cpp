@@ -56,7 +56,7 @@ namespace geostation
     RoadNetworkOptions options;
     options.coincident.extraction.object.polarity = 0;
     options.roadWidthM = std::make_pair( 3.0, 30.0 );
-    options.contrastFromTexture = true;
+    options.contrastPerTexture = 1.8;
     return options;
   }
 
@@ -156,10 +156,10 @@ namespace geostation
       coincident.extraction.object.maxWidthPx = summary.widthsFromMetres->maxPx;
       coincident.check();
     }
-    if ( options.contrastFromTexture )
+    if ( options.contrastPerTexture > 0.0 )
     {
       summary.textureGrey = textureGrey( greyA );
-      coincident.extraction.object.minContrast = std::max( coincident.extraction.object.minContrast, kContrastPerTexture * summary.textureGrey );
+      coincident.extraction.object.minContrast = std::max( coincident.extraction.object.minContrast, options.contrastPerTexture * summary.textureGrey );
     }
     summary.minContrast = coincident.extraction.object.minContrast;
     if ( summary.registration )

@@ -42,13 +42,14 @@ namespace geostation
     std::vector<ControlPair> control;    //!< an unoriented pair: registration from these pairs
     ControlMapping controlMapping = ControlMapping::Multiquadric;
     /**
-     * The minimum contrast from the image's texture: at least
-     * kContrastPerTexture x textureGrey() of the first image (and at least
-     * coincident.extraction.object.minContrast). On grass with a coarse
-     * grain, bands of any width a little brighter or darker than their
-     * sides are everywhere; a road stands out of its land by more.
+     * The minimum contrast from the image's texture: at least this many
+     * times textureGrey() of the first image (and at least
+     * coincident.extraction.object.minContrast); 0: not from the texture.
+     * On grass with a coarse grain, bands of any width a little brighter or
+     * darker than their sides are everywhere; a road stands out of its land
+     * by more.
      */
-    bool contrastFromTexture = false;
+    double contrastPerTexture = 0.0;
     //! An oriented pair: the roads' widths on the ground (metres, narrowest and widest), which with the ground pixel set the widths in pixels (coincident.extraction.object's are then not used)
     std::optional<std::pair<double, double>> roadWidthM;
   };
@@ -56,7 +57,7 @@ namespace geostation
   /**
    * What extract_roads uses when given nothing: roads of either polarity,
    * side by side (LineObjectOptions::polarity 0), 3 to 30 m wide on the
-   * ground (an oriented pair), the minimum contrast from the texture.
+   * ground (an oriented pair), the minimum contrast 1.8 x the texture.
    */
   RoadNetworkOptions defaultRoadNetworkOptions();
 
@@ -67,9 +68,6 @@ namespace geostation
     double minPx = 0.0, maxPx = 0.0;
     bool clamped = false; //!< the widths in metres reach beyond 1 .. kMaxRoadWidthPx pixels
   };
-
-  //! The minimum contrast per grey level of texture (contrastFromTexture).
-  constexpr double kContrastPerTexture = 3.3;
 
   /**
    * The image's texture in grey levels: the median standard deviation of

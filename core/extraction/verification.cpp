@@ -40,6 +40,34 @@ namespace geostation
     return out;
   }
 
+  std::pair<double, double> measureBand( const GreyTiles &grey, const std::vector<Eigen::Vector2d> &line, const LineObjectOptions &object )
+  {
+    std::vector<double> widths, contrasts;
+    for ( int k = 1; k <= 7 && line.size() > 2; ++k )
+    {
+      const size_t i = std::min( line.size() - 2, line.size() * k / 8 );
+      const Eigen::Vector2d d = ( line[i + 1] - line[i] ).normalized();
+      const int half = static_cast<int>( std::ceil( object.maxWidthPx ) ) + 6;
+      // the profile's pixels: half across, 2 along, 2 for interpolation
+      const GreyWindow w = grey.around( line[i], half + 6 );
+      const std::vector<double> profile = sampleCrossProfile( w.pixels, w.toWindow( line[i] ), d, half, object.polarity, 2.0, 3 );
+      std::optional<CrossSection> best;
+      for ( const CrossSection &s : findCrossSections( profile, object.minWidthPx, object.maxWidthPx, object.minContrast, object.maxVariation, false, object.polarity ) )
+        if ( std::abs( s.offsetPx ) <= 3.0 && ( !best || std::abs( s.offsetPx ) < std::abs( best->offsetPx ) ) )
+          best = s;
+      if ( best )
+      {
+        widths.push_back( best->widthPx );
+        contrasts.push_back( best->contrast );
+      }
+    }
+    if ( widths.empty() )
+      return { 0.5 * ( object.minWidthPx + object.maxWidthPx ), 1.5 * object.minContrast };
+    std::nth_element( widths.begin(), widths.begin() + widths.size() / 2, widths.end() );
+    std::nth_element( contrasts.begin(), contrasts.begin() + contrasts.size() / 2, contrasts.end() );
+    return { widths[widths.size() / 2], contrasts[contrasts.size() / 2] };
+  }
+
   namespace
   {
     struct Interval
@@ -47,35 +75,6 @@ namespace geostation
       double from, to;
       std::vector<Eigen::Vector2d> target;
     };
-
-    //! The band's width and contrast along a source polygon (medians of up to 7 profiles).
-    std::pair<double, double> measureBand( const GreyTiles &grey, const std::vector<Eigen::Vector2d> &line, const LineObjectOptions &object )
-    {
-      std::vector<double> widths, contrasts;
-      for ( int k = 1; k <= 7 && line.size() > 2; ++k )
-      {
-        const size_t i = std::min( line.size() - 2, line.size() * k / 8 );
-        const Eigen::Vector2d d = ( line[i + 1] - line[i] ).normalized();
-        const int half = static_cast<int>( std::ceil( object.maxWidthPx ) ) + 6;
-        // the profile's pixels: half across, 2 along, 2 for interpolation
-        const GreyWindow w = grey.around( line[i], half + 6 );
-        const std::vector<double> profile = sampleCrossProfile( w.pixels, w.toWindow( line[i] ), d, half, object.polarity, 2.0, 3 );
-        std::optional<CrossSection> best;
-        for ( const CrossSection &s : findCrossSections( profile, object.minWidthPx, object.maxWidthPx, object.minContrast, object.maxVariation, false, object.polarity ) )
-          if ( std::abs( s.offsetPx ) <= 3.0 && ( !best || std::abs( s.offsetPx ) < std::abs( best->offsetPx ) ) )
-            best = s;
-        if ( best )
-        {
-          widths.push_back( best->widthPx );
-          contrasts.push_back( best->contrast );
-        }
-      }
-      if ( widths.empty() )
-        return { 0.5 * ( object.minWidthPx + object.maxWidthPx ), 1.5 * object.minContrast };
-      std::nth_element( widths.begin(), widths.begin() + widths.size() / 2, widths.end() );
-      std::nth_element( contrasts.begin(), contrasts.begin() + contrasts.size() / 2, contrasts.end() );
-      return { widths[widths.size() / 2], contrasts[contrasts.size() / 2] };
-    }
 
     Eigen::Vector2d pointAt( const std::vector<Eigen::Vector2d> &line, const std::vector<double> &u, double s )
     {

@@ -81,6 +81,13 @@ namespace geostation
                                       const PixelMap &sourceToTarget, const LineObjectOptions &object, const VerificationOptions &options );
 
   //! The polyline resampled every `stepPx` (ends kept).
+  /**
+   * The band's width and contrast along a line of `grey` (medians of up to
+   * 7 profiles, the band nearest the line within 3 px); where none is
+   * found, the middle of the object's widths and 1.5 x its minimum contrast.
+   */
+  std::pair<double, double> measureBand( const GreyTiles &grey, const std::vector<Eigen::Vector2d> &line, const LineObjectOptions &object );
+
   std::vector<Eigen::Vector2d> densifyPolyline( const std::vector<Eigen::Vector2d> &polyline, double stepPx );
 
 } // namespace geostation

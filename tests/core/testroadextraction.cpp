@@ -285,6 +285,22 @@ TEST( RoadExtraction, ANetworkBuiltDifferently )
   EXPECT_GE( e.within2Sigma, 0.8 * e.vertices );
 }
 
+// The preset's pair with extract_roads' defaults (either polarity, 3-30 m, the contrast 1.8 x the texture),
+// scored by the buffer method within 1.5 m. Known failing: completeness 0.50, correctness 0.36 (0.59 / 0.48
+// within 3.5 m): the grass's grain, as strong as a town's texture, holds bands 15-23 grey levels brighter or
+// darker than their sides everywhere, and the contrast the real photographs need (21-28 grey levels) lets
+// them through; the roads stand out by 25-47.
+TEST( RoadExtraction, DISABLED_DefaultsOnThePresetPair )
+{
+  const AerialPair &pair = aerialPair();
+  const OrientedImage a = pair.block.orientedImage( pair.block.images.at( 0 ) ), b = pair.block.orientedImage( pair.block.images.at( 1 ) );
+  const RoadNetworkSummary s = extractRoadNetwork( MatchImage( pair.left ), MatchImage( pair.right ), &a, &b, defaultRoadNetworkOptions() );
+  const BufferScore score = scoreInImage( asLines( s.extraction.linesA ), truthCentreLinesInImage( pair, 0 ), 3.0 );
+  std::printf( "preset pair with the defaults: completeness %.2f, correctness %.2f (contrast %.0f)\n", score.completeness, score.correctness, s.minContrast );
+  EXPECT_GE( score.completeness, 0.85 );
+  EXPECT_GE( score.correctness, 0.90 );
+}
+
 TEST( RoadExtraction, SingleImageFindsTheRoads )
 {
   const AerialPair &pair = aerialPair();
