@@ -14,6 +14,7 @@
  ***************************************************************************/
 #include <algorithm>
 #include <cstdio>
+#include <tuple>
 
 #include <gtest/gtest.h>
 
@@ -112,20 +113,25 @@ namespace
     line.symbols = "I";
     return line;
   }
+
+  //! Bands (top row, height, grey) on a ground of `ground` grey, 300 x 200 px, and the lines kept of `lines` (widths 2 to 30 px).
+  CompanionLineSummary keptOf( int ground, const std::vector<std::tuple<int, int, int>> &bands, const std::vector<CompiledPolygon> &lines )
+  {
+    cv::Mat image( 200, 300, CV_8U, cv::Scalar( ground ) );
+    for ( const auto &[top, height, grey] : bands )
+      paintBand( image, top, height, grey );
+    LineObjectOptions object;
+    object.minWidthPx = 2.0;
+    object.maxWidthPx = 30.0;
+    return removeCompanionLines( GreyTiles( image ), lines, object );
+  }
 }
 
 TEST( CompanionLines, ShouldersBesideARoadAreNotRoads )
 {
   // grass 90, bright shoulders (3 px, 200) either side of dark asphalt (14 px, 60)
-  cv::Mat image( 200, 300, CV_8U, cv::Scalar( 90 ) );
-  paintBand( image, 90, 3, 200 );
-  paintBand( image, 93, 14, 60 );
-  paintBand( image, 107, 3, 200 );
-  LineObjectOptions object;
-  object.minWidthPx = 2.0;
-  object.maxWidthPx = 30.0;
-  const std::vector<CompiledPolygon> lines = { horizontalLine( 100.0, 20.0, 280.0 ), horizontalLine( 91.5, 30.0, 270.0 ), horizontalLine( 108.5, 40.0, 200.0 ) };
-  const CompanionLineSummary kept = removeCompanionLines( GreyTiles( image ), lines, object );
+  const CompanionLineSummary kept = keptOf( 90, { { 90, 3, 200 }, { 93, 14, 60 }, { 107, 3, 200 } },
+                                            { horizontalLine( 100.0, 20.0, 280.0 ), horizontalLine( 91.5, 30.0, 270.0 ), horizontalLine( 108.5, 40.0, 200.0 ) } );
   EXPECT_EQ( kept.removed, 2 );
   ASSERT_EQ( kept.lines.size(), 1u );
   EXPECT_DOUBLE_EQ( kept.lines[0].pixels[0].y(), 100.0 );
@@ -135,16 +141,10 @@ TEST( CompanionLines, ShouldersBesideARoadAreNotRoads )
 TEST( CompanionLines, TwoCarriagewaysOfOneWidthAndARoadFarAwayStay )
 {
   // two carriageways (12 px, 60) with a 4 px verge between them, and a narrow road (4 px) far away
-  cv::Mat image( 200, 300, CV_8U, cv::Scalar( 150 ) );
-  paintBand( image, 60, 12, 60 );
-  paintBand( image, 76, 12, 60 );
-  paintBand( image, 150, 4, 60 );
-  LineObjectOptions object;
-  object.minWidthPx = 2.0;
-  object.maxWidthPx = 30.0;
   const std::vector<CompiledPolygon> lines = { horizontalLine( 66.0, 20.0, 280.0 ), horizontalLine( 82.0, 20.0, 280.0 ), horizontalLine( 152.0, 20.0, 280.0 ) };
-  const CompanionLineSummary kept = removeCompanionLines( GreyTiles( image ), lines, object );
+  const CompanionLineSummary kept = keptOf( 150, { { 60, 12, 60 }, { 76, 12, 60 }, { 150, 4, 60 } }, lines );
   EXPECT_EQ( kept.removed, 0 );
   EXPECT_EQ( kept.lines.size(), 3u );
-  EXPECT_THROW( removeCompanionLines( GreyTiles( image ), lines, object, CompanionLineOptions { 0.0, 0.8, 2.0 } ), std::invalid_argument );
+  const cv::Mat image( 20, 20, CV_8U, cv::Scalar( 0 ) );
+  EXPECT_THROW( removeCompanionLines( GreyTiles( image ), lines, LineObjectOptions(), CompanionLineOptions { 0.0, 0.8, 2.0 } ), std::invalid_argument );
 }
