@@ -1,0 +1,202 @@
+/***************************************************************************
+  testmaprevision.cpp - an old road map held against a new pair
+  -------------------------------------------------------------------------
+  On the painted road scenes (paintedroads.h, not the simulator), with a
+  map made from their truth and changed on purpose: the main road as it
+  is, the winding road mapped three road widths (24 m) north of where it
+  runs, the dark road left out, and a road mapped across the fields where
+  there is none. With the defaults.
+ ***************************************************************************/
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+
+#include <gtest/gtest.h>
+
+#include "matching/matchimage.h"
+#include "paintedroads.h"
+#include "revision/maprevision.h"
+
+using namespace geostation;
+using namespace geostation::paintedroads;
+
+namespace
+{
+  MapRoad mapRoad( const std::vector<Eigen::Vector2d> &xy, const Eigen::Vector2d &shift = Eigen::Vector2d::Zero() )
+  {
+    MapRoad road;
+    for ( const Eigen::Vector2d &p : xy )
+      road.vertices.emplace_back( p.x() + shift.x(), p.y() + shift.y(), std::nan( "" ) );
+    return road;
+  }
+
+  struct Revised
+  {
+    PaintedRoadPair pair;
+    std::vector<MapRoad> map;
+    MapRevisionSummary summary;
+  };
+
+  const Revised &revised()
+  {
+    static const Revised r = []
+    {
+      Revised out;
+      out.pair = paintedRoadPair( scenes()[1] ); // 0.5 m
+      const std::vector<PaintedRoad> &roads = out.pair.roads;
+      out.map.push_back( mapRoad( roads[0].centre ) );                                    // as it is
+      out.map.push_back( mapRoad( roads[1].centre, Eigen::Vector2d( 0.0, 3.0 * roads[1].widthM ) ) ); // mapped 24 m north
+      out.map.push_back( mapRoad( { { -80.0, -195.0 }, { 140.0, -165.0 } } ) );             // not there: south of the main road, 100 m from it
+      const OrientedImage a( out.pair.camera, out.pair.exterior[0] ), b( out.pair.camera, out.pair.exterior[1] );
+      out.summary = reviseRoads( MatchImage( out.pair.grey[0] ), MatchImage( out.pair.grey[1] ), a, b, out.map, MapRevisionOptions() );
+      return out;
+    }();
+    return r;
+  }
+
+  //! The length (XY) of road `road`'s pieces with `status`, and of all its pieces that are not outside.
+  std::pair<double, double> lengthOf( const MapRevisionSummary &s, size_t road, RevisionStatus status )
+  {
+    double with = 0.0, seen = 0.0;
+    for ( const RevisedPiece &p : s.pieces )
+      if ( p.road == road && p.status != RevisionStatus::Outside )
+      {
+        seen += p.lengthM();
+        if ( p.status == status )
+          with += p.lengthM();
+      }
+    return { with, seen };
+  }
+
+  //! Points every metre along a polyline (XY) that both photos see.
+  std::vector<Eigen::Vector3d> seenPoints( const PaintedRoadPair &pair, const std::vector<Eigen::Vector2d> &line )
+  {
+    const OrientedImage a( pair.camera, pair.exterior[0] ), b( pair.camera, pair.exterior[1] );
+    std::vector<Eigen::Vector3d> out;
+    for ( size_t i = 0; i + 1 < line.size(); ++i )
+    {
+      const int n = static_cast<int>( std::ceil( ( line[i + 1] - line[i] ).norm() ) );
+      for ( int k = 0; k < n; ++k )
+      {
+        const Eigen::Vector2d xy = line[i] + ( line[i + 1] - line[i] ) * ( static_cast<double>( k ) / n );
+        const Eigen::Vector3d g( xy.x(), xy.y(), pair.groundM );
+        const GroundProjection pa = a.projectGroundToPixel( g ), pb = b.projectGroundToPixel( g );
+        const auto inside = [&]( const GroundProjection &p ) {
+          return p.ok() && p.pixelInImage.x() > 30 && p.pixelInImage.y() > 30 && p.pixelInImage.x() < pair.camera.width - 30 && p.pixelInImage.y() < pair.camera.height - 30;
+        };
+        if ( inside( pa ) && inside( pb ) )
+          out.push_back( g );
+      }
+    }
+    return out;
+  }
+
+  double distanceXY( const Eigen::Vector3d &p, const std::vector<Eigen::Vector3d> &line )
+  {
+    double best = 1e300;
+    for ( size_t i = 0; i + 1 < line.size(); ++i )
+    {
+      const Eigen::Vector2d a = line[i].head<2>(), ab = line[i + 1].head<2>() - a;
+      const double t = ab.squaredNorm() > 0 ? std::clamp( ( p.head<2>() - a ).dot( ab ) / ab.squaredNorm(), 0.0, 1.0 ) : 0.0;
+      best = std::min( best, ( a + t * ab - p.head<2>() ).norm() );
+    }
+    return best;
+  }
+
+  std::vector<Eigen::Vector3d> ground( const std::vector<Eigen::Vector2d> &xy, double z )
+  {
+    std::vector<Eigen::Vector3d> out;
+    for ( const Eigen::Vector2d &p : xy )
+      out.emplace_back( p.x(), p.y(), z );
+    return out;
+  }
+} // namespace
+
+TEST( MapRevision, UnchangedRoadIsConfirmed )
+{
+  const Revised &r = revised();
+  const auto [confirmed, seen] = lengthOf( r.summary, 0, RevisionStatus::Confirmed );
+  std::printf( "main road: %.0f of %.0f m confirmed\n", confirmed, seen );
+  ASSERT_GT( seen, 100.0 );
+  EXPECT_GE( confirmed, 0.95 * seen );
+  // measured again in 3-D, on the road's centre line, with sigmas
+  for ( const RevisedPiece &p : r.summary.pieces )
+    if ( p.road == 0 && p.status == RevisionStatus::Confirmed )
+    {
+      ASSERT_EQ( p.sigmaM.size(), p.course.size() );
+      for ( const Eigen::Vector3d &v : p.course )
+        EXPECT_LT( distanceXY( v, ground( r.pair.roads[0].centre, r.pair.groundM ) ), 1.5 );
+    }
+}
+
+TEST( MapRevision, ShiftedRoadIsMovedToWhereItRuns )
+{
+  const Revised &r = revised();
+  const auto [moved, seen] = lengthOf( r.summary, 1, RevisionStatus::Moved );
+  std::vector<double> off;
+  double sum2 = 0.0;
+  for ( const RevisedPiece &p : r.summary.pieces )
+    if ( p.road == 1 && p.status == RevisionStatus::Moved )
+      for ( const Eigen::Vector3d &v : p.course )
+      {
+        off.push_back( distanceXY( v, ground( r.pair.roads[1].centre, r.pair.groundM ) ) );
+        sum2 += off.back() * off.back();
+      }
+  const double rms = off.empty() ? 0.0 : std::sqrt( sum2 / off.size() );
+  std::sort( off.begin(), off.end() );
+  std::printf( "winding road mapped 24 m off: %.0f of %.0f m moved, new course %.2f m RMS from the truth (median %.2f, 90 %% %.2f, worst %.2f m)\n", moved, seen, rms,
+               off.empty() ? 0.0 : off[off.size() / 2], off.empty() ? 0.0 : off[off.size() * 9 / 10], off.empty() ? 0.0 : off.back() );
+  ASSERT_GT( seen, 100.0 );
+  EXPECT_GE( moved, 0.9 * seen );
+  EXPECT_LT( rms, 1.0 );
+}
+
+TEST( MapRevision, RoadNotThereIsNotFound )
+{
+  const Revised &r = revised();
+  const auto [notFound, seen] = lengthOf( r.summary, 2, RevisionStatus::NotFound );
+  std::printf( "road mapped where there is none: %.0f of %.0f m not found\n", notFound, seen );
+  ASSERT_GT( seen, 100.0 );
+  EXPECT_GE( notFound, 0.9 * seen );
+}
+
+TEST( MapRevision, RoadMissingFromTheMapIsNew )
+{
+  const Revised &r = revised();
+  std::vector<Eigen::Vector3d> newCourse;
+  for ( const NetworkLine &l : r.summary.newRoads )
+    for ( const NetworkVertex &v : l.vertices )
+      newCourse.push_back( v.point );
+  const std::vector<Eigen::Vector3d> truth = seenPoints( r.pair, r.pair.roads[2].centre );
+  int covered = 0;
+  for ( const Eigen::Vector3d &p : truth )
+  {
+    double best = 1e300;
+    for ( const NetworkLine &l : r.summary.newRoads )
+    {
+      std::vector<Eigen::Vector3d> line;
+      for ( const NetworkVertex &v : l.vertices )
+        line.push_back( v.point );
+      best = std::min( best, distanceXY( p, line ) );
+    }
+    covered += best <= r.pair.roads[2].widthM;
+  }
+  std::printf( "dark road left out of the map: %d of %zu m in NEW (%zu new lines)\n", covered, truth.size(), r.summary.newRoads.size() );
+  ASSERT_GT( truth.size(), 100u );
+  EXPECT_GE( covered, 0.9 * truth.size() );
+}
+
+TEST( MapRevision, BadGeometriesAndRoadsOutsideThePair )
+{
+  const Revised &base = revised();
+  const OrientedImage a( base.pair.camera, base.pair.exterior[0] ), b( base.pair.camera, base.pair.exterior[1] );
+  std::vector<MapRoad> map = { MapRoad(), mapRoad( { { 5.0, 5.0 }, { 5.0, 5.0 } } ), mapRoad( { { 50000.0, 0.0 }, { 50500.0, 0.0 } } ) };
+  const MapRevisionSummary s = reviseRoads( MatchImage( base.pair.grey[0] ), MatchImage( base.pair.grey[1] ), a, b, map, MapRevisionOptions() );
+  ASSERT_EQ( s.pieces.size(), 3u );
+  EXPECT_EQ( s.pieces[0].status, RevisionStatus::InvalidGeometry );
+  EXPECT_EQ( s.pieces[1].status, RevisionStatus::InvalidGeometry );
+  EXPECT_EQ( s.pieces[2].status, RevisionStatus::Outside );
+  MapRevisionOptions bad;
+  bad.shiftMaxM = -1.0;
+  EXPECT_THROW( reviseRoads( MatchImage( base.pair.grey[0] ), MatchImage( base.pair.grey[1] ), a, b, map, bad ), std::invalid_argument );
+}
