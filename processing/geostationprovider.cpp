@@ -19,6 +19,7 @@
 #include "simulatesurveyalgorithm.h"
 #include "traceroadlinesalgorithm.h"
 #include "extractroadsalgorithm.h"
+#include "reviseroadsalgorithm.h"
 #include "exportblockalgorithm.h"
 #include "identifycontrolalgorithm.h"
 #include "importblockalgorithm.h"
@@ -81,6 +82,7 @@ void GeoStationProvider::loadAlgorithms()
   addAlgorithm( new ExportMeasurementsAlgorithm() );
   addAlgorithm( new TraceRoadLinesAlgorithm() );
   addAlgorithm( new ExtractRoadsAlgorithm() );
+  addAlgorithm( new ReviseRoadsAlgorithm() );
   addAlgorithm( new ImportBlockAlgorithm() );
   addAlgorithm( new ExportBlockAlgorithm() );
   addAlgorithm( new IdentifyControlAlgorithm() );

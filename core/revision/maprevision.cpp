@@ -66,11 +66,11 @@ namespace geostation
       RevisionStatus status = RevisionStatus::Outside;
       Eigen::Vector2d foundA = Eigen::Vector2d::Zero(), foundB = Eigen::Vector2d::Zero(); //!< the band's centre, confirmed or moved
       double shiftM = 0.0;
-      double settledOffsetPx = 0.0; //!< moved: the offset across the course in A of the band taken
+      double offsetPx = 0.0, widthPx = 0.0; //!< confirmed or moved: the band's offset across the course in A and its width there
       //! Moved: every band off the course in A that B confirms (offset across the course in A, px; where; how far)
       struct Candidate
       {
-        double offsetPx;
+        double offsetPx, widthPx;
         Eigen::Vector2d inA, inB;
         double shiftM;
       };
@@ -160,6 +160,8 @@ namespace geostation
       if ( !atA.empty() && !atB.empty() )
       {
         s.status = RevisionStatus::Confirmed;
+        s.widthPx = atA.front().widthPx;
+        s.offsetPx = atA.front().offsetPx;
         s.foundA = s.inA + atA.front().offsetPx * normalOf( alongA );
         s.foundB = s.inB + atB.front().offsetPx * normalOf( alongB );
         return;
@@ -167,8 +169,8 @@ namespace geostation
       s.status = RevisionStatus::NotFound;
       for ( const CrossSection &band : bandsNear( pair.greyA, s.inA, alongA, pair.object, pair.shiftMaxPx ) )
       {
-        if ( std::abs( band.offsetPx ) <= pair.tolerancePx )
-          continue; // on the course: seen in A only
+        if ( std::abs( band.offsetPx ) - 0.5 * band.widthPx <= pair.tolerancePx )
+          continue; // touching the course: the road itself, its kerb or shoulder (seen in A only), not a road moved
         const Eigen::Vector2d inA = s.inA + band.offsetPx * normalOf( alongA );
         const std::optional<Eigen::Vector3d> ground = pair.mapping.groundPoint( pair.mapping.imageA(), inA );
         if ( !ground )
@@ -178,70 +180,106 @@ namespace geostation
           continue;
         const std::vector<CrossSection> there = bandsNear( pair.greyB, inB, alongB, pair.object, pair.tolerancePx );
         if ( !there.empty() )
-          s.candidates.push_back( { band.offsetPx, inA, inB + there.front().offsetPx * normalOf( alongB ), ( *ground - s.ground ).head<2>().norm() } );
+          s.candidates.push_back( { band.offsetPx, band.widthPx, inA, inB + there.front().offsetPx * normalOf( alongB ), ( *ground - s.ground ).head<2>().norm() } );
       }
       if ( s.candidates.empty() )
         return;
-      // the nearest for now; a moved stretch settles on the offset most of its samples share (settleShift)
+      // the nearest for now; a moved stretch settles on the offset its samples share (settleShifts)
       s.status = RevisionStatus::Moved;
       s.foundA = s.candidates.front().inA;
       s.foundB = s.candidates.front().inB;
       s.shiftM = s.candidates.front().shiftM;
+      s.offsetPx = s.candidates.front().offsetPx;
+      s.widthPx = s.candidates.front().widthPx;
     }
 
     /**
-     * A road moved as a whole: the samples of a moved stretch take the band
-     * nearest the offset most of them found nearest (their median), within
-     * the tolerance and half the widest road; a sample with none there, or
-     * whose band lies off its neighbours' (the median of 3 either side) by
-     * more than twice the tolerance (a crossing road, a field's edge), is
-     * left out of the stretch's course.
+     * A road moved as a whole: of a moved sample's bands (those in A that B
+     * confirms), the one whose offset from the course the bands of the
+     * neighbouring samples (5 either side) share most, within 1.5 px, and
+     * at least 3 of them; a sample without such a band is not moved. The
+     * moved road is found at about the same offset sample after sample; a
+     * band of grass at any offset.
      */
-    void settleShift( std::vector<Sample> &samples, size_t from, size_t to, const PairView &pair )
+    void settleShifts( std::vector<Sample> &samples )
     {
-      std::vector<double> offsets;
-      for ( size_t k = from; k < to; ++k )
-        if ( samples[k].status == RevisionStatus::Moved )
-          offsets.push_back( samples[k].candidates.front().offsetPx );
-      if ( offsets.empty() )
-        return;
-      std::nth_element( offsets.begin(), offsets.begin() + offsets.size() / 2, offsets.end() );
-      const double median = offsets[offsets.size() / 2], reach = pair.tolerancePx + 0.5 * pair.object.maxWidthPx;
-      for ( size_t k = from; k < to; ++k )
+      std::vector<const Sample::Candidate *> chosen( samples.size(), nullptr );
+      for ( size_t k = 0; k < samples.size(); ++k )
+      {
+        if ( samples[k].status != RevisionStatus::Moved )
+          continue;
+        // support from 5 samples either side; ties go to the support from 15 either side (a band along the
+        // road for a few samples, a strip of field beside it, loses there), then to the band nearer the course
+        const auto supportOf = [&]( const Sample::Candidate &c, size_t reach ) {
+          int support = 0;
+          for ( size_t j = k > reach ? k - reach : 0; j < std::min( samples.size(), k + reach + 1 ); ++j )
+            if ( j != k && samples[j].status == RevisionStatus::Moved )
+              for ( const Sample::Candidate &d : samples[j].candidates )
+                if ( std::abs( d.offsetPx - c.offsetPx ) <= 1.5 )
+                {
+                  ++support;
+                  break;
+                }
+          return support;
+        };
+        int bestSupport = 0, bestWide = 0;
+        for ( const Sample::Candidate &c : samples[k].candidates )
+        {
+          const int support = supportOf( c, 5 ), wide = supportOf( c, 15 );
+          if ( support > bestSupport || ( support == bestSupport && ( wide > bestWide || ( wide == bestWide && chosen[k] && std::abs( c.offsetPx ) < std::abs( chosen[k]->offsetPx ) ) ) ) )
+          {
+            bestSupport = support;
+            bestWide = wide;
+            chosen[k] = &c;
+          }
+        }
+        if ( bestSupport < 3 )
+          chosen[k] = nullptr;
+      }
+      for ( size_t k = 0; k < samples.size(); ++k )
       {
         Sample &s = samples[k];
         if ( s.status != RevisionStatus::Moved )
           continue;
-        const Sample::Candidate *best = nullptr;
-        for ( const Sample::Candidate &c : s.candidates )
-          if ( std::abs( c.offsetPx - median ) <= reach && ( !best || std::abs( c.offsetPx - median ) < std::abs( best->offsetPx - median ) ) )
-            best = &c;
-        if ( !best )
+        if ( !chosen[k] )
         {
           s.status = RevisionStatus::NotFound;
           continue;
         }
-        s.foundA = best->inA;
-        s.foundB = best->inB;
-        s.shiftM = best->shiftM;
-        s.settledOffsetPx = best->offsetPx;
+        s.foundA = chosen[k]->inA;
+        s.foundB = chosen[k]->inB;
+        s.shiftM = chosen[k]->shiftM;
+        s.offsetPx = chosen[k]->offsetPx;
+        s.widthPx = chosen[k]->widthPx;
       }
-      std::vector<size_t> outliers;
-      for ( size_t k = from; k < to; ++k )
-      {
-        if ( samples[k].status != RevisionStatus::Moved )
-          continue;
-        std::vector<double> around;
-        for ( size_t j = k > from + 3 ? k - 3 : from; j < std::min( to, k + 4 ); ++j )
-          if ( j != k && samples[j].status == RevisionStatus::Moved )
-            around.push_back( samples[j].settledOffsetPx );
-        if ( around.size() < 2 )
-          continue;
-        std::nth_element( around.begin(), around.begin() + around.size() / 2, around.end() );
-        if ( std::abs( samples[k].settledOffsetPx - around[around.size() / 2] ) > 2.0 * pair.tolerancePx )
-          outliers.push_back( k );
-      }
-      for ( const size_t k : outliers )
+    }
+
+    /**
+     * A road runs on: a confirmed or moved sample counts only where a
+     * sample of its status within 2 either side found its band in the first
+     * image within 2 px of the same offset from the course and within 40 %
+     * of the same width. Bands a
+     * little brighter or darker than their sides, which grass with a coarse
+     * grain holds everywhere, come at any offset and width from sample to
+     * sample.
+     */
+    void requireContinuity( std::vector<Sample> &samples )
+    {
+      const auto continues = [&]( size_t k, size_t j ) {
+        const Sample &s = samples[k], &t = samples[j];
+        return t.status == s.status && std::abs( s.offsetPx - t.offsetPx ) <= 2.0 && std::abs( s.widthPx - t.widthPx ) <= 0.4 * std::max( s.widthPx, t.widthPx );
+      };
+      std::vector<size_t> isolated;
+      for ( size_t k = 0; k < samples.size(); ++k )
+        if ( samples[k].status == RevisionStatus::Confirmed || samples[k].status == RevisionStatus::Moved )
+        {
+          bool continued = false;
+          for ( size_t j = k > 2 ? k - 2 : 0; j < std::min( samples.size(), k + 3 ) && !continued; ++j )
+            continued = j != k && continues( k, j );
+          if ( !continued )
+            isolated.push_back( k );
+        }
+      for ( const size_t k : isolated )
         samples[k].status = RevisionStatus::NotFound;
     }
 
@@ -300,15 +338,13 @@ namespace geostation
     }
 
     //! The pieces of one road: runs of one status, moved and confirmed ones measured again.
-    void piecesOf( size_t road, std::vector<Sample> &samples, const std::vector<RevisionStatus> &status, const PairView &pair, std::vector<RevisedPiece> &out )
+    void piecesOf( size_t road, const std::vector<Sample> &samples, const std::vector<RevisionStatus> &status, const PairView &pair, std::vector<RevisedPiece> &out )
     {
       for ( size_t from = 0; from < samples.size(); )
       {
         size_t to = from + 1;
         while ( to < samples.size() && status[to] == status[from] )
           ++to;
-        if ( status[from] == RevisionStatus::Moved )
-          settleShift( samples, from, to, pair );
         RevisedPiece piece;
         piece.road = road;
         piece.status = status[from];
@@ -409,6 +445,16 @@ namespace geostation
     }
   } // namespace
 
+  MapRevisionSummary reviseRoads( std::shared_ptr<const RasterReader> readerA, std::shared_ptr<const RasterReader> readerB, const OrientedImage &a, const OrientedImage &b,
+                                  const std::vector<MapRoad> &map, const MapRevisionOptions &options, const ExtractionProgress &progress )
+  {
+    using Range = std::optional<std::pair<double, double>>;
+    const auto range = []( const RasterReader &r ) { return r.eightBit() ? Range() : Range( greyRangeOf( r ) ); };
+    const Range rangeA = range( *readerA ), rangeB = range( *readerB );
+    PairMatchWindows matching( matchWindowsOf( readerA, readerB, rangeA, rangeB ), readerA->size(), readerB->size() );
+    return reviseRoads( greyTilesOf( readerA, rangeA ), greyTilesOf( readerB, rangeB ), matching, a, b, map, options, progress );
+  }
+
   MapRevisionSummary reviseRoads( const MatchImage &imageA, const MatchImage &imageB, const OrientedImage &a, const OrientedImage &b, const std::vector<MapRoad> &map,
                                   const MapRevisionOptions &options, const ExtractionProgress &progress )
   {
@@ -474,6 +520,8 @@ namespace geostation
       for ( size_t i = 0; i < samples.size(); ++i )
         if ( samples[i].status != RevisionStatus::Outside )
           check( samples[i], directionAt( samples, i, true ), directionAt( samples, i, false ), pair );
+      settleShifts( samples );
+      requireContinuity( samples );
       summary.samples += static_cast<int>( samples.size() );
       piecesOf( r, samples, majorityStatus( samples, options.majorityHalfWindow ), pair, summary.pieces );
     }

@@ -30,6 +30,7 @@
 #ifndef GEOSTATION_REVISION_MAPREVISION_H
 #define GEOSTATION_REVISION_MAPREVISION_H
 
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -106,6 +107,10 @@ namespace geostation
    * are `outside`.
    */
   MapRevisionSummary reviseRoads( const GreyTiles &greyA, const GreyTiles &greyB, PairMatchWindows &matching, const OrientedImage &a, const OrientedImage &b,
+                                  const std::vector<MapRoad> &map, const MapRevisionOptions &options, const ExtractionProgress &progress = nullptr );
+
+  //! The same for a pair of raster files, read a window at a time (as extractRoadNetwork).
+  MapRevisionSummary reviseRoads( std::shared_ptr<const RasterReader> readerA, std::shared_ptr<const RasterReader> readerB, const OrientedImage &a, const OrientedImage &b,
                                   const std::vector<MapRoad> &map, const MapRevisionOptions &options, const ExtractionProgress &progress = nullptr );
 
   //! The same for two images held whole.

@@ -80,6 +80,7 @@ class DesktopSmokeTest(unittest.TestCase):
                                                          "geostation:export_measurements", "geostation:extract_roads", "geostation:identify_control", "geostation:import_block",
                                                          "geostation:inner_orientation", "geostation:intersect",
                                                          "geostation:match_points", "geostation:monoplot", "geostation:project_to_image", "geostation:resection",
+                                                         "geostation:revise_roads",
                                                          "geostation:simulate_survey", "geostation:trace_road_lines"])
         self.assertIn("mActionGeoStationMonoplot", self.result.get("menu_actions", []))
         self.assertIn("mActionGeoStationImportBlock", self.result.get("menu_actions", []))

@@ -9,6 +9,8 @@
 #include <qgsapplication.h>
 #include <qgsprocessingfeedback.h>
 
+#include "simulation/surveysimulator.h"
+
 //! Collects what an algorithm reports, so tests can read its messages.
 class RecordingFeedback : public QgsProcessingFeedback
 {
@@ -30,6 +32,19 @@ class RecordingFeedback : public QgsProcessingFeedback
     }
     QStringList errors, warnings, infos;
 };
+
+//! The aerial_stereo preset's pair of 2 stations at 0.5 m (seed 3, noise 4) simulated into `dir`: what the road tests run on.
+inline void simulateAerialRoadPair( const QString &dir )
+{
+  geostation::SimulationOptions options;
+  options.preset = geostation::SurveyPreset::AerialStereo;
+  options.outputDir = dir.toStdString();
+  options.stations = 2;
+  options.groundPixelSizeM = 0.5;
+  options.seed = 3;
+  options.degradation.noiseSigma = 4.0;
+  geostation::simulateSurvey( options );
+}
 
 //! Runs the tests of T with QGIS initialised (no GUI).
 template <typename T>

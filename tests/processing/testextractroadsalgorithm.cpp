@@ -45,14 +45,7 @@ void TestExtractRoadsAlgorithm::initTestCase()
   QVERIFY( QgsApplication::processingRegistry()->algorithmById( "geostation:extract_roads" ) );
   mContext.setProject( QgsProject::instance() );
   mRun = mDir.filePath( "aerial" );
-  geostation::SimulationOptions options;
-  options.preset = geostation::SurveyPreset::AerialStereo;
-  options.outputDir = mRun.toStdString();
-  options.stations = 2;
-  options.groundPixelSizeM = 0.5;
-  options.seed = 3;
-  options.degradation.noiseSigma = 4.0;
-  geostation::simulateSurvey( options );
+  simulateAerialRoadPair( mRun );
 }
 
 QVariantMap TestExtractRoadsAlgorithm::run( const QVariantMap &parameters, bool *ok, RecordingFeedback *feedback )
