@@ -13,6 +13,7 @@
 #include "extraction/greytiles.h"
 #include "adjustment/intersection.h"
 #include "extraction/pairmapping.h"
+#include "revision/samplecheck.h"
 
 namespace geostation
 {
@@ -56,63 +57,16 @@ namespace geostation
     return length;
   }
 
+  using revision::PairView;
+  using revision::Sample;
+
   namespace
   {
-    //! One place along a map road, as checked.
-    struct Sample
-    {
-      Eigen::Vector3d ground = Eigen::Vector3d::Zero(); //!< on the mapped course, at the terrain
-      Eigen::Vector2d inA = Eigen::Vector2d::Zero(), inB = Eigen::Vector2d::Zero();
-      RevisionStatus status = RevisionStatus::Outside;
-      Eigen::Vector2d foundA = Eigen::Vector2d::Zero(), foundB = Eigen::Vector2d::Zero(); //!< the band's centre, confirmed or moved
-      double shiftM = 0.0;
-      double offsetPx = 0.0, widthPx = 0.0; //!< confirmed or moved: the band's offset across the course in A and its width there
-      //! Moved: every band off the course in A that B confirms (offset across the course in A, px; where; how far)
-      struct Candidate
-      {
-        double offsetPx, widthPx;
-        Eigen::Vector2d inA, inB;
-        double shiftM;
-      };
-      std::vector<Candidate> candidates;
-    };
-
-    //! What the check needs of the pair.
-    struct PairView
-    {
-      const GreyTiles &greyA, &greyB;
-      const OrientedPairMapping &mapping;
-      LineObjectOptions object;
-      double groundPixelM = 0.0, tolerancePx = 0.0, shiftMaxPx = 0.0;
-      double terrainSigmaM = 0.0; //!< of a height taken from the terrain
-    };
-
     struct MeasuredVertex
     {
       Eigen::Vector3d point = Eigen::Vector3d::Zero(), sigmaM = Eigen::Vector3d::Zero();
       bool stereo = false;
     };
-
-    bool inFrame( const OrientedImage &image, const Eigen::Vector3d &ground, Eigen::Vector2d &pixel, double marginPx )
-    {
-      const GroundProjection p = image.projectGroundToPixel( ground );
-      pixel = p.pixelInImage;
-      return p.ok() && pixel.x() > marginPx && pixel.y() > marginPx && pixel.x() < image.camera().width - marginPx && pixel.y() < image.camera().height - marginPx;
-    }
-
-    //! The bands across `along` at `at` within `searchPx` of it, nearest first (offsets along the normal of `along`).
-    std::vector<CrossSection> bandsNear( const GreyTiles &grey, const Eigen::Vector2d &at, const Eigen::Vector2d &along, const LineObjectOptions &object, double searchPx )
-    {
-      const int half = static_cast<int>( std::ceil( searchPx + object.maxWidthPx ) ) + 6;
-      const GreyWindow window = grey.around( at, half + 4 );
-      const std::vector<double> profile = sampleCrossProfile( window.pixels, window.toWindow( at ), along, half, object.polarity, 1.5, 3 );
-      std::vector<CrossSection> bands;
-      for ( const CrossSection &s : findCrossSections( profile, object.minWidthPx, object.maxWidthPx, object.minContrast, object.maxVariation, false, object.polarity ) )
-        if ( std::abs( s.offsetPx ) <= searchPx )
-          bands.push_back( s );
-      std::sort( bands.begin(), bands.end(), []( const CrossSection &x, const CrossSection &y ) { return std::abs( x.offsetPx ) < std::abs( y.offsetPx ); } );
-      return bands;
-    }
 
     //! The mapped course every `spacingM` (XY), at the map's height or, without one, the terrain's.
     std::vector<Eigen::Vector3d> samplesAlong( const MapRoad &road, double spacingM, const OrientedPairMapping &mapping, const TerrainHeight &terrain )
@@ -138,166 +92,6 @@ namespace geostation
       Eigen::Vector3d last = road.vertices.back();
       last.z() = height( last );
       out.push_back( last );
-      return out;
-    }
-
-    Eigen::Vector2d directionAt( const std::vector<Sample> &samples, size_t i, bool inA )
-    {
-      const size_t from = i > 0 ? i - 1 : 0, to = std::min( i + 1, samples.size() - 1 );
-      const Eigen::Vector2d d = inA ? samples[to].inA - samples[from].inA : samples[to].inB - samples[from].inB;
-      return d.norm() > 1e-9 ? Eigen::Vector2d( d.normalized() ) : Eigen::Vector2d::UnitX();
-    }
-
-    /**
-     * One sample's status: a band on the mapped course in both images
-     * (confirmed); else the nearest band within the shift allowed in A whose
-     * ground point shows a band in B (moved); else not found.
-     */
-    void check( Sample &s, const Eigen::Vector2d &alongA, const Eigen::Vector2d &alongB, const PairView &pair )
-    {
-      const std::vector<CrossSection> atA = bandsNear( pair.greyA, s.inA, alongA, pair.object, pair.tolerancePx );
-      const std::vector<CrossSection> atB = bandsNear( pair.greyB, s.inB, alongB, pair.object, pair.tolerancePx );
-      if ( !atA.empty() && !atB.empty() )
-      {
-        s.status = RevisionStatus::Confirmed;
-        s.widthPx = atA.front().widthPx;
-        s.offsetPx = atA.front().offsetPx;
-        s.foundA = s.inA + atA.front().offsetPx * normalOf( alongA );
-        s.foundB = s.inB + atB.front().offsetPx * normalOf( alongB );
-        return;
-      }
-      s.status = RevisionStatus::NotFound;
-      for ( const CrossSection &band : bandsNear( pair.greyA, s.inA, alongA, pair.object, pair.shiftMaxPx ) )
-      {
-        if ( std::abs( band.offsetPx ) - 0.5 * band.widthPx <= pair.tolerancePx )
-          continue; // touching the course: the road itself, its kerb or shoulder (seen in A only), not a road moved
-        const Eigen::Vector2d inA = s.inA + band.offsetPx * normalOf( alongA );
-        const std::optional<Eigen::Vector3d> ground = pair.mapping.groundPoint( pair.mapping.imageA(), inA );
-        if ( !ground )
-          continue;
-        Eigen::Vector2d inB;
-        if ( !inFrame( pair.mapping.imageB(), *ground, inB, 2.0 ) )
-          continue;
-        const std::vector<CrossSection> there = bandsNear( pair.greyB, inB, alongB, pair.object, pair.tolerancePx );
-        if ( !there.empty() )
-          s.candidates.push_back( { band.offsetPx, band.widthPx, inA, inB + there.front().offsetPx * normalOf( alongB ), ( *ground - s.ground ).head<2>().norm() } );
-      }
-      if ( s.candidates.empty() )
-        return;
-      // the nearest for now; a moved stretch settles on the offset its samples share (settleShifts)
-      s.status = RevisionStatus::Moved;
-      s.foundA = s.candidates.front().inA;
-      s.foundB = s.candidates.front().inB;
-      s.shiftM = s.candidates.front().shiftM;
-      s.offsetPx = s.candidates.front().offsetPx;
-      s.widthPx = s.candidates.front().widthPx;
-    }
-
-    /**
-     * A road moved as a whole: of a moved sample's bands (those in A that B
-     * confirms), the one whose offset from the course the bands of the
-     * neighbouring samples (5 either side) share most, within 1.5 px, and
-     * at least 3 of them; a sample without such a band is not moved. The
-     * moved road is found at about the same offset sample after sample; a
-     * band of grass at any offset.
-     */
-    void settleShifts( std::vector<Sample> &samples )
-    {
-      std::vector<const Sample::Candidate *> chosen( samples.size(), nullptr );
-      for ( size_t k = 0; k < samples.size(); ++k )
-      {
-        if ( samples[k].status != RevisionStatus::Moved )
-          continue;
-        // support from 5 samples either side; ties go to the support from 15 either side (a band along the
-        // road for a few samples, a strip of field beside it, loses there), then to the band nearer the course
-        const auto supportOf = [&]( const Sample::Candidate &c, size_t reach ) {
-          int support = 0;
-          for ( size_t j = k > reach ? k - reach : 0; j < std::min( samples.size(), k + reach + 1 ); ++j )
-            if ( j != k && samples[j].status == RevisionStatus::Moved )
-              for ( const Sample::Candidate &d : samples[j].candidates )
-                if ( std::abs( d.offsetPx - c.offsetPx ) <= 1.5 )
-                {
-                  ++support;
-                  break;
-                }
-          return support;
-        };
-        int bestSupport = 0, bestWide = 0;
-        for ( const Sample::Candidate &c : samples[k].candidates )
-        {
-          const int support = supportOf( c, 5 ), wide = supportOf( c, 15 );
-          if ( support > bestSupport || ( support == bestSupport && ( wide > bestWide || ( wide == bestWide && chosen[k] && std::abs( c.offsetPx ) < std::abs( chosen[k]->offsetPx ) ) ) ) )
-          {
-            bestSupport = support;
-            bestWide = wide;
-            chosen[k] = &c;
-          }
-        }
-        if ( bestSupport < 3 )
-          chosen[k] = nullptr;
-      }
-      for ( size_t k = 0; k < samples.size(); ++k )
-      {
-        Sample &s = samples[k];
-        if ( s.status != RevisionStatus::Moved )
-          continue;
-        if ( !chosen[k] )
-        {
-          s.status = RevisionStatus::NotFound;
-          continue;
-        }
-        s.foundA = chosen[k]->inA;
-        s.foundB = chosen[k]->inB;
-        s.shiftM = chosen[k]->shiftM;
-        s.offsetPx = chosen[k]->offsetPx;
-        s.widthPx = chosen[k]->widthPx;
-      }
-    }
-
-    /**
-     * A road runs on: a confirmed or moved sample counts only where a
-     * sample of its status within 2 either side found its band in the first
-     * image within 2 px of the same offset from the course and within 40 %
-     * of the same width. Bands a
-     * little brighter or darker than their sides, which grass with a coarse
-     * grain holds everywhere, come at any offset and width from sample to
-     * sample.
-     */
-    void requireContinuity( std::vector<Sample> &samples )
-    {
-      const auto continues = [&]( size_t k, size_t j ) {
-        const Sample &s = samples[k], &t = samples[j];
-        return t.status == s.status && std::abs( s.offsetPx - t.offsetPx ) <= 2.0 && std::abs( s.widthPx - t.widthPx ) <= 0.4 * std::max( s.widthPx, t.widthPx );
-      };
-      std::vector<size_t> isolated;
-      for ( size_t k = 0; k < samples.size(); ++k )
-        if ( samples[k].status == RevisionStatus::Confirmed || samples[k].status == RevisionStatus::Moved )
-        {
-          bool continued = false;
-          for ( size_t j = k > 2 ? k - 2 : 0; j < std::min( samples.size(), k + 3 ) && !continued; ++j )
-            continued = j != k && continues( k, j );
-          if ( !continued )
-            isolated.push_back( k );
-        }
-      for ( const size_t k : isolated )
-        samples[k].status = RevisionStatus::NotFound;
-    }
-
-    //! Each sample's status replaced by the majority within `half` samples either side (ties keep their own).
-    std::vector<RevisionStatus> majorityStatus( const std::vector<Sample> &samples, int half )
-    {
-      std::vector<RevisionStatus> out( samples.size() );
-      for ( size_t i = 0; i < samples.size(); ++i )
-      {
-        std::map<RevisionStatus, int> votes;
-        for ( size_t k = i > static_cast<size_t>( half ) ? i - half : 0; k < std::min( samples.size(), i + half + 1 ); ++k )
-          ++votes[samples[k].status];
-        RevisionStatus best = samples[i].status;
-        for ( const auto &[status, count] : votes )
-          if ( count > votes[best] )
-            best = status;
-        out[i] = best;
-      }
       return out;
     }
 
@@ -467,6 +261,7 @@ namespace geostation
   MapRevisionSummary reviseRoads( const GreyTiles &greyA, const GreyTiles &greyB, PairMatchWindows &matching, const OrientedImage &a, const OrientedImage &b,
                                   const std::vector<MapRoad> &map, const MapRevisionOptions &options, const ExtractionProgress &progress )
   {
+    using namespace revision;
     options.check();
     MapRevisionSummary summary;
     // 1. the pair's own extraction: its terrain height, its widths in pixels and the roads it finds
