@@ -3,6 +3,7 @@
  ***************************************************************************/
 #include "geostationplugin.h"
 #include "extractionreview.h"
+#include "revisiondock.h"
 #include "reviewtool.h"
 
 #include <QAction>
@@ -193,6 +194,13 @@ void GeoStationPlugin::initGui()
     mIface->messageBar()->pushMessage( tr( "GeoStation review" ), text, warning ? Qgis::MessageLevel::Warning : Qgis::MessageLevel::Success, 4 );
   } );
   addAlgorithmAction( mMenu, QStringLiteral( "mActionGeoStationExtractRoads" ), tr( "Extract Roads from a Stereo Pair…" ), QStringLiteral( "geostation:extract_roads" ) );
+  addAlgorithmAction( mMenu, QStringLiteral( "mActionGeoStationReviseRoads" ), tr( "Revise a Road Map against a Stereo Pair…" ), QStringLiteral( "geostation:revise_roads" ) );
+  QAction *reviewRevision = new QAction( tr( "Review Map Revision" ), mIface->mainWindow() );
+  reviewRevision->setObjectName( QStringLiteral( "mActionGeoStationReviewRevision" ) );
+  reviewRevision->setToolTip( tr( "List revise_roads' changes, worst evidence first, and accept them into the map layer's edit buffer" ) );
+  connect( reviewRevision, &QAction::triggered, this, &GeoStationPlugin::showRevisionReview );
+  mMenu->addAction( reviewRevision );
+  mActions << reviewRevision;
 
   QAction *goTo = new QAction( tr( "Go to Coordinate…" ), mIface->mainWindow() );
   goTo->setObjectName( QStringLiteral( "mActionGeoStationGoTo" ) );
@@ -244,6 +252,7 @@ void GeoStationPlugin::unload()
     mIface->mapCanvas()->unsetMapTool( mReviewTool );
   delete mReviewTool;
   delete mOrientationDock;
+  delete mRevisionDock;
   delete mReview;
   mReview = nullptr;
   mReviewAction = nullptr;
@@ -377,6 +386,21 @@ void GeoStationPlugin::showOrientation()
   }
   mOrientationDock->setUserVisible( true );
   mOrientationDock->raise();
+}
+
+void GeoStationPlugin::showRevisionReview()
+{
+  if ( !mRevisionDock )
+  {
+    mRevisionDock = new GeoStationRevisionDock( mIface->mapCanvas(), mIface->mainWindow() );
+    mIface->addDockWidget( Qt::RightDockWidgetArea, mRevisionDock );
+    connect( mRevisionDock, &GeoStationRevisionDock::message, this, [this]( const QString &text, bool warning )
+    {
+      mIface->messageBar()->pushMessage( tr( "GeoStation review" ), text, warning ? Qgis::MessageLevel::Warning : Qgis::MessageLevel::Success, 4 );
+    } );
+  }
+  mRevisionDock->setUserVisible( true );
+  mRevisionDock->raise();
 }
 
 void GeoStationPlugin::addPhoto()

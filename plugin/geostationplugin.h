@@ -21,6 +21,7 @@ class QToolBar;
 class QgisInterface;
 class GeoStationTraceController;
 class GeoStationExtractionReview;
+class GeoStationRevisionDock;
 class GeoStationReviewTool;
 class GeoStationMeasurementController;
 class GeoStationMeasurementStore;
@@ -73,6 +74,8 @@ class GeoStationPlugin : public QObject, public QgisPlugin
     void showMultiview();
     //! Shows the photo orientation dock (created on first use, with the Multiview).
     void showOrientation();
+    //! The Review Map Revision panel (geostation:revise_roads' changes into the map).
+    void showRevisionReview();
     //! Asks for a photo and its camera (and a new block's file and CRS when none is open), adds it and opens it for orientation.
     void addPhoto();
     /**
@@ -132,6 +135,7 @@ class GeoStationPlugin : public QObject, public QgisPlugin
     GeoStationOverviewLayers *mOverview = nullptr;
     QPointer<GeoStationMultiviewDock> mDock;
     QPointer<GeoStationOrientationDock> mOrientationDock;
+    QPointer<GeoStationRevisionDock> mRevisionDock;
     QPointer<GeoStationMapPointTool> mPickTool;
     GeoStationExtractionReview *mReview = nullptr;
     QPointer<GeoStationReviewTool> mReviewTool;

@@ -239,6 +239,42 @@ namespace geostation
     }
   } // namespace
 
+  std::vector<Eigen::Vector3d> spliceCourse( const std::vector<Eigen::Vector3d> &line, const std::vector<Eigen::Vector3d> &course )
+  {
+    if ( line.size() < 2 || course.size() < 2 )
+      throw std::invalid_argument( "a line and a course of at least two points are needed to splice" );
+    // the arc position along `line` of the point nearest p (XY), and the segment it lies on
+    const auto project = [&]( const Eigen::Vector3d &p ) {
+      double best = std::numeric_limits<double>::infinity(), at = 0.0, walked = 0.0;
+      size_t segment = 0;
+      for ( size_t i = 0; i + 1 < line.size(); ++i )
+      {
+        const Eigen::Vector2d a = line[i].head<2>(), ab = line[i + 1].head<2>() - a;
+        const double t = ab.squaredNorm() > 0.0 ? std::clamp( ( p.head<2>() - a ).dot( ab ) / ab.squaredNorm(), 0.0, 1.0 ) : 0.0;
+        const double d = ( a + t * ab - p.head<2>() ).norm();
+        if ( d < best )
+        {
+          best = d;
+          at = walked + t * ab.norm();
+          segment = i;
+        }
+        walked += ab.norm();
+      }
+      return std::make_pair( at, segment );
+    };
+    std::vector<Eigen::Vector3d> stretch = course;
+    auto first = project( stretch.front() ), last = project( stretch.back() );
+    if ( first.first > last.first )
+    {
+      std::reverse( stretch.begin(), stretch.end() );
+      std::swap( first, last );
+    }
+    std::vector<Eigen::Vector3d> out( line.begin(), line.begin() + first.second + 1 );
+    out.insert( out.end(), stretch.begin(), stretch.end() );
+    out.insert( out.end(), line.begin() + last.second + 1, line.end() );
+    return out;
+  }
+
   MapRevisionSummary reviseRoads( std::shared_ptr<const RasterReader> readerA, std::shared_ptr<const RasterReader> readerB, const OrientedImage &a, const OrientedImage &b,
                                   const std::vector<MapRoad> &map, const MapRevisionOptions &options, const ExtractionProgress &progress )
   {

@@ -117,6 +117,16 @@ namespace geostation
   MapRevisionSummary reviseRoads( const MatchImage &imageA, const MatchImage &imageB, const OrientedImage &a, const OrientedImage &b,
                                   const std::vector<MapRoad> &map, const MapRevisionOptions &options, const ExtractionProgress &progress = nullptr );
 
+  /**
+   * A map line with one stretch replaced by a moved road's course: the
+   * course's two ends are projected onto the line (the nearest points of
+   * its course, XY), and the line runs from its start to the first, along
+   * the course, and from the second to its end (a course running against
+   * the line is turned first). Throws std::invalid_argument for a line or
+   * course of fewer than two points.
+   */
+  std::vector<Eigen::Vector3d> spliceCourse( const std::vector<Eigen::Vector3d> &line, const std::vector<Eigen::Vector3d> &course );
+
 } // namespace geostation
 
 #endif // GEOSTATION_REVISION_MAPREVISION_H

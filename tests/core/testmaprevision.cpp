@@ -200,3 +200,16 @@ TEST( MapRevision, BadGeometriesAndRoadsOutsideThePair )
   bad.shiftMaxM = -1.0;
   EXPECT_THROW( reviseRoads( MatchImage( base.pair.grey[0] ), MatchImage( base.pair.grey[1] ), a, b, map, bad ), std::invalid_argument );
 }
+
+TEST( MapRevision, AMovedStretchIsSplicedIntoTheMapLine )
+{
+  const std::vector<Eigen::Vector3d> line = { { 0, 0, 1 }, { 10, 0, 1 }, { 20, 0, 1 }, { 30, 0, 1 }, { 40, 0, 1 } };
+  // the road between x = 12 and x = 28 runs 3 m north now; given against the line's direction
+  const std::vector<Eigen::Vector3d> course = { { 28, 3, 2 }, { 20, 3, 2 }, { 12, 3, 2 } };
+  const std::vector<Eigen::Vector3d> spliced = spliceCourse( line, course );
+  const std::vector<Eigen::Vector3d> expected = { { 0, 0, 1 }, { 10, 0, 1 }, { 12, 3, 2 }, { 20, 3, 2 }, { 28, 3, 2 }, { 30, 0, 1 }, { 40, 0, 1 } };
+  ASSERT_EQ( spliced.size(), expected.size() );
+  for ( size_t i = 0; i < expected.size(); ++i )
+    EXPECT_TRUE( spliced[i].isApprox( expected[i] ) ) << i;
+  EXPECT_THROW( spliceCourse( { { 0, 0, 0 } }, course ), std::invalid_argument );
+}

@@ -83,6 +83,8 @@ class DesktopSmokeTest(unittest.TestCase):
                                                          "geostation:revise_roads",
                                                          "geostation:simulate_survey", "geostation:trace_road_lines"])
         self.assertIn("mActionGeoStationMonoplot", self.result.get("menu_actions", []))
+        self.assertIn("mActionGeoStationReviewRevision", self.result.get("menu_actions", []))
+        self.assertIn("mActionGeoStationReviseRoads", self.result.get("menu_actions", []))
         self.assertIn("mActionGeoStationImportBlock", self.result.get("menu_actions", []))
         self.assertIn("mActionGeoStationExtractRoads", self.result.get("menu_actions", []))
         self.assertIn("mActionGeoStationReviewExtracted", self.result.get("menu_actions", []))
