@@ -22,12 +22,15 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <gdal.h>
+#include <ogr_api.h>
 #include <opencv2/imgproc.hpp>
 
 #include "benchutils.h"
 #include "extraction/greytiles.h"
 #include "extraction/pairmatchwindows.h"
 #include "extraction/roadnetworkextractor.h"
+#include "revision/maprevision.h"
 #include "io/block.h"
 #include "io/rasterfile.h"
 #include "matching/matchimage.h"
@@ -204,6 +207,46 @@ namespace
   void BM_NetworkTunedOptions( benchmark::State &state ) { extractNetwork( state, networkOptions() ); }
   void BM_NetworkDefaults( benchmark::State &state ) { extractNetwork( state, defaultRoadNetworkOptions() ); }
 
+  /**
+   * Map revision with the defaults and without new roads (the pair not
+   * extracted), its map the simulation's own road centre lines: checking
+   * the mapped roads against extracting them (BM_NetworkDefaults).
+   */
+  void BM_ReviseMapWithoutNewRoads( benchmark::State &state )
+  {
+    Pair &p = pair();
+    const OrientedImage a = p.block.orientedImage( p.block.images.at( 0 ) ), b = p.block.orientedImage( p.block.images.at( 1 ) );
+    std::vector<MapRoad> map;
+    GDALAllRegister();
+    if ( GDALDatasetH ds = GDALOpenEx( ( p.dir / "truth.gpkg" ).string().c_str(), GDAL_OF_VECTOR, nullptr, nullptr, nullptr ) )
+    {
+      OGRLayerH layer = GDALDatasetGetLayerByName( ds, "roads" );
+      OGRFeatureH f;
+      while ( layer && ( f = OGR_L_GetNextFeature( layer ) ) )
+      {
+        const std::string kind = OGR_F_GetFieldAsString( f, OGR_F_GetFieldIndex( f, "kind" ) );
+        if ( OGRGeometryH g = OGR_F_GetGeometryRef( f ); g && kind == "centre" )
+        {
+          MapRoad road;
+          for ( int i = 0; i < OGR_G_GetPointCount( g ); ++i )
+            road.vertices.emplace_back( OGR_G_GetX( g, i ), OGR_G_GetY( g, i ), std::nan( "" ) );
+          map.push_back( road );
+        }
+        OGR_F_Destroy( f );
+      }
+      GDALClose( ds );
+    }
+    MapRevisionOptions options;
+    options.findNewRoads = false;
+    options.network.meanHeightM = 200.0;
+    const MatchImage left( p.left ), right( p.right );
+    double confirmed = 0.0;
+    for ( auto _ : state )
+      confirmed = reviseRoads( left, right, a, b, map, options ).lengthM( RevisionStatus::Confirmed );
+    state.SetItemsProcessed( state.iterations() * 2 * static_cast<int64_t>( p.left.total() ) );
+    state.SetLabel( std::to_string( map.size() ) + " map roads, " + std::to_string( static_cast<int>( confirmed ) ) + " m confirmed" );
+  }
+
   void BM_BaselineSobel( benchmark::State &state )
   {
     Pair &p = pair();
@@ -232,6 +275,7 @@ BENCHMARK( BM_NetworkFromFilesInWindows )->Unit( benchmark::kMillisecond )->Iter
 BENCHMARK( BM_NetworkFromFilesWhole )->Unit( benchmark::kMillisecond )->Iterations( 1 )->UseRealTime();
 BENCHMARK( BM_NetworkTunedOptions )->Unit( benchmark::kMillisecond )->Iterations( 1 )->UseRealTime();
 BENCHMARK( BM_NetworkDefaults )->Unit( benchmark::kMillisecond )->Iterations( 1 )->UseRealTime();
+BENCHMARK( BM_ReviseMapWithoutNewRoads )->Unit( benchmark::kMillisecond )->Iterations( 1 )->UseRealTime();
 BENCHMARK( BM_BaselineSobel )->Unit( benchmark::kMillisecond );
 BENCHMARK( BM_BaselineDecode )->Unit( benchmark::kMillisecond );
 
@@ -269,5 +313,8 @@ int main( int argc, char **argv )
     std::printf( "\nThe defaults (either polarity, 3-30 m, contrast from the texture) against options tuned to these roads: "
                  "%.1f s against %.1f s, x%.2f the time (aim: at most x2)\n",
                  defaults > 0 ? 2.0 * n * n / defaults : 0.0, tuned > 0 ? 2.0 * n * n / tuned : 0.0, defaults > 0 ? tuned / defaults : 0.0 );
+    const double revise = benchutils::rate( rates, "BM_ReviseMapWithoutNewRoads" );
+    std::printf( "Map revision of the pair's own roads without new roads: %.1f s, x%.2f the time of extracting with the defaults (aim: at most x0.5)\n",
+                 revise > 0 ? 2.0 * n * n / revise : 0.0, revise > 0 ? defaults / revise : 0.0 );
   } );
 }

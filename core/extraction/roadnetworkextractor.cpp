@@ -165,6 +165,11 @@ namespace geostation
     if ( summary.registration )
       coincident.verification.misregistrationPx = verificationSearchPx( *summary.registration, coincident.verification.misregistrationPx );
     summary.verificationSearchPx = coincident.verification.misregistrationPx;
+    if ( !options.extract )
+    {
+      summary.seconds = std::chrono::duration<double>( std::chrono::steady_clock::now() - start ).count();
+      return summary;
+    }
     summary.extraction = extractCoincident( greyA, greyB, registration, coincident, progress );
     if ( oriented && !summary.extraction.cancelled )
       summary.network = intersectNetwork( *oriented, summary.extraction.linesA, summary.extraction.linesB, matching, options.network );

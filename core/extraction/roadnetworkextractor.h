@@ -52,6 +52,8 @@ namespace geostation
     double contrastPerTexture = 0.0;
     //! An oriented pair: the roads' widths on the ground (metres, narrowest and widest), which with the ground pixel set the widths in pixels (coincident.extraction.object's are then not used)
     std::optional<std::pair<double, double>> roadWidthM;
+    //! false: only the pair's set-up - terrain height, overlap, widths in pixels, minimum contrast - in the summary, nothing extracted
+    bool extract = true;
   };
 
   /**

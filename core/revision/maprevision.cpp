@@ -4,6 +4,7 @@
 #include "revision/maprevision.h"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <limits>
 #include <map>
@@ -299,9 +300,12 @@ namespace geostation
   {
     using namespace revision;
     options.check();
+    const auto start = std::chrono::steady_clock::now();
     MapRevisionSummary summary;
-    // 1. the pair's own extraction: its terrain height, its widths in pixels and the roads it finds
-    summary.extraction = extractRoadNetwork( greyA, greyB, matching, &a, &b, options.network, progress );
+    // 1. the pair's own extraction: its terrain height, its widths in pixels and the roads it finds (or only the first two)
+    RoadNetworkOptions network = options.network;
+    network.extract = options.findNewRoads;
+    summary.extraction = extractRoadNetwork( greyA, greyB, matching, &a, &b, network, progress );
     if ( summary.extraction.extraction.cancelled )
     {
       summary.cancelled = true;
@@ -359,7 +363,9 @@ namespace geostation
 
     // 3. the roads the extraction found that no map road explains
     const double gapM = options.newGapM > 0.0 ? options.newGapM : std::max( 3.0 * options.toleranceM, 10.0 * pair.groundPixelM );
-    summary.newRoads = newRoads( summary.extraction.network, map, summary.pieces, gapM );
+    if ( options.findNewRoads )
+      summary.newRoads = newRoads( summary.extraction.network, map, summary.pieces, gapM );
+    summary.seconds = std::chrono::duration<double>( std::chrono::steady_clock::now() - start ).count();
     return summary;
   }
 

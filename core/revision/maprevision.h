@@ -61,6 +61,7 @@ namespace geostation
     double toleranceM = 2.0;          //!< the map's own accuracy: a band within this (and 2 px) of the mapped course confirms it
     double sampleSpacingPx = 0.0;     //!< along the map roads in the first image; 0: the narrowest road's width, at least 4 px
     int majorityHalfWindow = 3;       //!< a sample's status: the majority within this many samples either side
+    bool findNewRoads = true;         //!< false: the pair is not extracted (faster); its set-up only (RoadNetworkOptions::extract), no new roads
     double newGapM = 0.0;             //!< an extracted line farther than this from every map road and revised course is new; 0: 3 x the tolerance, at least 10 px
 
     //! Throws std::invalid_argument naming the first bad value.
@@ -93,6 +94,7 @@ namespace geostation
     double shiftMaxM = 0.0, toleranceM = 0.0;  //!< as used
     double groundPixelM = 0.0;
     int samples = 0;
+    double seconds = 0.0;  //!< the whole revision
     bool cancelled = false;
     //! Total length of the pieces with `status` (m, along their courses).
     double lengthM( RevisionStatus status ) const;
