@@ -27,6 +27,7 @@
 
 #include "dem/demintersection.h"
 #include "io/rasterfile.h"
+#include "io/featureschema.h"
 #include "processingblock.h"
 #include "revision/maprevision.h"
 
@@ -165,6 +166,8 @@ QString ReviseRoadsAlgorithm::shortHelpString() const
                       "OUTPUT: the map's features in the block CRS (LineStringZ), each stretch with revision (confirmed, "
                       "moved, not_found, outside, invalid_geometry), evidence (0-1: the share of its samples that agree), "
                       "shift_m, sigma_max (m; NULL where the map's course is kept), source_fid and the map's attributes. "
+                      "VERTICES (optional): each measured course's vertices (piece = the OUTPUT row, vertex, X, Y, Z, sx, sy, sz, "
+                      "height_from: stereo where the rays were intersected, terrain where the road runs along the epipolar direction). "
                       "A feature without geometry is one row, invalid_geometry, without geometry. NEW: the roads the pair's "
                       "own extraction finds that no map road explains (method extracted); the pair is extracted only when NEW is asked for, "
                       "so a revision without it takes a fraction of the time. REPORT: length and count per "
@@ -188,6 +191,7 @@ void ReviseRoadsAlgorithm::initAlgorithm( const QVariantMap & )
   addParameter( new QgsProcessingParameterNumber( QStringLiteral( "ROAD_WIDTH_MAX_M" ), QObject::tr( "Widest road (m on the ground)" ), QgsProcessingParameterNumber::Double, 30.0, false, 0.01, 1000.0 ) );
   addParameter( new QgsProcessingParameterFeatureSink( QStringLiteral( "OUTPUT" ), QObject::tr( "Revised map" ), QgsProcessing::TypeVectorLine ) );
   addParameter( new QgsProcessingParameterFeatureSink( QStringLiteral( "NEW" ), QObject::tr( "New roads" ), QgsProcessing::TypeVectorLine, QVariant(), true, false ) );
+  addParameter( new QgsProcessingParameterFeatureSink( QStringLiteral( "VERTICES" ), QObject::tr( "Vertices of the measured courses" ), QgsProcessing::TypeVector, QVariant(), true, false ) );
   addParameter( new QgsProcessingParameterFileDestination( QStringLiteral( "REPORT" ), QObject::tr( "Report" ), QObject::tr( "JSON (*.json)" ), QVariant(), true, false ) );
 }
 
@@ -278,6 +282,34 @@ QVariantMap ReviseRoadsAlgorithm::processGeoStation( const QVariantMap &paramete
   sink.reset();
   GeoStationProcessing::storeMissingGeometriesAsNull( destination );
   QVariantMap outputs { { QStringLiteral( "OUTPUT" ), destination } };
+
+  // the measured courses' vertices with their sigmas: piece = the OUTPUT row (1, 2, ...)
+  if ( outputRequested( parameters, QStringLiteral( "VERTICES" ) ) )
+  {
+    namespace fs = geostation::featureschema;
+    QgsFields vertexFields;
+    for ( const auto &[name, type] : std::vector<std::pair<const char *, QVariant::Type>> { { "piece", QVariant::Int }, { fs::kVertex, QVariant::Int }, { fs::kX, QVariant::Double },
+          { fs::kY, QVariant::Double }, { fs::kZ, QVariant::Double }, { fs::kSx, QVariant::Double }, { fs::kSy, QVariant::Double }, { fs::kSz, QVariant::Double },
+          { "height_from", QVariant::String } } )
+      vertexFields.append( QgsField( QString::fromLatin1( name ), type ) );
+    QString vertexDestination;
+    std::unique_ptr<QgsFeatureSink> vertexSink( parameterAsSink( parameters, QStringLiteral( "VERTICES" ), context, vertexDestination, vertexFields, QgsWkbTypes::NoGeometry, QgsCoordinateReferenceSystem() ) );
+    if ( !vertexSink )
+      throw QgsProcessingException( invalidSinkError( parameters, QStringLiteral( "VERTICES" ) ) );
+    for ( size_t i = 0; i < s.pieces.size(); ++i )
+    {
+      const geostation::RevisedPiece &p = s.pieces[i];
+      for ( size_t k = 0; k < p.sigmaM.size() && k < p.course.size(); ++k )
+      {
+        QgsFeature v( vertexFields );
+        v.setAttributes( QgsAttributes() << static_cast<int>( i + 1 ) << static_cast<int>( k ) << p.course[k].x() << p.course[k].y() << p.course[k].z() << p.sigmaM[k].x()
+                         << p.sigmaM[k].y() << p.sigmaM[k].z() << ( k < p.heightByStereo.size() && p.heightByStereo[k] ? QStringLiteral( "stereo" ) : QStringLiteral( "terrain" ) ) );
+        if ( !vertexSink->addFeature( v, QgsFeatureSink::FastInsert ) )
+          throw QgsProcessingException( writeFeatureError( vertexSink.get(), parameters, QStringLiteral( "VERTICES" ) ) );
+      }
+    }
+    outputs.insert( QStringLiteral( "VERTICES" ), vertexDestination );
+  }
 
   QgsFields newFields;
   newFields.append( QgsField( QStringLiteral( "line_id" ), QVariant::Int ) );

@@ -91,11 +91,12 @@ void TestReviseRoadsAlgorithm::revisesAChangedMap()
   map->dataProvider()->addFeatures( features );
   QgsProject::instance()->addMapLayer( map );
 
-  const QString out = mDir.filePath( "revised.gpkg" ), added = mDir.filePath( "new.gpkg" ), json = mDir.filePath( "revision.json" );
+  const QString out = mDir.filePath( "revised.gpkg" ), added = mDir.filePath( "new.gpkg" ), json = mDir.filePath( "revision.json" ),
+                vertices = mDir.filePath( "vertices.csv" );
   RecordingFeedback feedback;
   bool ok = false;
   run( { { "BLOCK", mRun + "/block.geostation.json" }, { "LEFT", "S0001" }, { "RIGHT", "S0002" }, { "MAP", map->id() }, { "OUTPUT", out }, { "NEW", added },
-    { "REPORT", json } }, &ok, &feedback );
+    { "REPORT", json }, { "VERTICES", vertices } }, &ok, &feedback );
   QVERIFY2( ok, qPrintable( feedback.errors.join( '\n' ) ) );
 
   QgsVectorLayer revised( out, "revised", "ogr" );
@@ -135,6 +136,17 @@ void TestReviseRoadsAlgorithm::revisesAChangedMap()
   QVERIFY( confirmed >= 0.85 );
   QVERIFY( moved >= 0.75 );
   QVERIFY( notFound >= 0.9 );
+
+  // every measured vertex with its sigmas
+  QgsVectorLayer vertexTable( vertices, "vertices", "ogr" );
+  QVERIFY( vertexTable.isValid() );
+  QVERIFY( vertexTable.featureCount() > 50 );
+  it = vertexTable.getFeatures();
+  while ( it.nextFeature( f ) )
+  {
+    QVERIFY( f.attribute( "sx" ).toDouble() > 0.0 && f.attribute( "sy" ).toDouble() > 0.0 );
+    QVERIFY( QStringList( { "stereo", "terrain" } ).contains( f.attribute( "height_from" ).toString() ) );
+  }
 
   QgsVectorLayer newRoads( added, "new", "ogr" );
   QVERIFY( newRoads.isValid() );
