@@ -97,6 +97,7 @@ namespace
   }
 
   long extractionPeakKb = -1;
+  long revisionAddedKb = -1; //!< the revision's peak over what the process held before it (the images held)
 
   long peakResidentKb() { return benchutils::statusKb( "VmHWM:" ); }
   long residentKb() { return benchutils::statusKb( "VmRSS:" ); }
@@ -241,8 +242,11 @@ namespace
     options.network.meanHeightM = 200.0;
     const MatchImage left( p.left ), right( p.right );
     double confirmed = 0.0;
+    const long before = residentKb();
+    std::ofstream( "/proc/self/clear_refs" ) << "5"; // the high-water mark afresh
     for ( auto _ : state )
       confirmed = reviseRoads( left, right, a, b, map, options ).lengthM( RevisionStatus::Confirmed );
+    revisionAddedKb = peakResidentKb() - before;
     state.SetItemsProcessed( state.iterations() * 2 * static_cast<int64_t>( p.left.total() ) );
     state.SetLabel( std::to_string( map.size() ) + " map roads, " + std::to_string( static_cast<int>( confirmed ) ) + " m confirmed" );
   }
@@ -314,7 +318,8 @@ int main( int argc, char **argv )
                  "%.1f s against %.1f s, x%.2f the time (aim: at most x2)\n",
                  defaults > 0 ? 2.0 * n * n / defaults : 0.0, tuned > 0 ? 2.0 * n * n / tuned : 0.0, defaults > 0 ? tuned / defaults : 0.0 );
     const double revise = benchutils::rate( rates, "BM_ReviseMapWithoutNewRoads" );
-    std::printf( "Map revision of the pair's own roads without new roads: %.1f s, x%.2f the time of extracting with the defaults (aim: at most x0.5)\n",
-                 revise > 0 ? 2.0 * n * n / revise : 0.0, revise > 0 ? defaults / revise : 0.0 );
+    std::printf( "Map revision of the pair's own roads without new roads: %.1f s, x%.2f the time of extracting with the defaults (aim: at most x0.5); "
+                 "%.1f MB of memory added at its peak (the images held before it)\n",
+                 revise > 0 ? 2.0 * n * n / revise : 0.0, revise > 0 ? defaults / revise : 0.0, revisionAddedKb / 1024.0 );
   } );
 }
