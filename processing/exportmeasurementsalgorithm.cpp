@@ -98,9 +98,9 @@ QString ExportMeasurementsAlgorithm::groupId() const
 QString ExportMeasurementsAlgorithm::shortHelpString() const
 {
   return QObject::tr( "Writes the layers of a GeoStation measurement GeoPackage for ArcGIS and CAD users with QGIS's own writers. "
-                      "Every feature layer becomes <layer>.shp (attributes and Z kept; Shapefile field names are cut to 10 "
-                      "characters, e.g. measurement_id → measuremen) and <layer>.dxf (3D points and polylines on a DXF layer "
-                      "named after the layer). DXF has no attribute table: <layer>_dxf_attributes.csv holds every feature's "
+                      "Every feature layer LAYER becomes LAYER.shp (attributes and Z kept; Shapefile field names are cut to 10 "
+                      "characters, e.g. measurement_id → measuremen) and LAYER.dxf (3D points and polylines on a DXF layer "
+                      "named after the layer). DXF has no attribute table: LAYER_dxf_attributes.csv holds every feature's "
                       "attributes keyed by the entity handle of its DXF entity. The vertices table goes to vertices.csv.\n\n"
                       "FORMATS: shp, dxf or both. Nothing is left in OUTPUT_FOLDER if any file fails." );
 }

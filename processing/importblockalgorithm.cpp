@@ -86,10 +86,10 @@ QString ImportBlockAlgorithm::shortHelpString() const
                       "heading] deg and image_pattern such as images/{station}_front.jpg). TRAJECTORY is a CSV with one row "
                       "per station: time, station, X, Y, Z (block CRS) or latitude, longitude, height (WGS 84), and "
                       "roll, pitch, heading (the vehicle, heading from true north) or omega, phi, kappa (one camera's own "
-                      "orientation), plus image or image_<camera id> columns where there is no pattern. ANGLES says "
+                      "orientation), plus image or image_CAMERA columns (CAMERA: a camera's id) where there is no pattern. ANGLES says "
                       "whether the table's angles are degrees (default) or radians; radians read as degrees are refused.\n\n"
                       "A high-rate GNSS/INS trajectory (rows at its own times, a time column) with EVENTS, a CSV of the "
-                      "exposures (time on the trajectory's clock, station, image or image_<camera id> columns or the "
+                      "exposures (time on the trajectory's clock, station, image or image_CAMERA columns or the "
                       "patterns): each event becomes a station whose pose is interpolated at its time (positions by cubic "
                       "Hermite curves, attitudes by slerp). Events outside the trajectory or in a gap longer than MAX_GAP_S "
                       "are left out and listed in the report." );

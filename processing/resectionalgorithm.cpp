@@ -109,7 +109,7 @@ QString ResectionAlgorithm::shortHelpString() const
                       "row and optionally sigma_px; rows of other images are ignored.\n\n"
                       "FIX lists the interior parameters held fixed (default all: f,cx,cy,k1,k2,p1,p2,k3); leave one out "
                       "to estimate it. When interior parameters are estimated, the image gets a camera of its own "
-                      "(<camera>@<image>) so the block's other images keep theirs.\n\n"
+                      "(CAMERA@IMAGE) so the block's other images keep theirs.\n\n"
                       "A control point whose normalised residual exceeds BLUNDER_W is removed and the resection repeated; "
                       "it is named in the log and the report. OUTPUT_BLOCK is the block with the image oriented (with "
                       "standard deviations); REPORT is a JSON file with sigma0, the parameters with standard deviations, "
