@@ -3,6 +3,8 @@
  ***************************************************************************/
 #include "fiducialpanel.h"
 
+#include <qgsguiutils.h>
+
 #include <QItemSelectionModel>
 
 #include "fiducialmodel.h"
@@ -63,6 +65,7 @@ int GeoStationFiducialPanel::detect()
   std::array<geostation::DetectedFiducial, 4> found;
   try
   {
+    const QgsTemporaryCursorOverride busy( Qt::WaitCursor ); // the whole scan is read
     found = geostation::detectCornerFiducials( mImagePath.toStdString(), options );
   }
   catch ( const std::exception &e )

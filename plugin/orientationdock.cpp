@@ -3,6 +3,8 @@
  ***************************************************************************/
 #include "orientationdock.h"
 
+#include <qgsguiutils.h>
+
 #include <cmath>
 #include <filesystem>
 
@@ -417,6 +419,7 @@ int GeoStationOrientationDock::identifyAutomatically()
   geostation::PhotoIdentificationSummary result;
   try
   {
+    const QgsTemporaryCursorOverride busy( Qt::WaitCursor ); // seconds on a large photo
     result = geostation::identifyControlInPhoto( grey, mModel->camera(), mModel->nominalFromFile(), control, options );
   }
   catch ( const std::exception &e )
