@@ -65,20 +65,28 @@ namespace geostation::paintedpair
     return 60.0 + 150.0 * hashUnit( i, j, 1 ) + rows + speck;
   }
 
+  //! A camera without distortion, `width` x 3/4 width pixels, its focal length `width` pixels, its principal point in the middle.
+  inline Camera paintedCamera( int width, double pixelSizeMm )
+  {
+    Camera camera;
+    camera.id = "one";
+    camera.width = width;
+    camera.height = width * 3 / 4;
+    camera.f = width;
+    camera.cx = width / 2.0;
+    camera.cy = camera.height / 2.0;
+    camera.pixelSizeMm = pixelSizeMm;
+    return camera;
+  }
+
   //! The pair at `width` x 3/4 width pixels.
   inline PaintedPair paintedPair( int width, Texture texture, uint32_t seed = 3 )
   {
     PaintedPair pair;
     const int height = width * 3 / 4;
     const double gsd = 0.3;
-    Camera &camera = pair.camera;
-    camera.id = "one";
-    camera.width = width;
-    camera.height = height;
-    camera.f = width;
-    camera.cx = width / 2.0;
-    camera.cy = height / 2.0;
-    camera.pixelSizeMm = 0.005;
+    pair.camera = paintedCamera( width, 0.005 );
+    const Camera &camera = pair.camera;
     const double flyingM = pair.terrainM + camera.f * gsd;
     for ( int k = 0; k < 2; ++k )
     {

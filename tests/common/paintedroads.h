@@ -145,14 +145,8 @@ namespace geostation::paintedroads
     PaintedRoadPair pair;
     pair.gsdM = scene.gsdM;
     const int width = scene.width, height = scene.width * 3 / 4;
-    Camera &camera = pair.camera;
-    camera.id = "one";
-    camera.width = width;
-    camera.height = height;
-    camera.f = width;
-    camera.cx = width / 2.0;
-    camera.cy = height / 2.0;
-    camera.pixelSizeMm = 0.006;
+    pair.camera = paintedpair::paintedCamera( width, 0.006 );
+    const Camera &camera = pair.camera;
     const double flyingM = pair.groundM + camera.f * scene.gsdM;
     const double extentX = width * scene.gsdM, extentY = height * scene.gsdM;
     for ( int k = 0; k < 2; ++k )
