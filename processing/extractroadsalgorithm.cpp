@@ -39,12 +39,6 @@ namespace
   const QStringList kPolarities { QStringLiteral( "dark" ), QStringLiteral( "bright" ), QStringLiteral( "auto" ) };
   const QStringList kMappings { QStringLiteral( "multiquadric" ), QStringLiteral( "projective" ) };
 
-  std::shared_ptr<const geostation::RasterReader> openImage( const geostation::Block &block, const geostation::BlockImage &image )
-  {
-    GeoStationProcessing::requireImageFile( block, image );
-    return std::make_shared<const geostation::RasterReader>( block.imageFilePath( image ).string() );
-  }
-
   QgsGeometry imageSpaceLine( const std::vector<Eigen::Vector2d> &pixels )
   {
     QVector<double> x, y;
@@ -57,12 +51,6 @@ namespace
   }
 
   //! "right" (extracted in the left image, verified in the right), "left", or "both".
-  bool hasValue( const QVariantMap &parameters, const QString &name )
-  {
-    const QVariant v = parameters.value( name );
-    return v.isValid() && !v.isNull() && !v.toString().trimmed().isEmpty();
-  }
-
   QString acceptedIn( const std::string &symbols, bool inLeft )
   {
     const bool internal = symbols.find( 'I' ) != std::string::npos, external = symbols.find( 'E' ) != std::string::npos;
@@ -147,16 +135,15 @@ QVariantMap ExtractRoadsAlgorithm::processGeoStation( const QVariantMap &paramet
 
   geostation::RoadNetworkOptions options = geostation::defaultRoadNetworkOptions();
   options.roadWidthM.reset();
-  const double contrastPerTexture = options.contrastPerTexture;
-  options.contrastPerTexture = 0.0;
   geostation::LineObjectOptions &object = options.coincident.extraction.object;
   const QString polarity = parameterAsEnumString( parameters, QStringLiteral( "POLARITY" ), context );
   object.polarity = polarity == QLatin1String( "bright" ) ? 1 : polarity == QLatin1String( "dark" ) ? -1 : 0;
-  if ( hasValue( parameters, QStringLiteral( "MIN_CONTRAST" ) ) )
+  if ( GeoStationProcessing::hasParameterValue( parameters, QStringLiteral( "MIN_CONTRAST" ) ) )
+  {
     object.minContrast = parameterAsDouble( parameters, QStringLiteral( "MIN_CONTRAST" ), context );
-  else
-    options.contrastPerTexture = contrastPerTexture; // at least the core's 15 grey levels
-  const bool minPx = hasValue( parameters, QStringLiteral( "ROAD_WIDTH_MIN_PX" ) ), maxPx = hasValue( parameters, QStringLiteral( "ROAD_WIDTH_MAX_PX" ) );
+    options.contrastPerTexture = 0.0; // the given contrast, not one from the texture
+  }
+  const bool minPx = GeoStationProcessing::hasParameterValue( parameters, QStringLiteral( "ROAD_WIDTH_MIN_PX" ) ), maxPx = GeoStationProcessing::hasParameterValue( parameters, QStringLiteral( "ROAD_WIDTH_MAX_PX" ) );
   if ( minPx )
     object.minWidthPx = parameterAsDouble( parameters, QStringLiteral( "ROAD_WIDTH_MIN_PX" ), context );
   if ( maxPx )
@@ -201,7 +188,7 @@ QVariantMap ExtractRoadsAlgorithm::processGeoStation( const QVariantMap &paramet
     const geostation::ExtractionProgress progress = [feedback]( double f ) { feedback->setProgress( 100.0 * f ); return !feedback->isCanceled(); };
     const geostation::OrientedImage *a = orientedLeft ? &*orientedLeft : nullptr, *b = orientedRight ? &*orientedRight : nullptr;
     // read a window at a time: memory does not grow with the images (beyond a byte a pixel for the result matrices)
-    s = geostation::extractRoadNetwork( openImage( block, left ), openImage( block, right ), a, b, options, progress );
+    s = geostation::extractRoadNetwork( GeoStationProcessing::openImageFile( block, left ), GeoStationProcessing::openImageFile( block, right ), a, b, options, progress );
   }
   catch ( const std::exception &e ) // bad input (invalid_argument) or an image that cannot be read (runtime_error)
   {

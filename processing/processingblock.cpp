@@ -81,6 +81,18 @@ namespace GeoStationProcessing
     }
   }
 
+  std::shared_ptr<const geostation::RasterReader> openImageFile( const geostation::Block &block, const geostation::BlockImage &image )
+  {
+    requireImageFile( block, image );
+    return std::make_shared<const geostation::RasterReader>( block.imageFilePath( image ).string() );
+  }
+
+  bool hasParameterValue( const QVariantMap &parameters, const QString &name )
+  {
+    const QVariant v = parameters.value( name );
+    return v.isValid() && !v.isNull() && !v.toString().trimmed().isEmpty();
+  }
+
   QgsCoordinateReferenceSystem blockCrs( const geostation::Block &block )
   {
     QgsCoordinateReferenceSystem crs;

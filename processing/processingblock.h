@@ -8,6 +8,7 @@
 #define PROCESSINGBLOCK_H
 
 #include <QJsonObject>
+#include <QVariantMap>
 #include <QString>
 
 #include <qgscoordinatereferencesystem.h>
@@ -18,6 +19,7 @@
 #include "dem/dem.h"
 #include "geometry/crs.h"
 #include "io/block.h"
+#include "io/rasterfile.h"
 
 class QgsProcessingParameterFile;
 
@@ -40,6 +42,11 @@ namespace GeoStationProcessing
 
   //! Checks the image file exists, decodes and has its camera's size.
   void requireImageFile( const geostation::Block &block, const geostation::BlockImage &image );
+  //! The image's file opened for reading in windows, after requireImageFile().
+  std::shared_ptr<const geostation::RasterReader> openImageFile( const geostation::Block &block, const geostation::BlockImage &image );
+
+  //! Whether an optional parameter was given (not missing, NULL or blank).
+  bool hasParameterValue( const QVariantMap &parameters, const QString &name );
 
   //! The block CRS as a QGIS CRS; throws QgsProcessingException if QGIS cannot read it.
   QgsCoordinateReferenceSystem blockCrs( const geostation::Block &block );
