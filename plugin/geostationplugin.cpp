@@ -398,6 +398,14 @@ void GeoStationPlugin::showRevisionReview()
     {
       mIface->messageBar()->pushMessage( tr( "GeoStation review" ), text, warning ? Qgis::MessageLevel::Warning : Qgis::MessageLevel::Success, 4 );
     } );
+    // the change in the images: the Multiview opened for it when a block is open
+    connect( mRevisionDock, &GeoStationRevisionDock::changeSelected, this, [this]( const QgsGeometry &oldCourse, const QgsGeometry &newCourse, const QgsCoordinateReferenceSystem &crs )
+    {
+      if ( !mSession->hasBlock() )
+        return;
+      showMultiview();
+      mDock->showChange( oldCourse, newCourse, crs );
+    } );
   }
   mRevisionDock->setUserVisible( true );
   mRevisionDock->raise();

@@ -88,6 +88,13 @@ GeoStationImageView::GeoStationImageView( int index, QWidget *parent )
   mTraceOverlay = new QgsRubberBand( mCanvas, QgsWkbTypes::LineGeometry );
   mTraceOverlay->setStrokeColor( QColor( 0, 220, 255, 240 ) );
   mTraceOverlay->setWidth( 3 );
+  mOldCourse = new QgsRubberBand( mCanvas, QgsWkbTypes::LineGeometry );
+  mOldCourse->setStrokeColor( QColor( 255, 60, 60, 230 ) );
+  mOldCourse->setLineStyle( Qt::DashLine );
+  mOldCourse->setWidth( 2 );
+  mNewCourse = new QgsRubberBand( mCanvas, QgsWkbTypes::LineGeometry );
+  mNewCourse->setStrokeColor( QColor( 40, 230, 40, 240 ) );
+  mNewCourse->setWidth( 3 );
   mOverlayPoints = new QgsRubberBand( mCanvas, QgsWkbTypes::PointGeometry );
   mOverlayPoints->setStrokeColor( QColor( 255, 200, 0, 230 ) );
   mOverlayPoints->setIcon( QgsRubberBand::ICON_CIRCLE );
@@ -409,4 +416,19 @@ void GeoStationImageView::setTraceOverlay( const QgsGeometry &geometry )
     mTraceOverlay->reset( QgsWkbTypes::LineGeometry );
   else
     mTraceOverlay->setToGeometry( inView( geometry ) );
+}
+
+void GeoStationImageView::setChangeOverlay( const QgsGeometry &oldCourse, const QgsGeometry &newCourse )
+{
+  const auto draw = [this]( QgsRubberBand *band, const QgsGeometry &course )
+  {
+    if ( course.isNull() )
+    {
+      band->reset( QgsWkbTypes::LineGeometry );
+      return 0;
+    }
+    band->setToGeometry( inView( course ) );
+    return course.constGet()->nCoordinates();
+  };
+  mChangeOverlayVertices = qMakePair( draw( mOldCourse, oldCourse ), draw( mNewCourse, newCourse ) );
 }

@@ -15,6 +15,7 @@
 
 #include <memory>
 
+#include <QPair>
 #include <QPointF>
 #include <QWidget>
 
@@ -101,6 +102,14 @@ class GeoStationImageView : public QWidget
     void setTraceOverlay( const QgsGeometry &geometry );
     //! Vertices of the traced line drawn in this view (tests).
     int traceOverlayVertexCount() const { return mTraceOverlayVertices; }
+    /**
+     * A map revision's change in this image (x = col, y = -row): the map's
+     * old course dashed red, the course the images show green; null
+     * geometries draw nothing (both null clear it).
+     */
+    void setChangeOverlay( const QgsGeometry &oldCourse, const QgsGeometry &newCourse );
+    //! Vertices of the old and the new course drawn in this view (tests).
+    QPair<int, int> changeOverlayVertexCounts() const { return mChangeOverlayVertices; }
 
   signals:
     void imageChosen( int view, const QString &imageId );
@@ -138,6 +147,8 @@ class GeoStationImageView : public QWidget
     int mFeatureOverlayCount = 0;
     QgsRubberBand *mTraceOverlay = nullptr;
     int mTraceOverlayVertices = 0;
+    QgsRubberBand *mOldCourse = nullptr, *mNewCourse = nullptr;
+    QPair<int, int> mChangeOverlayVertices { 0, 0 };
 };
 
 #endif // GEOSTATIONIMAGEVIEW_H

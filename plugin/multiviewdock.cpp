@@ -3,6 +3,9 @@
  ***************************************************************************/
 #include "multiviewdock.h"
 
+#include <cmath>
+#include <limits>
+
 #include <QComboBox>
 #include <QGridLayout>
 #include <QHeaderView>
@@ -20,9 +23,11 @@
 #include <QVBoxLayout>
 
 #include <qgscoordinatereferencesystem.h>
+#include <qgsgeometry.h>
 #include <qgsmapcanvas.h>
 
 #include "camerapanel.h"
+#include "changeinimages.h"
 #include "imageview.h"
 #include "measurementcontroller.h"
 #include "measurementoverlay.h"
@@ -530,6 +535,60 @@ void GeoStationMultiviewDock::zoomViewToPixel( int view, double col, double row,
 bool GeoStationMultiviewDock::setViewImage( int view, const QString &imageId )
 {
   return mSession->setViewImage( view, imageId );
+}
+
+void GeoStationMultiviewDock::showChange( const QgsGeometry &oldCourse, const QgsGeometry &newCourse, const QgsCoordinateReferenceSystem &crs )
+{
+  const geostation::Block *block = mSession->block();
+  if ( !block )
+    return;
+  // heights: the map's where it has them, else the new course's mean (a 2-D map on the measured ground)
+  const std::vector<Eigen::Vector3d> newPoints = courseInBlockCrs( newCourse, crs, mSession->crs(), std::nan( "" ) );
+  const std::vector<Eigen::Vector3d> oldPoints = courseInBlockCrs( oldCourse, crs, mSession->crs(), meanHeight( newPoints ).value_or( 0.0 ) );
+  const std::vector<Eigen::Vector3d> &shown = newPoints.size() >= 2 ? newPoints : oldPoints;
+  if ( shown.size() < 2 )
+  {
+    for ( GeoStationImageView *view : std::as_const( mViews ) )
+      view->setChangeOverlay( QgsGeometry(), QgsGeometry() );
+    return;
+  }
+  const Eigen::Vector3d middle = shown[shown.size() / 2];
+
+  // the views that do not see it get the images that see it best, each image once
+  QStringList ids;
+  for ( const geostation::BlockImage &image : block->images )
+    ids << QString::fromStdString( image.id );
+  const auto oriented = [this]( const QString &id ) { return mSession->orientedImage( id ); };
+  const QStringList seeing = imagesSeeing( middle, ids, oriented );
+  QStringList shownIds = mSession->viewImages();
+  QStringList candidates;
+  for ( const QString &id : seeing )
+    if ( !shownIds.contains( id ) )
+      candidates << id;
+  for ( int v = 0; v < mViews.size(); ++v )
+    if ( !seeing.contains( shownIds.value( v ) ) && !candidates.isEmpty() )
+      mSession->setViewImage( v, candidates.takeFirst() );
+
+  GeoStationOverlayOptions options;
+  options.maxRangeM = std::numeric_limits<double>::infinity(); // aerial images see far
+  for ( GeoStationImageView *view : std::as_const( mViews ) )
+  {
+    const geostation::OrientedImage *image = mSession->orientedImage( view->imageId() );
+    if ( !image || !view->hasImage() )
+    {
+      view->setChangeOverlay( QgsGeometry(), QgsGeometry() );
+      continue;
+    }
+    const QgsGeometry oldInImage = oldPoints.size() >= 2 ? projectPolylineIntoImage( oldPoints, *image, options ) : QgsGeometry();
+    const QgsGeometry newInImage = newPoints.size() >= 2 ? projectPolylineIntoImage( newPoints, *image, options ) : QgsGeometry();
+    view->setChangeOverlay( oldInImage, newInImage );
+    const QgsGeometry extent = newInImage.isNull() ? oldInImage : newInImage;
+    if ( !extent.isNull() )
+    {
+      const QgsRectangle box = extent.boundingBox(); // x = col, y = -row
+      view->zoomToPixel( QPointF( box.center().x(), -box.center().y() ), 0.6 * std::max( box.width(), box.height() ) + 40.0 );
+    }
+  }
 }
 
 void GeoStationMultiviewDock::setViewEnhancement( int view, const QString &method )

@@ -26,6 +26,8 @@
 #include <qgsdockwidget.h>
 
 class QComboBox;
+class QgsCoordinateReferenceSystem;
+class QgsGeometry;
 class QGridLayout;
 class QLabel;
 class QPlainTextEdit;
@@ -76,6 +78,13 @@ class GeoStationMultiviewDock : public QgsDockWidget
     void zoomViewToPixel( int view, double col, double row, double halfWidthPx );
     //! Shows an image in a view.
     bool setViewImage( int view, const QString &imageId );
+    /**
+     * Shows a map revision's change in the views (any CRS; null geometries
+     * draw nothing, both null clear it): the map's old course dashed red,
+     * the new course green, each view zoomed to it. Views whose image does
+     * not see the change are given the images that see it best.
+     */
+    void showChange( const QgsGeometry &oldCourse, const QgsGeometry &newCourse, const QgsCoordinateReferenceSystem &crs );
     void setViewEnhancement( int view, const QString &method );
 
     void appendMessage( const QString &text, bool warning );

@@ -101,12 +101,14 @@ void GeoStationRevisionDock::reload()
 void GeoStationRevisionDock::showCurrent()
 {
   const int row = currentRow();
-  if ( !mReview || row < 0 || !mCanvas )
+  if ( !mReview || row < 0 )
     return;
   const GeoStationRevisionReview::Item &item = mReview->item( row );
-  if ( item.layer )
+  if ( item.layer && mCanvas )
   {
     item.layer->selectByIds( QgsFeatureIds() << item.fid );
     mCanvas->zoomToFeatureIds( item.layer, QgsFeatureIds() << item.fid );
   }
+  const GeoStationRevisionReview::Courses courses = mReview->courses( row );
+  emit changeSelected( courses.oldCourse, courses.newCourse, courses.crs );
 }

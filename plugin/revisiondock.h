@@ -4,7 +4,8 @@
   Three layers chosen from the project - revise_roads' OUTPUT, its NEW
   roads and the map they revise - and the changes listed worst evidence
   first (revisionreview.h). Selecting a change zooms the map to it and
-  selects it in its layer; Accept writes it into the map's edit buffer
+  selects it in its layer, and the Multiview shows its old and new course
+  in the images that see it; Accept writes it into the map's edit buffer
   (a road not found flagged or deleted, as chosen), Reject leaves the map.
  ***************************************************************************/
 #ifndef GEOSTATIONREVISIONDOCK_H
@@ -17,6 +18,8 @@
 class QComboBox;
 class QPushButton;
 class QTableView;
+class QgsCoordinateReferenceSystem;
+class QgsGeometry;
 class QgsMapCanvas;
 class QgsMapLayerComboBox;
 class GeoStationRevisionReview;
@@ -34,6 +37,8 @@ class GeoStationRevisionDock : public QgsDockWidget
 
   signals:
     void message( const QString &text, bool warning );
+    //! A change was selected: its map course and its new course, for the Multiview (revisionreview.h).
+    void changeSelected( const QgsGeometry &oldCourse, const QgsGeometry &newCourse, const QgsCoordinateReferenceSystem &crs );
 
   private:
     void reload();

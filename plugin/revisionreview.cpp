@@ -158,6 +158,36 @@ QgsGeometry GeoStationRevisionReview::geometryInMapCrs( int row ) const
   return g;
 }
 
+GeoStationRevisionReview::Courses GeoStationRevisionReview::courses( int row ) const
+{
+  const Item &item = mItems.at( row );
+  Courses c;
+  QgsFeature f;
+  if ( !item.layer || !item.layer->getFeatures( QgsFeatureRequest( item.fid ) ).nextFeature( f ) )
+    return c;
+  c.crs = item.layer->crs();
+  if ( item.change == QLatin1String( "not_found" ) )
+  {
+    c.oldCourse = f.geometry();
+    return c;
+  }
+  c.newCourse = f.geometry();
+  QgsFeature mapFeature;
+  if ( item.change == QLatin1String( "moved" ) && mMap && mMap->getFeatures( QgsFeatureRequest( item.mapFid ) ).nextFeature( mapFeature ) && !mapFeature.geometry().isNull() )
+  {
+    c.oldCourse = mapFeature.geometry();
+    try
+    {
+      c.oldCourse.transform( QgsCoordinateTransform( mMap->crs(), c.crs, QgsProject::instance()->transformContext() ) );
+    }
+    catch ( const QgsCsException & )
+    {
+      c.oldCourse = QgsGeometry();
+    }
+  }
+  return c;
+}
+
 bool GeoStationRevisionReview::acceptMoved( int row )
 {
   const Item &item = mItems.at( row );

@@ -23,6 +23,7 @@
 #include <QPointer>
 
 #include <qgsfeatureid.h>
+#include <qgscoordinatereferencesystem.h>
 #include <qgsgeometry.h>
 
 class QgsVectorLayer;
@@ -75,6 +76,16 @@ class GeoStationRevisionReview : public QAbstractTableModel
 
     //! The change's course in the map layer's CRS (what to show and zoom to).
     QgsGeometry geometryInMapCrs( int row ) const;
+
+    //! A change's two courses in `crs` (the revision layer's, the block CRS): null where it has none.
+    struct Courses
+    {
+      QgsGeometry oldCourse; //!< the map's: a moved road's map feature, the road not found
+      QgsGeometry newCourse; //!< the images': a moved road's new course, a new road
+      QgsCoordinateReferenceSystem crs;
+    };
+    //! What the Multiview draws for a change.
+    Courses courses( int row ) const;
 
     /**
      * Writes the change into the map layer's edit buffer (editing is

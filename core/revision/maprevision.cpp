@@ -27,6 +27,7 @@ namespace geostation
       case RevisionStatus::Moved: return "moved";
       case RevisionStatus::NotFound: return "not_found";
       case RevisionStatus::Outside: return "outside";
+      case RevisionStatus::Occluded: return "occluded";
       case RevisionStatus::InvalidGeometry: return "invalid_geometry";
     }
     return "not_found";
@@ -37,8 +38,8 @@ namespace geostation
     network.coincident.check();
     if ( shiftMaxM && !( *shiftMaxM > 0.0 ) )
       throw std::invalid_argument( "the largest shift of a road must be positive (metres)" );
-    if ( !( toleranceM >= 0.0 ) || !( sampleSpacingPx >= 0.0 ) || !( newGapM >= 0.0 ) || majorityHalfWindow < 0 )
-      throw std::invalid_argument( "the map's tolerance, the sample spacing, the new roads' gap and the majority window must not be negative" );
+    if ( !( toleranceM >= 0.0 ) || !( sampleSpacingPx >= 0.0 ) || !( newGapM >= 0.0 ) || majorityHalfWindow < 0 || !( occlusionClearanceM >= 0.0 ) )
+      throw std::invalid_argument( "the map's tolerance, the sample spacing, the new roads' gap, the majority window and the occlusion clearance must not be negative" );
   }
 
   double RevisedPiece::lengthM() const
@@ -350,6 +351,8 @@ namespace geostation
         s.ground = g;
         const double margin = pair.object.maxWidthPx + pair.tolerancePx;
         s.status = inFrame( a, g, s.inA, margin ) && inFrame( b, g, s.inB, margin ) ? RevisionStatus::NotFound : RevisionStatus::Outside;
+        s.occluded = s.status != RevisionStatus::Outside && options.surface &&
+                     ( hiddenFrom( a, g, options.surface, options.occlusionClearanceM ) || hiddenFrom( b, g, options.surface, options.occlusionClearanceM ) );
         samples.push_back( s );
       }
       for ( size_t i = 0; i < samples.size(); ++i )
@@ -357,6 +360,9 @@ namespace geostation
           check( samples[i], directionAt( samples, i, true ), directionAt( samples, i, false ), pair );
       settleShifts( samples );
       requireContinuity( samples );
+      for ( Sample &s : samples )
+        if ( s.status == RevisionStatus::NotFound && s.occluded )
+          s.status = RevisionStatus::Occluded; // hidden, not gone
       summary.samples += static_cast<int>( samples.size() );
       piecesOf( r, samples, majorityStatus( samples, options.majorityHalfWindow ), pair, summary.pieces );
     }

@@ -30,6 +30,7 @@
 #ifndef GEOSTATION_REVISION_MAPREVISION_H
 #define GEOSTATION_REVISION_MAPREVISION_H
 
+#include <functional>
 #include <memory>
 #include <optional>
 #include <string>
@@ -38,6 +39,7 @@
 #include <Eigen/Core>
 
 #include "extraction/roadnetworkextractor.h"
+#include "geometry/projection.h"
 
 namespace geostation
 {
@@ -48,10 +50,11 @@ namespace geostation
     Moved,
     NotFound,
     Outside,
+    Occluded,        //!< not found where a surface model (MapRevisionOptions::surface) hides the course from a camera
     InvalidGeometry, //!< fewer than two distinct vertices
   };
 
-  //! "confirmed", "moved", "not_found", "outside", "invalid_geometry".
+  //! "confirmed", "moved", "not_found", "outside", "occluded", "invalid_geometry".
   std::string revisionStatusName( RevisionStatus status );
 
   struct MapRevisionOptions
@@ -63,6 +66,15 @@ namespace geostation
     int majorityHalfWindow = 3;       //!< a sample's status: the majority within this many samples either side
     bool findNewRoads = true;         //!< false: the pair is not extracted (faster); its set-up only (RoadNetworkOptions::extract), no new roads
     double newGapM = 0.0;             //!< an extracted line farther than this from every map road and revised course is new; 0: 3 x the tolerance, at least 10 px
+    /**
+     * The first point a ray meets on a surface model (a DSM with buildings
+     * and trees, or the DEM for hills), nullopt where it meets none; none
+     * given: nothing is occluded. A sample not found whose ray from either
+     * camera meets the surface more than `occlusionClearanceM` above it is
+     * occluded, not gone.
+     */
+    std::function<std::optional<Eigen::Vector3d>( const Ray &ray )> surface;
+    double occlusionClearanceM = 2.0;
 
     //! Throws std::invalid_argument naming the first bad value.
     void check() const;

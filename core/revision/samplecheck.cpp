@@ -18,6 +18,17 @@ namespace geostation::revision
   }
 
   //! The bands across `along` at `at` within `searchPx` of it, nearest first (offsets along the normal of `along`).
+  bool hiddenFrom( const OrientedImage &image, const Eigen::Vector3d &ground,
+                   const std::function<std::optional<Eigen::Vector3d>( const Ray & )> &surface, double clearanceM )
+  {
+    const Eigen::Vector3d centre = image.exterior().projectionCentre;
+    const Eigen::Vector3d towards = ground - centre;
+    if ( !( towards.norm() > 0.0 ) )
+      return false;
+    const std::optional<Eigen::Vector3d> hit = surface( Ray { centre, towards.normalized() } );
+    return hit && hit->z() > ground.z() + clearanceM;
+  }
+
   std::vector<CrossSection> bandsNear( const GreyTiles &grey, const Eigen::Vector2d &at, const Eigen::Vector2d &along, const LineObjectOptions &object, double searchPx )
   {
     const int half = static_cast<int>( std::ceil( searchPx + object.maxWidthPx ) ) + 6;

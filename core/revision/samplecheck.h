@@ -10,6 +10,8 @@
 #ifndef GEOSTATION_REVISION_SAMPLECHECK_H
 #define GEOSTATION_REVISION_SAMPLECHECK_H
 
+#include <functional>
+#include <optional>
 #include <vector>
 
 #include <Eigen/Core>
@@ -17,6 +19,7 @@
 #include "extraction/crossprofile.h"
 #include "extraction/greytiles.h"
 #include "extraction/pairmapping.h"
+#include "geometry/projection.h"
 #include "revision/maprevision.h"
 
 namespace geostation::revision
@@ -31,6 +34,7 @@ namespace geostation::revision
     Eigen::Vector2d foundA = Eigen::Vector2d::Zero(), foundB = Eigen::Vector2d::Zero(); //!< the band's centre, confirmed or moved
     double shiftM = 0.0;
     double offsetPx = 0.0, widthPx = 0.0; //!< confirmed or moved: the band's offset across the course in A and its width there
+    bool occluded = false; //!< a surface model hides it from a camera (MapRevisionOptions::surface)
     //! Moved: every band off the course in A that B confirms (offset across the course in A, px; where; how far)
     struct Candidate
     {
@@ -53,6 +57,14 @@ namespace geostation::revision
 
   //! The pixel of `ground` in `image`, and whether it lies more than `marginPx` inside the frame.
   bool inFrame( const OrientedImage &image, const Eigen::Vector3d &ground, Eigen::Vector2d &pixel, double marginPx );
+
+  /**
+   * Whether the ray from `image`'s projection centre to `ground` meets
+   * `surface` more than `clearanceM` above `ground` (a building, a tree, a
+   * hill in between).
+   */
+  bool hiddenFrom( const OrientedImage &image, const Eigen::Vector3d &ground,
+                   const std::function<std::optional<Eigen::Vector3d>( const Ray & )> &surface, double clearanceM );
 
   //! The bands across `along` at `at` within `searchPx` of it, nearest first (offsets along the normal of `along`).
   std::vector<CrossSection> bandsNear( const GreyTiles &grey, const Eigen::Vector2d &at, const Eigen::Vector2d &along, const LineObjectOptions &object, double searchPx );

@@ -10,6 +10,8 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <functional>
+#include <optional>
 
 #include <gtest/gtest.h>
 
@@ -199,6 +201,56 @@ TEST( MapRevision, BadGeometriesAndRoadsOutsideThePair )
   MapRevisionOptions bad;
   bad.shiftMaxM = -1.0;
   EXPECT_THROW( reviseRoads( MatchImage( base.pair.grey[0] ), MatchImage( base.pair.grey[1] ), a, b, map, bad ), std::invalid_argument );
+}
+
+TEST( MapRevision, ARoadHiddenByABuildingIsOccludedNotGone )
+{
+  // the road mapped where there is none, with a building 25 m high over x = 0..50 m of it; the main road in the open
+  const Revised &base = revised();
+  const OrientedImage a( base.pair.camera, base.pair.exterior[0] ), b( base.pair.camera, base.pair.exterior[1] );
+  const double groundM = base.pair.groundM;
+  const auto heightAt = [groundM]( double x, double y ) { return x >= 0.0 && x <= 50.0 && y >= -200.0 && y <= -160.0 ? groundM + 25.0 : groundM; };
+  const auto surfaceOf = [groundM]( std::function<double( double, double )> height ) {
+    return [groundM, height]( const Ray &ray ) -> std::optional<Eigen::Vector3d> {
+      // down the ray in 0.25 m steps from where it is 40 m above the ground to the first point under the surface
+      if ( !( ray.direction.z() < 0.0 ) )
+        return std::nullopt;
+      for ( double t = ( ray.origin.z() - groundM - 40.0 ) / -ray.direction.z(); t < 1e5; t += 0.25 )
+      {
+        const Eigen::Vector3d p = ray.origin + t * ray.direction;
+        if ( p.z() <= height( p.x(), p.y() ) )
+          return p;
+      }
+      return std::nullopt;
+    };
+  };
+  MapRevisionOptions options;
+  options.findNewRoads = false;
+  options.surface = surfaceOf( heightAt );
+  const std::vector<MapRoad> map = { base.map[0], base.map[2] };
+  const MapRevisionSummary s = reviseRoads( MatchImage( base.pair.grey[0] ), MatchImage( base.pair.grey[1] ), a, b, map, options );
+  double occluded = 0.0, notFound = 0.0;
+  for ( const RevisedPiece &p : s.pieces )
+    if ( p.road == 1 )
+    {
+      ( p.status == RevisionStatus::Occluded ? occluded : notFound ) += p.status == RevisionStatus::Outside ? 0.0 : p.lengthM();
+      if ( p.status == RevisionStatus::Occluded )
+        for ( const Eigen::Vector3d &v : p.course )
+          EXPECT_TRUE( v.x() > -30.0 && v.x() < 80.0 ) << "occluded at x = " << v.x() << " m, far from the building";
+    }
+  const auto [confirmed, seen] = lengthOf( s, 0, RevisionStatus::Confirmed );
+  std::printf( "behind a building over 50 m of a road not there: %.0f m occluded, %.0f m not found; main road %.0f of %.0f m confirmed\n", occluded, notFound, confirmed,
+               seen );
+  EXPECT_GE( occluded, 40.0 );
+  EXPECT_LE( occluded, 110.0 );
+  EXPECT_GE( notFound, 70.0 ); // of the 154 m the pair sees
+  EXPECT_GE( confirmed, 0.95 * seen ); // a road that is seen is confirmed, whatever the surface
+
+  // open ground: nothing occluded
+  options.surface = surfaceOf( [groundM]( double, double ) { return groundM; } );
+  const MapRevisionSummary open = reviseRoads( MatchImage( base.pair.grey[0] ), MatchImage( base.pair.grey[1] ), a, b, map, options );
+  for ( const RevisedPiece &p : open.pieces )
+    EXPECT_NE( p.status, RevisionStatus::Occluded );
 }
 
 TEST( MapRevision, AMovedStretchIsSplicedIntoTheMapLine )

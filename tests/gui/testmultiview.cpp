@@ -3,8 +3,9 @@
 // GeoPackage through the edit buffer (checked against the simulator's
 // truth), lines, undo, a read-only GeoPackage, the operator's own edit
 // session, the views (placeholder for a missing image, enhancement in
-// memory, features drawn back into the images), the Overview layers and the
-// Trace tool (a kerb traced through the run into its layer, against truth).
+// memory, features drawn back into the images), the Overview layers, the
+// Trace tool (a kerb traced through the run into its layer, against truth)
+// and a map revision's change shown in the images that see it.
 #include <QFile>
 #include <csignal>
 
@@ -20,6 +21,7 @@
 
 #include <qgsapplication.h>
 #include <qgsfeatureiterator.h>
+#include <qgslinestring.h>
 #include <qgsmapcanvas.h>
 #include <qgsmapmouseevent.h>
 #include <qgsproject.h>
@@ -32,6 +34,7 @@
 #include <qgsprocessingfeedback.h>
 
 #include "exportmeasurementsalgorithm.h"
+#include "changeinimages.h"
 #include "featureclassmodel.h"
 #include "imagepointtool.h"
 #include "imageview.h"
@@ -75,6 +78,7 @@ class TestMultiview : public QObject
     void viewsMoveBetweenTheGridAndDocksOfTheirOwn();
     void overviewShowsRunStationsAndCones();
     void traceToolTracesStopsTakesBackAndWritesOneLine();
+    void aReviewedChangeIsShownInTheImagesThatSeeIt();
 
   private:
     //! A pole seen in the first two images of a station, with its truth pixels; false if none.
@@ -1215,6 +1219,59 @@ void TestMultiview::traceToolTracesStopsTakesBackAndWritesOneLine()
   mSession->setCurrentClass( QStringLiteral( "Pole" ) );
   QVERIFY( !trace.start( dock->view( 0 )->imageId(), *click ) );
   QVERIFY( dock->messagesText().contains( QStringLiteral( "Choose a line class" ) ) );
+}
+
+void TestMultiview::aReviewedChangeIsShownInTheImagesThatSeeIt()
+{
+  // a road "moved" 3 m: the map's course 2-D (no heights), the new course on the ground at a pole's foot
+  GeoStationMultiviewDock dock( mSession.get(), mController.get(), mStore.get() );
+  dock.resize( 1200, 800 );
+  dock.show();
+  mSession->setCurrentStation( mSession->run().size() - 1 ); // its cameras look on, away from the poles passed
+  QStringList ids;
+  for ( const geostation::BlockImage &image : mSession->block()->images )
+    ids << QString::fromStdString( image.id );
+  const auto oriented = [this]( const QString &id ) { return mSession->orientedImage( id ); };
+  std::optional<Eigen::Vector3d> foot;
+  for ( const auto &[pointId, point] : mTruth.objects )
+  {
+    const QStringList seeing = imagesSeeing( point, ids, oriented );
+    bool shownNow = false;
+    for ( const QString &id : mSession->viewImages() )
+      shownNow = shownNow || seeing.contains( id );
+    if ( pointId.rfind( "pole_", 0 ) == 0 && seeing.size() >= 2 && !shownNow )
+    {
+      foot = point;
+      break;
+    }
+  }
+  QVERIFY2( foot, "the run has a pole the last station does not see" );
+  const double z = foot->z();
+  const QgsGeometry newCourse( new QgsLineString( QVector<QgsPoint> { QgsPoint( foot->x() - 4, foot->y(), z ), QgsPoint( foot->x(), foot->y(), z ), QgsPoint( foot->x() + 4, foot->y(), z ) } ) );
+  const QgsGeometry oldCourse( new QgsLineString( QVector<QgsPointXY> { QgsPointXY( foot->x() - 4, foot->y() + 3 ), QgsPointXY( foot->x() + 4, foot->y() + 3 ) } ) );
+  dock.showChange( oldCourse, newCourse, mSession->crs() );
+
+  // the views were given images that see it, and draw both courses there
+  const QStringList seeing = imagesSeeing( *foot, ids, oriented );
+  int drawn = 0;
+  for ( int v = 0; v < dock.viewCount(); ++v )
+  {
+    const QString id = mSession->viewImages().value( v );
+    if ( !seeing.contains( id ) || !dock.view( v )->hasImage() )
+      continue;
+    const QPair<int, int> counts = dock.view( v )->changeOverlayVertexCounts();
+    QVERIFY2( counts.first >= 2 && counts.second >= 2, qPrintable( QStringLiteral( "%1: %2 old, %3 new vertices" ).arg( id ).arg( counts.first ).arg( counts.second ) ) );
+    ++drawn;
+  }
+  QVERIFY2( drawn >= 2, qPrintable( QStringLiteral( "the change is drawn in %1 views" ).arg( drawn ) ) );
+
+  // a road not found: only the old course; nothing selected: nothing drawn
+  dock.showChange( oldCourse, QgsGeometry(), mSession->crs() );
+  for ( int v = 0; v < dock.viewCount(); ++v )
+    QCOMPARE( dock.view( v )->changeOverlayVertexCounts().second, 0 );
+  dock.showChange( QgsGeometry(), QgsGeometry(), mSession->crs() );
+  for ( int v = 0; v < dock.viewCount(); ++v )
+    QCOMPARE( dock.view( v )->changeOverlayVertexCounts(), qMakePair( 0, 0 ) );
 }
 
 int main( int argc, char **argv )

@@ -114,6 +114,15 @@ void TestRevisionReview::listsAcceptsUndoesAndRejects()
   QCOMPARE( review.item( 2 ).change, QStringLiteral( "new" ) );
   QCOMPARE( review.data( review.index( 1, GeoStationRevisionReview::ShiftM ) ).toString(), QStringLiteral( "20.0" ) );
 
+  // what the Multiview draws, in the revision's CRS: the map's course and the images' course
+  const GeoStationRevisionReview::Courses moved = review.courses( 1 );
+  QCOMPARE( moved.crs, mUtm );
+  QVERIFY2( moved.oldCourse.distance( QgsGeometry::fromPointXY( QgsPointXY( 500400, 4400000 ) ) ) < 0.01, qPrintable( moved.oldCourse.asWkt( 1 ) ) );
+  QVERIFY2( moved.newCourse.distance( QgsGeometry::fromPointXY( QgsPointXY( 500300, 4400020 ) ) ) < 0.01, qPrintable( moved.newCourse.asWkt( 1 ) ) );
+  const GeoStationRevisionReview::Courses notFound = review.courses( 0 ), newRoad = review.courses( 2 );
+  QVERIFY( !notFound.oldCourse.isNull() && notFound.newCourse.isNull() );
+  QVERIFY( newRoad.oldCourse.isNull() && !newRoad.newCourse.isNull() );
+
   // the moved road: A now runs 20 m north beyond x = 500160, as before up to the vertex at x = 500000
   QVERIFY( review.accept( 1 ) );
   QVERIFY( map.isEditable() && map.isModified() );
@@ -181,7 +190,11 @@ void TestRevisionReview::panelAcceptsTheSelectedChange()
   QVERIFY( dock.review() );
   QCOMPARE( dock.review()->rowCount(), 1 );
   QTableView *table = dock.findChild<QTableView *>();
+  QSignalSpy shown( &dock, &GeoStationRevisionDock::changeSelected );
   table->selectRow( 0 );
+  QCOMPARE( shown.count(), 1 ); // to the Multiview: the road not found, its map course only
+  QVERIFY( !shown.at( 0 ).at( 0 ).value<QgsGeometry>().isNull() );
+  QVERIFY( shown.at( 0 ).at( 1 ).value<QgsGeometry>().isNull() );
   QPushButton *accept = nullptr;
   for ( QPushButton *button : dock.findChildren<QPushButton *>() )
     if ( button->text() == QStringLiteral( "Accept" ) )

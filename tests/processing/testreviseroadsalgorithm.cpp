@@ -6,6 +6,7 @@
 #include <QFile>
 #include <QJsonDocument>
 #include <QJsonObject>
+#include <QDir>
 #include <QTemporaryDir>
 
 #include <qgscoordinatetransform.h>
@@ -205,6 +206,17 @@ void TestReviseRoadsAlgorithm::badInputFailsWithOneSentence()
   run( { { "BLOCK", mRun + "/block.geostation.json" }, { "LEFT", "S0001" }, { "RIGHT", "S0001" }, { "MAP", far->id() }, { "OUTPUT", none } }, &ok, &feedback2 );
   QVERIFY( !ok );
   QVERIFY2( feedback2.errors.join( ' ' ).contains( "same image" ), qPrintable( feedback2.errors.join( '\n' ) ) );
+  QVERIFY( !QFile::exists( none ) );
+
+  // a surface model without a DEM: the roads' heights would be guesses, so one sentence, nothing written
+  QDir images( mRun + "/images" );
+  const QStringList tifs = images.entryList( QStringList() << "*.tif" );
+  QVERIFY( !tifs.isEmpty() );
+  RecordingFeedback feedback3;
+  run( { { "BLOCK", mRun + "/block.geostation.json" }, { "LEFT", "S0001" }, { "RIGHT", "S0002" }, { "MAP", far->id() }, { "SURFACE", images.filePath( tifs.first() ) },
+         { "OUTPUT", none } }, &ok, &feedback3 );
+  QVERIFY( !ok );
+  QVERIFY2( feedback3.errors.join( ' ' ).contains( "SURFACE needs a DEM" ), qPrintable( feedback3.errors.join( '\n' ) ) );
   QVERIFY( !QFile::exists( none ) );
 }
 
