@@ -20,6 +20,7 @@
 #include "traceroadlinesalgorithm.h"
 #include "extractroadsalgorithm.h"
 #include "reviseroadsalgorithm.h"
+#include "mergeroadnetworksalgorithm.h"
 #include "exportblockalgorithm.h"
 #include "identifycontrolalgorithm.h"
 #include "importblockalgorithm.h"
@@ -83,6 +84,7 @@ void GeoStationProvider::loadAlgorithms()
   addAlgorithm( new TraceRoadLinesAlgorithm() );
   addAlgorithm( new ExtractRoadsAlgorithm() );
   addAlgorithm( new ReviseRoadsAlgorithm() );
+  addAlgorithm( new MergeRoadNetworksAlgorithm() );
   addAlgorithm( new ImportBlockAlgorithm() );
   addAlgorithm( new ExportBlockAlgorithm() );
   addAlgorithm( new IdentifyControlAlgorithm() );
