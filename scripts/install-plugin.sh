@@ -6,7 +6,8 @@
 #
 # The profile defaults to $HOME/.local/share/QGIS/QGIS3/profiles/default.
 # Afterwards `qgis_process.bin list` shows the geostation provider and QGIS
-# desktop loads the plugin at start.
+# desktop loads the plugin at start; geostation-batch is linked into
+# ~/.local/bin.
 set -euo pipefail
 
 here="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
@@ -60,8 +61,11 @@ sys.exit(0 if s.status() == QSettings.NoError else 1)
 PY
 }
 
+batch_link="${HOME}/.local/bin/geostation-batch"
+
 if [ "$uninstall" = 1 ]; then
   rm -rf "$target" "$bridge"
+  [ -L "$batch_link" ] && [ "$(readlink "$batch_link")" = "$target/bin/geostation-batch" ] && rm -f "$batch_link"
   [ -f "$settings" ] && edit_settings uninstall
   echo "GeoStation removed from $profile_dir"
   exit 0
@@ -91,8 +95,14 @@ rmdir "$staging/python"
 mv "$staging" "$target"
 rm -rf "$old"
 edit_settings install
+# the batch command on the PATH of a login shell (~/.local/bin), unless another one is there
+mkdir -p "$(dirname "$batch_link")"
+if [ ! -e "$batch_link" ] || [ -L "$batch_link" ]; then
+  ln -sfn "$target/bin/geostation-batch" "$batch_link"
+fi
 
 echo "GeoStation installed into $profile_dir"
 echo "  plugin:   $target/plugins/libgeostationplugin.so"
 echo "  provider: $target/lib/libgeostation_processing.so"
 echo "  bridge:   $bridge"
+echo "  batch:    $batch_link (geostation-batch; needs python3-distributed)"

@@ -1,0 +1,227 @@
+"""geostation-batch COMMAND [options]: the command line (see docs/batch.md).
+
+Exit status: 0 every unit done and merged, 3 the run is partial (units named
+in the report failed; the others are merged), 1 bad input (one sentence)."""
+
+import argparse
+import os
+import shutil
+import sys
+import tempfile
+import time
+
+from . import cluster, merge, plan, qgis, report, unit
+
+COMMANDS = {
+    "extract": ("geostation:extract_roads", "extract the road network of every stereo pair of a block and merge them into one"),
+    "monoplot": ("geostation:monoplot", "monoplot the features digitised on an image, in chunks of features"),
+    "project": ("geostation:project_to_image", "project map features into an image, in chunks of features"),
+}
+# parameters the batch sets for each unit itself
+PER_UNIT = {"extract": {"LEFT", "RIGHT"}, "monoplot": set(), "project": set()}
+CHUNKED_INPUT = {"monoplot": "INPUT", "project": "INPUT"}
+PATH_TYPES = {"file", "raster", "source", "vector", "layer", "multilayer", "mesh", "pointcloud"}
+
+EXIT_OK, EXIT_BAD_INPUT, EXIT_PARTIAL = 0, 1, 3
+
+
+class Parser(argparse.ArgumentParser):
+    def error(self, message):  # bad input is status 1, in one sentence
+        sys.stderr.write("geostation-batch: %s (see %s --help)\n" % (message, self.prog))
+        sys.exit(EXIT_BAD_INPUT)
+
+
+def say(text):
+    sys.stderr.write(text + "\n")
+    sys.stderr.flush()
+
+
+def common_options(parser):
+    parser.add_argument("--scheduler", metavar="ADDRESS", help="a running dask-scheduler (tcp://host:8786); none: a local cluster")
+    parser.add_argument("--workers", type=int, default=os.cpu_count() or 1, help="local cluster: worker processes (default: the cores, %(default)s)")
+    parser.add_argument("--work-dir", metavar="DIR", help="units' outputs and manifest, kept for a resumed run (default: OUTPUT.work)")
+    parser.add_argument("--retries", type=int, default=2, help="times a failed unit is run again (default %(default)s)")
+    parser.add_argument("--unit-size", type=int, default=2000, help="monoplot, project: features per unit (default %(default)s)")
+    parser.add_argument("--unit-timeout", type=float, help="seconds a unit may take before it counts as failed")
+    parser.add_argument("--output", required=True, metavar="PATH", help="the merged output")
+    parser.add_argument("--report", metavar="PATH", help="the run report (JSON; a readable .txt beside it; default in the work dir)")
+    parser.add_argument("--qgis-process", default="qgis_process.bin", metavar="PATH", help="the qgis_process executable (default %(default)s)")
+    parser.add_argument("--qgis-home", default=os.environ.get("HOME", ""), metavar="DIR",
+                        help="the HOME whose QGIS profile has GeoStation installed (default: $HOME)")
+
+
+def algorithm_options(parser, command, help_json):
+    """The algorithm's own inputs, as options named in lower case (LEFT: --left)."""
+    names = {}
+    for name, p in sorted(help_json["parameters"].items()):
+        if p["is_destination"] or name in PER_UNIT[command]:
+            continue
+        option = name.lower()
+        flags = ["--" + option] + (["--" + option.replace("_", "-")] if "_" in option else [])
+        kind = p["type"]["id"]
+        required = not p["optional"] and p["default_value"] is None and kind != "enum"
+        parser.add_argument(*flags, dest="alg_" + name, required=required, metavar=kind.upper(),
+                            help="%s%s" % (p["description"], "" if p["default_value"] is None else " (default %s)" % p["default_value"]))
+        names[name] = kind
+    if command == "extract":
+        parser.add_argument("--pairs", metavar="TABLE", help="the stereo pairs (a table with fields left, right); default: neighbours along each strip")
+        parser.add_argument("--left", help="one pair only: its left image")
+        parser.add_argument("--right", help="one pair only: its right image")
+    return names
+
+
+def absolute(value):
+    path, sep, rest = value.partition("|")
+    return os.path.abspath(path) + sep + rest if os.path.exists(path) else value
+
+
+def fingerprint(value):
+    """A file's size and time, so a changed input is not taken for a done unit's."""
+    path = value.partition("|")[0]
+    try:
+        st = os.stat(path)
+    except OSError:
+        return value
+    return "%s@%d:%d" % (value, st.st_size, st.st_mtime_ns)
+
+
+def plan_units(command, args, algorithm, inputs, work_dir):
+    """The units: (spec list, description of what a unit is)."""
+    specs = []
+
+    def add(unit_id, parameters, outputs, basis):
+        specs.append({"id": unit_id, "algorithm": algorithm, "parameters": parameters, "outputs": outputs,
+                      "digest": unit.digest(algorithm, basis)})
+
+    basis = {name: fingerprint(v) for name, v in inputs.items()}
+    if command == "extract":
+        block = plan.read_block(inputs["BLOCK"])
+        if args.left or args.right:
+            if not (args.left and args.right):
+                raise plan.BadInput("--left and --right go together (one pair), or give neither")
+            pairs = [(args.left, args.right)]
+        elif args.pairs:
+            pairs = plan.table_pairs(args.pairs, block)
+        else:
+            pairs = plan.strip_pairs(block)
+        if not pairs:
+            raise plan.BadInput("the block %s has no two oriented images of one camera side by side along a strip: give --pairs" % inputs["BLOCK"])
+        for left, right in pairs:
+            name = plan.pair_name(left, right)
+            add("pair-" + name, dict(inputs, LEFT=left, RIGHT=right), {"OUTPUT": name + ".gpkg", "REPORT": "report.json"},
+                dict(basis, LEFT=left, RIGHT=right))
+        return specs, "%d stereo pairs" % len(pairs)
+    # chunks of features, written once per input version
+    source = inputs[CHUNKED_INPUT[command]]
+    if args.unit_size < 1:
+        raise plan.BadInput("--unit-size must be at least 1")
+    folder = os.path.join(work_dir, "inputs", unit.digest("chunks", {"input": fingerprint(source), "size": args.unit_size}))
+    marker = os.path.join(folder, "complete")
+    if os.path.exists(marker):
+        chunks = sorted(os.path.join(folder, f) for f in os.listdir(folder) if f.endswith(".gpkg"))
+    else:
+        shutil.rmtree(folder, ignore_errors=True)
+        chunks = plan.write_chunks(source, args.unit_size, folder)
+        unit.write_atomically(marker, "%d\n" % len(chunks))
+    for i, chunk in enumerate(chunks):
+        add("chunk-%05d" % i, dict(inputs, **{CHUNKED_INPUT[command]: chunk}), {"OUTPUT": "output.gpkg"},
+            dict(basis, chunk=i, size=args.unit_size))
+    return specs, "%d chunks of up to %d features" % (len(chunks), args.unit_size)
+
+
+def merge_units(command, specs, entries, work_dir, args, say):
+    done = [s for s in specs if s["id"] in entries]
+    if not done:
+        raise merge.MergeFailed("no unit is complete: nothing to merge")
+    if command == "extract":
+        outputs = [os.path.join(unit.unit_dir(work_dir, s["id"]), s["outputs"]["OUTPUT"]) for s in done]
+        return merge.road_networks(outputs, args.output, args.qgis_process, args.qgis_home,
+                                   os.path.join(work_dir, "merge-report.json"))
+    outputs = [os.path.join(unit.unit_dir(work_dir, s["id"]), "output.gpkg") for s in done]
+    return {"features": merge.feature_chunks(outputs, args.output)}
+
+
+def main(argv=None):
+    argv = sys.argv[1:] if argv is None else argv
+    top = Parser(prog="geostation-batch", description="GeoStation's Processing algorithms over whole blocks, on Dask distributed.",
+                 epilog="Commands: " + "; ".join("%s: %s" % (c, d) for c, (a, d) in COMMANDS.items()) +
+                 ". 'geostation-batch COMMAND --help' lists a command's options (the algorithm's inputs in lower case).")
+    top.add_argument("command", choices=sorted(COMMANDS))
+    if not argv or argv[0] in ("-h", "--help"):
+        top.print_help()
+        return EXIT_OK if argv else EXIT_BAD_INPUT
+    command = top.parse_args(argv[:1]).command
+    algorithm, description = COMMANDS[command]
+
+    # the algorithm's parameters, from the installed provider
+    pre = argparse.ArgumentParser(add_help=False)
+    pre.add_argument("--qgis-process", default="qgis_process.bin")
+    pre.add_argument("--qgis-home", default=os.environ.get("HOME", ""))
+    known, _ = pre.parse_known_args(argv[1:])
+    scratch = tempfile.mkdtemp(prefix="geostation-batch-")
+    try:
+        started = time.time()
+        help_json = qgis.algorithm_help(known.qgis_process, known.qgis_home, algorithm, scratch)
+        start_up = time.time() - started
+    except RuntimeError as e:
+        say("geostation-batch: %s." % e)
+        return EXIT_BAD_INPUT
+    finally:
+        shutil.rmtree(scratch, ignore_errors=True)
+    parser = Parser(prog="geostation-batch " + command, description=description + " (%s)." % algorithm)
+    common_options(parser)
+    kinds = algorithm_options(parser, command, help_json)
+    args = parser.parse_args(argv[1:])
+    inputs = {}
+    for name, kind in kinds.items():
+        value = getattr(args, "alg_" + name)
+        if value is not None:
+            inputs[name] = absolute(value) if kind in PATH_TYPES else value
+    args.output = os.path.abspath(args.output)
+    work_dir = os.path.abspath(args.work_dir or args.output + ".work")
+    os.makedirs(work_dir, exist_ok=True)
+    report_path = os.path.abspath(args.report or os.path.join(work_dir, "run-report.json"))
+
+    run = report.Run(command, algorithm, work_dir, start_up)
+    try:
+        specs, what = plan_units(command, args, algorithm, inputs, work_dir)
+    except plan.BadInput as e:
+        say("geostation-batch: %s." % e)
+        return EXIT_BAD_INPUT
+    say("%s: %s, work dir %s" % (command, what, work_dir))
+    pending = [s for s in specs if not unit.completed(work_dir, s)]
+    entries, errors = {s["id"]: dict(unit.completed(work_dir, s), skipped=True) for s in specs if s not in pending}, {}
+    if not pending:
+        say("every unit is complete from an earlier run: merging only")
+    else:
+        try:
+            client, local = cluster.connect(args.scheduler, args.workers, say)
+        except ConnectionError as e:
+            say("geostation-batch: %s." % e)
+            return EXIT_BAD_INPUT
+        try:
+            paths = [v.partition("|")[0] for n, v in inputs.items() if kinds[n] in PATH_TYPES and os.path.exists(v.partition("|")[0])]
+            kept = cluster.check_workers(client, paths, work_dir, args.qgis_process, args.qgis_home, say)
+            if not kept:
+                say("geostation-batch: no worker can run the units.")
+                return EXIT_BAD_INPUT
+            run.workers = len(kept)
+            entries, errors = cluster.run_units(client, specs, work_dir, args.qgis_process, args.qgis_home, args.retries, args.unit_timeout, say)
+        finally:
+            client.close()
+            if local is not None:
+                local.close()
+    run.units(specs, entries, errors)
+    try:
+        run.merge = merge_units(command, specs, entries, work_dir, args, say)
+    except merge.MergeFailed as e:
+        run.merge_error = str(e)
+    status = EXIT_OK if not errors and run.merge_error is None else EXIT_PARTIAL
+    run.finish(status, args.output)
+    report.write(run, report_path)
+    say(report.summary(run))
+    return status
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,112 @@
+"""The Dask side: a client on a local cluster or a running scheduler, the
+workers asked first whether they can read the inputs, the units submitted
+with retries and followed with a progress line."""
+
+import sys
+import time
+
+from . import unit
+
+try:  # Debian 12 packages distributed without bokeh: no dashboard then
+    import bokeh  # noqa: F401
+    HAS_DASHBOARD = True
+except ImportError:
+    HAS_DASHBOARD = False
+
+
+def connect(scheduler, workers, say):
+    """A client: on `scheduler` (an address), or on a local cluster of `workers` processes."""
+    from distributed import Client, LocalCluster
+    if scheduler:
+        try:
+            client = Client(scheduler, timeout="10s")
+        except (OSError, TimeoutError) as e:
+            raise ConnectionError("no Dask scheduler answers at %s (%s): start one with dask-scheduler, or leave out --scheduler" % (scheduler, e))
+        cluster = None
+    else:
+        cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
+                               dashboard_address=":0" if HAS_DASHBOARD else None, silence_logs=40)
+        client = Client(cluster)
+    say("Dask scheduler %s with %d workers" % (client.scheduler.address, len(client.scheduler_info()["workers"])))
+    if HAS_DASHBOARD and client.dashboard_link:
+        say("Dashboard: %s" % client.dashboard_link)
+    else:
+        say("Dashboard: none (bokeh is not installed; Debian 12 does not package it)")
+    return client, cluster
+
+
+def check_workers(client, paths, work_dir, executable, qgis_home, say):
+    """Asks every worker whether it can read the inputs, write the work dir and run qgis_process with
+    GeoStation; a worker that cannot is named and left out. Returns the workers kept."""
+    answers = client.run(unit.check_access, paths, work_dir, executable, qgis_home)
+    bad = {address: problems for address, problems in answers.items() if problems}
+    for address, problems in sorted(bad.items()):
+        say("Worker %s %s (a cluster needs the block, images, DEM and work dir on a file system every node sees, "
+            "and GeoStation installed on every node): it is left out of this run." % (address, "; ".join(problems)))
+    if bad:
+        client.retire_workers(workers=list(bad), close_workers=True)
+    return sorted(set(answers) - set(bad))
+
+
+class Progress:
+    """One line: units done of total, failed, time left (rewritten in place on a terminal)."""
+
+    def __init__(self, total, skipped, stream=sys.stderr):
+        self.total, self.done, self.failed, self.skipped = total, skipped, 0, skipped
+        self.start = time.time()
+        self.stream = stream
+        self.tty = stream.isatty()
+        self.last = 0.0
+
+    def update(self, failed=False, final=False):
+        if failed:
+            self.failed += 1
+        else:
+            self.done += 1
+        now = time.time()
+        if not final and not self.tty and now - self.last < 10.0 and self.done + self.failed < self.total:
+            return
+        self.last = now
+        ran = self.done - self.skipped + self.failed
+        left = self.total - self.done - self.failed
+        eta = "%.0f s left" % ((now - self.start) / ran * left) if ran and left else ("done" if not left else "")
+        width = 30
+        filled = int(width * (self.done + self.failed) / max(1, self.total))
+        line = "[%s%s] %d of %d units, %d failed, %s" % ("#" * filled, "." * (width - filled), self.done, self.total, self.failed, eta)
+        self.stream.write(("\r" + line + " " * 8) if self.tty else line + "\n")
+        if self.tty and left == 0:
+            self.stream.write("\n")
+        self.stream.flush()
+
+
+def run_units(client, specs, work_dir, executable, qgis_home, retries, timeout, say):
+    """Runs the units not yet complete; returns ({id: manifest entry}, {id: error sentence})."""
+    from distributed import as_completed
+    entries, errors = {}, {}
+    pending = []
+    for spec in specs:
+        done = unit.completed(work_dir, spec)
+        if done:
+            entries[spec["id"]] = dict(done, skipped=True)
+        else:
+            pending.append(spec)
+    if entries:
+        say("%d of %d units are complete from an earlier run and are not run again" % (len(entries), len(specs)))
+    progress = Progress(len(specs), len(entries))
+    futures = {}
+    for spec in pending:
+        future = client.submit(unit.run_unit, spec, work_dir, executable, qgis_home, timeout,
+                               key="geostation-%s-%s" % (spec["id"], spec["digest"]), retries=retries, pure=False)
+        futures[future] = spec["id"]
+    for future in as_completed(futures):
+        unit_id = futures[future]
+        if future.status == "finished":
+            entries[unit_id] = future.result()
+            progress.update()
+        else:
+            error = future.exception()
+            errors[unit_id] = str(error) or type(error).__name__
+            if type(error).__name__ == "KilledWorker":
+                errors[unit_id] = "its worker died every time it ran it (%s)" % error
+            progress.update(failed=True)
+    return entries, errors

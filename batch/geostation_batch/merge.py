@@ -1,0 +1,108 @@
+"""Merges, each deterministic: units are taken in the order of their ids, never
+in the order they finished, and every output is written beside its final
+place and moved there in one rename (a failed merge leaves no file)."""
+
+import json
+import os
+import shutil
+import tempfile
+
+from osgeo import ogr
+
+from . import plan, qgis
+
+ogr.UseExceptions()
+
+DRIVERS = {".gpkg": "GPKG", ".shp": "ESRI Shapefile", ".geojson": "GeoJSON", ".json": "GeoJSON", ".csv": "CSV", ".fgb": "FlatGeobuf"}
+
+
+class MergeFailed(Exception):
+    """The merge could not be written: one sentence."""
+
+
+def _staged(output):
+    """A folder beside `output` to write it in first (same file system, so the move is a rename)."""
+    folder = os.path.dirname(os.path.abspath(output))
+    os.makedirs(folder, exist_ok=True)
+    return tempfile.mkdtemp(dir=folder, prefix=".geostation-batch-")
+
+
+def _move_into_place(staged_file, output):
+    """Moves the staged file (and a Shapefile's sidecars) to `output`."""
+    base, ext = os.path.splitext(staged_file)
+    out_base, _ = os.path.splitext(os.path.abspath(output))
+    if ext.lower() == ".shp":
+        for side in os.listdir(os.path.dirname(staged_file)):
+            s_base, s_ext = os.path.splitext(side)
+            if s_base == os.path.basename(base):
+                os.replace(os.path.join(os.path.dirname(staged_file), side), out_base + s_ext)
+    else:
+        os.replace(staged_file, os.path.abspath(output))
+
+
+def road_networks(unit_outputs, output, executable, qgis_home, report_path=None):
+    """geostation:merge_road_networks over the pairs' networks (in the order of the pairs); returns its report."""
+    staging = _staged(output)
+    try:
+        home = qgis.private_home(qgis_home, os.path.join(staging, "home"))
+        staged = os.path.join(staging, os.path.basename(output))
+        staged_report = os.path.join(staging, "merge-report.json")
+        code, out, err = qgis.run(executable, home, "geostation:merge_road_networks",
+                                  {"INPUTS": sorted(unit_outputs, key=lambda p: os.path.basename(p)), "OUTPUT": staged, "REPORT": staged_report})
+        if code != 0:
+            raise MergeFailed("merging the road networks failed: " + qgis.failure_sentence(code, out, err))
+        with open(staged_report) as f:
+            report = json.load(f)
+        _move_into_place(staged, output)
+        if report_path:
+            shutil.copyfile(staged_report, report_path)
+        return report
+    finally:
+        shutil.rmtree(staging, ignore_errors=True)
+
+
+def feature_chunks(chunk_outputs, output):
+    """The chunks' outputs as one layer, in chunk order, each feature with the id it had in the input
+    (GeoPackage; other formats number their own) and without the batch's field. Returns the count."""
+    ext = os.path.splitext(output)[1].lower()
+    driver_name = DRIVERS.get(ext)
+    if driver_name is None:
+        raise MergeFailed("cannot write %s: give an output ending in %s" % (output, ", ".join(sorted(DRIVERS))))
+    staging = _staged(output)
+    try:
+        staged = os.path.join(staging, os.path.basename(output))
+        ds_out = ogr.GetDriverByName(driver_name).CreateDataSource(staged)
+        layer_out, keep, count = None, [], 0
+        for chunk in chunk_outputs:
+            ds = ogr.Open(chunk)
+            source = ds.GetLayer(0)
+            definition = source.GetLayerDefn()
+            if layer_out is None:
+                name = os.path.splitext(os.path.basename(output))[0]
+                layer_out = ds_out.CreateLayer(name, source.GetSpatialRef(), source.GetGeomType())
+                for i in range(definition.GetFieldCount()):
+                    if definition.GetFieldDefn(i).GetName() != plan.SOURCE_FID:
+                        layer_out.CreateField(definition.GetFieldDefn(i))
+                        keep.append(definition.GetFieldDefn(i).GetName())
+                layer_out.StartTransaction()
+            source_fid = definition.GetFieldIndex(plan.SOURCE_FID)
+            if source_fid < 0:
+                raise MergeFailed("%s lost the field %s: the algorithm did not carry the input's attributes" % (chunk, plan.SOURCE_FID))
+            for feature in source:
+                copy = ogr.Feature(layer_out.GetLayerDefn())
+                for name in keep:
+                    copy.SetField(name, feature.GetField(name))
+                copy.SetGeometry(feature.GetGeometryRef())
+                copy.SetFID(feature.GetFieldAsInteger64(source_fid))
+                layer_out.CreateFeature(copy)
+                count += 1
+            ds = None
+        if layer_out is not None:
+            layer_out.CommitTransaction()
+        ds_out = None
+        if layer_out is None:
+            raise MergeFailed("no unit wrote any feature")
+        _move_into_place(staged, output)
+        return count
+    finally:
+        shutil.rmtree(staging, ignore_errors=True)

@@ -1,0 +1,228 @@
+"""geostation-batch on a real Dask cluster on the loopback interface: a
+dask-scheduler and two dask-worker processes, started and stopped here.
+
+- extract over a simulated aerial strip of 5 images (4 stereo pairs): the
+  merged network has no road twice, and scores against the truth no worse
+  than each pair did on its own where that pair sees the ground;
+- a worker killed with SIGKILL mid-run: the output equals the undisturbed
+  run's;
+- a unit that always fails (a corrupt image): named in the report, every
+  other unit merged, exit status 3;
+- a client killed and started again: only the missing units run;
+- monoplot and project in chunks: every feature once, with its id, in order,
+  equal to one qgis_process run of the whole layer.
+
+    test_batch.py SOURCE_DIR BUILD_DIR
+"""
+
+import json
+import os
+import shutil
+import sys
+import tempfile
+import time
+import unittest
+
+from osgeo import ogr
+
+import batch_support as bs
+from headless_support import install_plugin, qgis_env
+
+import subprocess
+
+SOURCE_DIR, BUILD_DIR = None, None
+BUFFER_M = 3.0  # the buffer of the scores: half the narrowest road
+
+
+class BatchOnALoopbackCluster(unittest.TestCase):
+
+    @classmethod
+    def setUpClass(cls):
+        cls.tmp = tempfile.mkdtemp(prefix="geostation-batch-test-")
+        cls.home = os.path.join(cls.tmp, "home")
+        os.makedirs(cls.home)
+        install_plugin(SOURCE_DIR, BUILD_DIR, cls.home)
+        cls.strip = os.path.join(cls.tmp, "strip")
+        cls.qgis("run", "geostation:simulate_survey", "--", "PRESET=aerial_stereo", "STATIONS=5", "GSD=0.5", "SEED=3", "NOISE=4",
+                 "OUTPUT_DIR=" + cls.strip)
+        cls.block = os.path.join(cls.strip, "block.geostation.json")
+        # the workers import the installed package, as on a node with GeoStation installed
+        installed = os.path.dirname(os.path.realpath(bs.installed_batch(cls.home)))
+        cls.cluster = bs.LoopbackCluster(os.path.join(cls.tmp, "cluster"), 2, installed)
+
+    @classmethod
+    def tearDownClass(cls):
+        cls.cluster.stop()
+        shutil.rmtree(cls.tmp, ignore_errors=True)
+
+    @classmethod
+    def qgis(cls, *args):
+        done = subprocess.run(["qgis_process.bin", *args], env=qgis_env(cls.home), capture_output=True, text=True, timeout=900)
+        if done.returncode != 0:
+            raise AssertionError(" ".join(args[:2]) + ":\n" + done.stdout + done.stderr)
+        return done
+
+    def extract(self, name, *extra, block=None, wait=True, log=None):
+        out = os.path.join(self.tmp, name, "roads.gpkg")
+        os.makedirs(os.path.dirname(out), exist_ok=True)
+        return out, bs.batch(self.home, "extract", "--block", block or self.block, "--output", out,
+                             "--scheduler", self.cluster.address, *extra, wait=wait, log=log)
+
+    def footprint(self, image):
+        """The ground an image sees: its frame monoplotted onto the terrain."""
+        frame = os.path.join(self.tmp, "frame.gpkg")
+        if not os.path.exists(frame):
+            ds = ogr.GetDriverByName("GPKG").CreateDataSource(frame)
+            layer = ds.CreateLayer("frame", None, ogr.wkbPolygon)
+            f = ogr.Feature(layer.GetLayerDefn())
+            f.SetGeometry(ogr.CreateGeometryFromWkt("POLYGON((0 0,1024 0,1024 -1024,0 -1024,0 0))"))
+            layer.CreateFeature(f)
+            ds = None
+        out = os.path.join(self.tmp, "footprint-%s.gpkg" % image)
+        self.qgis("run", "geostation:monoplot", "--", "BLOCK=" + self.block, "IMAGE=" + image, "DEM=" + os.path.join(self.strip, "terrain.tif"),
+                  "INPUT=" + frame, "DENSIFY_PX=64", "OUTPUT=" + out)
+        ds = ogr.Open(out)
+        feature = ds.GetLayer(0).GetNextFeature()
+        return feature.GetGeometryRef().Clone()
+
+    def assertRunSucceeded(self, done):
+        self.assertEqual(done.returncode, 0, done.stdout + done.stderr)
+
+    def report(self, output):
+        with open(os.path.join(output + ".work", "run-report.json")) as f:
+            return json.load(f)
+
+    def features(self, path):
+        """Each feature's id, attributes and geometry (WKT, 3 decimals), in the layer's order."""
+        ds = ogr.Open(path)
+        rows = []
+        for f in ds.GetLayer(0):
+            g = f.GetGeometryRef()
+            rows.append((f.GetFID(), f.items(), g.ExportToIsoWkt() if g else None))
+        return rows
+
+    # ---------------------------------------------------------------------------------------------------------------
+
+    def test_1_a_strip_is_one_network(self):
+        out, done = self.extract("undisturbed")
+        self.assertRunSucceeded(done)
+        self.__class__.undisturbed = out
+        report = self.report(out)
+        self.assertEqual((report["units"], report["units_done"], report["units_failed"], report["workers"]), (4, 4, 0, 2), report)
+        merged = [pts for pts, _ in bs.read_lines(out)]
+        truth = [pts for pts, _ in bs.read_lines(os.path.join(self.strip, "truth.gpkg"), "roads")]
+        doubled = bs.doubled_share(merged)
+        print("merged network: %d lines, %.1f %% of its length doubled; merge: %s" % (len(merged), 100 * doubled, report["merge"]))
+        self.assertLess(doubled, 0.02)
+        # the measure sees a road twice: the pairs' lines side by side, unmerged
+        together = [pts for unit in sorted(os.listdir(os.path.join(out + ".work", "units")))
+                    for pts, _ in bs.read_lines(os.path.join(out + ".work", "units", unit, unit[len("pair-"):] + ".gpkg"))]
+        self.assertGreater(bs.doubled_share(together), 0.05)
+        # each pair against the truth where both its images see the ground, and the merged network where any pair does
+        images = ["S0001", "S0002", "S0003", "S0004", "S0005"]
+        prints = {im: self.footprint(im) for im in images}
+        pair_areas = []
+        merged_everywhere = True
+        for a, b in zip(images, images[1:]):
+            area = prints[a].Intersection(prints[b]).Buffer(-20.0)
+            pair_areas.append(area)
+            own = [pts for pts, _ in bs.read_lines(os.path.join(out + ".work", "units", "pair-%s-%s" % (a, b), "%s-%s.gpkg" % (a, b)))]
+            alone = bs.buffer_score(own, truth, BUFFER_M, bs.polygon_mask([area]))
+            together = bs.buffer_score(merged, truth, BUFFER_M, bs.polygon_mask([area]))
+            print("pair %s-%s where it sees: completeness %.2f alone, %.2f merged; correctness %.2f alone, %.2f merged" %
+                  (a, b, alone[0], together[0], alone[1], together[1]))
+            merged_everywhere = merged_everywhere and together[0] >= alone[0] - 0.02 and together[1] >= alone[1] - 0.03
+        strip = bs.buffer_score(merged, truth, BUFFER_M, bs.polygon_mask(pair_areas))
+        print("merged network over the strip: completeness %.2f, correctness %.2f" % strip[:2])
+        self.assertTrue(merged_everywhere, "the merged network scores worse than a pair on its own where that pair sees")
+
+    def test_2_a_worker_killed_mid_run_loses_nothing(self):
+        log = open(os.path.join(self.tmp, "killed.log"), "w")
+        out, running = self.extract("killed", "--unit-timeout", "600", wait=False, log=log)
+        manifest = os.path.join(out + ".work", "manifest")
+        # as soon as a unit is done, one worker dies (with what it is running)
+        for _ in range(600):
+            if os.path.isdir(manifest) and os.listdir(manifest):
+                break
+            time.sleep(0.1)
+        self.cluster.kill_worker(self.cluster.workers[0])
+        status = running.wait(timeout=900)
+        log.close()
+        with open(os.path.join(self.tmp, "killed.log")) as f:
+            self.assertEqual(status, 0, f.read())
+        self.cluster.add_worker()
+        self.cluster.wait_for_workers(2)
+        self.assertEqual(self.report(out)["units_done"], 4)
+        self.assertEqual(self.features(out), self.features(self.undisturbed))
+
+    def test_3_a_unit_that_always_fails_is_named_and_the_rest_merged(self):
+        broken = os.path.join(self.tmp, "broken")
+        shutil.copytree(self.strip, broken)
+        with open(os.path.join(broken, "images", "S0004.tif"), "wb") as f:
+            f.write(b"not a TIFF" * 1000)
+        out, done = self.extract("broken", "--retries", "1", block=os.path.join(broken, "block.geostation.json"))
+        self.assertEqual(done.returncode, 3, done.stdout + done.stderr)
+        report = self.report(out)
+        failed = {f["id"]: f["error"] for f in report["failed"]}
+        self.assertEqual(sorted(failed), ["pair-S0003-S0004", "pair-S0004-S0005"], report)
+        for error in failed.values():
+            self.assertIn("S0004", error)
+        self.assertEqual(report["units_done"], 2)
+        self.assertTrue(os.path.exists(out))
+        self.assertIn("Failed: pair-S0003-S0004", done.stderr)
+        pairs = {items["pairs"] for _, items in bs.read_lines(out)}
+        self.assertTrue(all("S0004" not in p for p in pairs), pairs)
+
+    def test_4_a_client_killed_and_started_again_runs_only_the_missing_units(self):
+        log = open(os.path.join(self.tmp, "client.log"), "w")
+        out, running = self.extract("resumed", wait=False, log=log)
+        manifest = os.path.join(out + ".work", "manifest")
+        for _ in range(600):
+            if os.path.isdir(manifest) and os.listdir(manifest):
+                break
+            time.sleep(0.1)
+        os.killpg(running.pid, 9)
+        running.wait()
+        log.close()
+        time.sleep(3.0)  # what the scheduler still ran for the dead client is done or forgotten
+        before = set(os.listdir(manifest))
+        self.assertGreaterEqual(len(before), 1)
+        out, done = self.extract("resumed")
+        self.assertRunSucceeded(done)
+        report = self.report(out)
+        self.assertEqual(report["units_done"], 4)
+        self.assertGreaterEqual(report["units_resumed"], len(before))
+        self.assertEqual(report["units_run"], 4 - report["units_resumed"])
+        self.assertEqual(self.features(out), self.features(self.undisturbed))
+
+    def test_5_chunks_of_features_keep_ids_and_order(self):
+        # the truth's roads as the map: projected into S0002 in chunks of 3 features, and at once
+        roads = os.path.join(self.strip, "truth.gpkg") + "|layername=roads"
+        whole = os.path.join(self.tmp, "projected-whole.gpkg")
+        self.qgis("run", "geostation:project_to_image", "--", "BLOCK=" + self.block, "IMAGE=S0002", "INPUT=" + roads, "OUTPUT=" + whole)
+        out = os.path.join(self.tmp, "projected", "roads-in-S0002.gpkg")
+        done = bs.batch(self.home, "project", "--block", self.block, "--image", "S0002", "--input", roads, "--output", out,
+                        "--unit-size", "3", "--scheduler", self.cluster.address)
+        self.assertRunSucceeded(done)
+        mine, theirs = self.features(out), self.features(whole)
+        self.assertEqual(len(mine), len(theirs))
+        truth = ogr.Open(os.path.join(self.strip, "truth.gpkg"))
+        source = [f.GetFID() for f in truth.GetLayerByName("roads")]
+        self.assertEqual([fid for fid, _, _ in mine], source)  # the input's ids, in its order
+        self.assertEqual([(items, g) for _, items, g in mine], [(items, g) for _, items, g in theirs])
+        self.assertGreaterEqual(self.report(out)["units"], 2)
+
+    def test_6_bad_input_is_one_sentence(self):
+        done = bs.batch(self.home, "extract", "--block", os.path.join(self.tmp, "none.json"), "--output",
+                        os.path.join(self.tmp, "none", "roads.gpkg"), "--scheduler", self.cluster.address)
+        self.assertEqual(done.returncode, 1, done.stdout + done.stderr)
+        self.assertIn("cannot read the block", done.stderr)
+        done = bs.batch(self.home, "extract", "--block", self.block, "--output", os.path.join(self.tmp, "none", "roads.gpkg"),
+                        "--scheduler", "tcp://127.0.0.1:9")
+        self.assertEqual(done.returncode, 1, done.stdout + done.stderr)
+        self.assertIn("no Dask scheduler answers", done.stderr)
+
+
+if __name__ == "__main__":
+    SOURCE_DIR, BUILD_DIR = sys.argv[1], sys.argv[2]
+    unittest.main(argv=sys.argv[:1], verbosity=2)
