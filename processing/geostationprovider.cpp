@@ -21,6 +21,7 @@
 #include "extractroadsalgorithm.h"
 #include "reviseroadsalgorithm.h"
 #include "mergeroadnetworksalgorithm.h"
+#include "jointracedpiecesalgorithm.h"
 #include "exportblockalgorithm.h"
 #include "identifycontrolalgorithm.h"
 #include "importblockalgorithm.h"
@@ -85,6 +86,7 @@ void GeoStationProvider::loadAlgorithms()
   addAlgorithm( new ExtractRoadsAlgorithm() );
   addAlgorithm( new ReviseRoadsAlgorithm() );
   addAlgorithm( new MergeRoadNetworksAlgorithm() );
+  addAlgorithm( new JoinTracedPiecesAlgorithm() );
   addAlgorithm( new ImportBlockAlgorithm() );
   addAlgorithm( new ExportBlockAlgorithm() );
   addAlgorithm( new IdentifyControlAlgorithm() );

@@ -14,12 +14,13 @@ here="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
 source_dir="$(dirname "$here")"
 build_dir="$source_dir/build"
 profile_dir="${HOME}/.local/share/QGIS/QGIS3/profiles/default"
+own_profile=0
 uninstall=0
 
 while [ $# -gt 0 ]; do
   case "$1" in
     --build-dir) build_dir="$2"; shift 2 ;;
-    --profile-dir) profile_dir="$2"; shift 2 ;;
+    --profile-dir) profile_dir="$2"; own_profile=1; shift 2 ;;
     --uninstall) uninstall=1; shift ;;
     -h|--help) sed -n '2,10p' "$0"; exit 0 ;;
     *) echo "install-plugin.sh: unknown option $1 (see --help)" >&2; exit 2 ;;
@@ -95,9 +96,10 @@ rmdir "$staging/python"
 mv "$staging" "$target"
 rm -rf "$old"
 edit_settings install
-# the batch command on the PATH of a login shell (~/.local/bin), unless another one is there
-mkdir -p "$(dirname "$batch_link")"
-if [ ! -e "$batch_link" ] || [ -L "$batch_link" ]; then
+# the batch command on the PATH of a login shell (~/.local/bin), unless another one is there;
+# not for a profile of its own (--profile-dir), whose batch stays in its bin/
+if [ "$own_profile" = 0 ] && { [ ! -e "$batch_link" ] || [ -L "$batch_link" ]; }; then
+  mkdir -p "$(dirname "$batch_link")"
   ln -sfn "$target/bin/geostation-batch" "$batch_link"
 fi
 
@@ -105,4 +107,4 @@ echo "GeoStation installed into $profile_dir"
 echo "  plugin:   $target/plugins/libgeostationplugin.so"
 echo "  provider: $target/lib/libgeostation_processing.so"
 echo "  bridge:   $bridge"
-echo "  batch:    $batch_link (geostation-batch; needs python3-distributed)"
+echo "  batch:    $target/bin/geostation-batch$([ "$own_profile" = 0 ] && echo ", linked as $batch_link")"

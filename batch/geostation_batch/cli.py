@@ -4,6 +4,8 @@ Exit status: 0 every unit done and merged, 3 the run is partial (units named
 in the report failed; the others are merged), 1 bad input (one sentence)."""
 
 import argparse
+import csv
+import io
 import os
 import shutil
 import sys
@@ -16,9 +18,10 @@ COMMANDS = {
     "extract": ("geostation:extract_roads", "extract the road network of every stereo pair of a block and merge them into one"),
     "monoplot": ("geostation:monoplot", "monoplot the features digitised on an image, in chunks of features"),
     "project": ("geostation:project_to_image", "project map features into an image, in chunks of features"),
+    "trace": ("geostation:trace_road_lines", "trace road lines through a run from seeds, one unit per seed, joined per line_id"),
 }
 # parameters the batch sets for each unit itself
-PER_UNIT = {"extract": {"LEFT", "RIGHT"}, "monoplot": set(), "project": set()}
+PER_UNIT = {"extract": {"LEFT", "RIGHT"}, "monoplot": set(), "project": set(), "trace": {"SEEDS", "MAX_STATIONS"}}
 CHUNKED_INPUT = {"monoplot": "INPUT", "project": "INPUT"}
 PATH_TYPES = {"file", "raster", "source", "vector", "layer", "multilayer", "mesh", "pointcloud"}
 
@@ -67,6 +70,11 @@ def algorithm_options(parser, command, help_json):
         parser.add_argument("--pairs", metavar="TABLE", help="the stereo pairs (a table with fields left, right); default: neighbours along each strip")
         parser.add_argument("--left", help="one pair only: its left image")
         parser.add_argument("--right", help="one pair only: its right image")
+    if command == "trace":
+        parser.add_argument("--seeds", required=True, metavar="TABLE",
+                            help="seed_id, image_id, col, row [, direction_deg] [, line_id: seeds of one line, traced in pieces]")
+        parser.add_argument("--max-stations", "--max_stations", type=int, default=0, help="stations the last seed of a line traces (0: to the end of the run)")
+        parser.add_argument("--overlap-stations", type=int, default=20, help="stations a piece traces past the next seed's station (default %(default)s)")
     return names
 
 
@@ -111,6 +119,26 @@ def plan_units(command, args, algorithm, inputs, work_dir):
             add("pair-" + name, dict(inputs, LEFT=left, RIGHT=right), {"OUTPUT": name + ".gpkg", "REPORT": "report.json"},
                 dict(basis, LEFT=left, RIGHT=right))
         return specs, "%d stereo pairs" % len(pairs)
+    if command == "trace":
+        block = plan.read_block(inputs["BLOCK"])
+        seeds_path = absolute(args.seeds)
+        if args.overlap_stations < 1 or args.max_stations < 0:
+            raise plan.BadInput("--overlap-stations must be at least 1 and --max-stations not negative")
+        pieces = plan.seed_pieces(plan.read_seeds(seeds_path), block, args.max_stations, args.overlap_stations)
+        folder = os.path.join(work_dir, "inputs", "seeds")
+        os.makedirs(folder, exist_ok=True)
+        for line_id, order, row, stations in pieces:
+            seed_file = os.path.join(folder, "%s.csv" % row["seed_id"])
+            text = io.StringIO()
+            writer = csv.DictWriter(text, fieldnames=list(row))
+            writer.writeheader()
+            writer.writerow(row)
+            unit.write_atomically(seed_file, text.getvalue())
+            add("seed-" + row["seed_id"], dict(inputs, SEEDS=seed_file, MAX_STATIONS=stations), {"OUTPUT": "piece.gpkg"},
+                dict(basis, seed=row, stations=stations, line_id=line_id, order=order))
+            specs[-1]["piece"] = (line_id, order, row["seed_id"])
+        lines = len({p[0] for p in pieces})
+        return specs, "%d seeds of %d lines" % (len(pieces), lines)
     # chunks of features, written once per input version
     source = inputs[CHUNKED_INPUT[command]]
     if args.unit_size < 1:
@@ -137,6 +165,9 @@ def merge_units(command, specs, entries, work_dir, args, say):
         outputs = [os.path.join(unit.unit_dir(work_dir, s["id"]), s["outputs"]["OUTPUT"]) for s in done]
         return merge.road_networks(outputs, args.output, args.qgis_process, args.qgis_home,
                                    os.path.join(work_dir, "merge-report.json"))
+    if command == "trace":
+        pieces = [s["piece"] + (os.path.join(unit.unit_dir(work_dir, s["id"]), "piece.gpkg"),) for s in done]
+        return merge.traced_pieces(pieces, args.output, args.qgis_process, args.qgis_home, work_dir, os.path.join(work_dir, "join-report.json"))
     outputs = [os.path.join(unit.unit_dir(work_dir, s["id"]), "output.gpkg") for s in done]
     return {"features": merge.feature_chunks(outputs, args.output)}
 

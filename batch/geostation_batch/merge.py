@@ -106,3 +106,51 @@ def feature_chunks(chunk_outputs, output):
         return count
     finally:
         shutil.rmtree(staging, ignore_errors=True)
+
+
+def traced_pieces(pieces, output, executable, qgis_home, work_dir, report_path=None):
+    """The pieces traced from each seed joined per line (geostation:join_traced_pieces).
+
+    `pieces`: [(line_id, order, seed_id, unit output)] in any order; returns the join's report."""
+    staging = _staged(output)
+    try:
+        table = os.path.join(staging, "pieces.gpkg")
+        ds_out = ogr.GetDriverByName("GPKG").CreateDataSource(table)
+        layer_out = None
+        for line_id, order, seed_id, path in sorted(pieces):
+            ds = ogr.Open(path)
+            source = ds.GetLayer(0)
+            if layer_out is None:
+                layer_out = ds_out.CreateLayer("pieces", source.GetSpatialRef(), ogr.wkbLineString25D)
+                for name, kind in (("line_id", ogr.OFTString), ("piece", ogr.OFTInteger), ("seed_id", ogr.OFTString), ("sigma_max", ogr.OFTReal)):
+                    layer_out.CreateField(ogr.FieldDefn(name, kind))
+            for feature in source:
+                if feature.GetGeometryRef() is None:
+                    continue
+                copy = ogr.Feature(layer_out.GetLayerDefn())
+                copy.SetField("line_id", line_id)
+                copy.SetField("piece", order)
+                copy.SetField("seed_id", seed_id)
+                if feature.GetFieldIndex("sigma_max") >= 0 and feature.IsFieldSetAndNotNull("sigma_max"):
+                    copy.SetField("sigma_max", feature.GetField("sigma_max"))
+                copy.SetGeometry(feature.GetGeometryRef())
+                layer_out.CreateFeature(copy)
+            ds = None
+        ds_out = None
+        if layer_out is None:
+            raise MergeFailed("no unit traced anything")
+        home = qgis.private_home(qgis_home, os.path.join(staging, "home"))
+        staged = os.path.join(staging, os.path.basename(output))
+        staged_report = os.path.join(staging, "join-report.json")
+        code, out, err = qgis.run(executable, home, "geostation:join_traced_pieces", {"INPUT": table, "OUTPUT": staged, "REPORT": staged_report})
+        if code != 0:
+            raise MergeFailed("joining the traced pieces failed: " + qgis.failure_sentence(code, out, err))
+        with open(staged_report) as f:
+            report = json.load(f)
+        _move_into_place(staged, output)
+        shutil.copyfile(table, os.path.join(work_dir, "pieces.gpkg"))
+        if report_path:
+            shutil.copyfile(staged_report, report_path)
+        return report
+    finally:
+        shutil.rmtree(staging, ignore_errors=True)

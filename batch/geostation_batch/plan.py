@@ -149,3 +149,44 @@ def write_chunks(path, unit_size, folder):
         layer.CommitTransaction()
     out = None
     return chunks
+
+
+def read_seeds(path):
+    """The rows of a SEEDS table (CSV, or any table OGR reads) as dicts of text."""
+    if path.lower().endswith(".csv"):
+        try:
+            with open(path, newline="") as f:
+                return [dict(r) for r in csv.DictReader(f)]
+        except OSError as e:
+            raise BadInput("cannot read the seeds %s: %s" % (path, e.strerror))
+    ds = _open_vector(path)
+    layer = ds.GetLayer(0)
+    return [{k: ("" if v is None else str(v)) for k, v in f.items().items()} for f in layer]
+
+
+def seed_pieces(rows, block, max_stations, overlap_stations):
+    """The seeds of each line (`line_id`, else each seed its own line) in the order of their stations along
+    the run, each with the stations it traces: up to the next seed's station plus `overlap_stations`, the
+    last one `max_stations` (0: to the end of the run). Returns [(line_id, order, seed row, stations)]."""
+    stations = {s.get("id"): i for i, s in enumerate(block.get("stations", []))}
+    images = {im["id"]: im for im in block.get("images", [])}
+    lines = {}
+    for row in rows:
+        seed_id, image_id = row.get("seed_id", "").strip(), row.get("image_id", "").strip()
+        if not seed_id or not image_id:
+            raise BadInput("every seed needs a seed_id and an image_id")
+        if image_id not in images:
+            raise BadInput("seed %s is in image %s, which the block does not hold" % (seed_id, image_id))
+        station = stations.get(images[image_id].get("station"))
+        if station is None:
+            raise BadInput("seed %s is in image %s, which belongs to no station of the block's run" % (seed_id, image_id))
+        lines.setdefault((row.get("line_id") or "").strip() or seed_id, []).append((station, seed_id, row))
+    pieces = []
+    for line_id in sorted(lines):
+        seeds = sorted(lines[line_id], key=lambda s: (s[0], s[1]))
+        for k, (station, seed_id, row) in enumerate(seeds):
+            if k > 0 and station == seeds[k - 1][0]:
+                raise BadInput("line %s has two seeds at one station (%s and %s)" % (line_id, seeds[k - 1][1], seed_id))
+            count = seeds[k + 1][0] - station + 1 + overlap_stations if k + 1 < len(seeds) else max_stations
+            pieces.append((line_id, k + 1, row, count))
+    return pieces

@@ -22,7 +22,7 @@ class Run:
             entry = entries.get(spec["id"])
             if entry:
                 self.unit_rows.append({"id": spec["id"], "seconds": round(entry.get("seconds", 0.0), 3), "worker": entry.get("worker"),
-                                       "resumed": bool(entry.get("skipped"))})
+                                       "peak_rss_mb": entry.get("peak_rss_mb"), "resumed": bool(entry.get("skipped"))})
         self.failed = dict(sorted(errors.items()))
 
     def finish(self, status, output):
@@ -41,6 +41,7 @@ class Run:
             "unit_seconds": {"total": round(sum(seconds), 3), "median": seconds[len(seconds) // 2] if seconds else None,
                              "max": seconds[-1] if seconds else None},
             "qgis_process_start_seconds": round(self.start_up_seconds, 3),
+            "peak_rss_mb": max((u["peak_rss_mb"] or 0.0 for u in ran), default=None),
             "start_up_share": round(self.start_up_seconds / seconds[len(seconds) // 2], 3) if seconds and seconds[len(seconds) // 2] > 0 else None,
             "per_unit": self.unit_rows,
             "merge": self.merge, "merge_error": self.merge_error,
@@ -53,8 +54,8 @@ def summary(run):
     lines = ["%s: %d of %d units done (%d run now, %d from an earlier run), %d failed, in %.0f s on %d workers." %
              (r["command"], r["units_done"], r["units"], r["units_run"], r["units_resumed"], r["units_failed"], r["wall_seconds"], r["workers"])]
     if r["unit_seconds"]["median"] is not None:
-        lines.append("A unit took %.1f s (median; longest %.1f s); starting qgis_process takes %.1f s of it." %
-                     (r["unit_seconds"]["median"], r["unit_seconds"]["max"], r["qgis_process_start_seconds"]))
+        lines.append("A unit took %.1f s (median; longest %.1f s); starting qgis_process takes %.1f s of it; a unit's qgis_process peaked at %.0f MB." %
+                     (r["unit_seconds"]["median"], r["unit_seconds"]["max"], r["qgis_process_start_seconds"], r["peak_rss_mb"] or 0.0))
     for f in r["failed"]:
         lines.append("Failed: %s: %s" % (f["id"], f["error"]))
     merged = r["merge"] or {}
@@ -62,6 +63,13 @@ def summary(run):
         lines.append("Merged %d lines of %d pairs into %d: %.0f m dropped as duplicates, %d borders joined, %d junctions." %
                      (merged.get("lines_in", 0), merged.get("pairs", 0), merged.get("lines_out", 0), merged.get("duplicate_length_m", 0.0),
                       merged.get("borders_joined", 0), merged.get("junctions", 0)))
+    elif r["command"] == "trace" and merged:
+        lines.append("Joined %d pieces into %d lines; %d places where neighbouring pieces disagree beyond 3 sigma or do not meet." %
+                     (merged.get("pieces", 0), len(merged.get("lines", [])), len(merged.get("disagreements", []))))
+        for d in merged.get("disagreements", []):
+            lines.append("  line %s: %s and %s %s" % (d["line_id"], d["first"], d["second"],
+                                                       "do not meet (%.2f m apart)" % d["worst_m"] if d["gap"] else
+                                                       "are %.3f m apart where they overlap (%.3f m allowed)" % (d["worst_m"], d["allowed_m"])))
     elif merged:
         lines.append("Merged %d features." % merged.get("features", 0))
     if r["merge_error"]:

@@ -13,6 +13,7 @@ Layout of the work dir:
 import hashlib
 import json
 import os
+import resource
 import shutil
 import socket
 import tempfile
@@ -98,7 +99,9 @@ def run_unit(spec, work_dir, executable, qgis_home, timeout=None):
         if os.path.exists(final):
             shutil.rmtree(final)  # from a run that died between the rename and its entry
         os.rename(outputs, final)
-        entry = {"id": spec["id"], "digest": spec["digest"], "algorithm": spec["algorithm"], "seconds": seconds,
+        # the largest qgis_process this worker has run so far (Linux: kB)
+        peak_mb = resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss / 1024.0
+        entry = {"id": spec["id"], "digest": spec["digest"], "algorithm": spec["algorithm"], "seconds": seconds, "peak_rss_mb": round(peak_mb, 1),
                  "worker": socket.gethostname() + ":" + str(os.getpid()), "finished": time.time()}
         write_atomically(manifest_path(work_dir, spec["id"]), json.dumps(entry, indent=1))
         return dict(entry, skipped=False)

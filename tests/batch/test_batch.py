@@ -10,11 +10,15 @@ dask-scheduler and two dask-worker processes, started and stopped here.
   other unit merged, exit status 3;
 - a client killed and started again: only the missing units run;
 - monoplot and project in chunks: every feature once, with its id, in order,
-  equal to one qgis_process run of the whole layer.
+  equal to one qgis_process run of the whole layer;
+- trace of a 200-station run from seeds every 50 stations: one continuous
+  line per line_id, the same as one trace through the run where the pieces
+  have settled, and as close to the truth everywhere.
 
     test_batch.py SOURCE_DIR BUILD_DIR
 """
 
+import csv
 import json
 import os
 import shutil
@@ -23,6 +27,7 @@ import tempfile
 import time
 import unittest
 
+import numpy as np
 from osgeo import ogr
 
 import batch_support as bs
@@ -211,6 +216,82 @@ class BatchOnALoopbackCluster(unittest.TestCase):
         self.assertEqual([fid for fid, _, _ in mine], source)  # the input's ids, in its order
         self.assertEqual([(items, g) for _, items, g in mine], [(items, g) for _, items, g in theirs])
         self.assertGreaterEqual(self.report(out)["units"], 2)
+
+    def trace_fixture(self):
+        """A 200-station highway run (2 cameras, 960 x 540), the kerb's seeds at stations 1, 51, 101, 151, and one trace from the first."""
+        if getattr(self.__class__, "run200", None):
+            return self.__class__.run200
+        run = os.path.join(self.tmp, "run200")
+        self.qgis("run", "geostation:simulate_survey", "--", "PRESET=highway", "STATIONS=200", "SPACING=4", "CAMERAS=2", "IMAGE_WIDTH=960",
+                  "IMAGE_HEIGHT=540", "OUTPUT_DIR=" + run)
+        sys.path.insert(0, os.path.join(SOURCE_DIR, "scripts"))
+        import demo_seeds
+        rows = []
+        for k, station in enumerate((1, 51, 101, 151)):
+            one = os.path.join(self.tmp, "seed.csv")
+            demo_seeds.main(run, "S%04d_FL" % station, "S%04d_FR" % station, one)
+            with open(one, newline="") as f:
+                kerb = next(r for r in csv.DictReader(f) if r["seed_id"] == "kerb")
+            rows.append(dict(kerb, seed_id="kerb-%d" % (k + 1), line_id="kerb"))
+        seeds = os.path.join(self.tmp, "seeds200.csv")
+        with open(seeds, "w", newline="") as f:
+            writer = csv.DictWriter(f, fieldnames=["seed_id", "line_id", "image_id", "col", "row"])
+            writer.writeheader()
+            writer.writerows(rows)
+        whole = os.path.join(self.tmp, "traced-whole.gpkg")
+        with open(os.path.join(self.tmp, "seed1.csv"), "w", newline="") as f:
+            writer = csv.DictWriter(f, fieldnames=["seed_id", "line_id", "image_id", "col", "row"])
+            writer.writeheader()
+            writer.writerow(rows[0])
+        self.qgis("run", "geostation:trace_road_lines", "--", "BLOCK=" + os.path.join(run, "block.geostation.json"), "SEEDS=" + os.path.join(self.tmp, "seed1.csv"),
+                  "OUTPUT=" + whole)
+        out = os.path.join(self.tmp, "traced", "kerb.gpkg")
+        done = bs.batch(self.home, "trace", "--block", os.path.join(run, "block.geostation.json"), "--seeds", seeds, "--output", out,
+                        "--scheduler", self.cluster.address)
+        self.assertRunSucceeded(done)
+        print(done.stderr.strip().splitlines()[-3:])
+        self.__class__.run200 = (run, whole, out)
+        return self.__class__.run200
+
+    def kerb_lines(self, whole, out):
+        def line(path):
+            lines = bs.read_lines(path)
+            self.assertEqual(len(lines), 1, path)
+            return lines[0]
+        return line(whole)[0], line(out)
+
+    def test_7_a_run_traced_in_pieces_is_one_line(self):
+        run, whole, out = self.trace_fixture()
+        one, (pieces, items) = self.kerb_lines(whole, out)
+        self.assertEqual((items["line_id"], items["pieces"]), ("kerb", 4))
+        with open(os.path.join(out + ".work", "join-report.json")) as f:
+            joined = json.load(f)
+        self.assertEqual([d for d in joined["disagreements"] if d["gap"]], [])
+        # the same as one trace where the pieces have settled onto it
+        apart, _ = bs.distances(pieces, [one])
+        print("kerb traced in 4 pieces: %d vertices, %.1f %% within 1 cm of one trace through the run, at most %.3f m from it" %
+              (len(pieces), 100 * (apart <= 0.01).mean(), apart.max()))
+        self.assertGreaterEqual((apart <= 0.01).mean(), 0.7)
+        # and as close to the truth
+        ds = ogr.Open(os.path.join(run, "truth.gpkg"))
+        truth = []
+        for f in ds.GetLayerByName("roads"):
+            if f.GetField("id").startswith("R1-edge-right"):
+                g = f.GetGeometryRef()
+                truth.append(np.array([g.GetPoint(i)[:2] for i in range(g.GetPointCount())]))
+        d_pieces, d_one = bs.distances(pieces, truth)[0], bs.distances(one, truth)[0]
+        print("from the truth: pieces median %.3f, 95 %% %.3f m; one trace median %.3f, 95 %% %.3f m" %
+              (np.median(d_pieces), np.percentile(d_pieces, 95), np.median(d_one), np.percentile(d_one, 95)))
+        self.assertLessEqual(np.median(d_pieces), np.median(d_one) + 0.02)
+        self.assertLessEqual(np.percentile(d_pieces, 95), np.percentile(d_one, 95) + 0.05)
+
+    @unittest.expectedFailure
+    def test_8_a_run_traced_in_pieces_equals_one_trace_within_a_centimetre(self):
+        """Not yet: a trace depends on the stations before it, and the piece from station 101 settles onto the trace that came
+        through only after more stations than its predecessor overlaps it by (here about 60 stations, up to 0.58 m apart)."""
+        run, whole, out = self.trace_fixture()
+        one, (pieces, _) = self.kerb_lines(whole, out)
+        self.assertLessEqual(bs.distances(pieces, [one])[0].max(), 0.01)
 
     def test_6_bad_input_is_one_sentence(self):
         done = bs.batch(self.home, "extract", "--block", os.path.join(self.tmp, "none.json"), "--output",

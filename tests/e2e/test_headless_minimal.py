@@ -101,7 +101,7 @@ class HeadlessMinimalTest(unittest.TestCase):
     # --- the runs, in an order that lets one feed the next ------------------------------------------------------
 
     def test_0_only_the_main_output_is_mandatory(self):
-        self.assertEqual(len(self.algorithms), 17, self.algorithms)
+        self.assertEqual(len(self.algorithms), 18, self.algorithms)
         for algorithm in self.algorithms:
             params = self.help[algorithm]["parameters"]
             mandatory = [n for n, p in params.items() if p["is_destination"] and not p["optional"]]
@@ -196,6 +196,10 @@ class HeadlessMinimalTest(unittest.TestCase):
         self.run_minimal("geostation:extract_roads", {"BLOCK": os.path.join(aerial, "block.geostation.json"), "LEFT": "S0001", "RIGHT": "S0002"},
                          self.path("roads.gpkg"))
         self.run_minimal("geostation:merge_road_networks", {"INPUTS": self.path("roads.gpkg")}, self.path("merged.gpkg"))
+        # two pieces of one line, as a plain CSV table with WKT
+        with open(self.path("pieces.csv"), "w") as f:
+            f.write('WKT,line_id,piece\n"LINESTRING Z (0 0 1,10 0 1,20 0 1)",a,1\n"LINESTRING Z (15 0 1,30 0 1)",a,2\n')
+        self.run_minimal("geostation:join_traced_pieces", {"INPUT": self.path("pieces.csv")}, self.path("joined.gpkg"))
         # the simulation's own roads as the map (no CRS given: the block's)
         self.run_minimal("geostation:revise_roads", {"BLOCK": os.path.join(aerial, "block.geostation.json"), "LEFT": "S0001", "RIGHT": "S0002",
                                                      "MAP": os.path.join(aerial, "truth.gpkg") + "|layername=roads"},

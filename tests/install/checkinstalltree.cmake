@@ -1,5 +1,6 @@
 # The installed tree works on its own: geostation-simulate runs from bin/
-# without LD_LIBRARY_PATH (its RPATH finds lib/), the bridge's metadata carries
+# without LD_LIBRARY_PATH (its RPATH finds lib/), geostation-batch from bin/
+# with its package beside it, the bridge's metadata carries
 # the project's version, and installing into a QGIS profile twice swaps the
 # old installation out without leaving it behind.
 #   cmake -DBUILD_DIR=... -DSOURCE_DIR=... -DWORK_DIR=... -DVERSION=... -P checkinstalltree.cmake
@@ -15,6 +16,12 @@ endif()
 execute_process(COMMAND env -u LD_LIBRARY_PATH "${prefix}/bin/geostation-simulate" --help RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
 if(NOT rc EQUAL 0 OR NOT out MATCHES "usage: geostation-simulate")
   message(FATAL_ERROR "the installed geostation-simulate does not run (${rc}): ${err}")
+endif()
+
+# the batch command from the installed tree (its package beside it)
+execute_process(COMMAND "${prefix}/bin/geostation-batch" --help RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+if(NOT rc EQUAL 0 OR NOT out MATCHES "usage: geostation-batch")
+  message(FATAL_ERROR "the installed geostation-batch does not run (${rc}): ${err}")
 endif()
 
 # the version, defined once in project(), reaches the bridge's metadata

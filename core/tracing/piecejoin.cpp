@@ -1,0 +1,139 @@
+/***************************************************************************
+  piecejoin.cpp - one line from the pieces traced from several seeds
+ ***************************************************************************/
+#include "tracing/piecejoin.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <map>
+#include <stdexcept>
+
+namespace geostation
+{
+
+  void PieceJoinOptions::check() const
+  {
+    if ( !( sigmaFactor > 0.0 ) || !( minToleranceM >= 0.0 ) || !( agreeM >= 0.0 ) || agreeVertices < 1 )
+      throw std::invalid_argument( "the pieces' sigma factor and agreeing vertices must be positive, their tolerances not negative" );
+  }
+
+  namespace
+  {
+    struct Nearest
+    {
+      double distance = std::numeric_limits<double>::infinity();
+      size_t segment = 0;
+      double t = 0.0; //!< along the segment, 0..1
+    };
+
+    //! The point of a polyline nearest `p` (3-D).
+    Nearest nearestOn( const std::vector<Eigen::Vector3d> &line, const Eigen::Vector3d &p )
+    {
+      Nearest best;
+      for ( size_t i = 0; i + 1 < line.size(); ++i )
+      {
+        const Eigen::Vector3d ab = line[i + 1] - line[i];
+        const double t = ab.squaredNorm() > 0.0 ? std::clamp( ( p - line[i] ).dot( ab ) / ab.squaredNorm(), 0.0, 1.0 ) : 0.0;
+        const double d = ( line[i] + t * ab - p ).norm();
+        if ( d < best.distance )
+          best = { d, i, t };
+      }
+      return best;
+    }
+
+    double lengthXY( const std::vector<Eigen::Vector3d> &line, size_t from )
+    {
+      double length = 0.0;
+      for ( size_t i = from + 1; i < line.size(); ++i )
+        length += ( line[i] - line[i - 1] ).head<2>().norm();
+      return length;
+    }
+
+    //! Appends `next` to `line` (a's vertices up to where `next` starts), reporting how they agree.
+    void joinNext( JoinedLine &line, double previousSigmaM, const std::string &previousName, const TracedPiece &next, const PieceJoinOptions &options,
+                   std::vector<PieceDisagreement> &disagreements )
+    {
+      const double allowed = std::max( options.minToleranceM, options.sigmaFactor * std::hypot( previousSigmaM, next.sigmaM ) );
+      const Nearest start = nearestOn( line.points, next.points.front() );
+      const bool atEnd = start.segment + 2 == line.points.size() && start.t >= 1.0;
+      if ( atEnd && start.distance > allowed )
+      {
+        // the earlier piece stops short of the next one's start
+        disagreements.push_back( { line.lineId, previousName, next.name, start.distance, allowed, 0.0, true } );
+        line.points.insert( line.points.end(), next.points.begin(), next.points.end() );
+        return;
+      }
+      // the earlier piece beyond the next one's start, compared with it
+      // the last vertex kept: the one before the next piece's start (a vertex at its start gives way to it)
+      const size_t at = start.t >= 1.0 ? start.segment + 1 : start.segment;
+      const size_t keep = ( start.t <= 0.0 || start.t >= 1.0 ) && at > 0 ? at - 1 : at;
+      // where the two run together (the later one has settled onto the earlier: the longest such run in the
+      // overlap, at least agreeVertices long; a trace's last stations are its least settled), the earlier piece
+      // is kept up to where that run begins
+      size_t bestStart = 0, bestLength = 0, runStart = 0, runLength = 0;
+      for ( size_t i = keep + 1; i < line.points.size(); ++i )
+      {
+        if ( nearestOn( next.points, line.points[i] ).distance > options.agreeM )
+        {
+          runLength = 0;
+          continue;
+        }
+        if ( runLength++ == 0 )
+          runStart = i;
+        if ( runLength > bestLength )
+        {
+          bestStart = runStart;
+          bestLength = runLength;
+        }
+      }
+      if ( bestLength >= static_cast<size_t>( options.agreeVertices ) )
+      {
+        // from the next piece's first vertex beyond the earlier piece's vertex at the switch
+        const Nearest on = nearestOn( next.points, line.points[bestStart] );
+        line.points.resize( bestStart + 1 );
+        line.points.insert( line.points.end(), next.points.begin() + static_cast<long>( on.segment ) + 1, next.points.end() );
+        return;
+      }
+      // they never run together: the next piece from its start, and how far the earlier one was from it
+      double worst = start.distance;
+      for ( size_t i = keep + 1; i < line.points.size(); ++i )
+        worst = std::max( worst, nearestOn( next.points, line.points[i] ).distance );
+      if ( worst > allowed )
+        disagreements.push_back( { line.lineId, previousName, next.name, worst, allowed, lengthXY( line.points, keep ), false } );
+      line.points.resize( keep + 1 );
+      line.points.insert( line.points.end(), next.points.begin(), next.points.end() );
+    }
+  } // namespace
+
+  PieceJoinSummary joinTracedPieces( const std::vector<TracedPiece> &pieces, const PieceJoinOptions &options )
+  {
+    options.check();
+    std::map<std::string, std::vector<const TracedPiece *>> byLine;
+    for ( const TracedPiece &p : pieces )
+      if ( p.points.size() >= 2 )
+        byLine[p.lineId].push_back( &p );
+    PieceJoinSummary summary;
+    for ( auto &[lineId, linePieces] : byLine )
+    {
+      std::sort( linePieces.begin(), linePieces.end(), []( const TracedPiece *a, const TracedPiece *b ) { return a->order < b->order; } );
+      for ( size_t i = 1; i < linePieces.size(); ++i )
+        if ( linePieces[i]->order == linePieces[i - 1]->order )
+          throw std::invalid_argument( "line " + lineId + " has two pieces in place " + std::to_string( linePieces[i]->order ) + ": each seed once" );
+      JoinedLine line;
+      line.lineId = lineId;
+      line.points = linePieces.front()->points;
+      line.sigmaM = linePieces.front()->sigmaM;
+      line.pieces = 1;
+      for ( size_t i = 1; i < linePieces.size(); ++i )
+      {
+        joinNext( line, linePieces[i - 1]->sigmaM, linePieces[i - 1]->name, *linePieces[i], options, summary.disagreements );
+        line.sigmaM = std::max( line.sigmaM, linePieces[i]->sigmaM );
+        ++line.pieces;
+      }
+      summary.lines.push_back( line );
+    }
+    return summary;
+  }
+
+} // namespace geostation
