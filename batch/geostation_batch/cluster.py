@@ -104,9 +104,14 @@ def run_units(client, specs, work_dir, executable, qgis_home, retries, timeout, 
             entries[unit_id] = future.result()
             progress.update()
         else:
-            error = future.exception()
+            try:
+                error = future.exception()
+            except Exception as e:  # cancelled: the scheduler dropped it
+                error = e
             errors[unit_id] = str(error) or type(error).__name__
             if type(error).__name__ == "KilledWorker":
                 errors[unit_id] = "its worker died every time it ran it (%s)" % error
+            elif future.status == "cancelled":
+                errors[unit_id] = "the scheduler cancelled it (was it restarted?); run the command again to run it"
             progress.update(failed=True)
     return entries, errors
