@@ -1,10 +1,10 @@
 /***************************************************************************
   fiducialpanel.h - the inner orientation of a scanned photo, interactive
   -------------------------------------------------------------------------
-  The orientation dock's fiducial section (monoplotter paper §4): the
+  The orientation dock's fiducial section (Stokes 1988, §4): the
   corner fiducials detected automatically (template + centre of gravity,
   core), any of them measured or corrected by a click in the photo, and
-  the affine result, live: the paper's decomposition (A, B, α_A, α_B,
+  the affine result, live: Stokes' (1988) decomposition (A, B, α_A, α_B,
   affinity, β), σ0 and the residuals per fiducial.
  ***************************************************************************/
 #ifndef GEOSTATIONFIDUCIALPANEL_H

@@ -1,7 +1,7 @@
 /***************************************************************************
   measurementoverlay.h - measured features drawn back into the images
   -------------------------------------------------------------------------
-  The thesis' consistency check: every feature of the measurement layers
+  Xin's (1995) consistency check: every feature of the measurement layers
   (edit buffer included) is projected into every image view, so the
   operator sees at once whether what was measured sits on the object, and
   an edit or a deletion in QGIS shows in the views. Lines are densified

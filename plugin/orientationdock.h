@@ -1,7 +1,7 @@
 /***************************************************************************
   orientationdock.h - orienting one photo interactively
   -------------------------------------------------------------------------
-  The monoplotter paper's workflow in a dock: choose the photo (any image
+  Stokes' (1988) workflow in a dock: choose the photo (any image
   of the open block, oriented or not), load the control points from a
   point layer or add them, measure each in the photo (clicks in the
   Multiview's view of the photo) and give it a ground position (a click on

@@ -3,7 +3,7 @@
   -------------------------------------------------------------------------
   The affine transformation from image pixels to photo coordinates (mm,
   camera system, x right, y up) estimated by least squares from three or
-  more fiducial marks, with the monoplotter paper's decomposition into two
+  more fiducial marks, with Stokes' (1988) decomposition into two
   scale factors A >= B along directions alpha_A, alpha_B = alpha_A + 90 deg,
   followed by a rotation beta (Stokes 1988, §4):
 

@@ -5,7 +5,7 @@
   interpolated bilinearly in the DEM's own CRS, so a point on the surface is
   found exactly whatever the CRS. The raster is read in tiles on demand and
   kept in a small least-recently-used cache, so a 20 000 x 20 000 DEM never
-  has to be in memory. Nodata holes are filled as the monoplotter paper does:
+  has to be in memory. Nodata holes are filled as Stokes (1988) does:
   each empty cell takes the mean of its present neighbours in X and Y,
   repeated inward, within a halo around each tile (as if the whole raster
   were filled); filled cells are counted. Larger holes can be bridged

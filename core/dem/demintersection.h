@@ -14,7 +14,7 @@
   found on a chord is refined on the exact curve by false position to
   0.1 mm along the ray.
   Both work for nadir rays and for grazing rays from a camera near the
-  ground, where the iterative height update of the monoplotter paper
+  ground, where the iterative height update of Stokes (1988)
   diverges.
  ***************************************************************************/
 #ifndef GEOSTATION_DEM_DEMINTERSECTION_H

@@ -1,7 +1,7 @@
 /***************************************************************************
   linevisibility.h - a map line in a photo, its hidden parts marked
   -------------------------------------------------------------------------
-  For showing any map layer in an oriented photo (the monoplotter paper's
+  For showing any map layer in an oriented photo (Stokes (1988)'s
   map-to-image direction): the line is densified so it follows its curve
   in the photo (heights of inserted points from the DEM, or interpolated),
   every point is projected and tested against the terrain, and the line

@@ -1,7 +1,7 @@
 /***************************************************************************
   monoplotter.h - one oriented image and a DEM: image <-> map
   -------------------------------------------------------------------------
-  The monoplotter paper's job: a pixel's ray meets the terrain (image -> map,
+  Stokes' (1988) job: a pixel's ray meets the terrain (image -> map,
   with precision from the pixel, DEM and exterior-orientation sigmas), and a
   map point is projected into the image with a test whether the terrain
   hides it (map -> image). Lines are densified so a straight segment in the

@@ -7,7 +7,7 @@
   result matrix (S, *, +) as it is found, so later lines stop where they
   meet it.
 
-  The image is processed by sub-images (the report's mosaic of 1024 x 1024
+  The image is processed by sub-images (Kazmierczak et al.'s (1983) mosaic of 1024 x 1024
   pixels, overlapping): each is read as a window, starting points are
   searched in it, and LEM and REM follow lines within it. A line reaching
   the window's edge leaves a temporary dead end there, continued when the

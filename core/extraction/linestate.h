@@ -3,7 +3,7 @@
   -------------------------------------------------------------------------
   LEM and REM hand each other a LineState (the last point, the direction
   of travel and the line's measured width and contrast); every stop is a
-  DeadEnd of one of the report's kinds (§3).
+  DeadEnd of one of Kazmierczak et al.'s (1983) kinds (§3).
  ***************************************************************************/
 #ifndef GEOSTATION_EXTRACTION_LINESTATE_H
 #define GEOSTATION_EXTRACTION_LINESTATE_H

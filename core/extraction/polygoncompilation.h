@@ -3,7 +3,7 @@
   -------------------------------------------------------------------------
   Follows the strings of chosen symbols: 3 x 3 neighbourhoods tell a dead
   end (one neighbour), the line's run (two) and an intersection (more);
-  the pixels of an intersection are examined together (the report's 5 x 5
+  the pixels of an intersection are examined together (Kazmierczak et al.'s (1983) 5 x 5
   crossing examination) so that its branches leave from one node, placed
   where the branches' lines meet. A node only one line leaves is the blob
   at a line's end (a dead end); a node two lines leave is a bend of one

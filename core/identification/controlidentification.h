@@ -6,14 +6,14 @@
   pairs", finished here for any viewing direction):
 
     * Hypotheses from triangles. Each control point with two of its nearest
-      neighbours on the ground (the paper's distance list, taken locally)
+      neighbours on the ground (Stokes' (1988) distance list, taken locally)
       is paired with each candidate and two of its nearest candidates in
       the image. A pair is kept only when the triangle keeps its sense of
       rotation (a camera above a near-horizontal triangle cannot mirror it)
       and the side lengths' scales agree within the foreshortening allowed.
     * Each kept pairing is solved exactly for the camera's pose from three
       rays (P3P, the interior orientation known) - heights are part of the
-      solution, where the paper corrected its distances for them - and
+      solution, where Stokes (1988) corrected its distances for them - and
       scored by the number of other control points it projects onto a
       candidate.
     * The best distinct hypotheses are verified by the space resection

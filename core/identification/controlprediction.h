@@ -1,7 +1,7 @@
 /***************************************************************************
   controlprediction.h - the semi-automatic mode: predicted control found
   -------------------------------------------------------------------------
-  The monoplotter paper's third alternative (§5): once the orientation is
+  Stokes' (1988) third alternative (§5): once the orientation is
   approximately known, the remaining control points are predicted in the
   photo, each is found in a small window around its prediction (the mark
   nearest the prediction; its centre by the grey-weighted centre of gravity

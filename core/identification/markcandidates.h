@@ -1,8 +1,8 @@
 /***************************************************************************
   markcandidates.h - candidates for signalised control points in a photo
   -------------------------------------------------------------------------
-  The first step of identifying ground control automatically (the
-  monoplotter paper, §5: "identify candidates for ground control points by
+  The first step of identifying ground control automatically (Stokes
+  1988, §5: "identify candidates for ground control points by
   processing the total image using the Förstner interest operator"):
 
     1. a centre-surround filter (mean of a square minus the mean of the

@@ -4,14 +4,14 @@
   The building blocks of road tracing and point measurement:
     gradientMagnitude()   Sobel (eq. 4.10) or the four-direction extended
                           Sobel (eqs. 4.12-4.14) gradient magnitude
-    lineFilterEdges()     the thesis' 1 x 7 line filter: a step between the
+    lineFilterEdges()     Xin's (1995) 1 x 7 line filter: a step between the
                           two pixels either side and the centre, so isolated
                           bit errors are not edges (§6.1)
     binarise()            edge pixels above a global threshold
     skeletonise()         thinning to one-pixel lines with a 256-entry
                           lookup table on the 8-neighbour code (Kreifelts'
                           template method, §6.2; neighbour i has bit i, in
-                          the order of the thesis' Figure 6.5)
+                          the order of Xin's (1995) Figure 6.5)
     forstnerPoints()      Förstner's interest operator: weight w and
                           roundness q of the gradient structure tensor,
                           local maxima, located to sub-pixel precision as the

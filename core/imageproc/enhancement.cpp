@@ -175,7 +175,7 @@ namespace geostation
     if ( roi.area() <= 0 )
       throw std::invalid_argument( "the window lies outside the image" );
     const double maxValue = image.depth() == CV_8U ? 255.0 : 65535.0;
-    const double k = maxValue / 255.0; // the thesis' 8-bit levels, scaled
+    const double k = maxValue / 255.0; // Xin's (1995) 8-bit levels, scaled
     cv::Mat out = image.clone();
     cv::Mat region = out( roi );
 

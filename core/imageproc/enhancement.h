@@ -6,7 +6,7 @@
     linear             linear stretch of [min, max] to [outLow, outHigh] (eq. 4.5)
     two_segment        two segments split at the mean, the mean moved to
                        preferredMean (eqs. 4.6a-b)
-    three_segment      the thesis' adaptive stretch (eqs. 4.7a-c): a = mean,
+    three_segment      Xin's (1995) adaptive stretch (eqs. 4.7a-c): a = mean,
                        b = mean + 30, a' = 150 by default
   Sharpening by "add-back":
     sobel_addback      e += scale * G, G the largest of the Sobel gradients in
@@ -23,7 +23,7 @@
   luminance and applied to every band alike, so colours keep their hue;
   filters work band by band), on the whole image or in a window (the
   statistics and the change stay inside it). Levels scale with the type:
-  the thesis' 255, 30 and 150 become 65535, 7710 and 38550 for 16 bits.
+  Xin's (1995) 255, 30 and 150 become 65535, 7710 and 38550 for 16 bits.
  ***************************************************************************/
 #ifndef GEOSTATION_IMAGEPROC_ENHANCEMENT_H
 #define GEOSTATION_IMAGEPROC_ENHANCEMENT_H

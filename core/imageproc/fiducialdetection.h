@@ -1,7 +1,7 @@
 /***************************************************************************
   fiducialdetection.h - automatic location of fiducial marks in a scan
   -------------------------------------------------------------------------
-  The monoplotter paper's procedure (Stokes 1988, §4): one fiducial mark in
+  Stokes' (1988) procedure (Stokes 1988, §4): one fiducial mark in
   each corner window of the scan; each window is read subsampled so the
   marks have the same size whatever the scan resolution, filtered with a
   template of the mark (normalised cross-correlation), and the best match is

@@ -5,7 +5,7 @@
   of the desktop plugin, the Processing algorithms' vertex tables and the
   review of extracted roads. Feature layers carry the attributes below (the
   worst vertex's sigmas) and the feature class's own; the companion table
-  `vertices` holds the thesis' record format, vertex by vertex.
+  `vertices` holds Xin's (1995) record format, vertex by vertex.
  ***************************************************************************/
 #ifndef GEOSTATION_IO_FEATURESCHEMA_H
 #define GEOSTATION_IO_FEATURESCHEMA_H

@@ -3,9 +3,9 @@
   -------------------------------------------------------------------------
   Correlation along the epipolar band: candidate windows centred on the
   pixels of the epipolar curve (the segment for the depth range) and on
-  its parallels up to bandHalfWidthPx away (the thesis searches the line
+  its parallels up to bandHalfWidthPx away (Xin (1995) searches the line
   and its two neighbours, as the orientation is not perfect). Optionally
-  the thesis' jump rule: below 0.2 / 0.4 / 0.6 the search skips 4 / 3 / 2
+  Xin's (1995) jump rule: below 0.2 / 0.4 / 0.6 the search skips 4 / 3 / 2
   pixels. Or a 2-D search around an approximate position, for unoriented
   pairs. The best score is refined to sub-pixel by parabolas (eqs. 5.5-5.6)
   and then, optionally, by least-squares matching; where LSM cannot refine
@@ -58,7 +58,7 @@ namespace geostation
     int windowHeight = 15;
     double minScore = 0.7;      //!< below it: no match
     int bandHalfWidthPx = 1;    //!< parallels searched on each side of the epipolar curve
-    bool jumpRule = false;      //!< the thesis' 4 / 3 / 2 pixel jumps below 0.2 / 0.4 / 0.6
+    bool jumpRule = false;      //!< Xin's (1995) 4 / 3 / 2 pixel jumps below 0.2 / 0.4 / 0.6
     bool lsm = true;            //!< refine by least-squares matching
     LsmOptions lsmOptions;
     /**

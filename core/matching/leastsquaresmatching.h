@@ -7,7 +7,7 @@
   (x, y) the offsets from the reference pixel. Gauss-Newton on the
   linearised observation equations (eq. 5.10), resampling the search image
   by cubic B-spline interpolation with the spline's own derivatives as
-  gradients. (The thesis resamples bilinearly with central-difference
+  gradients. (Xin (1995) resamples bilinearly with central-difference
   gradients, eqs. 5.12-5.15; their mismatch stalls the iteration short of
   hundredths of a pixel, and bilinear or Keys resampling bias the shift.)
   until the shift changes by less than a threshold. (a0, b0) is the match.
@@ -27,7 +27,7 @@ namespace geostation
 
   struct LsmOptions
   {
-    int windowWidth = 9;          //!< odd; the thesis' best size for general objects is 9 x 9
+    int windowWidth = 9;          //!< odd; Xin's (1995) best size for general objects is 9 x 9
     int windowHeight = 9;
     int maxIterations = 60;       //!< strong distortion (a 40° viewpoint change) needs about 40 with the shape freed late
     double convergencePx = 1e-3;  //!< stop when the shift changes by less than this
@@ -38,7 +38,7 @@ namespace geostation
     /**
      * Resampling of the search window: the cubic B-spline (exact at the
      * pixels, smooth derivatives; the default, for the best sub-pixel
-     * accuracy) or the thesis' bilinear interpolation (eq. 5.15) with central
+     * accuracy) or Xin's (1995) bilinear interpolation (eq. 5.15) with central
      * differences as gradients.
      */
     enum class Resampling

@@ -73,7 +73,7 @@ namespace geostation
       result.message = "master pair: " + pair.message;
       return result;
     }
-    // the thesis' procedure as it stands: a candidate is refined from its peak and confirmed by the correlation
+    // Xin's (1995) procedure as it stands: a candidate is refined from its peak and confirmed by the correlation
     // threshold and the other images' geometry - that confirmation is the check here (matching back, made to
     // catch wrong pairs, rejects right refinements on repetitive stripes and lets a wrong candidate win)
     AreaMatchOptions confirm = options.area;

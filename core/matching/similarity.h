@@ -7,7 +7,7 @@
   wncc  weighted normalised cross-correlation    (eq. 5.4)
   Windows are w x h pixels (odd sizes: square 15 x 15, or rectangular such as
   3 x 15 for road lines), centred on a pixel. The weights of wcc and wncc
-  fall from 5 at the centre to 2 at the border, as in the thesis' 5 x 5
+  fall from 5 at the centre to 2 at the border, as in Xin's (1995) 5 x 5
   example (Figure 5.2): w = 2 + 3 (1 - r)^2, r the normalised ring.
   cc and ncc run on integer sums (exact, vectorised); the sub-pixel peak is
   the parabola through the best score and its neighbours (eqs. 5.5-5.6).

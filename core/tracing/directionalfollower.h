@@ -15,7 +15,7 @@
   across the line to a fraction of a pixel. The area of interest moves
   with the line.
 
-  The thesis' 11 matrices cover -75..+75 degrees (up the image); the same
+  Xin's (1995) 11 matrices cover -75..+75 degrees (up the image); the same
   construction is used every 15 degrees round the circle, so lines that
   run sideways or down the image are followed too.
  ***************************************************************************/

@@ -65,7 +65,7 @@ namespace geostation
       size_t keep;
     };
     std::optional<CorrelatedStart> correlatedStart;
-    // first the thesis' way: a vertex of this station, its surroundings in this image found in the next by
+    // first Xin's (1995) way: a vertex of this station, its surroundings in this image found in the next by
     // correlation - the two stations' poses may disagree by more than the distance to a parallel edge (the
     // edge line's paint beside the kerb). Vertices about 10 m ahead of the next camera, where a pose error
     // moves the image least and the window still shows the line's surroundings.

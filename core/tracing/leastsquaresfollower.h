@@ -23,7 +23,7 @@ namespace geostation
   struct LeastSquaresFollowOptions
   {
     FollowOptions follow;
-    int windowHalfWidthPx = 5;   //!< at least: the thesis' 11-pixel rows; stripes get 1.25 x their width + 3
+    int windowHalfWidthPx = 5;   //!< at least: Xin's (1995) 11-pixel rows; stripes get 1.25 x their width + 3
     int maxIterations = 10;
     double convergencePx = 0.01; //!< |dx| that ends the iterations
     double maxShiftPx = 2.0;     //!< from the predicted position: larger means the line is lost

@@ -69,7 +69,7 @@ namespace geostation
    * then the nearest of those and the edges (a stripe wins a near tie).
    * With no `directionDeg` the direction is measured (structure tensor,
    * then the line located along it over +-24 px) and points up the image
-   * (the thesis' 0 degrees default) or, for a line nearly along the rows,
+   * (Xin's (1995) 0 degrees default) or, for a line nearly along the rows,
    * to the right. Where the line is found at fewer than 6 of the 8
    * positions along that direction (a crack or a worn notch at the click
    * turns the tensor), the directions every 15 degrees are tried and the

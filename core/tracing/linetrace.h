@@ -126,7 +126,7 @@ namespace geostation
   struct FollowOptions
   {
     double maxDirectionChangeDeg = 30.0; //!< per direction update (thesis: "too large a difference")
-    double directionUpdatePx = 20.0;     //!< the thesis' 20-pixel direction counting distance
+    double directionUpdatePx = 20.0;     //!< Xin's (1995) 20-pixel direction counting distance
     double minContrastFraction = 0.35;   //!< line support: at least this fraction of the seed's contrast
     double minContrastGrey = 6.0;        //!< and at least this many grey levels
   };

@@ -1,7 +1,7 @@
 /***************************************************************************
   multistationvertices.h - traced vertices seen from the stations before
   -------------------------------------------------------------------------
-  The thesis' own conclusion (§7): multi-image intersection improves the
+  Xin's (1995) own conclusion (§7): multi-image intersection improves the
   accuracy. A road line traced at station k was seen 10-30 m further away
   from the stations before it, in both of their images, each station with
   a GNSS/INS pose error of its own. refineFromOtherStations() looks for the

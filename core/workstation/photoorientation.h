@@ -1,7 +1,7 @@
 /***************************************************************************
   photoorientation.h - one photo oriented interactively from control points
   -------------------------------------------------------------------------
-  The core of the orientation dock (monoplotter paper §4-5), without any
+  The core of the orientation dock (Stokes 1988, §4-5), without any
   GUI: the operator's control points - ground position, the pixel measured
   in the photo's file (scan pixels for scanned film), and whether each is
   used, a check point or off - go into a space resection after every
@@ -135,7 +135,7 @@ namespace geostation
 
   /**
    * Approximate orientations for the semi-automatic mode before four points
-   * are measured (the monoplotter paper's alternatives): from three
+   * are measured (Stokes' (1988) alternatives): from three
    * measured points by P3P - its up to four solutions, those the other
    * measured points agree with best first - or from two points and the
    * camera's approximate position (`approximateCentre`, block CRS): the

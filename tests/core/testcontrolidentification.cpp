@@ -1,5 +1,5 @@
 // Automatic identification of ground control in a photo (issue 18, item 3):
-// the distance-list proposal of the monoplotter paper, finished with P3P
+// the distance-list proposal of Stokes (1988), finished with P3P
 // hypotheses and the resection. Measured on rendered photos from 20
 // viewpoints with 20-50 % of the control hidden, against the known truth.
 #include <gtest/gtest.h>

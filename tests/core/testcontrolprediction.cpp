@@ -221,7 +221,7 @@ TEST( ControlPrediction, PredictedControlFoundAndFlaggedOnSimulatedPhotos )
             << " of those with 90 % of the disc in view and in sunlight, " << total.measurableWithin << " within 0.5 px\n";
   const double measurableRate = static_cast<double>( total.measurableWithin ) / std::max( 1, total.measurable );
   // measured: 39 of the 42 targets a surveyor would measure (a white disc of 8 px or more, 90 % of it in view
-  // and in sunlight) are found within 0.5 px (0.93, the issue asks 0.9); of the three missed, scanned film seed 5's
+  // and in sunlight) are found within 0.5 px (0.93, the aim is 0.9); of the three missed, scanned film seed 5's
   // GCP001 (a long ellipse, 5 % hidden) and GCP016 (alone at the photo's edge: redundancy 0.15, which the resection
   // cannot check) are flagged, seed 34's GCP052 (9 px, a long ellipse) found 1 px off. Of every target whose
   // centre the truth sees, 48 of 72 (0.67): the others are specks of 0.8-7 px (a grazing view, a slope facing

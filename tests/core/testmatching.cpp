@@ -192,7 +192,7 @@ TEST( Similarity, MeasuresOnIdenticalShiftedAndScaledWindows )
   EXPECT_GT( *CorrelationTemplate( reference, 40, 30, 3, 15, SimilarityMeasure::WNCC ).score( other, 40, 30 ), 0.99 );
   // cc is not normalised for the mean: it sees the exposure change, ncc does not
   EXPECT_LT( *CorrelationTemplate( reference, 40, 30, 15, 15, SimilarityMeasure::CC ).score( other, 40, 30 ), 0.99995 );
-  // the thesis' 5 x 5 weights: 5 at the centre, 2 at the border
+  // Xin's (1995) 5 x 5 weights: 5 at the centre, 2 at the border
   EXPECT_DOUBLE_EQ( centreWeight( 0, 0, 5, 5 ), 5.0 );
   EXPECT_DOUBLE_EQ( centreWeight( 2, -1, 5, 5 ), 2.0 );
   EXPECT_NEAR( centreWeight( 1, 1, 5, 5 ), 2.75, 1e-12 );
@@ -316,7 +316,7 @@ TEST( LeastSquaresMatching, SubPixelAndConvergenceOnSimulatedAerialStereo )
       ++converged;
       lsmSq += ( lsm.pixelInImage - p.right ).squaredNorm();
     }
-    // the thesis' bilinear resampling, for comparison
+    // Xin's (1995) bilinear resampling, for comparison
     lsmOptions.resampling = LsmOptions::Resampling::Bilinear;
     const LsmResult bilinear = leastSquaresMatch( *pair.leftMatch, p.left, *pair.rightMatch, start, lsmOptions );
     if ( bilinear.converged() )
@@ -425,7 +425,7 @@ TEST( LeastSquaresMatching, RecoversAKnownAffineShift )
   EXPECT_LT( ( r.pixelInImage - ( centre + shift ) ).norm(), 0.02 ) << r.pixelInImage.transpose() << " iterations " << r.iterations;
   EXPECT_LT( ( r.affine - A ).norm(), 0.01 );
 
-  // the thesis' bilinear resampling converges too, less precisely on this texture
+  // Xin's (1995) bilinear resampling converges too, less precisely on this texture
   options.resampling = LsmOptions::Resampling::Bilinear;
   const LsmResult b = leastSquaresMatch( ref, centre, sea, centre + shift + Eigen::Vector2d( 1.2, -0.9 ), options );
   ASSERT_TRUE( b.converged() ) << b.message << " after " << b.iterations << " iterations at " << b.pixelInImage.transpose() << " (truth " << ( centre + shift ).transpose() << ")";
@@ -497,7 +497,7 @@ namespace
 
 TEST( MultiImageMatching, CutsWrongMatchesOnRepetitiveTexture )
 {
-  // The thesis' multi-image matching (§5.4): candidates of the master pair are
+  // Xin's (1995) multi-image matching (§5.4): candidates of the master pair are
   // kept only when the third image confirms them. Wrong-match rates (matched
   // more than 1 px from the truth) are measured for each correlation measure
   // alone and for the multi-image procedure.

@@ -155,7 +155,7 @@ TEST( Tracing, InterventionsPer100Metres )
 
 TEST( Tracing, MethodsComparedPerLineType )
 {
-  // the thesis compares its methods per line type; here over the first 12 stations of the run
+  // Xin (1995) compares its methods per line type; here over the first 12 stations of the run
   const HighwayRun &run = highwayRun();
   std::printf( "%-16s %-14s %12s %12s %9s %12s\n", "line", "method", "completeness", "correctness", "RMS(m)", "pixels/s" );
   for ( const HighwayLine &c : kHighwayLines )

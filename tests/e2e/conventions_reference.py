@@ -1,4 +1,4 @@
-"""An independent reference implementation of CONVENTIONS.md §1-3 in numpy.
+"""An independent reference implementation of docs/conventions.md §1-3 in numpy.
 
 Written from the conventions text, not from the C++ code, so that end-to-end
 tests compare GeoStation's output against numbers computed another way (the

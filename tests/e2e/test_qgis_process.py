@@ -314,7 +314,7 @@ class SimulateSurveyTest(unittest.TestCase):
             self.assertEqual(json.load(f), block)
 
     def test_scanned_oblique_photo_oriented_from_its_targets_with_no_click(self):
-        """The monoplotter paper's workflow headless: a scanned oblique photo gets its inner orientation from
+        """Stokes' (1988) workflow headless: a scanned oblique photo gets its inner orientation from
         its fiducials, its control identified automatically, and its exterior orientation by resection."""
         out = os.path.join(self.tmp, "film")
         result = qgis_process(self.home, "run", "geostation:simulate_survey", "--", "PRESET=oblique_photo", "SCANNED_FILM=true", "SEED=8",

@@ -188,7 +188,7 @@ void TestIdentifyControlAlgorithm::approximateOrientationAndHeightsFromTheDem()
 void TestIdentifyControlAlgorithm::scannedFilmThroughItsInnerOrientation()
 {
   // a scanned film photo: fiducials found (inner_orientation), control identified in the scan's pixels, then
-  // resection through the inner orientation: the workflow of the monoplotter paper with no point clicked
+  // resection through the inner orientation: the workflow of Stokes (1988) with no point clicked
   const QString film = mDir.filePath( "film" );
   geostation::SimulationOptions options;
   options.preset = geostation::SurveyPreset::ObliquePhoto;
