@@ -4,7 +4,7 @@
   A feature class has a name, a geometry (point, line or polygon) and
   default attributes written with every feature of the class. Classes are
   kept with the QGIS project as JSON; each class writes to its own layer of
-  the measurement GeoPackage (CONVENTIONS §7), named after the class.
+  the measurement GeoPackage (docs/conventions.md §7), named after the class.
  ***************************************************************************/
 #ifndef GEOSTATIONFEATURECLASS_H
 #define GEOSTATIONFEATURECLASS_H

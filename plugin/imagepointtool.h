@@ -4,7 +4,7 @@
   Only emits signals (as the georeferencer's tools do): a left click gives
   the pixel, a drag its start and end (to move a proposed point, or to give
   a traced line's direction); the mouse position is reported for the cursor
-  readout. Pixels follow CONVENTIONS
+  readout. Pixels follow docs/conventions.md
   §1: the view shows the image at x = col, y = -row (x = -col in a view
   showing a photo mirrored as its EXIF tag asks).
  ***************************************************************************/

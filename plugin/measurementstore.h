@@ -1,5 +1,5 @@
 /***************************************************************************
-  measurementstore.h - measured features into the GeoPackage (CONVENTIONS §7)
+  measurementstore.h - measured features into the GeoPackage (docs/conventions.md §7)
   -------------------------------------------------------------------------
   One layer per feature class (PointZ / LineStringZ / PolygonZ in the block
   CRS) with class, station, acquired, measured, n_images, sigma_x/y/z

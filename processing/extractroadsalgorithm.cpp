@@ -45,7 +45,7 @@ namespace
     for ( const Eigen::Vector2d &p : pixels )
     {
       x << p.x();
-      y << -p.y(); // CONVENTIONS §1: x = col, y = -row
+      y << -p.y(); // docs/conventions.md §1: x = col, y = -row
     }
     return QgsGeometry( new QgsLineString( x, y ) );
   }

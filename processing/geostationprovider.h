@@ -14,7 +14,7 @@ namespace GeoStationProcessing
 /**
  * Processing provider with id "geostation": every GeoStation capability as an
  * algorithm, so it runs from the toolbox, from models and headless through
- * qgis_process (CONVENTIONS §8).
+ * qgis_process (docs/conventions.md §8).
  */
 class GEOSTATION_PROCESSING_EXPORT GeoStationProvider : public QgsProcessingProvider
 {

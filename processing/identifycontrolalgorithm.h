@@ -4,7 +4,7 @@
   Ground control found in one photo without an operator: mark candidates in
   the image, identified with a control layer (core/identification), checked
   by resection. Writes the observations table that resection takes and a
-  JSON report (CONVENTIONS §8-9).
+  JSON report (docs/conventions.md §8-9).
  ***************************************************************************/
 #ifndef IDENTIFYCONTROLALGORITHM_H
 #define IDENTIFYCONTROLALGORITHM_H

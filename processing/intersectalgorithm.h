@@ -1,7 +1,7 @@
 /***************************************************************************
   intersectalgorithm.h - geostation:intersect
   -------------------------------------------------------------------------
-  Multi-ray space intersection of measured image points (CONVENTIONS §8).
+  Multi-ray space intersection of measured image points (docs/conventions.md §8).
  ***************************************************************************/
 #ifndef INTERSECTALGORITHM_H
 #define INTERSECTALGORITHM_H

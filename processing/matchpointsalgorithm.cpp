@@ -4,7 +4,7 @@
   Points measured in reference images are found in target images by area
   matching (core/matching): along the epipolar band between two oriented
   images, otherwise in a 2-D window around an approximate position. The
-  output is an observation table (CONVENTIONS §6) ready for intersect: the
+  output is an observation table (docs/conventions.md §6) ready for intersect: the
   reference rows and every match, with score and sigma_px.
  ***************************************************************************/
 #include "matchpointsalgorithm.h"
@@ -137,7 +137,7 @@ QVariantMap MatchPointsAlgorithm::processGeoStation( const QVariantMap &paramete
   std::unique_ptr<QgsFeatureSink> sink( parameterAsSink( parameters, QStringLiteral( "OUTPUT" ), context, destination, fields, QgsWkbTypes::NoGeometry, QgsCoordinateReferenceSystem() ) );
   if ( !sink )
     throw QgsProcessingException( invalidSinkError( parameters, QStringLiteral( "OUTPUT" ) ) );
-  // a failed match is a row too, with its status and reason and no col/row (CONVENTIONS §8)
+  // a failed match is a row too, with its status and reason and no col/row (docs/conventions.md §8)
   const auto write = [&]( const QString &pointId, const QString &imageId, const std::optional<Eigen::Vector2d> &pixel, double sigma, double score, const QString &status,
                           const QString &reason )
   {

@@ -1,5 +1,5 @@
 /***************************************************************************
-  processingtables.h - the tables algorithms exchange (CONVENTIONS §6)
+  processingtables.h - the tables algorithms exchange (docs/conventions.md §6)
   -------------------------------------------------------------------------
   Image observations (point_id, image_id, col, row [, sigma_px]) and ground
   points (point_id, X, Y, Z [, sx, sy, sz, role]) from any QGIS-readable
@@ -46,7 +46,7 @@ namespace GeoStationProcessing
   {
     QVector<ObservationRecord> rows;
     QgsFields extraFields;      //!< fields other than the standard ones
-    long failedMatches = 0;     //!< rows skipped: their status is a failure (CONVENTIONS §8), they have no col/row
+    long failedMatches = 0;     //!< rows skipped: their status is a failure (docs/conventions.md §8), they have no col/row
   };
 
   struct GroundPointRecord

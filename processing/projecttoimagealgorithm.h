@@ -3,7 +3,7 @@
   -------------------------------------------------------------------------
   Map features with heights -> the pixels where they appear in one oriented
   image, as an image-space layer (x = col, y = -row, no CRS) that overlays the
-  raw image in QGIS (CONVENTIONS §1, §8).
+  raw image in QGIS (docs/conventions.md §1, §8).
  ***************************************************************************/
 #ifndef PROJECTTOIMAGEALGORITHM_H
 #define PROJECTTOIMAGEALGORITHM_H

@@ -2,7 +2,7 @@
   resectionalgorithm.h - geostation:resection
   -------------------------------------------------------------------------
   Space resection of one image of a block from control points; writes the
-  oriented block and a JSON precision report (CONVENTIONS §8-9).
+  oriented block and a JSON precision report (docs/conventions.md §8-9).
  ***************************************************************************/
 #ifndef RESECTIONALGORITHM_H
 #define RESECTIONALGORITHM_H

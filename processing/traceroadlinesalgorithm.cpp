@@ -44,7 +44,7 @@ QString TraceRoadLinesAlgorithm::shortHelpString() const
 {
   return QObject::tr( "Follows road lines (painted markings, centre lines, kerbs) from one seed each through the stations of a "
                       "mobile-mapping run and returns them as 3-D lines in the block CRS.\n\n"
-                      "SEEDS: seed_id, image_id, col, row (pixels, CONVENTIONS §1) and optionally direction_deg (0 = up the "
+                      "SEEDS: seed_id, image_id, col, row (pixels, docs/conventions.md §1) and optionally direction_deg (0 = up the "
                       "image, clockwise). At each station the line is followed in the seed's camera up to MAX_RANGE_M, found "
                       "in the station's stereo partner along the epipolar curves, and intersected with standard deviations "
                       "(pixels and the images' GNSS/INS sigmas); then it is carried to the next station. The road surface is "

@@ -3,7 +3,7 @@
   -------------------------------------------------------------------------
   A control point's known coordinates (block CRS, metres) with their
   sigmas, and a control point measured in an image: the inputs of space
-  resection and of the bundle adjustment (CONVENTIONS §6 tables).
+  resection and of the bundle adjustment (docs/conventions.md §6 tables).
  ***************************************************************************/
 #ifndef GEOSTATION_ADJUSTMENT_CONTROLPOINT_H
 #define GEOSTATION_ADJUSTMENT_CONTROLPOINT_H

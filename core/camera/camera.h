@@ -1,5 +1,5 @@
 /***************************************************************************
-  camera.h - interior orientation of a frame camera (CONVENTIONS §1-2)
+  camera.h - interior orientation of a frame camera (docs/conventions.md §1-2)
   -------------------------------------------------------------------------
   Pixel coordinates are (col, row), continuous, origin at the top-left corner
   of the top-left pixel; the centre of pixel (i, j) is (i + 0.5, j + 0.5).

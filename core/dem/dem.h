@@ -1,5 +1,5 @@
 /***************************************************************************
-  dem.h - a digital elevation model read through GDAL (CONVENTIONS §4)
+  dem.h - a digital elevation model read through GDAL (docs/conventions.md §4)
   -------------------------------------------------------------------------
   Heights sit at the cell centres of the raster's geotransform and are
   interpolated bilinearly in the DEM's own CRS, so a point on the surface is

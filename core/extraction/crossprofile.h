@@ -12,7 +12,7 @@
   profiles sampled across the band: the band's centre, width, contrast
   (the smaller of its two sides, grey levels) and the variation inside.
 
-  Frames: pixelInImage = (col, row) as CONVENTIONS §1 (pixel (i, j) covers
+  Frames: pixelInImage = (col, row) as docs/conventions.md §1 (pixel (i, j) covers
   [i, i+1) x [j, j+1), its centre is (i + 0.5, j + 0.5)); a direction is a unit vector (col, row) along the line, its
   normal n = (-dir.row, dir.col) points to the line's left when row runs
   down (the right of the direction of travel on screen).

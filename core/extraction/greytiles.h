@@ -9,7 +9,7 @@
   A window of a tile-read image is assembled from its tiles.
 
   A GreyWindow carries its origin: pixelInImage = pixelInWindow + origin
-  (pixelInImage as CONVENTIONS §1). Not thread-safe: one GreyTiles per
+  (pixelInImage as docs/conventions.md §1). Not thread-safe: one GreyTiles per
   thread.
  ***************************************************************************/
 #ifndef GEOSTATION_EXTRACTION_GREYTILES_H

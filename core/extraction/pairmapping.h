@@ -14,7 +14,7 @@
     smoothing factor SF = c min |P_i - P_k|^2.
   The fitted mappings report their misregistration at the control points
   (the projective's residuals; the multiquadric, which passes through its
-  points, leave-one-out residuals). Pixels are pixelInImage (CONVENTIONS §1).
+  points, leave-one-out residuals). Pixels are pixelInImage (docs/conventions.md §1).
  ***************************************************************************/
 #ifndef GEOSTATION_EXTRACTION_PAIRMAPPING_H
 #define GEOSTATION_EXTRACTION_PAIRMAPPING_H

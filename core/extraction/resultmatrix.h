@@ -5,7 +5,7 @@
   segment (not yet verified); I extracted in this image and verified in
   the partner, E extracted in the partner and verified here. Lines are
   drawn one pixel wide, 8-connected, through the pixels their vertices
-  fall in (pixelInImage as CONVENTIONS §1: pixel (c, r) covers
+  fall in (pixelInImage as docs/conventions.md §1: pixel (c, r) covers
   [c, c+1) x [r, r+1), its centre is (c + 0.5, r + 0.5)).
 
   The maximum-length polygons compiled from it: polygoncompilation.h.

@@ -1,5 +1,5 @@
 /***************************************************************************
-  crs.h - checks on a block's coordinate reference system (CONVENTIONS §4)
+  crs.h - checks on a block's coordinate reference system (docs/conventions.md §4)
  ***************************************************************************/
 #ifndef GEOSTATION_GEOMETRY_CRS_H
 #define GEOSTATION_GEOMETRY_CRS_H

@@ -1,7 +1,7 @@
 /***************************************************************************
   exteriororientation.h - projection centre and attitude of one image
   -------------------------------------------------------------------------
-  CONVENTIONS §3: projection centre X, Y, Z in the block CRS (metres) and
+  docs/conventions.md §3: projection centre X, Y, Z in the block CRS (metres) and
   omega, phi, kappa in degrees. A ground point P has camera coordinates
   p = R^T (P - X0) with R = worldFromCamera.
  ***************************************************************************/

@@ -1,5 +1,5 @@
 /***************************************************************************
-  rotation.h - omega-phi-kappa rotations (CONVENTIONS §3)
+  rotation.h - omega-phi-kappa rotations (docs/conventions.md §3)
   -------------------------------------------------------------------------
   R = Rx(omega) * Ry(phi) * Rz(kappa) maps camera-frame vectors to object
   space (worldFromCamera). Templated on the scalar so that the adjustment can

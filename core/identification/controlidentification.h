@@ -34,7 +34,7 @@
   patterns the geometry alone cannot.
 
   Candidates and results are pixels of the camera's nominal frame
-  (CONVENTIONS §1); a scanned photo's candidates go through its inner
+  (docs/conventions.md §1); a scanned photo's candidates go through its inner
   orientation first.
  ***************************************************************************/
 #ifndef GEOSTATION_IDENTIFICATION_CONTROLIDENTIFICATION_H

@@ -54,7 +54,7 @@ namespace geostation
     for ( int r = 0; r < 2; ++r )
       for ( int c = 0; c < 3; ++c )
         affine.at<double>( r, c ) = nominalFromScan( r, c );
-    // pixel centres are at +0.5 in both frames (CONVENTIONS §1); OpenCV's are at integers
+    // pixel centres are at +0.5 in both frames (docs/conventions.md §1); OpenCV's are at integers
     affine.at<double>( 0, 2 ) += 0.5 * ( nominalFromScan( 0, 0 ) + nominalFromScan( 0, 1 ) ) - 0.5;
     affine.at<double>( 1, 2 ) += 0.5 * ( nominalFromScan( 1, 0 ) + nominalFromScan( 1, 1 ) ) - 0.5;
     cv::warpAffine( scanGrey, nominal, affine, cv::Size( camera.width, camera.height ), cv::INTER_CUBIC, cv::BORDER_CONSTANT, cv::Scalar( 0 ) );

@@ -46,7 +46,7 @@ namespace geostation
 
   struct MarkCandidate
   {
-    Eigen::Vector2d pixelInImage = Eigen::Vector2d::Zero(); //!< CONVENTIONS §1, sub-pixel
+    Eigen::Vector2d pixelInImage = Eigen::Vector2d::Zero(); //!< docs/conventions.md §1, sub-pixel
     double contrast = 0.0;     //!< grey levels, mark minus ring (bright marks)
     double diameterPx = 0.0;   //!< the filter size that answered best
     bool forstner = false;     //!< located by Förstner (else by the centre of gravity)

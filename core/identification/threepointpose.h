@@ -2,7 +2,7 @@
   threepointpose.h - a camera's pose from three rays (P3P)
   -------------------------------------------------------------------------
   The exterior orientation of a calibrated camera from three ground points
-  and their rays (ideal normalised coordinates, CONVENTIONS §2-3: y up, the
+  and their rays (ideal normalised coordinates, docs/conventions.md §2-3: y up, the
   camera looking along -z): up to four solutions, by OpenCV's AP3P. Used to
   turn a hypothesis of three correspondences into a pose that predicts
   every other control point.
@@ -20,7 +20,7 @@ namespace geostation
 
   struct ThreePointPose
   {
-    Eigen::Matrix3d cameraFromWorld = Eigen::Matrix3d::Identity(); //!< R^T of CONVENTIONS §3
+    Eigen::Matrix3d cameraFromWorld = Eigen::Matrix3d::Identity(); //!< R^T of docs/conventions.md §3
     Eigen::Vector3d centre = Eigen::Vector3d::Zero();              //!< projection centre, the ground points' frame
   };
 

@@ -18,7 +18,7 @@
                           point closest to all gradient lines of the window
     centreOfGravity()     grey-weighted centroid of a mark above its background
     douglasPeucker()      polyline simplification to a tolerance
-  Images are 8-bit grey (CV_8U); pixel positions follow CONVENTIONS §1.
+  Images are 8-bit grey (CV_8U); pixel positions follow docs/conventions.md §1.
  ***************************************************************************/
 #ifndef GEOSTATION_IMAGEPROC_EDGEPRIMITIVES_H
 #define GEOSTATION_IMAGEPROC_EDGEPRIMITIVES_H

@@ -1,5 +1,5 @@
 /***************************************************************************
-  block.h - the GeoStation block (*.geostation.json, CONVENTIONS §5)
+  block.h - the GeoStation block (*.geostation.json, docs/conventions.md §5)
   -------------------------------------------------------------------------
   A block is the cameras, the exposure stations and the oriented images of a
   survey, in one projected CRS. Unknown keys of the file are kept and written
@@ -48,7 +48,7 @@ namespace geostation
     std::string extraJson = "{}"; //!< unknown keys as JSON text, kept on save
   };
 
-  //! A scanned photo's inner orientation: pixels to photo mm (CONVENTIONS §2).
+  //! A scanned photo's inner orientation: pixels to photo mm (docs/conventions.md §2).
   struct ImageInnerOrientation
   {
     Eigen::Matrix<double, 2, 3> photoFromPixel = Eigen::Matrix<double, 2, 3>::Zero(); //!< photo mm = M (col, row, 1)

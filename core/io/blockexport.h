@@ -50,7 +50,7 @@ namespace geostation
   /**
    * Writes the exterior orientations as CSV, one row per image:
    * image_id,camera,station,path,X,Y,Z,omega,phi,kappa (metres, degrees,
-   * CONVENTIONS §3) and sigma_X ... sigma_kappa (empty when unknown); an
+   * docs/conventions.md §3) and sigma_X ... sigma_kappa (empty when unknown); an
    * image not yet oriented has empty values. Written through a temporary
    * file. Throws std::runtime_error.
    */

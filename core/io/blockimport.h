@@ -3,7 +3,7 @@
   -------------------------------------------------------------------------
   An importer (COLMAP, ...) turns another package's orientations into a
   GeoStation block plus, where the source has them, tie points and their
-  image observations (CONVENTIONS §6), and says in sentences what it
+  image observations (docs/conventions.md §6), and says in sentences what it
   converted and what it dropped and why. A model in an arbitrary frame is
   brought into the block CRS by a similarity transform fitted to known
   camera centres or control points (georeferenceImport()).
@@ -79,7 +79,7 @@ namespace geostation
    */
   void georeferenceImport( BlockImportSummary &import, const KnownPositions &known );
 
-  //! The import's REPORT (CONVENTIONS §9) as JSON text: counts, sentences, the georeference with its residuals.
+  //! The import's REPORT (docs/conventions.md §9) as JSON text: counts, sentences, the georeference with its residuals.
   std::string importReportJsonText( const BlockImportSummary &import );
 
   /**

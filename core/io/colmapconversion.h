@@ -9,14 +9,14 @@
   Lens models: COLMAP's SIMPLE_PINHOLE and PINHOLE are the model "none";
   SIMPLE_RADIAL (f, cx, cy, k), RADIAL (f, cx, cy, k1, k2), OPENCV (fx, fy,
   cx, cy, k1, k2, p1, p2) and FULL_OPENCV without its rational terms
-  (k4 = k5 = k6 = 0) are exactly the model "opencv" (CONVENTIONS §2), whose
+  (k4 = k5 = k6 = 0) are exactly the model "opencv" (docs/conventions.md §2), whose
   formula COLMAP also uses. The fisheye models, FOV, THIN_PRISM_FISHEYE and
   FULL_OPENCV with a rational term cannot be represented and are refused by
   name.
 
   Poses: COLMAP stores camFromWorld (quaternion w, x, y, z and translation t)
   in the camera frame x right, y down, z forward. GeoStation's camera frame
-  is x right, y up, z backwards (CONVENTIONS §3), so with D = diag(1, -1, -1)
+  is x right, y up, z backwards (docs/conventions.md §3), so with D = diag(1, -1, -1)
       worldFromCamera = R_cw^T D,   projection centre = -R_cw^T t.
  ***************************************************************************/
 #ifndef GEOSTATION_IO_COLMAPCONVERSION_H

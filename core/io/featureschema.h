@@ -1,5 +1,5 @@
 /***************************************************************************
-  featureschema.h - the field names of measured features (CONVENTIONS §7)
+  featureschema.h - the field names of measured features (docs/conventions.md §7)
   -------------------------------------------------------------------------
   Defined once for every writer of the GIS database: the measurement store
   of the desktop plugin, the Processing algorithms' vertex tables and the

@@ -17,7 +17,7 @@
                    "images/{station}_front.jpg" ({station}, {row}, {time})
 
   OpenCV's pixel centres are integers: cx = cx_cv + 0.5, cy = cy_cv + 0.5
-  (CONVENTIONS §2). The distortion (k1, k2, p1, p2[, k3[, k4, k5, k6...]])
+  (docs/conventions.md §2). The distortion (k1, k2, p1, p2[, k3[, k4, k5, k6...]])
   is the model "opencv"; rational, thin-prism or tilt terms that are not 0
   cannot be represented and are refused, as is a camera matrix with skew.
  ***************************************************************************/

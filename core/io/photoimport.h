@@ -31,7 +31,7 @@ namespace geostation
     std::string focalSource;
     /**
      * The EXIF orientation tag (1-8; 1: shown as stored, also when there is none). GeoStation measures the
-     * pixels as stored (CONVENTIONS §1); a view shows the photo turned or mirrored as
+     * pixels as stored (docs/conventions.md §1); a view shows the photo turned or mirrored as
      * tagged (viewForExifOrientation()).
      */
     int exifOrientation = 1;
@@ -61,7 +61,7 @@ namespace geostation
   ExifView viewForExifOrientation( int tag );
 
   /**
-   * A camera written as in the block file (CONVENTIONS §5: id, width,
+   * A camera written as in the block file (docs/conventions.md §5: id, width,
    * height, f, cx, cy, optional aspect, pixel_size_mm, distortion,
    * fiducials), validated as the block reader does. Throws BlockFormatError
    * naming the key.

@@ -1,7 +1,7 @@
 /***************************************************************************
   pixelspacegpkg.h - GeoPackage layers in image (pixel) space
   -------------------------------------------------------------------------
-  An image-space layer (x = col, y = -row, CONVENTIONS §1) has no CRS. GDAL
+  An image-space layer (x = col, y = -row, docs/conventions.md §1) has no CRS. GDAL
   3.6 writes such a layer with srs_id 0, "Undefined geographic SRS", which
   QGIS then reads as a geographic CRS. The GeoPackage way to say "Cartesian,
   no CRS" is srs_id -1; this rewrites a layer to it.

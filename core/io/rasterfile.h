@@ -107,7 +107,7 @@ namespace geostation
   int exifOrientationTag( void *gdalDataset );
 
   /**
-   * The image file as a raster in pixel space (CONVENTIONS §1: x = col,
+   * The image file as a raster in pixel space (docs/conventions.md §1: x = col,
    * y = -row, no CRS), for a viewer that places rasters by their
    * georeferencing (QGIS): `path` itself where the file has none, else a VRT
    * written to `memoryPath` (a "/vsimem/" path) that reads the same pixels

@@ -16,7 +16,7 @@
     attitude    roll, pitch, heading (yaw): the body's attitude, x forward,
                 y right, z down, heading from true north, clockwise;
                 or omega, phi, kappa: the camera's own exterior orientation
-                (CONVENTIONS §3), one camera, no lever arm or boresight
+                (docs/conventions.md §3), one camera, no lever arm or boresight
     images      image (one camera) or image_<camera id>; otherwise each
                 camera's image_pattern
   Angles are in degrees unless the options say radians; radians given as

@@ -30,7 +30,7 @@ namespace geostation
 {
 
   /**
-   * What a match is (CONVENTIONS §8): least squares converged and passed its
+   * What a match is (docs/conventions.md §8): least squares converged and passed its
    * checks; a correlation peak only (LSM off, or not applicable on a line or
    * an edge); or why there is no match.
    */
@@ -121,7 +121,7 @@ namespace geostation
     LsmResult lsm;
     bool shapedWindow = false;                             //!< the predicted shape's template correlated better than the square one
 
-    //! Least squares or a correlation peak: a match (CONVENTIONS §8).
+    //! Least squares or a correlation peak: a match (docs/conventions.md §8).
     bool matched() const { return isMatch( status ); }
   };
 

@@ -6,7 +6,7 @@
   for least-squares matching, rounded for correlation). The central-
   difference gradients of thesis eqs. 5.12-5.13 are computed once.
 
-  Pixel convention (CONVENTIONS §1): the value of pixel (i, j) belongs to
+  Pixel convention (docs/conventions.md §1): the value of pixel (i, j) belongs to
   its centre (i + 0.5, j + 0.5); sampleAt() interpolates bilinearly between
   centres (thesis eq. 5.15).
 

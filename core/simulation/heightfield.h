@@ -3,7 +3,7 @@
   -------------------------------------------------------------------------
   Heights sit on nodes (the cell centres of the GeoTIFF written by
   writeGeoTiff()) and are interpolated bilinearly between them, exactly as
-  Dem (CONVENTIONS §4) interpolates the written file, so the rendered
+  Dem (docs/conventions.md §4) interpolates the written file, so the rendered
   terrain, the truth heights and a monoplot against terrain.tif agree.
 
   Rays are intersected exactly with the bilinear patches (a quadratic in the

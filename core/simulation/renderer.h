@@ -2,7 +2,7 @@
   renderer.h - image formation: ray casting through the camera model
   -------------------------------------------------------------------------
   Every sample's ray comes from Camera::rayInCameraFromPixel() and the
-  exterior orientation (CONVENTIONS §1-3), so the rendered image and the
+  exterior orientation (docs/conventions.md §1-3), so the rendered image and the
   camera model agree by construction: a ground point projects with
   projectGroundToPixel() to where the renderer drew it.
 

@@ -9,7 +9,7 @@
   points it followed and why it stopped.
 
   Directions are unit vectors in pixel space (col right, row down); an
-  angle in degrees is measured from "up the image", clockwise (CONVENTIONS
+  angle in degrees is measured from "up the image", clockwise (docs/conventions.md
   §8, trace_road_lines' direction_deg).
  ***************************************************************************/
 #ifndef GEOSTATION_TRACING_LINETRACE_H

@@ -15,7 +15,7 @@
   get their predicted pixel, which is where the semi-automatic mode
   (offerPredictedControl()) looks for them.
 
-  Pixels: the measured pixels are the image file's (CONVENTIONS §1); the
+  Pixels: the measured pixels are the image file's (docs/conventions.md §1); the
   camera model works in the nominal frame, reached through the scan
   affine of a scanned film's inner orientation (nominalFromScanAffine()).
   Residuals are reported in file pixels.
@@ -174,7 +174,7 @@ namespace geostation
   void applyPhotoOrientation( Block &block, const std::string &imageId, const PhotoOrientationSummary &summary, const PhotoOrientationOptions &options );
 
   /**
-   * The operator's list as one CSV table that is both a CONVENTIONS §6
+   * The operator's list as one CSV table that is both a docs/conventions.md §6
    * observation table (point_id, image_id, col, row, sigma_px, status:
    * `reference` for a measured point, `not_measured` otherwise) and a
    * ground-point table (X, Y, Z, role), so `geostation:resection` reruns

@@ -70,7 +70,7 @@ namespace geostation
     EpipolarCurve curve;           //!< of the reference pixel, in this view
     bool curveInFrame = false;     //!< some of the curve lies in the frame
     /**
-     * CONVENTIONS §8: Lsm (least squares converged and passed its checks),
+     * docs/conventions.md §8: Lsm (least squares converged and passed its checks),
      * Correlation (a peak only: to be checked by the operator, never
      * pre-accepted), or why there is no proposal (NoPeak, Ambiguous,
      * Diverged, Inconsistent, Outside - also for a view that is not
@@ -115,7 +115,7 @@ namespace geostation
     RoadPlane,
   };
 
-  //! "intersection", "monoplot-DEM", "road-plane" (CONVENTIONS §7)
+  //! "intersection", "monoplot-DEM", "road-plane" (docs/conventions.md §7)
   std::string vertexMethodName( VertexMethod method );
 
   struct VertexObservation

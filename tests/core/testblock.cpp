@@ -1,4 +1,4 @@
-// The block file (CONVENTIONS §5): load, validation messages with JSON paths,
+// The block file (docs/conventions.md §5): load, validation messages with JSON paths,
 // unknown keys kept, atomic save, image file checks.
 #include <fstream>
 

@@ -1,5 +1,5 @@
 // Interior orientation: pixel convention, distortion models, OpenCV agreement,
-// round trips, behind-camera handling (CONVENTIONS §1-2).
+// round trips, behind-camera handling (docs/conventions.md §1-2).
 #include <random>
 
 #include <gtest/gtest.h>
@@ -128,7 +128,7 @@ TEST_P( CameraRoundTrip, BehindCameraIsReportedNeverProjected )
 
 TEST_P( CameraRoundTrip, ImageAxesFollowCameraAxes )
 {
-  // x right -> col grows; y up -> row shrinks (CONVENTIONS §1, §3).
+  // x right -> col grows; y up -> row shrinks (docs/conventions.md §1, §3).
   const Camera c = makeCamera( GetParam() );
   const Eigen::Vector2d centre = c.pixelFromCamera( { 0, 0, -10 } ).pixelInImage;
   const Eigen::Vector2d right = c.pixelFromCamera( { 1, 0, -10 } ).pixelInImage;

@@ -1,4 +1,4 @@
-// CONVENTIONS §4: the block CRS must be projected (or engineering) in metres.
+// docs/conventions.md §4: the block CRS must be projected (or engineering) in metres.
 #include <gtest/gtest.h>
 
 #include "geometry/crs.h"

@@ -37,7 +37,7 @@ namespace
     return rgb;
   }
 
-  //! A homography on pixel indices (OpenCV, centres at integers) in CONVENTIONS §1 pixels (centres at i + 0.5).
+  //! A homography on pixel indices (OpenCV, centres at integers) in docs/conventions.md §1 pixels (centres at i + 0.5).
   Eigen::Matrix3d inOurPixels( const cv::Mat &h )
   {
     Eigen::Matrix3d m;
@@ -138,7 +138,7 @@ namespace
   struct GraffitiPair
   {
     cv::Mat one, three;
-    Eigen::Matrix3d threeFromOne = Eigen::Matrix3d::Identity(); //!< CONVENTIONS §1 pixels
+    Eigen::Matrix3d threeFromOne = Eigen::Matrix3d::Identity(); //!< docs/conventions.md §1 pixels
     bool ok() const { return !one.empty() && !three.empty(); }
   };
 

@@ -1,4 +1,4 @@
-// Omega-phi-kappa: R = Rx(omega) Ry(phi) Rz(kappa), camera -> object (CONVENTIONS §3).
+// Omega-phi-kappa: R = Rx(omega) Ry(phi) Rz(kappa), camera -> object (docs/conventions.md §3).
 #include <random>
 
 #include <Eigen/Geometry>

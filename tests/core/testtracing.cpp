@@ -415,7 +415,7 @@ TEST( Tracing, RealPhotographUnderAKnownHomography )
     for ( int c = 0; c < 3; ++c )
       forward( r, c ) = h.at<double>( r, c );
   inverse = forward.inverse();
-  // pixel centres: OpenCV maps integer positions, CONVENTIONS §1 puts centres at i + 0.5
+  // pixel centres: OpenCV maps integer positions, docs/conventions.md §1 puts centres at i + 0.5
   const auto map = []( const Eigen::Matrix3d &m, const Eigen::Vector2d &p )
   {
     const Eigen::Vector3d q = m * Eigen::Vector3d( p.x() - 0.5, p.y() - 0.5, 1.0 );

@@ -173,7 +173,7 @@ TEST( PointMeasurer, ProposalsAndIntersectionAgreeWithTheTruth )
       if ( std::getenv( "GEOSTATION_DEBUG" ) )
         std::cout << id << " " << station.id << " matched " << proposals[1].matched() << " score " << proposals[1].score << " err " << errorPx << " reason " << proposals[1].message
                   << " third " << proposals[2].matched() << " " << proposals[2].curveInFrame << " range " << ( point - oriented[0].exterior().projectionCentre ).norm() << "\n";
-      // every proposal says what it is (CONVENTIONS §8), and a failed one why
+      // every proposal says what it is (docs/conventions.md §8), and a failed one why
       for ( size_t i = 1; i < proposals.size(); ++i )
         if ( !proposals[i].matched() )
         {

@@ -7,7 +7,7 @@ trip through geostation:export_block.
 
 COLMAP's model is read here with an independent reader of its binary format
 and projected with COLMAP's equations; GeoStation's block is projected with
-the independent reference implementation of CONVENTIONS §1-3.
+the independent reference implementation of docs/conventions.md §1-3.
 """
 import csv
 import json

@@ -1,5 +1,5 @@
 /***************************************************************************
-  fuzzblockjson.cpp - the block file (*.geostation.json, CONVENTIONS §5)
+  fuzzblockjson.cpp - the block file (*.geostation.json, docs/conventions.md §5)
   -------------------------------------------------------------------------
   Any text: Block::fromJsonText() either throws BlockFormatError with a
   message or gives a block whose JSON text reads back to the same text

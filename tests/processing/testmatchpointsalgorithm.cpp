@@ -113,7 +113,7 @@ std::pair<int, int> TestMatchPointsAlgorithm::matchesInSecondImage( const QStrin
   while ( it.nextFeature( f ) )
     if ( f.attribute( "image_id" ).toString() == "S0002" )
     {
-      // every row says what it is; a failed match has no col/row (CONVENTIONS §8)
+      // every row says what it is; a failed match has no col/row (docs/conventions.md §8)
       const QString status = f.attribute( "status" ).toString();
       if ( status != "lsm" && status != "correlation" )
       {

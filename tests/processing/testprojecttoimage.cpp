@@ -260,7 +260,7 @@ void TestProjectToImage::geopackageOutputHasNoCrs()
 
 void TestProjectToImage::rawImageSitsInPixelSpace()
 {
-  // CONVENTIONS §1: QGIS places a raster without georeferencing at x = col,
+  // docs/conventions.md §1: QGIS places a raster without georeferencing at x = col,
   // y = -row, so image-space layers overlay it exactly.
   const QString path = mDir.filePath( QStringLiteral( "pattern.tif" ) );
   GDALDatasetH ds = GDALCreate( GDALGetDriverByName( "GTiff" ), path.toUtf8().constData(), 40, 30, 1, GDT_Byte, nullptr );
