@@ -14,6 +14,15 @@ except ImportError:
     HAS_DASHBOARD = False
 
 
+def ship_by_value():
+    """The functions a unit runs travel with it (cloudpickle by value), so a worker needs QGIS, GeoStation's
+    plugin and Dask, but not this package on its Python path."""
+    import cloudpickle
+    from . import qgis
+    for module in (unit, qgis):
+        cloudpickle.register_pickle_by_value(module)
+
+
 def connect(scheduler, workers, say):
     """A client: on `scheduler` (an address), or on a local cluster of `workers` processes."""
     from distributed import Client, LocalCluster
@@ -27,6 +36,7 @@ def connect(scheduler, workers, say):
         cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
                                dashboard_address=":0" if HAS_DASHBOARD else None, silence_logs=40)
         client = Client(cluster)
+    ship_by_value()
     say("Dask scheduler %s with %d workers" % (client.scheduler.address, len(client.scheduler_info()["workers"])))
     if HAS_DASHBOARD and client.dashboard_link:
         say("Dashboard: %s" % client.dashboard_link)

@@ -16,13 +16,15 @@ ogr.UseExceptions()
 
 
 class LoopbackCluster:
-    """dask-scheduler and `workers` dask-worker processes (one thread each, no nanny: a killed worker stays dead)."""
+    """dask-scheduler and `workers` dask-worker processes (one thread each, no nanny: a killed worker stays dead).
 
-    def __init__(self, folder, workers, batch_dir):
+    The workers get no Python path of GeoStation's: what a unit runs travels with it, as on a cluster's nodes."""
+
+    def __init__(self, folder, workers):
         self.folder = folder
         os.makedirs(folder, exist_ok=True)
         self.scheduler_file = os.path.join(folder, "scheduler.json")
-        self.env = dict(os.environ, PYTHONPATH=batch_dir + os.pathsep + os.environ.get("PYTHONPATH", ""))
+        self.env = {k: v for k, v in os.environ.items() if k != "PYTHONPATH"}
         self.log = open(os.path.join(folder, "cluster.log"), "a")
         self.scheduler = subprocess.Popen(["dask-scheduler", "--host", "127.0.0.1", "--port", "0", "--dashboard-address", ":0",
                                            "--scheduler-file", self.scheduler_file], env=self.env, stdout=self.log, stderr=self.log,
@@ -40,7 +42,7 @@ class LoopbackCluster:
 
     def add_worker(self):
         worker = subprocess.Popen(["dask-worker", self.address, "--nthreads", "1", "--no-nanny", "--host", "127.0.0.1",
-                                   "--dashboard-address", ":0"], env=self.env, stdout=self.log, stderr=self.log, start_new_session=True)
+                                   "--dashboard-address", ":0"], env=self.env, stdout=self.log, stderr=self.log, start_new_session=True, cwd="/")
         self.workers.append(worker)
         return worker
 

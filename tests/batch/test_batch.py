@@ -51,9 +51,7 @@ class BatchOnALoopbackCluster(unittest.TestCase):
         cls.qgis("run", "geostation:simulate_survey", "--", "PRESET=aerial_stereo", "STATIONS=5", "GSD=0.5", "SEED=3", "NOISE=4",
                  "OUTPUT_DIR=" + cls.strip)
         cls.block = os.path.join(cls.strip, "block.geostation.json")
-        # the workers import the installed package, as on a node with GeoStation installed
-        installed = os.path.dirname(os.path.realpath(bs.installed_batch(cls.home)))
-        cls.cluster = bs.LoopbackCluster(os.path.join(cls.tmp, "cluster"), 2, installed)
+        cls.cluster = bs.LoopbackCluster(os.path.join(cls.tmp, "cluster"), 2)
 
     @classmethod
     def tearDownClass(cls):
