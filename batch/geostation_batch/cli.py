@@ -93,6 +93,17 @@ def fingerprint(value):
     return "%s@%d:%d" % (value, st.st_size, st.st_mtime_ns)
 
 
+def check_arguments(args, inputs, kinds):
+    """Bad input found before any unit runs: one sentence (plan.BadInput)."""
+    if args.workers < 1 or args.retries < 0:
+        raise plan.BadInput("--workers must be at least 1 and --retries not negative")
+    if args.unit_timeout is not None and not args.unit_timeout > 0:
+        raise plan.BadInput("--unit-timeout must be positive (seconds)")
+    for name, value in inputs.items():
+        if kinds[name] in PATH_TYPES and not os.path.exists(value.partition("|")[0]):
+            raise plan.BadInput("--%s %s does not exist" % (name.lower(), value.partition("|")[0]))
+
+
 def plan_units(command, args, algorithm, inputs, work_dir):
     """The units: (spec list, description of what a unit is)."""
     specs = []
@@ -215,6 +226,7 @@ def main(argv=None):
 
     run = report.Run(command, algorithm, work_dir, start_up)
     try:
+        check_arguments(args, inputs, kinds)
         specs, what = plan_units(command, args, algorithm, inputs, work_dir)
     except plan.BadInput as e:
         say("geostation-batch: %s." % e)

@@ -295,7 +295,7 @@ class BatchOnALoopbackCluster(unittest.TestCase):
         done = bs.batch(self.home, "extract", "--block", os.path.join(self.tmp, "none.json"), "--output",
                         os.path.join(self.tmp, "none", "roads.gpkg"), "--scheduler", self.cluster.address)
         self.assertEqual(done.returncode, 1, done.stdout + done.stderr)
-        self.assertIn("cannot read the block", done.stderr)
+        self.assertIn("none.json does not exist", done.stderr)
         done = bs.batch(self.home, "extract", "--block", self.block, "--output", os.path.join(self.tmp, "none", "roads.gpkg"),
                         "--scheduler", "tcp://127.0.0.1:9")
         self.assertEqual(done.returncode, 1, done.stdout + done.stderr)
