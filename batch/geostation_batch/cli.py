@@ -135,7 +135,7 @@ def plan_units(command, args, algorithm, inputs, work_dir):
         seeds_path = absolute(args.seeds)
         if args.overlap_stations < 1 or args.max_stations < 0:
             raise plan.BadInput("--overlap-stations must be at least 1 and --max-stations not negative")
-        pieces = plan.seed_pieces(plan.read_seeds(seeds_path), block, args.max_stations, args.overlap_stations)
+        pieces = plan.seed_pieces(plan.read_table(seeds_path, "seeds"), block, args.max_stations, args.overlap_stations)
         folder = os.path.join(work_dir, "inputs", "seeds")
         os.makedirs(folder, exist_ok=True)
         for line_id, order, row, stations in pieces:
@@ -232,11 +232,19 @@ def main(argv=None):
         say("geostation-batch: %s." % e)
         return EXIT_BAD_INPUT
     say("%s: %s, work dir %s" % (command, what, work_dir))
-    pending = [s for s in specs if not unit.completed(work_dir, s)]
-    entries, errors = {s["id"]: dict(unit.completed(work_dir, s), skipped=True) for s in specs if s not in pending}, {}
+    # the manifest read once: what an earlier run completed is not run again
+    entries, errors, pending = {}, {}, []
+    for spec in specs:
+        done = unit.completed(work_dir, spec)
+        if done:
+            entries[spec["id"]] = dict(done, skipped=True)
+        else:
+            pending.append(spec)
     if not pending:
         say("every unit is complete from an earlier run: merging only")
     else:
+        if entries:
+            say("%d of %d units are complete from an earlier run and are not run again" % (len(entries), len(specs)))
         try:
             client, local = cluster.connect(args.scheduler, args.workers, say)
         except ConnectionError as e:
@@ -249,7 +257,9 @@ def main(argv=None):
                 say("geostation-batch: no worker can run the units.")
                 return EXIT_BAD_INPUT
             run.workers = len(kept)
-            entries, errors = cluster.run_units(client, specs, work_dir, args.qgis_process, args.qgis_home, args.retries, args.unit_timeout, say)
+            ran, errors = cluster.run_units(client, pending, len(entries), len(specs), work_dir, args.qgis_process, args.qgis_home, args.retries,
+                                            args.unit_timeout)
+            entries.update(ran)
         finally:
             client.close()
             if local is not None:

@@ -2,16 +2,14 @@
 workers asked first whether they can read the inputs, the units submitted
 with retries and followed with a progress line."""
 
+import importlib.util
 import sys
 import time
 
 from . import unit
 
-try:  # Debian 12 packages distributed without bokeh: no dashboard then
-    import bokeh  # noqa: F401
-    HAS_DASHBOARD = True
-except ImportError:
-    HAS_DASHBOARD = False
+# Debian 12 packages distributed without bokeh: no dashboard then
+HAS_DASHBOARD = importlib.util.find_spec("bokeh") is not None
 
 
 def ship_by_value():
@@ -89,20 +87,11 @@ class Progress:
         self.stream.flush()
 
 
-def run_units(client, specs, work_dir, executable, qgis_home, retries, timeout, say):
-    """Runs the units not yet complete; returns ({id: manifest entry}, {id: error sentence})."""
+def run_units(client, pending, done_before, total, work_dir, executable, qgis_home, retries, timeout):
+    """Runs the units not yet complete (`pending`; `done_before` of `total` are); returns ({id: manifest entry}, {id: error sentence})."""
     from distributed import as_completed
     entries, errors = {}, {}
-    pending = []
-    for spec in specs:
-        done = unit.completed(work_dir, spec)
-        if done:
-            entries[spec["id"]] = dict(done, skipped=True)
-        else:
-            pending.append(spec)
-    if entries:
-        say("%d of %d units are complete from an earlier run and are not run again" % (len(entries), len(specs)))
-    progress = Progress(len(specs), len(entries))
+    progress = Progress(total, done_before)
     futures = {}
     for spec in pending:
         future = client.submit(unit.run_unit, spec, work_dir, executable, qgis_home, timeout,

@@ -40,23 +40,28 @@ def _move_into_place(staged_file, output):
         os.replace(staged_file, os.path.abspath(output))
 
 
+def _run_into_place(algorithm, inputs, output, executable, qgis_home, staging, what, report_path=None):
+    """Runs a merging algorithm into `staging`, moves its OUTPUT to `output` and returns its REPORT (copied to `report_path`)."""
+    home = qgis.private_home(qgis_home, os.path.join(staging, "home"))
+    staged = os.path.join(staging, os.path.basename(output))
+    staged_report = os.path.join(staging, "report.json")
+    code, out, err = qgis.run(executable, home, algorithm, dict(inputs, OUTPUT=staged, REPORT=staged_report))
+    if code != 0:
+        raise MergeFailed("%s failed: %s" % (what, qgis.failure_sentence(code, out, err)))
+    with open(staged_report) as f:
+        report = json.load(f)
+    _move_into_place(staged, output)
+    if report_path:
+        shutil.copyfile(staged_report, report_path)
+    return report
+
+
 def road_networks(unit_outputs, output, executable, qgis_home, report_path=None):
     """geostation:merge_road_networks over the pairs' networks (in the order of the pairs); returns its report."""
     staging = _staged(output)
     try:
-        home = qgis.private_home(qgis_home, os.path.join(staging, "home"))
-        staged = os.path.join(staging, os.path.basename(output))
-        staged_report = os.path.join(staging, "merge-report.json")
-        code, out, err = qgis.run(executable, home, "geostation:merge_road_networks",
-                                  {"INPUTS": sorted(unit_outputs, key=lambda p: os.path.basename(p)), "OUTPUT": staged, "REPORT": staged_report})
-        if code != 0:
-            raise MergeFailed("merging the road networks failed: " + qgis.failure_sentence(code, out, err))
-        with open(staged_report) as f:
-            report = json.load(f)
-        _move_into_place(staged, output)
-        if report_path:
-            shutil.copyfile(staged_report, report_path)
-        return report
+        inputs = {"INPUTS": sorted(unit_outputs, key=lambda p: os.path.basename(p))}
+        return _run_into_place("geostation:merge_road_networks", inputs, output, executable, qgis_home, staging, "merging the road networks", report_path)
     finally:
         shutil.rmtree(staging, ignore_errors=True)
 
@@ -139,18 +144,9 @@ def traced_pieces(pieces, output, executable, qgis_home, work_dir, report_path=N
         ds_out = None
         if layer_out is None:
             raise MergeFailed("no unit traced anything")
-        home = qgis.private_home(qgis_home, os.path.join(staging, "home"))
-        staged = os.path.join(staging, os.path.basename(output))
-        staged_report = os.path.join(staging, "join-report.json")
-        code, out, err = qgis.run(executable, home, "geostation:join_traced_pieces", {"INPUT": table, "OUTPUT": staged, "REPORT": staged_report})
-        if code != 0:
-            raise MergeFailed("joining the traced pieces failed: " + qgis.failure_sentence(code, out, err))
-        with open(staged_report) as f:
-            report = json.load(f)
-        _move_into_place(staged, output)
+        report = _run_into_place("geostation:join_traced_pieces", {"INPUT": table}, output, executable, qgis_home, staging,
+                                 "joining the traced pieces", report_path)
         shutil.copyfile(table, os.path.join(work_dir, "pieces.gpkg"))
-        if report_path:
-            shutil.copyfile(staged_report, report_path)
         return report
     finally:
         shutil.rmtree(staging, ignore_errors=True)

@@ -54,22 +54,7 @@ def strip_pairs(block):
 
 def table_pairs(path, block):
     """The pairs of a PAIRS table (CSV or any table OGR reads; fields left, right)."""
-    rows = []
-    if path.lower().endswith(".csv"):
-        try:
-            with open(path, newline="") as f:
-                rows = [(r.get("left", "").strip(), r.get("right", "").strip()) for r in csv.DictReader(f)]
-        except OSError as e:
-            raise BadInput("cannot read the pairs %s: %s" % (path, e.strerror))
-    else:
-        try:
-            ds = ogr.Open(path)
-        except RuntimeError:
-            ds = None
-        if ds is None:
-            raise BadInput("cannot read the pairs %s as a table" % path)
-        layer = ds.GetLayer(0)
-        rows = [(str(f.GetField("left")), str(f.GetField("right"))) for f in layer]
+    rows = [(r.get("left", "").strip(), r.get("right", "").strip()) for r in read_table(path, "pairs")]
     ids = {im["id"] for im in block.get("images", [])}
     for left, right in rows:
         if not left or not right:
@@ -151,14 +136,14 @@ def write_chunks(path, unit_size, folder):
     return chunks
 
 
-def read_seeds(path):
-    """The rows of a SEEDS table (CSV, or any table OGR reads) as dicts of text."""
+def read_table(path, what):
+    """The rows of a table (CSV, or any table OGR reads) as dicts of text; `what` names it in a message."""
     if path.lower().endswith(".csv"):
         try:
             with open(path, newline="") as f:
                 return [dict(r) for r in csv.DictReader(f)]
         except OSError as e:
-            raise BadInput("cannot read the seeds %s: %s" % (path, e.strerror))
+            raise BadInput("cannot read the %s %s: %s" % (what, path, e.strerror))
     ds = _open_vector(path)
     layer = ds.GetLayer(0)
     return [{k: ("" if v is None else str(v)) for k, v in f.items().items()} for f in layer]

@@ -11,6 +11,8 @@
 
 #include <Eigen/Geometry>
 
+#include "geometry/polyline.h"
+
 namespace geostation
 {
 
@@ -26,10 +28,7 @@ namespace geostation
 
   double MergedNetworkLine::lengthM() const
   {
-    double length = 0.0;
-    for ( size_t i = 1; i < points.size(); ++i )
-      length += ( points[i] - points[i - 1] ).head<2>().norm();
-    return length;
+    return polylineLengthXY( points );
   }
 
   namespace
@@ -78,14 +77,6 @@ namespace geostation
       return best;
     }
 
-    double lengthXY( const std::vector<Eigen::Vector3d> &line )
-    {
-      double length = 0.0;
-      for ( size_t i = 1; i < line.size(); ++i )
-        length += ( line[i] - line[i - 1] ).head<2>().norm();
-      return length;
-    }
-
     //! The line between arc lengths `from` and `to` (XY), its own vertices kept in between.
     std::vector<Eigen::Vector3d> cut( const std::vector<Eigen::Vector3d> &line, double from, double to )
     {
@@ -122,7 +113,7 @@ namespace geostation
     std::vector<Sample> samplesAlong( const std::vector<Eigen::Vector3d> &line, double step )
     {
       std::vector<Sample> out;
-      const double total = lengthXY( line );
+      const double total = polylineLengthXY( line );
       const int n = std::max( 1, static_cast<int>( std::ceil( total / step ) ) );
       size_t segment = 0;
       double segmentStart = 0.0;
@@ -205,7 +196,7 @@ namespace geostation
       const Eigen::Vector2d away = ( end - inner ).head<2>().normalized(); // the piece's direction out through this end
       const Nearest n = nearestOn( m.points, end.head<2>() );
       const double reach = toleranceFor( p.sigmaM, m.sigmaM ) + 2.0 * mOptions.sampleM;
-      const double total = lengthXY( m.points );
+      const double total = polylineLengthXY( m.points );
       const Eigen::Vector2d mEndDirection = ( m.points.back() - m.points[m.points.size() - 2] ).head<2>().normalized();
       const Eigen::Vector2d mStartDirection = ( m.points.front() - m.points[1] ).head<2>().normalized();
       const bool atMEnd = n.along >= total - reach && -away.dot( mEndDirection ) >= mCosParallel;
@@ -255,7 +246,7 @@ namespace geostation
 
     void Merger::add( const PairNetworkLine &line, int pairIndex, const std::string &pair, NetworkMergeSummary &summary )
     {
-      const double total = lengthXY( line.points );
+      const double total = polylineLengthXY( line.points );
       summary.lengthInM += total;
       ++summary.linesIn;
       if ( line.points.size() < 2 || !( total > 0.0 ) )

@@ -14,6 +14,7 @@
 #include "extraction/greytiles.h"
 #include "adjustment/intersection.h"
 #include "extraction/pairmapping.h"
+#include "geometry/polyline.h"
 #include "revision/samplecheck.h"
 
 namespace geostation
@@ -44,10 +45,7 @@ namespace geostation
 
   double RevisedPiece::lengthM() const
   {
-    double length = 0.0;
-    for ( size_t i = 1; i < course.size(); ++i )
-      length += ( course[i] - course[i - 1] ).head<2>().norm();
-    return length;
+    return polylineLengthXY( course );
   }
 
   double MapRevisionSummary::lengthM( RevisionStatus status ) const

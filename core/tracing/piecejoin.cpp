@@ -9,6 +9,8 @@
 #include <map>
 #include <stdexcept>
 
+#include "geometry/polyline.h"
+
 namespace geostation
 {
 
@@ -40,14 +42,6 @@ namespace geostation
           best = { d, i, t };
       }
       return best;
-    }
-
-    double lengthXY( const std::vector<Eigen::Vector3d> &line, size_t from )
-    {
-      double length = 0.0;
-      for ( size_t i = from + 1; i < line.size(); ++i )
-        length += ( line[i] - line[i - 1] ).head<2>().norm();
-      return length;
     }
 
     //! Appends `next` to `line` (a's vertices up to where `next` starts), reporting how they agree.
@@ -100,7 +94,7 @@ namespace geostation
       for ( size_t i = keep + 1; i < line.points.size(); ++i )
         worst = std::max( worst, nearestOn( next.points, line.points[i] ).distance );
       if ( worst > allowed )
-        disagreements.push_back( { line.lineId, previousName, next.name, worst, allowed, lengthXY( line.points, keep ), false } );
+        disagreements.push_back( { line.lineId, previousName, next.name, worst, allowed, polylineLengthXY( line.points, keep ), false } );
       line.points.resize( keep + 1 );
       line.points.insert( line.points.end(), next.points.begin(), next.points.end() );
     }

@@ -22,6 +22,7 @@ import csv
 import json
 import os
 import shutil
+import subprocess
 import sys
 import tempfile
 import time
@@ -32,8 +33,6 @@ from osgeo import ogr
 
 import batch_support as bs
 from headless_support import install_plugin, qgis_env
-
-import subprocess
 
 SOURCE_DIR, BUILD_DIR = None, None
 BUFFER_M = 3.0  # the buffer of the scores: half the narrowest road
