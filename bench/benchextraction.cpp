@@ -126,14 +126,14 @@ namespace
     long addedKb = -1;
     int vertices = 0;
     long windows = 0;
-  } windowed, whole;
+  } windowed, whole, defaultsWindowed;
 
   /**
    * The whole procedure from the two image files, as geostation:extract_roads
    * runs it: terrain height by matching, extraction, 3-D lines. `inWindows`:
    * read a window at a time (8-bit images); else decoded whole first.
    */
-  void runFromFiles( benchmark::State &state, bool inWindows, FromFiles &out )
+  void runFromFiles( benchmark::State &state, bool inWindows, FromFiles &out, const RoadNetworkOptions &options )
   {
     Pair &p = pair();
     const OrientedImage a = p.block.orientedImage( p.block.images.at( 0 ) ), b = p.block.orientedImage( p.block.images.at( 1 ) );
@@ -154,11 +154,11 @@ namespace
         if ( inWindows )
         {
           const auto readerLeft = std::make_shared<const RasterReader>( left ), readerRight = std::make_shared<const RasterReader>( right );
-          s = extractRoadNetwork( readerLeft, readerRight, &a, &b, networkOptions() );
+          s = extractRoadNetwork( readerLeft, readerRight, &a, &b, options );
           windows = s.reading.matchingWindows;
         }
         else
-          s = extractRoadNetwork( MatchImage( readRaster( left ).pixels ), MatchImage( readRaster( right ).pixels ), &a, &b, networkOptions() );
+          s = extractRoadNetwork( MatchImage( readRaster( left ).pixels ), MatchImage( readRaster( right ).pixels ), &a, &b, options );
         const long result[3] = { peakResidentKb() - before, s.network.vertices - s.network.unmatched, windows };
         const ssize_t written = ::write( channel[1], result, sizeof( result ) );
         ::_exit( written == sizeof( result ) ? 0 : 1 );
@@ -182,8 +182,10 @@ namespace
     state.SetLabel( std::to_string( out.vertices ) + " 3-D vertices" );
   }
 
-  void BM_NetworkFromFilesInWindows( benchmark::State &state ) { runFromFiles( state, true, windowed ); }
-  void BM_NetworkFromFilesWhole( benchmark::State &state ) { runFromFiles( state, false, whole ); }
+  void BM_NetworkFromFilesInWindows( benchmark::State &state ) { runFromFiles( state, true, windowed, networkOptions() ); }
+  void BM_NetworkFromFilesWhole( benchmark::State &state ) { runFromFiles( state, false, whole, networkOptions() ); }
+  //! What extract_roads does when given nothing but the pair: the defaults, the terrain height found by matching.
+  void BM_NetworkDefaultsFromFiles( benchmark::State &state ) { runFromFiles( state, true, defaultsWindowed, defaultRoadNetworkOptions() ); }
 
   /**
    * The extraction's defaults (either polarity, widths from 3 to 30 m, the
@@ -279,6 +281,7 @@ BENCHMARK( BM_NetworkFromFilesInWindows )->Unit( benchmark::kMillisecond )->Iter
 BENCHMARK( BM_NetworkFromFilesWhole )->Unit( benchmark::kMillisecond )->Iterations( 1 )->UseRealTime();
 BENCHMARK( BM_NetworkTunedOptions )->Unit( benchmark::kMillisecond )->Iterations( 1 )->UseRealTime();
 BENCHMARK( BM_NetworkDefaults )->Unit( benchmark::kMillisecond )->Iterations( 1 )->UseRealTime();
+BENCHMARK( BM_NetworkDefaultsFromFiles )->Unit( benchmark::kMillisecond )->Iterations( 1 )->UseRealTime();
 BENCHMARK( BM_ReviseMapWithoutNewRoads )->Unit( benchmark::kMillisecond )->Iterations( 1 )->UseRealTime();
 BENCHMARK( BM_BaselineSobel )->Unit( benchmark::kMillisecond );
 BENCHMARK( BM_BaselineDecode )->Unit( benchmark::kMillisecond );
@@ -317,6 +320,10 @@ int main( int argc, char **argv )
     std::printf( "\nThe defaults (either polarity, 3-30 m, contrast from the texture) against options tuned to these roads: "
                  "%.1f s against %.1f s, x%.2f the time (aim: at most x2)\n",
                  defaults > 0 ? 2.0 * n * n / defaults : 0.0, tuned > 0 ? 2.0 * n * n / tuned : 0.0, defaults > 0 ? tuned / defaults : 0.0 );
+    const double defaultsFromFiles = benchutils::rate( rates, "BM_NetworkDefaultsFromFiles" );
+    std::printf( "The whole procedure with the defaults from the files (terrain height found, read in windows): %.1f s (target <= 60 s at 8000 x 8000), "
+                 "%.0f MB of memory added, %d 3-D vertices\n",
+                 defaultsFromFiles > 0 ? 2.0 * n * n / defaultsFromFiles : 0.0, defaultsWindowed.addedKb / 1024.0, defaultsWindowed.vertices );
     const double revise = benchutils::rate( rates, "BM_ReviseMapWithoutNewRoads" );
     std::printf( "Map revision of the pair's own roads without new roads: %.1f s, x%.2f the time of extracting with the defaults (aim: at most x0.5); "
                  "%.1f MB of memory added at its peak (the images held before it)\n",
