@@ -1,3 +1,16 @@
+# Helpers for the tests.
+#
+# geostation_test_tool_missing(<sentence>)
+#   A program or data package some tests need is missing: a warning (the
+#   tests are left out), or with GEOSTATION_REQUIRE_TEST_TOOLS (CI) an error.
+function(geostation_test_tool_missing sentence)
+  if(GEOSTATION_REQUIRE_TEST_TOOLS)
+    message(FATAL_ERROR "${sentence} (GEOSTATION_REQUIRE_TEST_TOOLS is on: scripts/setup-debian.sh installs everything the tests need)")
+  else()
+    message(WARNING "${sentence}")
+  endif()
+endfunction()
+
 # Helpers for the Qt-based tests (provider, GUI, benchmarks that need Qt).
 #
 # geostation_add_qt_test(<test name> <executable target> <label> [TIMEOUT <s>])

@@ -5,13 +5,16 @@ source_dir="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 build_dir="${GEOSTATION_BUILD_DIR:-$source_dir/build}"
 # GEOSTATION_WERROR=ON (CI=true sets it): compiler warnings fail the build
 werror="${GEOSTATION_WERROR:-$([ "${CI:-}" = true ] && echo ON || echo OFF)}"
+# GEOSTATION_REQUIRE_TEST_TOOLS=ON (CI=true sets it): a program or data package a test needs that is missing
+# fails the configuration instead of leaving its tests out
+require="${GEOSTATION_REQUIRE_TEST_TOOLS:-$([ "${CI:-}" = true ] && echo ON || echo OFF)}"
 # debug information: full (-g) for a developer's build; line tables only (-g1) in CI, where nobody steps
 # through the code and -g makes the build about 40 % slower (backtraces keep file and line either way)
 debug="${GEOSTATION_DEBUG_INFO:-$([ "${CI:-}" = true ] && echo -g1 || echo -g)}"
 source "$source_dir/scripts/lib/generator.sh"
 # shellcheck disable=SC2046 # the generator option is one word pair or nothing
 cmake $(cmake_generator_args "$build_dir") -S "$source_dir" -B "$build_dir" -DCMAKE_BUILD_TYPE="${CMAKE_BUILD_TYPE:-RelWithDebInfo}" -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O2 $debug -DNDEBUG" \
-  -DGEOSTATION_WERROR="$werror" > "$build_dir.configure.log" 2>&1 \
+  -DGEOSTATION_WERROR="$werror" -DGEOSTATION_REQUIRE_TEST_TOOLS="$require" > "$build_dir.configure.log" 2>&1 \
   || { cat "$build_dir.configure.log"; exit 1; }
 # the configure log is kept; its warnings (a missing optional package, a deprecated setting) are shown
 if grep -q "CMake Warning\|CMake Deprecation Warning" "$build_dir.configure.log"; then

@@ -3,8 +3,10 @@
 # core (GoogleTest), provider (QtTest) and end-to-end (qgis_process.bin, and
 # QGIS desktop under xvfb-run). Test artifacts (screenshots) go to
 # build/test-artifacts/. Then the core tests again, built with AddressSanitizer
-# and UndefinedBehaviorSanitizer (scripts/sanitize.sh; about 13 minutes on two
-# cores): any finding fails the run.
+# and UndefinedBehaviorSanitizer (scripts/sanitize.sh): any finding fails the
+# run. The sanitizer build runs at the lowest priority while the main tests
+# run, on the processor time they leave (qgis_process and QGIS desktop
+# starting, the X server, Dask's scheduler waiting), and its tests after them.
 #
 #   scripts/test.sh [--no-sanitize] [ctest options]
 set -euo pipefail
@@ -19,8 +21,22 @@ fi
 "$source_dir/scripts/setup-debian.sh"
 mkdir -p "$build_dir"
 "$source_dir/scripts/build.sh"
-cd "$build_dir"
-ctest -j"$(nproc)" --output-on-failure --timeout 900 "$@"
 if [ "$sanitize" = 1 ]; then
-  "$source_dir/scripts/sanitize.sh"
+  sanitize_log="${GEOSTATION_SANITIZE_BUILD_DIR:-$source_dir/build-sanitize}.build.log"
+  nice -n 19 "$source_dir/scripts/sanitize.sh" --build-only > "$sanitize_log" 2>&1 &
+  sanitize_build=$!
 fi
+cd "$build_dir"
+status=0
+ctest -j"$(nproc)" --output-on-failure --timeout 900 "$@" || status=$?
+if [ "$sanitize" = 1 ]; then
+  if ! wait "$sanitize_build"; then
+    cat "$sanitize_log"
+    echo "The sanitizer build failed (its log above: $sanitize_log)."
+    exit 1
+  fi
+  echo "The sanitizer build is done (log: $sanitize_log)."
+  [ "$status" = 0 ] || exit "$status"
+  "$source_dir/scripts/sanitize.sh" --tests-only
+fi
+exit "$status"

@@ -128,8 +128,7 @@ TEST( WindowShape, RoadSurfaceFromTwoStationsOfARun )
   // it, 30 degrees down, from two stations 4 m apart: the near station sees the surface at about twice
   // the scale and much less foreshortened than the far one
   const GroundTexture t = texture( "aero1.jpg", 0.012, Eigen::Vector2d( 0.0, 6.0 ) );
-  if ( t.grey.empty() )
-    GTEST_SKIP() << "opencv-doc's example data is not installed";
+  ASSERT_FALSE( t.grey.empty() ) << "opencv-doc's example data (Debian package opencv-doc, installed by scripts/setup-debian.sh)";
   const Camera camera = frameCamera( 1024, 768, 900.0 );
   const GroundOfPixel plane = groundPlane( 0.0 );
   const OrientedImage nearStation = lookingAt( camera, Eigen::Vector3d( 0.0, 1.0, 2.5 ), 0.0, 30.0 );
@@ -149,8 +148,7 @@ TEST( WindowShape, ObliquePairSixtyDegreesApart )
 {
   // a real wall photograph laid flat, seen from 45 degrees above the horizon by two cameras 60 degrees apart in azimuth
   const GroundTexture t = texture( "graf1.png", 0.01, Eigen::Vector2d( 0.0, 0.0 ) );
-  if ( t.grey.empty() )
-    GTEST_SKIP() << "opencv-doc's example data is not installed";
+  ASSERT_FALSE( t.grey.empty() ) << "opencv-doc's example data (Debian package opencv-doc, installed by scripts/setup-debian.sh)";
   const Camera camera = frameCamera( 1024, 768, 1100.0 );
   const GroundOfPixel plane = groundPlane( 0.0 );
   const auto fromAzimuth = [&]( double azimuthDeg )
@@ -175,8 +173,7 @@ TEST( WindowShape, HillyTerrainThroughTheDem )
   const GroundOfPixel surface = demGroundOfPixel( dem, identity );
   const Eigen::Vector2d centre( syntheticterrain::kX0 + 200.0, syntheticterrain::kY0 - 200.0 );
   const GroundTexture t = texture( "aero1.jpg", 0.1, centre );
-  if ( t.grey.empty() )
-    GTEST_SKIP() << "opencv-doc's example data is not installed";
+  ASSERT_FALSE( t.grey.empty() ) << "opencv-doc's example data (Debian package opencv-doc, installed by scripts/setup-debian.sh)";
   const Camera camera = frameCamera( 1024, 768, 1000.0 );
   const double groundZ = syntheticterrain::height( centre.x(), centre.y() );
   const OrientedImage south = lookingAt( camera, Eigen::Vector3d( centre.x(), centre.y() - 60.0, groundZ + 45.0 ), 0.0, 37.0 );
