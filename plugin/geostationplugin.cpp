@@ -171,7 +171,7 @@ void GeoStationPlugin::initGui()
   } );
   // reviewing an extracted road network: click lines of geostation:extract_roads' output on the map
   mReview = new GeoStationExtractionReview( mSession, mStore, this );
-  mReviewAction = addAction( QStringLiteral( "mActionGeoStationReviewExtracted" ), QStringLiteral( ":/geostation/icons/pickstation.svg" ), tr( "Review Extracted Roads" ),
+  mReviewAction = addAction( QStringLiteral( "mActionGeoStationReviewExtracted" ), QStringLiteral( ":/geostation/icons/reviewroads.svg" ), tr( "Review Extracted Roads" ),
                              tr( "Click an extracted road on the map: left accepts it into the current line class (method \"extracted\"), right rejects it" ), nullptr );
   mReviewAction->setCheckable( true );
   mReviewTool = new GeoStationReviewTool( mIface->mapCanvas() );

@@ -3,6 +3,7 @@ GeoStation plugin is loaded, exercises it (blocks good and bad, Block
 Information, an algorithm dialog, Import Block through its dialog), writes
 the findings as JSON and a screenshot, and quits QGIS. Driven by test_desktop_smoke.py."""
 
+import hashlib
 import json
 import os
 import time
@@ -132,7 +133,16 @@ def check():
         result["menu"] = menu is not None
         result["menu_title"] = menu.title() if menu else None
         result["menu_actions"] = [a.objectName() for a in menu.actions()] if menu else []
-        result["toolbar"] = window.findChild(QToolBar, "mGeoStationToolBar") is not None
+        toolbar = window.findChild(QToolBar, "mGeoStationToolBar")
+        result["toolbar"] = toolbar is not None
+        # each toolbar button's icon: drawn (not a null icon) and its own (the image's bytes)
+        result["toolbar_icons"] = {}
+        for action in (toolbar.actions() if toolbar else []):
+            if action.isSeparator() or not action.objectName():
+                continue
+            image = action.icon().pixmap(32, 32).toImage()
+            result["toolbar_icons"][action.objectName()] = None if image.isNull() else hashlib.sha1(bytes(image.constBits().asarray(image.sizeInBytes()))).hexdigest()
+        result["provider_icon"] = not QgsApplication.processingRegistry().providerById("geostation").icon().isNull()
         adjustment = window.findChild(QMenu, "mGeoStationAdjustmentMenu")
         result["adjustment_actions"] = [a.objectName() for a in adjustment.actions()] if adjustment else []
         registry = QgsApplication.processingRegistry()

@@ -67,6 +67,14 @@ class DesktopSmokeTest(unittest.TestCase):
         self.assertNotIn("exception", self.result, self.result.get("exception"))
         self.assertEqual(self.exit_code, 0, self.log)
 
+    def test_every_toolbar_button_has_an_icon_of_its_own(self):
+        icons = self.result.get("toolbar_icons", {})
+        self.assertGreaterEqual(len(icons), 6, icons.keys())
+        for name, image in icons.items():
+            self.assertIsNotNone(image, name + " has no icon")
+        self.assertEqual(len(set(icons.values())), len(icons), "two toolbar buttons share an icon")
+        self.assertTrue(self.result.get("provider_icon"), "the Processing provider has no icon")
+
     def test_menu_toolbar_and_provider_are_present(self):
         self.assertTrue(self.result.get("menu"))
         self.assertEqual(self.result.get("menu_title"), "&GeoStation")
