@@ -16,6 +16,8 @@
 #include <qgsmaptool.h>
 #include <qgspointxy.h>
 
+#include "geometry/imagespace.h"
+
 class GeoStationImagePointTool : public QgsMapTool
 {
     Q_OBJECT
@@ -24,8 +26,16 @@ class GeoStationImagePointTool : public QgsMapTool
     explicit GeoStationImagePointTool( QgsMapCanvas *canvas );
 
     //! Pixel (col, row) of a point of the view's map; `mirrored`: the view shows the image at x = -col.
-    static QPointF pixelFromMap( const QgsPointXY &point, bool mirrored = false ) { return QPointF( mirrored ? -point.x() : point.x(), -point.y() ); }
-    static QgsPointXY mapFromPixel( double col, double row, bool mirrored = false ) { return QgsPointXY( mirrored ? -col : col, -row ); }
+    static QPointF pixelFromMap( const QgsPointXY &point, bool mirrored = false )
+    {
+      const Eigen::Vector2d pixel = geostation::pixelOfImageSpace( Eigen::Vector2d( mirrored ? -point.x() : point.x(), point.y() ) );
+      return QPointF( pixel.x(), pixel.y() );
+    }
+    static QgsPointXY mapFromPixel( double col, double row, bool mirrored = false )
+    {
+      const Eigen::Vector2d xy = geostation::imageSpaceOfPixel( Eigen::Vector2d( col, row ) );
+      return QgsPointXY( mirrored ? -xy.x() : xy.x(), xy.y() );
+    }
 
     //! The view shows the image mirrored (x = -col): its clicks are turned back into the stored pixels.
     void setMirrored( bool mirrored ) { mMirrored = mirrored; }

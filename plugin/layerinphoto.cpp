@@ -3,6 +3,9 @@
  ***************************************************************************/
 #include "layerinphoto.h"
 
+#include <algorithm>
+#include <limits>
+
 #include <qgscoordinatetransform.h>
 #include <qgsfeatureiterator.h>
 #include <qgsgeometry.h>
@@ -14,7 +17,8 @@
 #include <qgsrubberband.h>
 
 #include "dem/dem.h"
-#include "dem/linevisibility.h"
+#include "dem/featureinphoto.h"
+#include "geometry/imagespace.h"
 #include "imageview.h"
 #include "multiviewdock.h"
 #include "multiviewsession.h"
@@ -131,8 +135,7 @@ void GeoStationLayerInPhoto::redraw()
       ++mSkipped;
       continue;
     }
-    // every vertex part (point, line, ring) as a list of ground points with heights
-    bool skipped = false;
+    // every vertex part (point, line, ring) as a list of map vertices (Z NaN where a vertex has none)
     QVector<std::vector<Eigen::Vector3d>> parts( 1 );
     QgsVertexId id, previous;
     QgsPoint p;
@@ -142,42 +145,46 @@ void GeoStationLayerInPhoto::redraw()
       if ( !parts.last().empty() && ( id.part != previous.part || id.ring != previous.ring ) )
         parts.append( std::vector<Eigen::Vector3d>() );
       previous = id;
-      std::optional<double> z;
-      if ( p.is3D() && std::isfinite( p.z() ) )
-        z = p.z();
-      else if ( mono )
-        z = mono->demHeightAt( Eigen::Vector3d( p.x(), p.y(), 0.0 ) );
-      if ( !z )
-      {
-        skipped = true;
-        break;
-      }
-      parts.last().emplace_back( p.x(), p.y(), *z );
+      parts.last().emplace_back( p.x(), p.y(), p.is3D() ? p.z() : std::numeric_limits<double>::quiet_NaN() );
     }
-    if ( skipped )
+    // core's one rule for a map feature in a photo: heights from the feature's Z, else the DEM; a feature with a vertex
+    // that has neither is skipped whole
+    geostation::FeatureHeights heights;
+    heights.dem = mono;
+    QVector<geostation::GroundPart> ground;
+    for ( const std::vector<Eigen::Vector3d> &part : std::as_const( parts ) )
+      ground << geostation::groundPart( part, heights );
+    if ( std::any_of( ground.cbegin(), ground.cend(), []( const geostation::GroundPart & part ) { return part.status != geostation::FeatureHeightStatus::Ok; } ) )
     {
       ++mSkipped;
       continue;
     }
-    for ( const std::vector<Eigen::Vector3d> &part : std::as_const( parts ) )
+    geostation::LineInPhotoOptions split;
+    split.splitHidden = true; // rings too are drawn as lines, split where the terrain hides them
+    for ( const geostation::GroundPart &part : std::as_const( ground ) )
     {
-      if ( part.size() == 1 )
+      if ( part.vertices.size() == 1 )
       {
-        const geostation::GroundPointView seen = geostation::featureViewer( *mImage, mono )( part.front() );
+        const geostation::GroundPointView seen = geostation::pointInPhoto( *mImage, part.vertices.front(), heights );
         if ( !seen.projection.ok() )
           continue;
         const bool isHidden = seen.projection.inFrame && !seen.visible;
-        ( isHidden ? hiddenPoints : visiblePoints ).addGeometry( new QgsPoint( seen.projection.pixelInImage.x(), -seen.projection.pixelInImage.y() ) );
+        const Eigen::Vector2d xy = geostation::imageSpaceOfPixel( seen.projection.pixelInImage );
+        ( isHidden ? hiddenPoints : visiblePoints ).addGeometry( new QgsPoint( xy.x(), xy.y() ) );
         ( isHidden ? mHiddenParts : mVisibleParts ) += 1;
         continue;
       }
-      for ( const geostation::LineVisibilityRun &run : geostation::lineVisibilityRuns( *mImage, mono, part ) )
+      const geostation::ProjectedGroundLine runs = geostation::lineInPhoto( *mImage, part, heights, split );
+      for ( size_t r = 0; r < runs.parts.size(); ++r )
       {
         QgsLineString *line = new QgsLineString();
-        for ( const Eigen::Vector2d &px : run.pixels )
-          line->addVertex( QgsPoint( px.x(), -px.y() ) );
-        ( run.hidden ? hidden : visible ).addGeometry( line );
-        ( run.hidden ? mHiddenParts : mVisibleParts ) += 1;
+        for ( const Eigen::Vector2d &px : runs.parts[r] )
+        {
+          const Eigen::Vector2d xy = geostation::imageSpaceOfPixel( px );
+          line->addVertex( QgsPoint( xy.x(), xy.y() ) );
+        }
+        ( runs.hidden[r] ? hidden : visible ).addGeometry( line );
+        ( runs.hidden[r] ? mHiddenParts : mVisibleParts ) += 1;
       }
     }
   }

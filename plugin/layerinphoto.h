@@ -6,8 +6,9 @@
   layer) are projected into the Multiview's views of a photo with the
   current orientation - while it is being measured, not only once saved -
   visible parts solid cyan, parts hidden behind the terrain dashed red
-  (core lineVisibilityRuns()). Follows the layer's edits and the
-  orientation live (redrawn a moment after a change).
+  (core's one rule for a map feature in a photo, dem/featureinphoto, the
+  lines split where the terrain hides them). Follows the layer's edits and
+  the orientation live (redrawn a moment after a change).
  ***************************************************************************/
 #ifndef GEOSTATIONLAYERINPHOTO_H
 #define GEOSTATIONLAYERINPHOTO_H

@@ -3,6 +3,9 @@
  ***************************************************************************/
 #include "measurementoverlay.h"
 
+#include <algorithm>
+#include <limits>
+
 #include <qgscoordinatetransform.h>
 #include <qgsfeatureiterator.h>
 #include <qgsfeaturerequest.h>
@@ -11,40 +14,47 @@
 #include <qgsproject.h>
 #include <qgsvectorlayer.h>
 
+#include "dem/featureinphoto.h"
+#include "geometry/imagespace.h"
+
 namespace
 {
   QgsPointXY toView( const Eigen::Vector2d &pixel )
   {
-    return QgsPointXY( pixel.x(), -pixel.y() );
+    const Eigen::Vector2d xy = geostation::imageSpaceOfPixel( pixel );
+    return QgsPointXY( xy.x(), xy.y() );
   }
 
-  //! Projected pieces of a 3D polyline (pieces broken where a point cannot be projected).
-  void addPolyline( const geostation::OrientedImage &image, const std::vector<Eigen::Vector3d> &vertices, double densifyPx, QgsMultiLineString &out )
+  /**
+   * The heights of the overlay: a measured feature's own Z; a vertex without
+   * one (a 2-D layer) lies on the plane Z = 0 (the Multiview has no DEM of
+   * its own).
+   */
+  geostation::FeatureHeights overlayHeights()
+  {
+    geostation::FeatureHeights heights;
+    heights.planeZ = 0.0;
+    return heights;
+  }
+
+  //! A polyline or ring (block CRS) in the image by core's rule, its parts that reach into the frame added to `out`.
+  void addPolyline( const geostation::OrientedImage &image, const std::vector<Eigen::Vector3d> &vertices, bool closed, double densifyPx, QgsMultiLineString &out )
   {
     if ( vertices.size() < 2 )
       return;
-    const std::vector<Eigen::Vector3d> dense = geostation::densifyForImage( image, vertices, densifyPx );
-    QVector<QgsPointXY> piece;
-    bool anyInFrame = false;
-    const auto flush = [&]
+    const geostation::FeatureHeights heights = overlayHeights();
+    geostation::LineInPhotoOptions options;
+    options.densifyPx = densifyPx;
+    options.closed = closed;
+    for ( const std::vector<Eigen::Vector2d> &part : geostation::lineInPhoto( image, geostation::groundPart( vertices, heights ), heights, options ).parts )
     {
-      if ( piece.size() >= 2 && anyInFrame )
-        out.addGeometry( QgsLineString( piece ).clone() );
-      piece.clear();
-      anyInFrame = false;
-    };
-    for ( const Eigen::Vector3d &p : dense )
-    {
-      const geostation::GroundProjection g = image.projectGroundToPixel( p );
-      if ( !g.ok() )
-      {
-        flush();
+      if ( std::none_of( part.begin(), part.end(), [&image]( const Eigen::Vector2d & px ) { return image.camera().isInFrame( px ); } ) )
         continue;
-      }
-      piece << toView( g.pixelInImage );
-      anyInFrame = anyInFrame || g.inFrame;
+      QVector<QgsPointXY> line;
+      for ( const Eigen::Vector2d &px : part )
+        line << toView( px );
+      out.addGeometry( QgsLineString( line ).clone() );
     }
-    flush();
   }
 }
 
@@ -89,17 +99,20 @@ QVector<QgsGeometry> projectFeaturesIntoImage( const QList<QgsVectorLayer *> &la
       }
       if ( g.type() == QgsWkbTypes::PointGeometry )
       {
+        const geostation::FeatureHeights heights = overlayHeights();
         for ( auto v = g.vertices_begin(); v != g.vertices_end(); ++v )
         {
-          const geostation::GroundProjection p = image.projectGroundToPixel( Eigen::Vector3d( ( *v ).x(), ( *v ).y(), ( *v ).is3D() ? ( *v ).z() : 0.0 ) );
+          const Eigen::Vector3d ground = geostation::groundPart( { Eigen::Vector3d( ( *v ).x(), ( *v ).y(), ( *v ).z() ) }, heights ).vertices.front();
+          const geostation::GroundProjection p = geostation::pointInPhoto( image, ground, heights ).projection;
           if ( p.ok() && p.inFrame )
             out << QgsGeometry::fromPointXY( toView( p.pixelInImage ) );
         }
         continue;
       }
-      // lines and polygon rings, part by part
+      // lines and polygon rings (clipped as rings, drawn as lines), part by part
       QgsMultiLineString lines;
-      const QgsGeometry boundary = g.type() == QgsWkbTypes::PolygonGeometry ? QgsGeometry( g.constGet()->boundary() ) : g;
+      const bool rings = g.type() == QgsWkbTypes::PolygonGeometry;
+      const QgsGeometry boundary = rings ? QgsGeometry( g.constGet()->boundary() ) : g;
       for ( auto part = boundary.const_parts_begin(); part != boundary.const_parts_end(); ++part )
       {
         const QgsLineString *line = qgsgeometry_cast<const QgsLineString *>( *part );
@@ -107,8 +120,8 @@ QVector<QgsGeometry> projectFeaturesIntoImage( const QList<QgsVectorLayer *> &la
           continue;
         std::vector<Eigen::Vector3d> vertices;
         for ( int i = 0; i < line->numPoints(); ++i )
-          vertices.emplace_back( line->xAt( i ), line->yAt( i ), line->is3D() ? line->zAt( i ) : 0.0 );
-        addPolyline( image, vertices, options.densifyPx, lines );
+          vertices.emplace_back( line->xAt( i ), line->yAt( i ), line->is3D() ? line->zAt( i ) : std::numeric_limits<double>::quiet_NaN() );
+        addPolyline( image, vertices, rings, options.densifyPx, lines );
       }
       if ( lines.numGeometries() > 0 )
         out << QgsGeometry( lines.clone() );
@@ -130,7 +143,7 @@ QgsGeometry projectPolylineIntoImage( const std::vector<Eigen::Vector3d> &vertic
       run.push_back( vertices[i] );
       continue;
     }
-    addPolyline( image, run, options.densifyPx, pieces );
+    addPolyline( image, run, false, options.densifyPx, pieces );
     run.clear();
   }
   if ( pieces.numGeometries() == 0 )

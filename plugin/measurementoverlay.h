@@ -4,9 +4,10 @@
   Xin's (1995) consistency check: every feature of the measurement layers
   (edit buffer included) is projected into every image view, so the
   operator sees at once whether what was measured sits on the object, and
-  an edit or a deletion in QGIS shows in the views. Lines are densified
-  so they follow the lens distortion, and cut where they leave the part
-  of space the camera can see.
+  an edit or a deletion in QGIS shows in the views. Core's one rule for a
+  map feature in a photo (dem/featureinphoto): lines densified so they
+  follow the lens distortion, cut where they leave the part of space the
+  camera can see, rings clipped; a vertex without Z lies on Z = 0.
  ***************************************************************************/
 #ifndef GEOSTATIONMEASUREMENTOVERLAY_H
 #define GEOSTATIONMEASUREMENTOVERLAY_H

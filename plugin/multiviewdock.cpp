@@ -26,6 +26,7 @@
 #include <qgsgeometry.h>
 #include <qgsmapcanvas.h>
 
+#include "geometry/imagespace.h"
 #include "camerapanel.h"
 #include "changeinimages.h"
 #include "imageview.h"
@@ -585,8 +586,9 @@ void GeoStationMultiviewDock::showChange( const QgsGeometry &oldCourse, const Qg
     const QgsGeometry extent = newInImage.isNull() ? oldInImage : newInImage;
     if ( !extent.isNull() )
     {
-      const QgsRectangle box = extent.boundingBox(); // x = col, y = -row
-      view->zoomToPixel( QPointF( box.center().x(), -box.center().y() ), 0.6 * std::max( box.width(), box.height() ) + 40.0 );
+      const QgsRectangle box = extent.boundingBox(); // in image space
+      const Eigen::Vector2d centre = geostation::pixelOfImageSpace( Eigen::Vector2d( box.center().x(), box.center().y() ) );
+      view->zoomToPixel( QPointF( centre.x(), centre.y() ), 0.6 * std::max( box.width(), box.height() ) + 40.0 );
     }
   }
 }

@@ -25,6 +25,7 @@
 
 #include "dem/demintersection.h"
 #include "extraction/roadnetworkextractor.h"
+#include "geometry/imagespace.h"
 #include "io/rasterfile.h"
 #include "extractroadsreport.h"
 #include "processingblock.h"
@@ -44,8 +45,9 @@ namespace
     QVector<double> x, y;
     for ( const Eigen::Vector2d &p : pixels )
     {
-      x << p.x();
-      y << -p.y(); // docs/conventions.md §1: x = col, y = -row
+      const Eigen::Vector2d xy = geostation::imageSpaceOfPixel( p );
+      x << xy.x();
+      y << xy.y();
     }
     return QgsGeometry( new QgsLineString( x, y ) );
   }
@@ -264,7 +266,8 @@ QVariantMap ExtractRoadsAlgorithm::processGeoStation( const QVariantMap &paramet
     {
       QgsFeature f( endFields );
       f.setAttributes( QgsAttributes() << QString::fromStdString( geostation::deadEndKindName( d.kind ) ) );
-      f.setGeometry( QgsGeometry( new QgsPoint( d.state.pixelInImage.x(), -d.state.pixelInImage.y() ) ) );
+      const Eigen::Vector2d xy = geostation::imageSpaceOfPixel( d.state.pixelInImage );
+      f.setGeometry( QgsGeometry( new QgsPoint( xy.x(), xy.y() ) ) );
       ends->addFeature( f, QgsFeatureSink::FastInsert );
     }
     ends.reset();

@@ -8,6 +8,7 @@
 #include <QObject>
 
 #include "dem/demintersection.h"
+#include "geometry/imagespace.h"
 #include "geometrymapper.h"
 
 namespace GeoStationProcessing
@@ -29,7 +30,8 @@ namespace GeoStationProcessing
 
   bool GeometryMonoplotter::inFrame( const QgsPoint &p ) const
   {
-    return p.x() >= 0.0 && p.x() <= width && -p.y() >= 0.0 && -p.y() <= height;
+    const Eigen::Vector2d pixel = geostation::pixelOfImageSpace( Eigen::Vector2d( p.x(), p.y() ) );
+    return pixel.x() >= 0.0 && pixel.x() <= width && pixel.y() >= 0.0 && pixel.y() <= height;
   }
 
   std::optional<QgsPoint> GeometryMonoplotter::point( const Eigen::Vector2d &pixel )
@@ -98,7 +100,7 @@ namespace GeoStationProcessing
         fail( QObject::tr( "point (%1, %2) lies outside the image frame" ).arg( p.x() ).arg( p.y() ), QStringLiteral( "outside_image" ) );
         return std::nullopt;
       }
-      return point( { p.x(), -p.y() } );
+      return point( geostation::pixelOfImageSpace( Eigen::Vector2d( p.x(), p.y() ) ) );
     };
     mapper.line = [this]( const QgsLineString & l, bool closed ) { return line( l, closed ); };
     mapper.collectionType = []( QgsWkbTypes::Type type ) { return QgsWkbTypes::addZ( type ); }; // map features get heights

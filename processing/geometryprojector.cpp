@@ -4,11 +4,14 @@
 #include "geometryprojector.h"
 
 #include <cmath>
+#include <limits>
 
 #include <QObject>
 #include <qgscoordinatereferencesystem.h>
 #include <qgsexception.h>
+#include <qgsvertexid.h>
 
+#include "geometry/imagespace.h"
 #include "geometrymapper.h"
 
 namespace GeoStationProcessing
@@ -19,57 +22,68 @@ namespace GeoStationProcessing
     {
       QVector<QgsPoint> points;
       for ( const Eigen::Vector2d &v : part )
-        points << QgsPoint( v.x(), -v.y() );
+      {
+        const Eigen::Vector2d xy = geostation::imageSpaceOfPixel( v );
+        points << QgsPoint( xy.x(), xy.y() );
+      }
       return std::make_unique<QgsLineString>( points );
     }
   } // namespace
 
   GeometryProjector::GeometryProjector( const geostation::OrientedImage &image, const geostation::Monoplotter *monoplotter, const QgsCoordinateTransform &toBlock,
-                                        double densifyPx, bool drapeLines )
+                                        double densifyPx )
     : mImage( image )
-    , mMonoplotter( monoplotter )
     , mToBlock( toBlock )
-    , mView( geostation::featureViewer( image, monoplotter ) )
+    , mDensifyPx( densifyPx )
   {
-    mLineOptions.densifyPx = densifyPx;
-    if ( drapeLines && monoplotter )
-      mLineOptions.heightAt = [monoplotter]( const Eigen::Vector3d & p ) { return monoplotter->demHeightAt( p ); };
+    mHeights.dem = monoplotter; // the feature's Z, else the DEM's height; no plane: a vertex without either is refused
   }
 
-  //! A vertex in the block CRS, with its height (from the DEM when it has none).
-  Eigen::Vector3d GeometryProjector::groundOf( const QgsPoint &vertex, QgsFeatureId id ) const
+  //! A part's vertices in the block CRS with their heights by the rule; throws FeatureProblem for a vertex that cannot have one.
+  geostation::GroundPart GeometryProjector::groundOf( const QgsAbstractGeometry &part, QgsFeatureId id ) const
   {
-    double x = vertex.x(), y = vertex.y(), z = vertex.z();
-    const bool drape = std::isnan( z );
-    if ( drape && !mMonoplotter )
-      throw FeatureProblem { QStringLiteral( "no_height" ), QObject::tr( "Feature %1 has no Z value; without a DEM every vertex needs a height." ).arg( id ) };
-    try
+    std::vector<Eigen::Vector3d> vertices;
+    QgsVertexId v;
+    QgsPoint p;
+    while ( part.nextVertex( v, p ) )
     {
-      if ( drape )
-        z = 0.0;
-      mToBlock.transformInPlace( x, y, z );
+      double x = p.x(), y = p.y(), z = p.z();
+      const bool noZ = std::isnan( z );
+      try
+      {
+        if ( noZ )
+          z = 0.0;
+        mToBlock.transformInPlace( x, y, z );
+      }
+      catch ( const QgsCsException & )
+      {
+        throw FeatureProblem { QStringLiteral( "transform_failed" ), QObject::tr( "Feature %1 cannot be transformed from %2 to the block CRS %3." )
+                               .arg( id ).arg( mToBlock.sourceCrs().userFriendlyIdentifier(), mToBlock.destinationCrs().userFriendlyIdentifier() ) };
+      }
+      vertices.emplace_back( x, y, noZ ? std::numeric_limits<double>::quiet_NaN() : z );
     }
-    catch ( const QgsCsException & )
+    geostation::GroundPart ground = geostation::groundPart( vertices, mHeights );
+    switch ( ground.status )
     {
-      throw FeatureProblem { QStringLiteral( "transform_failed" ), QObject::tr( "Feature %1 cannot be transformed from %2 to the block CRS %3." )
-                             .arg( id ).arg( mToBlock.sourceCrs().userFriendlyIdentifier(), mToBlock.destinationCrs().userFriendlyIdentifier() ) };
-    }
-    if ( drape )
-    {
-      const std::optional<double> h = mMonoplotter->demHeightAt( Eigen::Vector3d( x, y, 0.0 ) );
-      if ( !h )
+      case geostation::FeatureHeightStatus::Ok:
+        break;
+      case geostation::FeatureHeightStatus::NoHeight:
+        throw FeatureProblem { QStringLiteral( "no_height" ), QObject::tr( "Feature %1 has no Z value; without a DEM every vertex needs a height." ).arg( id ) };
+      case geostation::FeatureHeightStatus::OutsideDem:
         throw FeatureProblem { QStringLiteral( "outside_dem" ), QObject::tr( "Feature %1 has no Z value and lies outside the DEM." ).arg( id ) };
-      z = *h;
     }
-    return { x, y, z };
+    return ground;
   }
 
   //! A point in the image; nothing when it cannot be projected.
-  std::optional<QgsPoint> GeometryProjector::projectPoint( const Eigen::Vector3d &ground, geostation::FeatureProjectionTally &tally ) const
+  std::optional<QgsPoint> GeometryProjector::projectPoint( const QgsPoint &point, QgsFeatureId id, geostation::FeatureProjectionTally &tally ) const
   {
-    const geostation::GroundPointView v = mView( ground );
+    const geostation::GroundPointView v = geostation::pointInPhoto( mImage, groundOf( point, id ).vertices.front(), mHeights );
     tally.add( v );
-    return v.projection.ok() ? std::optional<QgsPoint>( QgsPoint( v.projection.pixelInImage.x(), -v.projection.pixelInImage.y() ) ) : std::nullopt;
+    if ( !v.projection.ok() )
+      return std::nullopt;
+    const Eigen::Vector2d xy = geostation::imageSpaceOfPixel( v.projection.pixelInImage );
+    return QgsPoint( xy.x(), xy.y() );
   }
 
   /**
@@ -80,12 +94,10 @@ namespace GeoStationProcessing
   std::unique_ptr<QgsLineString> GeometryProjector::projectLine( const QgsLineString &line, QgsFeatureId id, geostation::FeatureProjectionTally &tally, bool closed,
       std::vector<std::unique_ptr<QgsLineString>> *otherParts ) const
   {
-    std::vector<Eigen::Vector3d> ground;
-    for ( int i = 0; i < line.numPoints(); ++i )
-      ground.push_back( groundOf( line.pointN( i ), id ) );
-    geostation::GroundLineOptions options = mLineOptions;
+    geostation::LineInPhotoOptions options;
+    options.densifyPx = mDensifyPx;
     options.closed = closed;
-    const geostation::ProjectedGroundLine projected = geostation::projectGroundLine( mImage, ground, mView, options );
+    const geostation::ProjectedGroundLine projected = geostation::lineInPhoto( mImage, groundOf( line, id ), mHeights, options );
     tally.add( projected, !otherParts );
     if ( projected.parts.empty() )
       return nullptr;
@@ -98,7 +110,7 @@ namespace GeoStationProcessing
   std::unique_ptr<QgsAbstractGeometry> GeometryProjector::project( const QgsAbstractGeometry *geometry, QgsFeatureId id, geostation::FeatureProjectionTally &tally ) const
   {
     GeometryMapper mapper;
-    mapper.point = [&]( const QgsPoint & p ) { return projectPoint( groundOf( p, id ), tally ); };
+    mapper.point = [&]( const QgsPoint & p ) { return projectPoint( p, id, tally ); };
     mapper.line = [&]( const QgsLineString & line, bool closed ) { return projectLine( line, id, tally, closed ); };
     mapper.lineParts = [&]( const QgsLineString & line )
     {

@@ -1,11 +1,12 @@
 /***************************************************************************
   geometryprojector.h - a map geometry into one image, for project_to_image
   -------------------------------------------------------------------------
-  Vertices are transformed to the block CRS and, without a Z, draped on the
-  DEM; points are projected (with the DEM, the terrain may hide them),
-  lines and rings densified, cut or clipped where they leave the
-  projectable space (core geometry/lineprojection). Image space: x = col,
-  y = -row.
+  Vertices are transformed to the block CRS; the rest is core's one rule
+  for a map feature in a photo (dem/featureinphoto): heights from the
+  feature's Z, else the DEM; points projected (with the DEM, the terrain may
+  hide them), lines and rings densified, cut or clipped where they leave
+  the projectable space. Image space: x = col, y = -row
+  (geometry/imagespace.h).
  ***************************************************************************/
 #ifndef GEOMETRYPROJECTOR_H
 #define GEOMETRYPROJECTOR_H
@@ -21,8 +22,7 @@
 #include <qgslinestring.h>
 #include <qgspoint.h>
 
-#include "dem/monoplotter.h"
-#include "geometry/lineprojection.h"
+#include "dem/featureinphoto.h"
 
 namespace GeoStationProcessing
 {
@@ -36,12 +36,12 @@ namespace GeoStationProcessing
   {
     public:
       /**
-       * `monoplotter` (may be null) gives heights to vertices without Z and
-       * hides points behind the terrain; `drapeLines`: the heights of the
-       * points inserted into lines come from the DEM too (the layer has no Z).
+       * `monoplotter` (may be null) gives heights to vertices without Z (and
+       * to the points inserted into lines whose vertices all took theirs
+       * from it) and hides points behind the terrain.
        */
       GeometryProjector( const geostation::OrientedImage &image, const geostation::Monoplotter *monoplotter, const QgsCoordinateTransform &toBlock,
-                         double densifyPx, bool drapeLines );
+                         double densifyPx );
 
       /**
        * The geometry in the image; nullptr when it cannot be projected
@@ -51,16 +51,15 @@ namespace GeoStationProcessing
       std::unique_ptr<QgsAbstractGeometry> project( const QgsAbstractGeometry *geometry, QgsFeatureId id, geostation::FeatureProjectionTally &tally ) const;
 
     private:
-      Eigen::Vector3d groundOf( const QgsPoint &vertex, QgsFeatureId id ) const;
-      std::optional<QgsPoint> projectPoint( const Eigen::Vector3d &ground, geostation::FeatureProjectionTally &tally ) const;
+      geostation::GroundPart groundOf( const QgsAbstractGeometry &part, QgsFeatureId id ) const;
+      std::optional<QgsPoint> projectPoint( const QgsPoint &point, QgsFeatureId id, geostation::FeatureProjectionTally &tally ) const;
       std::unique_ptr<QgsLineString> projectLine( const QgsLineString &line, QgsFeatureId id, geostation::FeatureProjectionTally &tally, bool closed,
           std::vector<std::unique_ptr<QgsLineString>> *otherParts = nullptr ) const;
 
       const geostation::OrientedImage &mImage;
-      const geostation::Monoplotter *mMonoplotter;
       QgsCoordinateTransform mToBlock;
-      geostation::GroundPointViewer mView;
-      geostation::GroundLineOptions mLineOptions;
+      geostation::FeatureHeights mHeights;
+      double mDensifyPx;
   };
 
 } // namespace GeoStationProcessing

@@ -122,9 +122,7 @@ QVariantMap ProjectToImageAlgorithm::processGeoStation( const QVariantMap &param
   const QgsCoordinateTransform toBlock( sourceCrs, blockCrs, context.transformContext() );
 
   // heights of inserted line points come from the DEM when the layer's came from it
-  const bool drapeLines = monoplotter && !QgsWkbTypes::hasZ( source->wkbType() );
-  const GeoStationProcessing::GeometryProjector projector( orientedImage, monoplotter.get(), toBlock, parameterAsDouble( parameters, QStringLiteral( "DENSIFY_PX" ), context ),
-      drapeLines );
+  const GeoStationProcessing::GeometryProjector projector( orientedImage, monoplotter.get(), toBlock, parameterAsDouble( parameters, QStringLiteral( "DENSIFY_PX" ), context ) );
 
   std::vector<ProjectedFeature> results;
   results.reserve( static_cast<size_t>( std::max<long long>( 0, source->featureCount() ) ) );

@@ -8,7 +8,7 @@
 namespace geostation
 {
 
-  ProjectedPolylineParts projectPolylineCut( const std::vector<Eigen::Vector3d> &dense, const GroundToPixel &project )
+  ProjectedPolylineParts projectPolylineCut( const std::vector<Eigen::Vector3d> &dense, const GroundToPixel &project, const GroundClass &classify )
   {
     const auto boundary = [&]( const Eigen::Vector3d &inside, const Eigen::Vector3d &outside )
     {
@@ -21,15 +21,27 @@ namespace geostation
       return project( a );
     };
     std::vector<std::vector<Eigen::Vector2d>> runs( 1 );
-    std::optional<Eigen::Vector2d> previous;
+    std::vector<int> runClasses( 1, 0 );
     for ( size_t i = 0; i < dense.size(); ++i )
     {
       const std::optional<Eigen::Vector2d> p = project( dense[i] );
       if ( p )
       {
-        if ( runs.back().empty() && i > 0 )
-          if ( const std::optional<Eigen::Vector2d> start = boundary( dense[i], dense[i - 1] ) )
-            runs.back().push_back( *start );
+        const int c = classify ? classify( dense[i] ) : 0;
+        if ( !runs.back().empty() && c != runClasses.back() )
+        {
+          // the class changes: the last point ends this run and starts the next
+          const Eigen::Vector2d shared = runs.back().back();
+          runs.push_back( { shared } );
+          runClasses.push_back( c );
+        }
+        if ( runs.back().empty() )
+        {
+          runClasses.back() = c;
+          if ( i > 0 )
+            if ( const std::optional<Eigen::Vector2d> start = boundary( dense[i], dense[i - 1] ) )
+              runs.back().push_back( *start );
+        }
         runs.back().push_back( *p );
       }
       else if ( !runs.back().empty() )
@@ -37,12 +49,14 @@ namespace geostation
         if ( const std::optional<Eigen::Vector2d> end = boundary( dense[i - 1], dense[i] ) )
           runs.back().push_back( *end );
         runs.emplace_back();
+        runClasses.push_back( 0 );
       }
     }
     ProjectedPolylineParts out;
     double bestLength = 0.0;
-    for ( std::vector<Eigen::Vector2d> &run : runs )
+    for ( size_t r = 0; r < runs.size(); ++r )
     {
+      std::vector<Eigen::Vector2d> &run = runs[r];
       if ( run.size() < 2 )
         continue;
       double length = 0.0;
@@ -54,6 +68,7 @@ namespace geostation
         out.longest = static_cast<int>( out.parts.size() );
       }
       out.parts.push_back( std::move( run ) );
+      out.classes.push_back( runClasses[r] );
     }
     return out;
   }
@@ -62,10 +77,18 @@ namespace geostation
                                          const GroundLineOptions &options )
   {
     ProjectedGroundLine out;
-    // a vertex's pixel, its flags gathered into `into`
-    const auto look = [&view]( const Eigen::Vector3d &ground, ProjectedGroundLine &into ) -> std::optional<Eigen::Vector2d>
+    // the viewer's answer for a ground point, the last one kept (the cut and the hidden test ask for the same point in turn)
+    std::optional<std::pair<Eigen::Vector3d, GroundPointView>> last;
+    const auto seen = [&view, &last]( const Eigen::Vector3d &ground ) -> const GroundPointView &
     {
-      const GroundPointView v = view( ground );
+      if ( !last || last->first != ground )
+        last.emplace( ground, view( ground ) );
+      return last->second;
+    };
+    // a vertex's pixel, its flags gathered into `into`
+    const auto look = [&seen]( const Eigen::Vector3d &ground, ProjectedGroundLine &into ) -> std::optional<Eigen::Vector2d>
+    {
+      const GroundPointView &v = seen( ground );
       into.allVisible = into.allVisible && v.visible;
       into.allInFrame = into.allInFrame && v.projection.inFrame;
       into.minDepthM = std::min( into.minDepthM, v.projection.depthM );
@@ -83,15 +106,16 @@ namespace geostation
     for ( const Eigen::Vector3d &g : dense )
       if ( const std::optional<Eigen::Vector2d> p = look( g, out ) )
         pixels.push_back( *p );
-    if ( pixels.size() == dense.size() )
+    if ( pixels.size() == dense.size() && !( options.splitHidden && !out.allVisible ) )
     {
-      // all of it can be shown
-      if ( options.closed && !pixels.empty() )
+      // all of it can be shown (and none of it is hidden where that splits it)
+      if ( options.closed && !options.splitHidden && !pixels.empty() )
         pixels.back() = pixels.front();
       out.parts.push_back( std::move( pixels ) );
+      out.hidden.push_back( false );
       return out;
     }
-    if ( options.closed )
+    if ( options.closed && !options.splitHidden )
     {
       // a ring is clipped in 3-D to the part of space the image can show, then densified and projected
       std::vector<Eigen::Vector3d> ring( vertices.begin(), vertices.end() - ( vertices.size() > 1 && vertices.front() == vertices.back() ? 1 : 0 ) );
@@ -114,18 +138,26 @@ namespace geostation
       out.minDepthM = clippedRing.minDepthM; // of what is drawn
       out.clipped = true;
       out.parts.push_back( std::move( ringPixels ) );
+      out.hidden.push_back( false );
       return out;
     }
-    // a line is cut where it leaves the projectable space; the longest part first
+    // a line is cut where it leaves the projectable space (and, asked, where the terrain starts or stops hiding it); the longest part first
     ProjectedGroundLine probe;
-    ProjectedPolylineParts cut = projectPolylineCut( dense, [&]( const Eigen::Vector3d &g ) { return look( g, probe ); } );
+    GroundClass hiddenClass;
+    if ( options.splitHidden )
+      hiddenClass = [&seen]( const Eigen::Vector3d &g ) { const GroundPointView &v = seen( g ); return v.projection.inFrame && !v.visible ? 1 : 0; };
+    ProjectedPolylineParts cut = projectPolylineCut( dense, [&]( const Eigen::Vector3d &g ) { return look( g, probe ); }, hiddenClass );
     if ( cut.longest < 0 )
       return out;
-    out.clipped = true;
+    out.clipped = pixels.size() != dense.size();
     out.parts.push_back( std::move( cut.parts[cut.longest] ) );
+    out.hidden.push_back( cut.classes[cut.longest] == 1 );
     for ( int k = 0; k < static_cast<int>( cut.parts.size() ); ++k )
       if ( k != cut.longest )
+      {
         out.parts.push_back( std::move( cut.parts[k] ) );
+        out.hidden.push_back( cut.classes[k] == 1 );
+      }
     return out;
   }
 

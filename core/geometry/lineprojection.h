@@ -27,9 +27,13 @@ namespace geostation
   //! A ground point's pixel, or nothing where it cannot be projected (behind the camera, outside the lens field).
   using GroundToPixel = std::function<std::optional<Eigen::Vector2d>( const Eigen::Vector3d & )>;
 
+  //! A class of a projectable ground point (e.g. 1: hidden by the terrain, 0: seen), where runs are split.
+  using GroundClass = std::function<int( const Eigen::Vector3d & )>;
+
   struct ProjectedPolylineParts
   {
     std::vector<std::vector<Eigen::Vector2d>> parts; //!< runs of at least two pixels, in the polyline's order
+    std::vector<int> classes;                         //!< each part's class (0 without a classifier)
     int longest = -1;                                 //!< index of the longest part (in pixels), -1 when none
   };
 
@@ -38,9 +42,11 @@ namespace geostation
    * cut where it leaves the projectable field: the boundary on each ground
    * segment that crosses it is found by bisection (40 halvings) and ends the
    * part, so no piece of line is drawn through the region that cannot be
-   * shown.
+   * shown. `classify` (optional): a part also ends where the class of its
+   * points changes, the last point of one part the first of the next (the
+   * drawn line has no gap).
    */
-  ProjectedPolylineParts projectPolylineCut( const std::vector<Eigen::Vector3d> &dense, const GroundToPixel &project );
+  ProjectedPolylineParts projectPolylineCut( const std::vector<Eigen::Vector3d> &dense, const GroundToPixel &project, const GroundClass &classify = nullptr );
 
   //! A ground point seen from the image: its projection, and whether the terrain leaves it visible.
   struct GroundPointView
@@ -56,6 +62,12 @@ namespace geostation
     //! Heights of inserted points (e.g. from a DEM); linear interpolation when empty or when it gives none.
     std::function<std::optional<double>( const Eigen::Vector3d & )> heightAt;
     bool closed = false;    //!< a ring: clipped in 3-D to the image's field instead of cut
+    /**
+     * Parts also split where the terrain starts or stops hiding the line (a
+     * point in the frame that the viewer says is not visible is hidden); a
+     * ring is then cut as an open line, not clipped.
+     */
+    bool splitHidden = false;
   };
 
   struct ProjectedGroundLine
@@ -67,6 +79,7 @@ namespace geostation
      * when nothing of the line can be shown.
      */
     std::vector<std::vector<Eigen::Vector2d>> parts;
+    std::vector<bool> hidden; //!< per part: behind the terrain (GroundLineOptions::splitHidden; else all false)
     bool clipped = false;     //!< cut or clipped at the edge of the projectable space (and something of it shown)
     bool behind = false;      //!< some vertex lay behind the camera
     bool allInFrame = true;   //!< every projected vertex on the frame

@@ -87,25 +87,30 @@ namespace geostation
     if ( !( densifyPx > 0.0 ) )
       throw std::invalid_argument( "densifyForImage: densifyPx must be positive" );
     std::vector<Eigen::Vector3d> out;
-    const std::function<void( const Eigen::Vector3d &, const GroundProjection &, const Eigen::Vector3d &, const GroundProjection &, int )> split =
-      [&]( const Eigen::Vector3d & a, const GroundProjection & pa, const Eigen::Vector3d & b, const GroundProjection & pb, int depth )
+    // `depth`: halvings of a segment both of whose ends project; `towardsEdge`: halvings of one that leaves the
+    // projectable space, which go on towards where it leaves it (20: a millionth of the segment), so that the
+    // part that projects is densified up to there
+    const std::function<void( const Eigen::Vector3d &, const GroundProjection &, const Eigen::Vector3d &, const GroundProjection &, int, int )> split =
+      [&]( const Eigen::Vector3d & a, const GroundProjection & pa, const Eigen::Vector3d & b, const GroundProjection & pb, int depth, int towardsEdge )
     {
-      if ( depth >= 16 || !pa.ok() || !pb.ok() || ( pa.pixelInImage - pb.pixelInImage ).norm() <= densifyPx )
+      const bool leaves = pa.ok() != pb.ok();
+      if ( leaves ? towardsEdge >= 20 : ( depth >= 16 || !pa.ok() || ( pa.pixelInImage - pb.pixelInImage ).norm() <= densifyPx ) )
         return;
       Eigen::Vector3d mid = 0.5 * ( a + b );
       if ( heightAt )
         if ( const std::optional<double> h = heightAt( mid ) )
           mid.z() = *h;
       const GroundProjection pm = image.projectGroundToPixel( mid );
-      split( a, pa, mid, pm, depth + 1 );
+      const int nextDepth = leaves ? depth : depth + 1, nextEdge = leaves ? towardsEdge + 1 : towardsEdge;
+      split( a, pa, mid, pm, nextDepth, nextEdge );
       out.push_back( mid );
-      split( mid, pm, b, pb, depth + 1 );
+      split( mid, pm, b, pb, nextDepth, nextEdge );
     };
     for ( size_t i = 0; i < vertices.size(); ++i )
     {
       out.push_back( vertices[i] );
       if ( i + 1 < vertices.size() )
-        split( vertices[i], image.projectGroundToPixel( vertices[i] ), vertices[i + 1], image.projectGroundToPixel( vertices[i + 1] ), 0 );
+        split( vertices[i], image.projectGroundToPixel( vertices[i] ), vertices[i + 1], image.projectGroundToPixel( vertices[i + 1] ), 0, 0 );
     }
     return out;
   }

@@ -100,8 +100,11 @@ namespace geostation
    * into the image no longer than `densifyPx` pixels, so a straight map
    * segment follows its curve in the photo. Inserted points take their
    * height from `heightAt` when it gives one (e.g. a DEM), otherwise the
-   * linear interpolation. Pieces that cannot be projected (behind the camera)
-   * are not split further. Throws std::invalid_argument if densifyPx <= 0.
+   * linear interpolation. A segment that leaves the projectable space
+   * (behind the camera, outside the lens field) is halved towards where it
+   * leaves it, so its projectable part is densified up to there; pieces that
+   * cannot be projected at all are not split. Throws std::invalid_argument
+   * if densifyPx <= 0.
    */
   std::vector<Eigen::Vector3d> densifyForImage( const OrientedImage &image, const std::vector<Eigen::Vector3d> &vertices, double densifyPx,
       const std::function<std::optional<double>( const Eigen::Vector3d & )> &heightAt = nullptr );
