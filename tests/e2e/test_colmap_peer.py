@@ -95,10 +95,10 @@ def colmap_project(camera, image, xyz):
     return fx * (u + du) + cx, fy * (v + dv) + cy
 
 
-def distortion_rms_px(params, width, height):
-    """RMS over the frame (a 21 x 16 grid) of the pixel displacement of COLMAP's OPENCV distortion."""
+def distortion_px(params, width, height):
+    """RMS and largest over the frame (a 21 x 16 grid) of the pixel displacement of COLMAP's OPENCV distortion."""
     fx, fy, cx, cy, k1, k2, p1, p2 = params
-    total, n = 0.0, 0
+    total, n, largest = 0.0, 0, 0.0
     for col in np.linspace(0, width, 21):
         for row in np.linspace(0, height, 16):
             u, v = (col - cx) / fx, (row - cy) / fy
@@ -106,9 +106,11 @@ def distortion_rms_px(params, width, height):
             radial = k1 * r2 + k2 * r2 * r2
             du = u * radial + 2 * p1 * u * v + p2 * (r2 + 2 * u * u)
             dv = v * radial + 2 * p2 * u * v + p1 * (r2 + 2 * v * v)
-            total += (fx * du) ** 2 + (fy * dv) ** 2
+            d2 = (fx * du) ** 2 + (fy * dv) ** 2
+            total += d2
+            largest = max(largest, math.sqrt(d2))
             n += 1
-    return math.sqrt(total / n)
+    return math.sqrt(total / n), largest
 
 
 def rotation_difference_deg(a, b):
@@ -258,7 +260,11 @@ class ColmapPeerTest(unittest.TestCase):
         # then turns to keep looking at the same ground: by the horizontal
         # part of that shift over the height. COLMAP also fits lens distortion
         # (OPENCV: k1 k2 p1 p2) to images that have none: what it moves a
-        # pixel by, as RMS over the frame, acts like a principal point error
+        # pixel by acts like a principal point error - as RMS over the frame
+        # for a centre, and at its largest for an attitude, which the tie
+        # points at the frame's edges set, where the fitted distortion moves
+        # them most (a run whose distortion was 0.57 px RMS turned its end
+        # image 0.49 deg, 1.8 times what the RMS explained)
         with open(os.path.join(self.sim, "truth.geostation.json")) as f:
             truth_camera = json.load(f)["cameras"][0]
         fx, fy, cx, cy = self.cameras[1][3][:4]
@@ -266,8 +272,9 @@ class ColmapPeerTest(unittest.TestCase):
         height = float(np.mean([i["Z"] for i in self.truth.values()]) - centroid[2])
         focal_error = abs(fx - truth_camera["f"]) / truth_camera["f"]
         pp_error = math.hypot(cx - truth_camera["cx"], cy - truth_camera["cy"])
-        distortion_px = distortion_rms_px(self.cameras[1][3], 1000, 750)
-        pp_error += distortion_px
+        distortion_rms, distortion_max = distortion_px(self.cameras[1][3], 1000, 750)
+        pp_only = pp_error
+        pp_error += distortion_rms
         worst_ratio, worst_error, worst_bound, attitude = 0.0, 0.0, 0.0, 0.0
         checks = []
         for i in c["block"]["images"]:
@@ -279,7 +286,7 @@ class ColmapPeerTest(unittest.TestCase):
                 worst_ratio, worst_error, worst_bound = error / bound, error, bound
             turn = rotation_difference_deg(i, t)
             attitude = max(attitude, turn)
-            turn_bound = math.degrees(pp_error / truth_camera["f"] + focal_error * float(np.linalg.norm(offset[:2])) / height)
+            turn_bound = math.degrees((pp_only + distortion_max) / truth_camera["f"] + focal_error * float(np.linalg.norm(offset[:2])) / height)
             checks.append((i["id"], error, bound, turn, turn_bound))
         # every figure first, so that a failure shows which bound was crossed (COLMAP's model varies run to run).
         # Beyond what the interior orientation explains, 0.10 m (0.05 deg) is left for the model's own random
@@ -287,8 +294,8 @@ class ColmapPeerTest(unittest.TestCase):
         # runs have shown centres 0.08-0.16 m beyond the interior orientation's share
         random_m, random_deg = 0.10, 0.05
         print("control-georeferenced stations against the truth (%d control points, RMS %.3f m): COLMAP's focal length %.2f px against %.2f, "
-              "principal point and distortion %.2f px (distortion %.2f px RMS); worst centre %.3f m where its interior orientation explains %.3f m; attitude within %.4f deg"
-              % (len(control), c["report"]["georeference"]["rms_m"], fx, truth_camera["f"], pp_error, distortion_px, worst_error, worst_bound, attitude))
+              "principal point and distortion %.2f px (distortion %.2f px RMS, %.2f px at most); worst centre %.3f m where its interior orientation explains %.3f m; attitude within %.4f deg"
+              % (len(control), c["report"]["georeference"]["rms_m"], fx, truth_camera["f"], pp_error, distortion_rms, distortion_max, worst_error, worst_bound, attitude))
         for image_id, error, bound, turn, turn_bound in checks:
             print("  %s: centre %.3f m (bound %.3f m), attitude %.4f deg (bound %.4f deg)" % (image_id, error, 1.5 * bound + random_m, turn, 1.5 * turn_bound + random_deg))
         for image_id, error, bound, turn, turn_bound in checks:
