@@ -13,6 +13,9 @@
 
 #include "measurementstore.h"
 #include "multiviewsession.h"
+#include "io/featureschema.h"
+
+namespace fs = geostation::featureschema;
 
 GeoStationExtractionReview::GeoStationExtractionReview( GeoStationMultiviewSession *session, GeoStationMeasurementStore *store, QObject *parent )
   : QObject( parent ), mSession( session ), mStore( store )
@@ -24,22 +27,22 @@ bool GeoStationExtractionReview::isExtractedRoadsLayer( const QgsVectorLayer *la
   if ( !layer || !layer->isValid() || layer->geometryType() != QgsWkbTypes::LineGeometry || !QgsWkbTypes::hasZ( layer->wkbType() ) )
     return false;
   const QgsFields fields = layer->fields();
-  return fields.lookupField( QStringLiteral( "line_id" ) ) >= 0 && fields.lookupField( QStringLiteral( "accepted_in" ) ) >= 0
-         && fields.lookupField( QStringLiteral( "sigma_max" ) ) >= 0;
+  return fields.lookupField( QLatin1String( fs::kLineId ) ) >= 0 && fields.lookupField( QLatin1String( fs::kAcceptedIn ) ) >= 0
+         && fields.lookupField( QLatin1String( fs::kSigmaMax ) ) >= 0;
 }
 
 bool GeoStationExtractionReview::mark( QgsVectorLayer *layer, QgsFeatureId fid, const QString &decision )
 {
-  int field = layer->fields().lookupField( QStringLiteral( "review" ) );
+  int field = layer->fields().lookupField( QLatin1String( fs::kReview ) );
   if ( field < 0 )
   {
     if ( layer->isEditable() )
-      layer->addAttribute( QgsField( QStringLiteral( "review" ), QVariant::String ) );
+      layer->addAttribute( QgsField( QLatin1String( fs::kReview ), QVariant::String ) );
     else if ( !( layer->dataProvider()->capabilities() & QgsVectorDataProvider::AddAttributes )
-              || !layer->dataProvider()->addAttributes( { QgsField( QStringLiteral( "review" ), QVariant::String ) } ) )
+              || !layer->dataProvider()->addAttributes( { QgsField( QLatin1String( fs::kReview ), QVariant::String ) } ) )
       return false;
     layer->updateFields();
-    field = layer->fields().lookupField( QStringLiteral( "review" ) );
+    field = layer->fields().lookupField( QLatin1String( fs::kReview ) );
   }
   if ( field < 0 )
     return false;
@@ -61,9 +64,9 @@ bool GeoStationExtractionReview::review( QgsVectorLayer *layer, QgsFeatureId fid
     emit message( tr( "The line is no longer in the layer." ), true );
     return false;
   }
-  const int reviewField = layer->fields().lookupField( QStringLiteral( "review" ) );
+  const int reviewField = layer->fields().lookupField( QLatin1String( fs::kReview ) );
   const QString previous = reviewField >= 0 ? f.attribute( reviewField ).toString() : QString();
-  const QString lineId = f.attribute( QStringLiteral( "line_id" ) ).toString();
+  const QString lineId = f.attribute( QLatin1String( fs::kLineId ) ).toString();
   if ( previous == QLatin1String( "accepted" ) )
   {
     emit message( tr( "Line %1 was accepted already." ).arg( lineId ), false );
@@ -86,7 +89,7 @@ bool GeoStationExtractionReview::review( QgsVectorLayer *layer, QgsFeatureId fid
   measured.featureMethod = QStringLiteral( "extracted" );
   measured.measured = QDateTime::currentDateTimeUtc().toString( Qt::ISODateWithMs );
   measured.measurementId = QUuid::createUuid().toString( QUuid::WithoutBraces );
-  const double sigma = f.attribute( QStringLiteral( "sigma_max" ) ).toDouble();
+  const double sigma = f.attribute( QLatin1String( fs::kSigmaMax ) ).toDouble();
   for ( auto v = f.geometry().vertices_begin(); v != f.geometry().vertices_end(); ++v )
   {
     geostation::MeasuredVertex vertex;

@@ -14,6 +14,9 @@
 #include <qgsvectorlayer.h>
 
 #include "revision/maprevision.h"
+#include "io/featureschema.h"
+
+namespace fs = geostation::featureschema;
 
 namespace
 {
@@ -53,8 +56,8 @@ bool GeoStationRevisionReview::isRevisionLayer( const QgsVectorLayer *layer )
   if ( !layer || !layer->isValid() || layer->geometryType() != QgsWkbTypes::LineGeometry )
     return false;
   const QgsFields fields = layer->fields();
-  return fields.lookupField( QStringLiteral( "revision" ) ) >= 0 && fields.lookupField( QStringLiteral( "evidence" ) ) >= 0
-         && fields.lookupField( QStringLiteral( "shift_m" ) ) >= 0 && fields.lookupField( QStringLiteral( "source_fid" ) ) >= 0;
+  return fields.lookupField( QLatin1String( fs::kRevision ) ) >= 0 && fields.lookupField( QLatin1String( fs::kEvidence ) ) >= 0
+         && fields.lookupField( QLatin1String( fs::kShiftM ) ) >= 0 && fields.lookupField( QLatin1String( fs::kSourceFid ) ) >= 0;
 }
 
 void GeoStationRevisionReview::load()
@@ -66,16 +69,16 @@ void GeoStationRevisionReview::load()
     QgsFeatureIterator it = mRevision->getFeatures();
     while ( it.nextFeature( f ) )
     {
-      const QString revision = f.attribute( QStringLiteral( "revision" ) ).toString();
+      const QString revision = f.attribute( QLatin1String( fs::kRevision ) ).toString();
       if ( revision != QLatin1String( "moved" ) && revision != QLatin1String( "not_found" ) )
         continue;
       Item item;
       item.change = revision;
       item.layer = mRevision;
       item.fid = f.id();
-      item.mapFid = f.attribute( QStringLiteral( "source_fid" ) ).toLongLong();
-      item.evidence = f.attribute( QStringLiteral( "evidence" ) ).toDouble();
-      item.shiftM = f.attribute( QStringLiteral( "shift_m" ) ).toDouble();
+      item.mapFid = f.attribute( QLatin1String( fs::kSourceFid ) ).toLongLong();
+      item.evidence = f.attribute( QLatin1String( fs::kEvidence ) ).toDouble();
+      item.shiftM = f.attribute( QLatin1String( fs::kShiftM ) ).toDouble();
       item.lengthM = f.geometry().length();
       changes << item;
     }
@@ -232,9 +235,9 @@ bool GeoStationRevisionReview::acceptNotFound( const Item &item, NotFoundAction 
     done = mMap->deleteFeature( item.mapFid );
   else
   {
-    int field = mMap->fields().lookupField( QStringLiteral( "revision" ) );
-    if ( field < 0 && mMap->addAttribute( QgsField( QStringLiteral( "revision" ), QVariant::String ) ) )
-      field = mMap->fields().lookupField( QStringLiteral( "revision" ) );
+    int field = mMap->fields().lookupField( QLatin1String( fs::kRevision ) );
+    if ( field < 0 && mMap->addAttribute( QgsField( QLatin1String( fs::kRevision ), QVariant::String ) ) )
+      field = mMap->fields().lookupField( QLatin1String( fs::kRevision ) );
     done = field >= 0 && mMap->changeAttributeValue( item.mapFid, field, QStringLiteral( "not_found" ) );
   }
   if ( done )

@@ -15,6 +15,9 @@
 #include "bundleadjustreport.h"
 #include "processingblock.h"
 #include "processingtables.h"
+#include "io/featureschema.h"
+
+namespace fs = geostation::featureschema;
 
 namespace GeoStationProcessing
 {
@@ -133,14 +136,7 @@ QVariantMap BundleAdjustAlgorithm::processGeoStation( const QVariantMap &paramet
     return !feedback->isCanceled();
   };
   geostation::BundleSummary summary;
-  try
-  {
-    summary = geostation::bundleAdjust( block.cameras, images, ground, observations, options );
-  }
-  catch ( const std::invalid_argument &e )
-  {
-    throw QgsProcessingException( QString::fromStdString( e.what() ) );
-  }
+  summary = geostation::bundleAdjust( block.cameras, images, ground, observations, options );
   if ( summary.status == geostation::BundleSummary::Status::Cancelled || feedback->isCanceled() )
     return QVariantMap(); // nothing written
   if ( !summary.ok() )
@@ -159,8 +155,8 @@ QVariantMap BundleAdjustAlgorithm::processGeoStation( const QVariantMap &paramet
 
   // The points layer, prepared before any file is written.
   QgsFields fields;
-  fields.append( QgsField( QStringLiteral( "point_id" ), QVariant::String ) );
-  fields.append( QgsField( QStringLiteral( "role" ), QVariant::String ) );
+  fields.append( QgsField( QLatin1String( fs::kPointId ), QVariant::String ) );
+  fields.append( QgsField( QLatin1String( fs::kRole ), QVariant::String ) );
   fields.append( QgsField( QStringLiteral( "n_images" ), QVariant::Int ) );
   for ( const char *name : { "sigma_x", "sigma_y", "sigma_z", "rms_px", "err_x", "err_y", "err_z" } )
     fields.append( QgsField( QString::fromLatin1( name ), QVariant::Double ) );

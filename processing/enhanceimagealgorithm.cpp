@@ -125,15 +125,7 @@ QVariantMap EnhanceImageAlgorithm::processGeoStation( const QVariantMap &paramet
   options.boxC = number( "BOX_C", 1.5 );
   options.boxT = number( "BOX_T", 10 );
 
-  geostation::RasterImage image;
-  try
-  {
-    image = geostation::readRaster( layer->source().toStdString() );
-  }
-  catch ( const std::exception &e )
-  {
-    throw QgsProcessingException( QString::fromStdString( e.what() ) );
-  }
+  geostation::RasterImage image = geostation::readRaster( layer->source().toStdString() );
   if ( parameters.value( QStringLiteral( "WINDOW" ) ).isValid() && !parameters.value( QStringLiteral( "WINDOW" ) ).toString().isEmpty() )
   {
     // the window in the layer's own coordinates (x = col, y = -row for a pixel-space image)
@@ -148,27 +140,12 @@ QVariantMap EnhanceImageAlgorithm::processGeoStation( const QVariantMap &paramet
   }
   feedback->setProgress( 20 );
   geostation::EnhancementSummary summary;
-  cv::Mat enhanced;
-  try
-  {
-    enhanced = geostation::enhanceImage( image.pixels, options, &summary );
-  }
-  catch ( const std::invalid_argument &e )
-  {
-    throw QgsProcessingException( QString::fromStdString( e.what() ) );
-  }
+  const cv::Mat enhanced = geostation::enhanceImage( image.pixels, options, &summary );
   if ( feedback->isCanceled() )
     return QVariantMap();
   feedback->setProgress( 80 );
   const QString output = parameterAsOutputLayer( parameters, QStringLiteral( "OUTPUT" ), context );
-  try
-  {
-    geostation::writeGeoTiffLike( output.toStdString(), enhanced, image );
-  }
-  catch ( const std::exception &e )
-  {
-    throw QgsProcessingException( QString::fromStdString( e.what() ) );
-  }
+  geostation::writeGeoTiffLike( output.toStdString(), enhanced, image );
   feedback->pushInfo( QObject::tr( "%1: grey levels %2..%3, mean %4%5." ).arg( QString::fromStdString( geostation::enhancementMethodName( options.method ) ) )
                       .arg( summary.min ).arg( summary.max ).arg( summary.mean, 0, 'f', 1 )
                       .arg( summary.changedPixels ? QObject::tr( "; %1 pixels changed" ).arg( summary.changedPixels ) : QString() ) );

@@ -99,15 +99,8 @@ QVariantMap ExportBlockAlgorithm::processGeoStation( const QVariantMap &paramete
   }
 
   geostation::BlockExportSummary summary;
-  try
-  {
-    summary = colmap ? geostation::exportBlockAsColmap( block, output.toStdString(), tiePoints, observations )
-                     : geostation::exportBlockAsCsv( block, output.toStdString() );
-  }
-  catch ( const std::exception &e )
-  {
-    throw QgsProcessingException( QString::fromStdString( e.what() ) );
-  }
+  summary = colmap ? geostation::exportBlockAsColmap( block, output.toStdString(), tiePoints, observations )
+                   : geostation::exportBlockAsCsv( block, output.toStdString() );
   for ( const std::string &s : summary.dropped )
     feedback->reportError( QObject::tr( "Left out: %1" ).arg( QString::fromStdString( s ) ) );
   feedback->pushInfo( colmap ? QObject::tr( "COLMAP model written to %1: %2 camera(s), %3 image(s), %4 tie point(s)" ).arg( output ).arg( summary.cameras ).arg( summary.images ).arg( summary.tiePoints )

@@ -30,6 +30,9 @@
 #include "extractroadsreport.h"
 #include "processingblock.h"
 #include "processingtables.h"
+#include "io/featureschema.h"
+
+namespace fs = geostation::featureschema;
 
 namespace GeoStationProcessing
 {
@@ -185,17 +188,10 @@ QVariantMap ExtractRoadsAlgorithm::processGeoStation( const QVariantMap &paramet
   if ( dem.dem )
     options.terrain = geostation::demHeightAt( *dem.dem, *dem.blockToDem );
   geostation::RoadNetworkSummary s;
-  try
-  {
-    const geostation::ExtractionProgress progress = [feedback]( double f ) { feedback->setProgress( 100.0 * f ); return !feedback->isCanceled(); };
-    const geostation::OrientedImage *a = orientedLeft ? &*orientedLeft : nullptr, *b = orientedRight ? &*orientedRight : nullptr;
-    // read a window at a time: memory does not grow with the images (beyond a byte a pixel for the result matrices)
-    s = geostation::extractRoadNetwork( GeoStationProcessing::openImageFile( block, left ), GeoStationProcessing::openImageFile( block, right ), a, b, options, progress );
-  }
-  catch ( const std::exception &e ) // bad input (invalid_argument) or an image that cannot be read (runtime_error)
-  {
-    throw QgsProcessingException( QString::fromStdString( e.what() ) );
-  }
+  const geostation::ExtractionProgress progress = [feedback]( double f ) { feedback->setProgress( 100.0 * f ); return !feedback->isCanceled(); };
+  const geostation::OrientedImage *a = orientedLeft ? &*orientedLeft : nullptr, *b = orientedRight ? &*orientedRight : nullptr;
+  // read a window at a time: memory does not grow with the images (beyond a byte a pixel for the result matrices)
+  s = geostation::extractRoadNetwork( GeoStationProcessing::openImageFile( block, left ), GeoStationProcessing::openImageFile( block, right ), a, b, options, progress );
   if ( s.extraction.cancelled )
     throw QgsProcessingException( QObject::tr( "Cancelled: nothing was written." ) );
   if ( s.extraction.linesA.empty() )
@@ -203,8 +199,8 @@ QVariantMap ExtractRoadsAlgorithm::processGeoStation( const QVariantMap &paramet
 
   // outputs, only now
   QgsFields lineFields;
-  lineFields.append( QgsField( QStringLiteral( "line_id" ), QVariant::Int ) );
-  lineFields.append( QgsField( QStringLiteral( "accepted_in" ), QVariant::String ) );
+  lineFields.append( QgsField( QLatin1String( fs::kLineId ), QVariant::Int ) );
+  lineFields.append( QgsField( QLatin1String( fs::kAcceptedIn ), QVariant::String ) );
   QVariantMap outputs;
   const auto imageSink = [&]( const QString &name, const std::vector<geostation::CompiledPolygon> &lines, bool inLeft )
   {
@@ -232,8 +228,8 @@ QVariantMap ExtractRoadsAlgorithm::processGeoStation( const QVariantMap &paramet
   if ( s.oriented )
   {
     QgsFields fields = lineFields;
-    fields.append( QgsField( QStringLiteral( "length_m" ), QVariant::Double ) );
-    fields.append( QgsField( QStringLiteral( "sigma_max" ), QVariant::Double ) );
+    fields.append( QgsField( QLatin1String( fs::kLengthM ), QVariant::Double ) );
+    fields.append( QgsField( QLatin1String( fs::kSigmaMax ), QVariant::Double ) );
     QString destination;
     std::unique_ptr<QgsFeatureSink> sink( parameterAsSink( parameters, QStringLiteral( "OUTPUT" ), context, destination, fields, QgsWkbTypes::LineStringZ, GeoStationProcessing::blockCrs( block ) ) );
     if ( sink )

@@ -19,6 +19,9 @@
 #include "io/rasterfile.h"
 #include "processingblock.h"
 #include "processingtables.h"
+#include "io/featureschema.h"
+
+namespace fs = geostation::featureschema;
 
 namespace GeoStationProcessing
 {
@@ -168,20 +171,13 @@ QVariantMap IdentifyControlAlgorithm::processGeoStation( const QVariantMap &para
   identification.marks = marks;
   identification.identification = options;
   geostation::PhotoIdentificationSummary result;
-  try
-  {
-    std::optional<Eigen::Matrix<double, 2, 3>> nominalFromScan;
-    if ( image.innerOrientation )
-      nominalFromScan = geostation::nominalFromScanAffine( camera, *image.innerOrientation );
-    const cv::Mat grey = geostation::markGrey( geostation::readRaster( block.imageFilePath( image ).string() ).pixels );
-    feedback->setProgress( 30 );
-    result = geostation::identifyControlInPhoto( grey, camera, nominalFromScan, control, identification );
-    feedback->pushInfo( QObject::tr( "%1 mark candidates in %2." ).arg( result.candidates ).arg( imageId ) );
-  }
-  catch ( const std::invalid_argument &e )
-  {
-    throw QgsProcessingException( QString::fromStdString( e.what() ) );
-  }
+  std::optional<Eigen::Matrix<double, 2, 3>> nominalFromScan;
+  if ( image.innerOrientation )
+    nominalFromScan = geostation::nominalFromScanAffine( camera, *image.innerOrientation );
+  const cv::Mat grey = geostation::markGrey( geostation::readRaster( block.imageFilePath( image ).string() ).pixels );
+  feedback->setProgress( 30 );
+  result = geostation::identifyControlInPhoto( grey, camera, nominalFromScan, control, identification );
+  feedback->pushInfo( QObject::tr( "%1 mark candidates in %2." ).arg( result.candidates ).arg( imageId ) );
   const geostation::ControlIdentificationSummary &summary = result.identification;
   if ( !summary.ok() )
     throw QgsProcessingException( QObject::tr( "No control identified in %1: %2." ).arg( imageId, QString::fromStdString( summary.message ) ) );
@@ -192,7 +188,7 @@ QVariantMap IdentifyControlAlgorithm::processGeoStation( const QVariantMap &para
     fields.append( QgsField( QString::fromLatin1( name ), QVariant::String ) );
   for ( const char *name : { "col", "row", "sigma_px" } )
     fields.append( QgsField( QString::fromLatin1( name ), QVariant::Double ) );
-  fields.append( QgsField( QStringLiteral( "status" ), QVariant::String ) );
+  fields.append( QgsField( QLatin1String( fs::kStatus ), QVariant::String ) );
   for ( const char *name : { "pred_col", "pred_row", "resid_px" } )
     fields.append( QgsField( QString::fromLatin1( name ), QVariant::Double ) );
   QString destination;

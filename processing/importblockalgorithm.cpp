@@ -165,45 +165,38 @@ QVariantMap ImportBlockAlgorithm::processGeoStation( const QVariantMap &paramete
   }
 
   geostation::BlockImportSummary import;
-  try
+  if ( format == QLatin1String( "colmap" ) )
   {
-    if ( format == QLatin1String( "colmap" ) )
-    {
-      feedback->pushInfo( QObject::tr( "Reading the COLMAP model %1" ).arg( input ) );
-      geostation::ColmapImportOptions options;
-      options.crs = blockCrs;
-      options.imageFolder = imageFolder;
-      const geostation::ColmapModel model = geostation::ColmapModel::read( input.toStdString() );
-      feedback->setProgress( 30 );
-      import = geostation::importColmapModel( model, geostation::ColmapModel::modelFolder( input.toStdString() ), options );
-    }
-    else if ( format == QLatin1String( "metashape" ) )
-    {
-      feedback->pushInfo( QObject::tr( "Reading Metashape's cameras %1" ).arg( input ) );
-      geostation::MetashapeImportOptions options;
-      options.crs = blockCrs;
-      options.imageFolder = imageFolder;
-      import = geostation::importMetashapeCameras( input.toStdString(), options );
-    }
-    else
-    {
-      feedback->pushInfo( QObject::tr( "Reading the calibration %1 and the trajectory %2" ).arg( input, trajectory ) );
-      geostation::TrajectoryImportOptions options;
-      options.crs = blockCrs;
-      options.imageFolder = imageFolder;
-      options.anglesInRadians = parameterAsEnumString( parameters, QStringLiteral( "ANGLES" ), context ) == QLatin1String( "radians" );
-      options.eventsCsv = parameterAsFile( parameters, QStringLiteral( "EVENTS" ), context ).toStdString();
-      options.maxTrajectoryGapS = parameterAsDouble( parameters, QStringLiteral( "MAX_GAP_S" ), context );
-      import = geostation::importTrajectory( geostation::readOpenCvCalibration( input.toStdString() ), trajectory.toStdString(), options );
-    }
-    feedback->setProgress( 70 );
-    if ( !known.cameraCentres.empty() || !known.controlPoints.empty() )
-      geostation::georeferenceImport( import, known );
+    feedback->pushInfo( QObject::tr( "Reading the COLMAP model %1" ).arg( input ) );
+    geostation::ColmapImportOptions options;
+    options.crs = blockCrs;
+    options.imageFolder = imageFolder;
+    const geostation::ColmapModel model = geostation::ColmapModel::read( input.toStdString() );
+    feedback->setProgress( 30 );
+    import = geostation::importColmapModel( model, geostation::ColmapModel::modelFolder( input.toStdString() ), options );
   }
-  catch ( const std::exception &e )
+  else if ( format == QLatin1String( "metashape" ) )
   {
-    throw QgsProcessingException( QString::fromStdString( e.what() ) );
+    feedback->pushInfo( QObject::tr( "Reading Metashape's cameras %1" ).arg( input ) );
+    geostation::MetashapeImportOptions options;
+    options.crs = blockCrs;
+    options.imageFolder = imageFolder;
+    import = geostation::importMetashapeCameras( input.toStdString(), options );
   }
+  else
+  {
+    feedback->pushInfo( QObject::tr( "Reading the calibration %1 and the trajectory %2" ).arg( input, trajectory ) );
+    geostation::TrajectoryImportOptions options;
+    options.crs = blockCrs;
+    options.imageFolder = imageFolder;
+    options.anglesInRadians = parameterAsEnumString( parameters, QStringLiteral( "ANGLES" ), context ) == QLatin1String( "radians" );
+    options.eventsCsv = parameterAsFile( parameters, QStringLiteral( "EVENTS" ), context ).toStdString();
+    options.maxTrajectoryGapS = parameterAsDouble( parameters, QStringLiteral( "MAX_GAP_S" ), context );
+    import = geostation::importTrajectory( geostation::readOpenCvCalibration( input.toStdString() ), trajectory.toStdString(), options );
+  }
+  feedback->setProgress( 70 );
+  if ( !known.cameraCentres.empty() || !known.controlPoints.empty() )
+    geostation::georeferenceImport( import, known );
   if ( feedback->isCanceled() )
     return {};
   for ( const std::string &s : import.converted )

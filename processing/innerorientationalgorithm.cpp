@@ -119,14 +119,7 @@ QVariantMap InnerOrientationAlgorithm::processGeoStation( const QVariantMap &par
         throw QgsProcessingException( QObject::tr( "The template %1 cannot be read as a grey image." ).arg( templateLayer->source() ) );
     }
     std::array<geostation::DetectedFiducial, 4> found;
-    try
-    {
-      found = geostation::detectCornerFiducials( block.imageFilePath( image ).string(), options );
-    }
-    catch ( const std::exception &e )
-    {
-      throw QgsProcessingException( QString::fromStdString( e.what() ) );
-    }
+    found = geostation::detectCornerFiducials( block.imageFilePath( image ).string(), options );
     const std::array<std::string, 4> ids = geostation::cornerFiducialIds( camera.fiducials );
     for ( int k = 0; k < 4; ++k )
     {
@@ -149,14 +142,7 @@ QVariantMap InnerOrientationAlgorithm::processGeoStation( const QVariantMap &par
   feedback->setProgress( 60 );
 
   geostation::InnerOrientationSummary s;
-  try
-  {
-    s = geostation::innerOrientation( camera.fiducials, measured );
-  }
-  catch ( const std::invalid_argument &e )
-  {
-    throw QgsProcessingException( QString::fromStdString( e.what() ) );
-  }
+  s = geostation::innerOrientation( camera.fiducials, measured );
   if ( !s.ok() )
     throw QgsProcessingException( QObject::tr( "Inner orientation of %1 failed: %2" ).arg( imageId, QString::fromStdString( s.message ) ) );
 

@@ -17,6 +17,9 @@
 #include "adjustment/intersection.h"
 #include "processingblock.h"
 #include "processingtables.h"
+#include "io/featureschema.h"
+
+namespace fs = geostation::featureschema;
 
 namespace GeoStationProcessing
 {
@@ -108,14 +111,14 @@ QVariantMap IntersectAlgorithm::processGeoStation( const QVariantMap &parameters
   }
 
   QgsFields fields;
-  fields.append( QgsField( QStringLiteral( "point_id" ), QVariant::String ) );
+  fields.append( QgsField( QLatin1String( fs::kPointId ), QVariant::String ) );
   fields.append( QgsField( QStringLiteral( "n_images" ), QVariant::Int ) );
   for ( const char *name : { "sigma_x", "sigma_y", "sigma_z", "rms_px", "max_resid_px", "ray_angle_deg", "sigma0" } )
     fields.append( QgsField( QString::fromLatin1( name ), QVariant::Double ) );
   fields.append( QgsField( QStringLiteral( "gross_error" ), QVariant::Bool ) );
   fields.append( QgsField( QStringLiteral( "suspect_image" ), QVariant::String ) );
-  fields.append( QgsField( QStringLiteral( "status" ), QVariant::String ) );
-  fields.append( QgsField( QStringLiteral( "message" ), QVariant::String ) );
+  fields.append( QgsField( QLatin1String( fs::kStatus ), QVariant::String ) );
+  fields.append( QgsField( QLatin1String( fs::kMessage ), QVariant::String ) );
   // The observation table's other fields, except those whose names the output already uses.
   QVector<int> carried;
   for ( int e = 0; e < table.extraFields.count(); ++e )

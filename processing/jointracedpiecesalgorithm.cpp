@@ -22,6 +22,9 @@
 #include "maproads.h"
 #include "processingblock.h"
 #include "tracing/piecejoin.h"
+#include "io/featureschema.h"
+
+namespace fs = geostation::featureschema;
 
 namespace GeoStationProcessing
 {
@@ -61,10 +64,10 @@ QVariantMap JoinTracedPiecesAlgorithm::processGeoStation( const QVariantMap &par
   std::unique_ptr<QgsProcessingFeatureSource> source( parameterAsSource( parameters, QStringLiteral( "INPUT" ), context ) );
   if ( !source )
     throw QgsProcessingException( invalidSourceError( parameters, QStringLiteral( "INPUT" ) ) );
-  const int lineField = source->fields().lookupField( QStringLiteral( "line_id" ) ), pieceField = source->fields().lookupField( QStringLiteral( "piece" ) );
+  const int lineField = source->fields().lookupField( QLatin1String( fs::kLineId ) ), pieceField = source->fields().lookupField( QStringLiteral( "piece" ) );
   if ( lineField < 0 || pieceField < 0 )
     throw QgsProcessingException( QObject::tr( "INPUT needs the fields line_id and piece (the seed's place along its line)." ) );
-  const int sigmaField = source->fields().lookupField( QStringLiteral( "sigma_max" ) ), seedField = source->fields().lookupField( QStringLiteral( "seed_id" ) );
+  const int sigmaField = source->fields().lookupField( QLatin1String( fs::kSigmaMax ) ), seedField = source->fields().lookupField( QLatin1String( fs::kSeedId ) );
   std::vector<geostation::TracedPiece> pieces;
   QgsFeature f;
   QgsFeatureIterator it = source->getFeatures();
@@ -92,10 +95,10 @@ QVariantMap JoinTracedPiecesAlgorithm::processGeoStation( const QVariantMap &par
   const geostation::PieceJoinSummary s = geostation::joinTracedPieces( pieces, options ); // two pieces in one place: one sentence
 
   QgsFields fields;
-  fields.append( QgsField( QStringLiteral( "line_id" ), QVariant::String ) );
+  fields.append( QgsField( QLatin1String( fs::kLineId ), QVariant::String ) );
   fields.append( QgsField( QStringLiteral( "pieces" ), QVariant::Int ) );
-  fields.append( QgsField( QStringLiteral( "length_m" ), QVariant::Double ) );
-  fields.append( QgsField( QStringLiteral( "sigma_max" ), QVariant::Double ) );
+  fields.append( QgsField( QLatin1String( fs::kLengthM ), QVariant::Double ) );
+  fields.append( QgsField( QLatin1String( fs::kSigmaMax ), QVariant::Double ) );
   QString destination;
   std::unique_ptr<QgsFeatureSink> sink( parameterAsSink( parameters, QStringLiteral( "OUTPUT" ), context, destination, fields, QgsWkbTypes::LineStringZ, source->sourceCrs() ) );
   if ( !sink )

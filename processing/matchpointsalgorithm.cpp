@@ -23,6 +23,9 @@
 #include "workstation/pointmatcher.h"
 #include "processingblock.h"
 #include "processingtables.h"
+#include "io/featureschema.h"
+
+namespace fs = geostation::featureschema;
 
 namespace GeoStationProcessing
 {
@@ -115,23 +118,16 @@ QVariantMap MatchPointsAlgorithm::processGeoStation( const QVariantMap &paramete
   // whole is read in the window a match needs
   geostation::MatchImageCache cache;
   std::unique_ptr<geostation::PointMatcher> matcher;
-  try
-  {
-    matcher = std::make_unique<geostation::PointMatcher>( block, options, cache );
-  }
-  catch ( const std::invalid_argument &e )
-  {
-    throw QgsProcessingException( QString::fromStdString( e.what() ) );
-  }
+  matcher = std::make_unique<geostation::PointMatcher>( block, options, cache );
 
   QgsFields fields;
-  fields.append( QgsField( QStringLiteral( "point_id" ), QVariant::String ) );
-  fields.append( QgsField( QStringLiteral( "image_id" ), QVariant::String ) );
-  fields.append( QgsField( QStringLiteral( "col" ), QVariant::Double ) );
-  fields.append( QgsField( QStringLiteral( "row" ), QVariant::Double ) );
-  fields.append( QgsField( QStringLiteral( "sigma_px" ), QVariant::Double ) );
+  fields.append( QgsField( QLatin1String( fs::kPointId ), QVariant::String ) );
+  fields.append( QgsField( QLatin1String( fs::kImageId ), QVariant::String ) );
+  fields.append( QgsField( QLatin1String( fs::kCol ), QVariant::Double ) );
+  fields.append( QgsField( QLatin1String( fs::kRow ), QVariant::Double ) );
+  fields.append( QgsField( QLatin1String( fs::kSigmaPx ), QVariant::Double ) );
   fields.append( QgsField( QStringLiteral( "score" ), QVariant::Double ) );
-  fields.append( QgsField( QStringLiteral( "status" ), QVariant::String ) );
+  fields.append( QgsField( QLatin1String( fs::kStatus ), QVariant::String ) );
   fields.append( QgsField( QStringLiteral( "reason" ), QVariant::String ) );
   QString destination;
   std::unique_ptr<QgsFeatureSink> sink( parameterAsSink( parameters, QStringLiteral( "OUTPUT" ), context, destination, fields, QgsWkbTypes::NoGeometry, QgsCoordinateReferenceSystem() ) );

@@ -24,6 +24,9 @@
 #include "extraction/networkmerge.h"
 #include "maproads.h"
 #include "processingblock.h"
+#include "io/featureschema.h"
+
+namespace fs = geostation::featureschema;
 
 namespace GeoStationProcessing
 {
@@ -35,7 +38,7 @@ namespace
   {
     geostation::PairNetwork network;
     network.pair = layer->name().toStdString();
-    const int pairField = layer->fields().lookupField( QStringLiteral( "pair" ) ), sigmaField = layer->fields().lookupField( QStringLiteral( "sigma_max" ) );
+    const int pairField = layer->fields().lookupField( QStringLiteral( "pair" ) ), sigmaField = layer->fields().lookupField( QLatin1String( fs::kSigmaMax ) );
     const QgsCoordinateTransform transform( layer->crs(), crs, context );
     QgsFeature f;
     QgsFeatureIterator it = layer->getFeatures();
@@ -125,10 +128,10 @@ QVariantMap MergeRoadNetworksAlgorithm::processGeoStation( const QVariantMap &pa
   const geostation::NetworkMergeSummary s = geostation::mergeNetworks( networks, options ); // two pairs of one name: std::invalid_argument, one sentence
 
   QgsFields fields;
-  fields.append( QgsField( QStringLiteral( "line_id" ), QVariant::Int ) );
+  fields.append( QgsField( QLatin1String( fs::kLineId ), QVariant::Int ) );
   fields.append( QgsField( QStringLiteral( "pairs" ), QVariant::String ) );
-  fields.append( QgsField( QStringLiteral( "length_m" ), QVariant::Double ) );
-  fields.append( QgsField( QStringLiteral( "sigma_max" ), QVariant::Double ) );
+  fields.append( QgsField( QLatin1String( fs::kLengthM ), QVariant::Double ) );
+  fields.append( QgsField( QLatin1String( fs::kSigmaMax ), QVariant::Double ) );
   QString destination;
   std::unique_ptr<QgsFeatureSink> sink( parameterAsSink( parameters, QStringLiteral( "OUTPUT" ), context, destination, fields, QgsWkbTypes::LineStringZ, crs ) );
   if ( !sink )

@@ -18,6 +18,9 @@
 #include "dem/monoplotter.h"
 #include "geometrymonoplotter.h"
 #include "processingblock.h"
+#include "io/featureschema.h"
+
+namespace fs = geostation::featureschema;
 
 namespace GeoStationProcessing
 {
@@ -142,9 +145,9 @@ QVariantMap MonoplotAlgorithm::processGeoStation( const QVariantMap &parameters,
     newFields.append( QgsField( QString::fromLatin1( name ), QVariant::Double ) );
   newFields.append( QgsField( QStringLiteral( "n_vertices" ), QVariant::Int ) );
   newFields.append( QgsField( QStringLiteral( "n_bridged" ), QVariant::Int ) );
-  newFields.append( QgsField( QStringLiteral( "method" ), QVariant::String ) );
-  newFields.append( QgsField( QStringLiteral( "status" ), QVariant::String ) );
-  newFields.append( QgsField( QStringLiteral( "message" ), QVariant::String ) );
+  newFields.append( QgsField( QLatin1String( fs::kMethod ), QVariant::String ) );
+  newFields.append( QgsField( QLatin1String( fs::kStatus ), QVariant::String ) );
+  newFields.append( QgsField( QLatin1String( fs::kMessage ), QVariant::String ) );
   const QgsFields fields = QgsProcessingUtils::combineFields( source->fields(), newFields );
 
   // Everything is computed before the output is created. A feature that cannot be monoplotted (a ray into a

@@ -12,6 +12,10 @@
 #include <qgsgeometry.h>
 #include <qgsprocessingfeedback.h>
 
+#include "io/featureschema.h"
+
+namespace fs = geostation::featureschema;
+
 namespace GeoStationProcessing
 {
 
@@ -301,8 +305,8 @@ namespace GeoStationProcessing
         throw QgsProcessingException( QObject::tr( "The SEEDS table has no field %1 (it needs seed_id, image_id, col, row and optionally direction_deg)." ).arg( name ) );
       return i;
     };
-    const int id = field( QStringLiteral( "seed_id" ), true ), image = field( QStringLiteral( "image_id" ), true ), col = field( QStringLiteral( "col" ), true ),
-              row = field( QStringLiteral( "row" ), true ), direction = field( QStringLiteral( "direction_deg" ), false );
+    const int id = field( QLatin1String( fs::kSeedId ), true ), image = field( QLatin1String( fs::kImageId ), true ), col = field( QLatin1String( fs::kCol ), true ),
+              row = field( QLatin1String( fs::kRow ), true ), direction = field( QStringLiteral( "direction_deg" ), false );
     QVector<TraceSeedRecord> rows;
     QgsFeature f;
     QgsFeatureIterator it = source->getFeatures();

@@ -25,6 +25,9 @@
 #include "dem/monoplotter.h"
 #include "geometryprojector.h"
 #include "processingblock.h"
+#include "io/featureschema.h"
+
+namespace fs = geostation::featureschema;
 
 namespace GeoStationProcessing
 {
@@ -187,13 +190,13 @@ QVariantMap ProjectToImageAlgorithm::processGeoStation( const QVariantMap &param
     feedback->pushWarning( QObject::tr( "… and %1 more features that cannot be projected (see their status and message)." ).arg( unresolvedCount - 20 ) );
 
   QgsFields newFields;
-  newFields.append( QgsField( QStringLiteral( "col" ), QVariant::Double ) );
-  newFields.append( QgsField( QStringLiteral( "row" ), QVariant::Double ) );
+  newFields.append( QgsField( QLatin1String( fs::kCol ), QVariant::Double ) );
+  newFields.append( QgsField( QLatin1String( fs::kRow ), QVariant::Double ) );
   newFields.append( QgsField( QStringLiteral( "depth_m" ), QVariant::Double ) );
   newFields.append( QgsField( QStringLiteral( "in_frame" ), QVariant::Bool ) );
   newFields.append( QgsField( QStringLiteral( "visible" ), QVariant::Bool ) );
-  newFields.append( QgsField( QStringLiteral( "status" ), QVariant::String ) );
-  newFields.append( QgsField( QStringLiteral( "message" ), QVariant::String ) );
+  newFields.append( QgsField( QLatin1String( fs::kStatus ), QVariant::String ) );
+  newFields.append( QgsField( QLatin1String( fs::kMessage ), QVariant::String ) );
   const QgsFields outFields = QgsProcessingUtils::combineFields( source->fields(), newFields );
   const QgsWkbTypes::Type outType = QgsWkbTypes::flatType( source->wkbType() );
 

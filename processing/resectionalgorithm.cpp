@@ -192,14 +192,7 @@ QVariantMap ResectionAlgorithm::processGeoStation( const QVariantMap &parameters
   feedback->setProgress( 10 );
 
   geostation::ResectionSummary summary;
-  try
-  {
-    summary = geostation::resectImage( camera, control, observations, options );
-  }
-  catch ( const std::invalid_argument &e )
-  {
-    throw QgsProcessingException( QString::fromStdString( e.what() ) );
-  }
+  summary = geostation::resectImage( camera, control, observations, options );
   if ( !summary.ok() )
     throw QgsProcessingException( QObject::tr( "Resection of %1 failed: %2" ).arg( imageId, QString::fromStdString( summary.message ) ) );
   feedback->setProgress( 80 );

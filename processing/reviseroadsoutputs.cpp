@@ -14,6 +14,8 @@
 #include "io/featureschema.h"
 #include "maproads.h"
 
+namespace fs = geostation::featureschema;
+
 namespace GeoStationProcessing
 {
 
@@ -40,11 +42,11 @@ RevisedMapFields revisedMapFields( const QgsFields &mapFields )
   for ( const QString &name : { QStringLiteral( "source_fid" ), QStringLiteral( "revision" ), QStringLiteral( "evidence" ), QStringLiteral( "shift_m" ), QStringLiteral( "sigma_max" ) } )
     if ( out.fields.lookupField( name ) >= 0 )
       throw QgsProcessingException( QObject::tr( "MAP has a field named %1, which the output adds: rename it first." ).arg( name ) );
-  out.fields.append( QgsField( QStringLiteral( "source_fid" ), QVariant::LongLong ) );
-  out.fields.append( QgsField( QStringLiteral( "revision" ), QVariant::String ) );
-  out.fields.append( QgsField( QStringLiteral( "evidence" ), QVariant::Double ) );
-  out.fields.append( QgsField( QStringLiteral( "shift_m" ), QVariant::Double ) );
-  out.fields.append( QgsField( QStringLiteral( "sigma_max" ), QVariant::Double ) );
+  out.fields.append( QgsField( QLatin1String( fs::kSourceFid ), QVariant::LongLong ) );
+  out.fields.append( QgsField( QLatin1String( fs::kRevision ), QVariant::String ) );
+  out.fields.append( QgsField( QLatin1String( fs::kEvidence ), QVariant::Double ) );
+  out.fields.append( QgsField( QLatin1String( fs::kShiftM ), QVariant::Double ) );
+  out.fields.append( QgsField( QLatin1String( fs::kSigmaMax ), QVariant::Double ) );
   return out;
 }
 
@@ -90,10 +92,10 @@ QList<QgsFeature> revisionVertexRows( const geostation::RevisedPiece &piece, int
 QgsFields newRoadFields()
 {
   QgsFields fields;
-  fields.append( QgsField( QStringLiteral( "line_id" ), QVariant::Int ) );
-  fields.append( QgsField( QStringLiteral( "method" ), QVariant::String ) );
-  fields.append( QgsField( QStringLiteral( "length_m" ), QVariant::Double ) );
-  fields.append( QgsField( QStringLiteral( "sigma_max" ), QVariant::Double ) );
+  fields.append( QgsField( QLatin1String( fs::kLineId ), QVariant::Int ) );
+  fields.append( QgsField( QLatin1String( fs::kMethod ), QVariant::String ) );
+  fields.append( QgsField( QLatin1String( fs::kLengthM ), QVariant::Double ) );
+  fields.append( QgsField( QLatin1String( fs::kSigmaMax ), QVariant::Double ) );
   return fields;
 }
 

@@ -129,14 +129,7 @@ void SimulateSurveyAlgorithm::initAlgorithm( const QVariantMap & )
 QVariantMap SimulateSurveyAlgorithm::processGeoStation( const QVariantMap &parameters, QgsProcessingContext &context, QgsProcessingFeedback *feedback )
 {
   geostation::SimulationOptions options;
-  try
-  {
-    options.preset = geostation::surveyPresetFromName( parameterAsEnumString( parameters, QStringLiteral( "PRESET" ), context ).toStdString() );
-  }
-  catch ( const std::invalid_argument &e )
-  {
-    throw QgsProcessingException( QString::fromStdString( e.what() ) );
-  }
+  options.preset = geostation::surveyPresetFromName( parameterAsEnumString( parameters, QStringLiteral( "PRESET" ), context ).toStdString() );
   options.seed = static_cast<uint32_t>( parameterAsInt( parameters, QStringLiteral( "SEED" ), context ) );
   options.outputDir = parameterAsString( parameters, QStringLiteral( "OUTPUT_DIR" ), context ).toStdString();
   if ( QgsRasterLayer *dem = parameterAsRasterLayer( parameters, QStringLiteral( "DEM" ), context ) )

@@ -26,6 +26,8 @@
 #include "processingtables.h"
 #include "tracing/roadtracer.h"
 
+namespace fs = geostation::featureschema;
+
 namespace GeoStationProcessing
 {
 
@@ -105,14 +107,7 @@ QVariantMap TraceRoadLinesAlgorithm::processGeoStation( const QVariantMap &param
       return hit.hit() ? std::optional<Eigen::Vector3d>( hit.point ) : std::nullopt;
     };
   }
-  try
-  {
-    options.check();
-  }
-  catch ( const std::exception &e )
-  {
-    throw QgsProcessingException( QString::fromStdString( e.what() ) );
-  }
+  options.check();
 
   // trace every seed first: no output file exists until there is something to write
   std::vector<geostation::RoadTraceSummary> results;
@@ -155,13 +150,13 @@ QVariantMap TraceRoadLinesAlgorithm::processGeoStation( const QVariantMap &param
     if ( fields.lookupField( name ) < 0 )
       fields.append( QgsField( name, type ) );
   };
-  addField( QStringLiteral( "seed_id" ), QVariant::String );
-  addField( QStringLiteral( "method" ), QVariant::String );
+  addField( QLatin1String( fs::kSeedId ), QVariant::String );
+  addField( QLatin1String( fs::kMethod ), QVariant::String );
   addField( QStringLiteral( "stations" ), QVariant::Int );
-  addField( QStringLiteral( "length_m" ), QVariant::Double );
-  addField( QStringLiteral( "sigma_max" ), QVariant::Double );
-  addField( QStringLiteral( "stop_reason" ), QVariant::String );
-  addField( QStringLiteral( "message" ), QVariant::String );
+  addField( QLatin1String( fs::kLengthM ), QVariant::Double );
+  addField( QLatin1String( fs::kSigmaMax ), QVariant::Double );
+  addField( QLatin1String( fs::kStopReason ), QVariant::String );
+  addField( QLatin1String( fs::kMessage ), QVariant::String );
   QString destination;
   std::unique_ptr<QgsFeatureSink> sink( parameterAsSink( parameters, QStringLiteral( "OUTPUT" ), context, destination, fields, QgsWkbTypes::LineStringZ, crs ) );
   if ( !sink )
@@ -182,13 +177,13 @@ QVariantMap TraceRoadLinesAlgorithm::processGeoStation( const QVariantMap &param
     QgsAttributes attributes = seeds[i].attributes;
     attributes.resize( fields.size() );
     const auto set = [&]( const QString &name, const QVariant &value ) { attributes[fields.lookupField( name )] = value; };
-    set( QStringLiteral( "seed_id" ), QString::fromStdString( seeds[i].seed.id ) );
-    set( QStringLiteral( "method" ), QString::fromStdString( s.methods() ) );
+    set( QLatin1String( fs::kSeedId ), QString::fromStdString( seeds[i].seed.id ) );
+    set( QLatin1String( fs::kMethod ), QString::fromStdString( s.methods() ) );
     set( QStringLiteral( "stations" ), static_cast<int>( s.stations.size() ) );
-    set( QStringLiteral( "length_m" ), s.lengthM );
-    set( QStringLiteral( "sigma_max" ), s.sigmaMaxM );
-    set( QStringLiteral( "stop_reason" ), QString::fromStdString( geostation::traceStopName( s.stop ) ) );
-    set( QStringLiteral( "message" ), QString::fromStdString( s.message ) );
+    set( QLatin1String( fs::kLengthM ), s.lengthM );
+    set( QLatin1String( fs::kSigmaMax ), s.sigmaMaxM );
+    set( QLatin1String( fs::kStopReason ), QString::fromStdString( geostation::traceStopName( s.stop ) ) );
+    set( QLatin1String( fs::kMessage ), QString::fromStdString( s.message ) );
     f.setAttributes( attributes );
     if ( s.ok() )
     {

@@ -1,11 +1,14 @@
 /***************************************************************************
-  featureschema.h - the field names of measured features (docs/conventions.md §7)
+  featureschema.h - the field names GeoStation writes and reads (docs/conventions.md §6, §7)
   -------------------------------------------------------------------------
   Defined once for every writer of the GIS database: the measurement store
   of the desktop plugin, the Processing algorithms' vertex tables and the
   review of extracted roads. Feature layers carry the attributes below (the
   worst vertex's sigmas) and the feature class's own; the companion table
-  `vertices` holds Xin's (1995) record format, vertex by vertex.
+  `vertices` holds Xin's (1995) record format, vertex by vertex. Then the
+  fields of the tables the Processing algorithms exchange (observations,
+  per-feature outcomes, road lines, map revision), which the plugin's review
+  panels read back.
  ***************************************************************************/
 #ifndef GEOSTATION_IO_FEATURESCHEMA_H
 #define GEOSTATION_IO_FEATURESCHEMA_H
@@ -43,6 +46,31 @@ namespace geostation::featureschema
   inline constexpr char kImageIds[] = "image_ids";            //!< separated by ';'
   inline constexpr char kResidualsPx[] = "residuals_px";      //!< "dx dy" per image, separated by ';'
   inline constexpr char kLayer[] = "layer";                   //!< the feature's layer (one table serves every layer)
+
+  // the algorithms' tables (docs/conventions.md §6, §8)
+  inline constexpr char kPointId[] = "point_id";
+  inline constexpr char kImageId[] = "image_id";
+  inline constexpr char kCol[] = "col";                       //!< pixel, docs/conventions.md §1
+  inline constexpr char kRow[] = "row";
+  inline constexpr char kSigmaPx[] = "sigma_px";
+  inline constexpr char kStatus[] = "status";                 //!< a per-feature or per-row outcome
+  inline constexpr char kMessage[] = "message";               //!< one sentence beside a status that is not ok
+  inline constexpr char kRole[] = "role";                     //!< control or check
+
+  // road lines: extracted, traced, merged, joined
+  inline constexpr char kLineId[] = "line_id";
+  inline constexpr char kAcceptedIn[] = "accepted_in";        //!< the images an extracted line was verified in
+  inline constexpr char kLengthM[] = "length_m";
+  inline constexpr char kSigmaMax[] = "sigma_max";            //!< metres, the line's worst vertex
+  inline constexpr char kSeedId[] = "seed_id";
+  inline constexpr char kStopReason[] = "stop_reason";
+
+  // map revision
+  inline constexpr char kRevision[] = "revision";             //!< confirmed, moved, not_found, occluded, outside, invalid_geometry
+  inline constexpr char kEvidence[] = "evidence";             //!< 0-1
+  inline constexpr char kShiftM[] = "shift_m";
+  inline constexpr char kSourceFid[] = "source_fid";          //!< the map feature a piece comes from
+  inline constexpr char kReview[] = "review";                 //!< the operator's decision
 
 } // namespace geostation::featureschema
 
