@@ -14,6 +14,7 @@
 #include <qgsprocessingutils.h>
 #include <qgsrasterlayer.h>
 
+#include "dem/demcoverage.h"
 #include "dem/demintersection.h"
 #include "dem/monoplotter.h"
 #include "geometrymonoplotter.h"
@@ -130,14 +131,14 @@ QVariantMap MonoplotAlgorithm::processGeoStation( const QVariantMap &parameters,
   options.demSigmaM = parameterAsDouble( parameters, QStringLiteral( "DEM_SIGMA_M" ), context );
   const geostation::Monoplotter monoplotter( image, *dem, *blockToDem, options );
 
-  // The DEM must lie under the image: some rays of a coarse grid over the frame must meet it.
+  // The DEM must lie under the image: some of its rays towards the ground must meet it (core's coverage of the
+  // frame, as the orientation dock shows it; a scanned film's frame through its scan affine)
   const geostation::Camera &camera = image.camera();
-  int gridHits = 0;
-  for ( int i = 0; i <= 8 && gridHits == 0; ++i )
-    for ( int j = 0; j <= 8; ++j )
-      gridHits += monoplotter.imageToGround( { ( j + 0.5 ) * camera.width / 9.0, ( i + 0.5 ) * camera.height / 9.0 }, false ).ok() ? 1 : 0;
-  if ( gridHits == 0 )
+  const geostation::DemCoverageSummary coverage = geostation::demCoverageOfImage( monoplotter );
+  if ( coverage.onDem == 0 )
     throw QgsProcessingException( QObject::tr( "The DEM does not cover the footprint of image %1: no viewing ray of the image meets it." ).arg( imageId ) );
+  if ( !coverage.complete() )
+    feedback->pushInfo( QString::fromStdString( coverage.message ) ); // the features it leaves without a height are warned of one by one
 
   GeoStationProcessing::GeometryMonoplotter mono { monoplotter, parameterAsDouble( parameters, QStringLiteral( "DENSIFY_PX" ), context ), camera.width, camera.height };
   QgsFields newFields;
