@@ -66,7 +66,6 @@ QgsFeature revisedMapFeature( const geostation::RevisedPiece &piece, const QgsFe
 
 QgsFields revisionVertexFields()
 {
-  namespace fs = geostation::featureschema;
   QgsFields fields;
   for ( const auto &[name, type] : std::vector<std::pair<const char *, QVariant::Type>> { { "piece", QVariant::Int }, { fs::kVertex, QVariant::Int }, { fs::kX, QVariant::Double },
         { fs::kY, QVariant::Double }, { fs::kZ, QVariant::Double }, { fs::kSx, QVariant::Double }, { fs::kSy, QVariant::Double }, { fs::kSz, QVariant::Double },

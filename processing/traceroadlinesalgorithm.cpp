@@ -162,7 +162,6 @@ QVariantMap TraceRoadLinesAlgorithm::processGeoStation( const QVariantMap &param
   if ( !sink )
     throw QgsProcessingException( invalidSinkError( parameters, QStringLiteral( "OUTPUT" ) ) );
   QgsFields vertexFields;
-  namespace fs = geostation::featureschema;
   for ( const auto &[name, type] : std::vector<std::pair<const char *, QVariant::Type>> { { "seed_id", QVariant::String }, { fs::kVertex, QVariant::Int }, { fs::kX, QVariant::Double },
         { fs::kY, QVariant::Double }, { fs::kZ, QVariant::Double }, { fs::kSx, QVariant::Double }, { fs::kSy, QVariant::Double }, { fs::kSz, QVariant::Double },
         { fs::kStation, QVariant::String }, { fs::kImageIds, QVariant::String }, { fs::kResidualsPx, QVariant::String } } )

@@ -52,6 +52,50 @@ namespace
 
 namespace
 {
+  //! The simulator's oblique photo over hilly terrain (seed 5), simulated once for the tests that use it.
+  struct ObliqueScene
+  {
+    std::filesystem::path dir = std::filesystem::temp_directory_path() / ( "geostation-featureinphoto-oblique-" + std::to_string( ::getpid() ) );
+    Block block;
+    std::unique_ptr<Dem> dem;
+    ObliqueScene()
+    {
+      SimulationOptions options;
+      options.preset = SurveyPreset::ObliquePhoto;
+      options.seed = 5;
+      options.outputDir = dir;
+      std::filesystem::remove_all( dir );
+      simulateSurvey( options );
+      block = Block::load( dir / "truth.geostation.json" );
+      dem = std::make_unique<Dem>( ( dir / "terrain.tif" ).string() );
+    }
+    ~ObliqueScene()
+    {
+      dem.reset();
+      std::filesystem::remove_all( dir );
+    }
+  };
+
+  const ObliqueScene &obliqueScene()
+  {
+    static const ObliqueScene s;
+    return s;
+  }
+
+  //! The largest distance from a point of `from` to the nearest point of `to` (pixels).
+  double farthestFrom( const std::vector<Eigen::Vector2d> &from, const std::vector<Eigen::Vector2d> &to )
+  {
+    double farthest = 0.0;
+    for ( const Eigen::Vector2d &p : from )
+    {
+      double nearest = std::numeric_limits<double>::infinity();
+      for ( const Eigen::Vector2d &q : to )
+        nearest = std::min( nearest, ( p - q ).norm() );
+      farthest = std::max( farthest, nearest );
+    }
+    return farthest;
+  }
+
   using syntheticterrain::kX0;
   using syntheticterrain::kY0;
 
@@ -172,24 +216,8 @@ TEST( FeatureInPhoto, ALineWithoutHeightsFollowsTheTerrainAndHiddenRunsMeet )
     if ( g.ok() )
       terrainCurve.push_back( g.pixelInImage );
   }
-  double worst = 0.0;
-  for ( const Eigen::Vector2d &px : onTerrain.parts[0] )
-  {
-    double nearest = std::numeric_limits<double>::infinity();
-    for ( const Eigen::Vector2d &q : terrainCurve )
-      nearest = std::min( nearest, ( px - q ).norm() );
-    worst = std::max( worst, nearest );
-  }
-  EXPECT_LT( worst, 0.5 );
-  double apart = 0.0;
-  for ( const Eigen::Vector2d &px : onTerrain.parts[0] )
-  {
-    double nearest = std::numeric_limits<double>::infinity();
-    for ( const Eigen::Vector2d &q : onChord.parts[0] )
-      nearest = std::min( nearest, ( px - q ).norm() );
-    apart = std::max( apart, nearest );
-  }
-  EXPECT_GT( apart, 2.0 ); // on hills the chord is no drawing of the line
+  EXPECT_LT( farthestFrom( onTerrain.parts[0], terrainCurve ), 0.5 );
+  EXPECT_GT( farthestFrom( onTerrain.parts[0], onChord.parts[0] ), 2.0 ); // on hills the chord is no drawing of the line
 
   // split where the terrain hides it: runs alternate, each hidden run meets a seen one at a shared pixel
   LineInPhotoOptions split;
@@ -230,17 +258,12 @@ TEST( FeatureInPhoto, ALineWithoutHeightsFollowsTheTerrainAndHiddenRunsMeet )
 
 TEST( FeatureInPhoto, HiddenRunsAgreeWithTheRenderedPhoto )
 {
-  SimulationOptions options;
-  options.preset = SurveyPreset::ObliquePhoto;
-  options.seed = 5;
-  options.outputDir = std::filesystem::temp_directory_path() / ( "geostation-linevisibility-" + std::to_string( ::getpid() ) );
-  std::filesystem::remove_all( options.outputDir );
-  simulateSurvey( options );
-  const Block block = Block::load( options.outputDir / "truth.geostation.json" );
+  const ObliqueScene &scene = obliqueScene();
+  const Block &block = scene.block;
   const BlockImage &image = block.images.front();
   const OrientedImage oriented = block.orientedImage( image );
-  const TruthTable truth = readTruth( options.outputDir / "truth.gpkg" );
-  const Dem dem( ( options.outputDir / "terrain.tif" ).string() );
+  const TruthTable truth = readTruth( scene.dir / "truth.gpkg" );
+  const Dem &dem = *scene.dem;
   const CrsTransform same( block.crs, dem.crsWkt() );
   const Monoplotter mono( oriented, dem, same );
 
@@ -252,7 +275,7 @@ TEST( FeatureInPhoto, HiddenRunsAgreeWithTheRenderedPhoto )
   int agree = 0, compared = 0, truthHidden = 0, hiddenRuns = 0, visibleRuns = 0;
   for ( const std::string road : { "R1-centre-001", "R2-centre-001", "R3-centre-001" } )
   {
-    const std::vector<Eigen::Vector3d> line = readRoad( options.outputDir / "truth.gpkg", road );
+    const std::vector<Eigen::Vector3d> line = readRoad( scene.dir / "truth.gpkg", road );
     ASSERT_GE( line.size(), 10u ) << road;
     const ProjectedGroundLine runs = runsOf( line, heights );
     ASSERT_EQ( runs.hidden.size(), runs.parts.size() );
@@ -292,27 +315,21 @@ TEST( FeatureInPhoto, HiddenRunsAgreeWithTheRenderedPhoto )
   EXPECT_GE( agree, compared * 9 / 10 );
 
   // without a DEM nothing is hidden, and a line behind the camera draws nothing
-  const std::vector<Eigen::Vector3d> road = readRoad( options.outputDir / "truth.gpkg", "R1-centre-001" );
+  const std::vector<Eigen::Vector3d> road = readRoad( scene.dir / "truth.gpkg", "R1-centre-001" );
   for ( const bool hidden : runsOf( road, FeatureHeights() ).hidden )
     EXPECT_FALSE( hidden );
   const Eigen::Vector3d behind = oriented.exterior().projectionCentre - 50.0 * oriented.exterior().worldDirectionFromCamera( Eigen::Vector3d( 0, 0, -1 ) );
   EXPECT_TRUE( runsOf( { behind, behind + Eigen::Vector3d( 5, 0, 0 ) }, heights ).parts.empty() );
   split.densifyPx = 0.0;
   EXPECT_THROW( runsOf( road, heights ), std::invalid_argument );
-  std::filesystem::remove_all( options.outputDir );
 }
 
 TEST( DemVertices, ALineDigitisedInThePhotoIsDensifiedOnTheTerrain )
 {
-  SimulationOptions options;
-  options.preset = SurveyPreset::ObliquePhoto;
-  options.seed = 5;
-  options.outputDir = std::filesystem::temp_directory_path() / ( "geostation-densify-" + std::to_string( ::getpid() ) );
-  std::filesystem::remove_all( options.outputDir );
-  simulateSurvey( options );
-  const Block block = Block::load( options.outputDir / "truth.geostation.json" );
+  const ObliqueScene &scene = obliqueScene();
+  const Block &block = scene.block;
   const OrientedImage oriented = block.orientedImage( block.images.front() );
-  const Dem dem( ( options.outputDir / "terrain.tif" ).string() );
+  const Dem &dem = *scene.dem;
   const CrsTransform same( block.crs, dem.crsWkt() );
   const Monoplotter mono( oriented, dem, same );
   // two clicks 300 px apart across the hilly middle of the photo
@@ -342,5 +359,4 @@ TEST( DemVertices, ALineDigitisedInThePhotoIsDensifiedOnTheTerrain )
   EXPECT_LT( worstOffTerrain, 0.05 );
   EXPECT_GT( chordOffTerrain, 1.0 ); // on hilly ground the chord is no map of the line
   EXPECT_THROW( demVerticesBetween( from, to, mono, 0.0 ), std::invalid_argument );
-  std::filesystem::remove_all( options.outputDir );
 }
