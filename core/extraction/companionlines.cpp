@@ -40,24 +40,15 @@ namespace geostation
     }
 
     /**
-     * The share of `points` (a line densified) that lie within `reachPx` of
-     * `other` and run along it (within 25 degrees): a road crossing a wider
-     * one near their junction lies within reach but across it.
+     * Whether `p` lies within `reachPx` of `other` and runs along it (within
+     * 25 degrees): a road crossing a wider one near their junction lies
+     * within reach but across it. `course` is the line's direction there.
      */
-    double shareAlongside( const std::vector<Eigen::Vector2d> &points, const std::vector<Eigen::Vector2d> &other, double reachPx )
+    bool alongside( const Eigen::Vector2d &p, const Eigen::Vector2d &course, const std::vector<Eigen::Vector2d> &other, double reachPx )
     {
-      if ( points.size() < 2 )
-        return 0.0;
       const double minCos = std::cos( 25.0 * 3.14159265358979323846 / 180.0 );
-      int alongside = 0;
-      for ( size_t i = 0; i < points.size(); ++i )
-      {
-        // the line's course over 6 points (24 px), not the jitter of a step
-        const Eigen::Vector2d here = points[std::min( i + 3, points.size() - 1 )] - points[i > 3 ? i - 3 : 0];
-        const auto [distance, direction] = nearestOn( points[i], other );
-        alongside += distance <= reachPx && here.norm() > 0.0 && std::abs( here.normalized().dot( direction ) ) >= minCos;
-      }
-      return static_cast<double>( alongside ) / points.size();
+      const auto [distance, direction] = nearestOn( p, other );
+      return distance <= reachPx && course.norm() > 0.0 && std::abs( course.normalized().dot( direction ) ) >= minCos;
     }
   } // namespace
 
@@ -81,10 +72,20 @@ namespace geostation
     CompanionLineSummary summary;
     for ( size_t q = 0; q < lines.size(); ++q )
     {
-      bool companion = false;
-      for ( size_t p = 0; p < lines.size() && !companion; ++p )
-        companion = p != q && widths[q] <= options.narrowerBy * widths[p] &&
-                    shareAlongside( dense[q], dense[p], 0.5 * ( widths[p] + widths[q] ) + options.gapPx ) >= options.besideFraction;
+      // the share of the line's points alongside some wider line: a road broken into pieces (by a junction,
+      // a tree's shadow) still has its shoulder beside it along its whole length
+      const std::vector<Eigen::Vector2d> &points = dense[q];
+      int beside = 0;
+      for ( size_t i = 0; i < points.size(); ++i )
+      {
+        // the line's course over 6 points (24 px), not the jitter of a step
+        const Eigen::Vector2d course = points[std::min( i + 3, points.size() - 1 )] - points[i > 3 ? i - 3 : 0];
+        bool found = false;
+        for ( size_t p = 0; p < lines.size() && !found; ++p )
+          found = p != q && widths[q] <= options.narrowerBy * widths[p] && alongside( points[i], course, dense[p], 0.5 * ( widths[p] + widths[q] ) + options.gapPx );
+        beside += found;
+      }
+      const bool companion = points.size() >= 2 && beside >= options.besideFraction * points.size();
       if ( companion )
       {
         ++summary.removed;

@@ -5,10 +5,10 @@
   marking, a kerb, a bright shoulder between the asphalt and the grass, a
   strip of verge between the road and a field's edge. Each of them is a
   band of its own and may be extracted and verified like a road; beside
-  the road it belongs to, it is not one. A line is a companion of another
-  when it is narrower and most of its length runs along it (within 25
-  degrees) within half their two widths and 2 px; companions are removed
-  from the final lines. Two carriageways of one width are not companions
+  the road it belongs to, it is not one. A line is a companion when most
+  of its length runs along wider lines (within 25 degrees), each within
+  half their two widths and 2 px - one road or the pieces a road was found
+  in; companions are removed from the final lines. Two carriageways of one width are not companions
   of each other, nor is a road crossing a wider one near their junction.
  ***************************************************************************/
 #ifndef GEOSTATION_EXTRACTION_COMPANIONLINES_H
@@ -25,7 +25,7 @@ namespace geostation
 
   struct CompanionLineOptions
   {
-    double besideFraction = 0.7; //!< of a line's length along a wider line and within reach of it, at least, to be its companion
+    double besideFraction = 0.7; //!< of a line's length along wider lines and within reach of them, at least, to be a companion
     double narrowerBy = 0.8;     //!< its width at most this fraction of the wider line's
     double gapPx = 2.0;          //!< beyond half the two widths
 

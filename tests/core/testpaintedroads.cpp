@@ -148,3 +148,16 @@ TEST( CompanionLines, TwoCarriagewaysOfOneWidthAndARoadFarAwayStay )
   const cv::Mat image( 20, 20, CV_8U, cv::Scalar( 0 ) );
   EXPECT_THROW( removeCompanionLines( GreyTiles( image ), lines, LineObjectOptions(), CompanionLineOptions { 0.0, 0.8, 2.0 } ), std::invalid_argument );
 }
+
+TEST( CompanionLines, AShoulderAlongARoadFoundInPiecesIsNoRoad )
+{
+  // the road found in three pieces (a tree's shadow, a junction between them), its shoulder as one line along all
+  // three: beside no single piece for most of its length, beside the road everywhere
+  const CompanionLineSummary kept = keptOf( 90, { { 90, 3, 200 }, { 93, 14, 60 }, { 107, 3, 200 } },
+                                            { horizontalLine( 100.0, 20.0, 100.0 ), horizontalLine( 100.0, 110.0, 190.0 ), horizontalLine( 100.0, 200.0, 280.0 ),
+                                              horizontalLine( 108.5, 25.0, 275.0 ) } );
+  EXPECT_EQ( kept.removed, 1 );
+  ASSERT_EQ( kept.lines.size(), 3u );
+  for ( const CompiledPolygon &line : kept.lines )
+    EXPECT_DOUBLE_EQ( line.pixels[0].y(), 100.0 );
+}
