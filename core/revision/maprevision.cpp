@@ -134,6 +134,10 @@ namespace geostation
     //! The pieces of one road: runs of one status, moved and confirmed ones measured again.
     void piecesOf( size_t road, const std::vector<Sample> &samples, const std::vector<RevisionStatus> &status, const PairView &pair, std::vector<RevisedPiece> &out )
     {
+      // the samples' places along the map road: they lie on its course, every vertex among them
+      std::vector<double> along( samples.size(), 0.0 );
+      for ( size_t k = 1; k < samples.size(); ++k )
+        along[k] = along[k - 1] + ( samples[k].ground - samples[k - 1].ground ).head<2>().norm();
       for ( size_t from = 0; from < samples.size(); )
       {
         size_t to = from + 1;
@@ -146,7 +150,12 @@ namespace geostation
         int agree = 0;
         // the map's course, including the first sample of the next run, so that the pieces join
         for ( size_t k = from; k < std::min( to + 1, samples.size() ); ++k )
+        {
           piece.course.push_back( samples[k].ground );
+          piece.alongMapM.push_back( along[k] );
+        }
+        piece.fromM = along[from];
+        piece.toM = along[std::min( to, samples.size() - 1 )];
         for ( size_t k = from; k < to; ++k )
         {
           agree += samples[k].status == piece.status;
@@ -164,6 +173,7 @@ namespace geostation
           // the stretch's own samples, measured; the others of the run (a car, a shadow) are left out
           std::vector<Eigen::Vector3d> course, sigma;
           std::vector<bool> stereo;
+          std::vector<double> alongMap;
           for ( size_t k = from; k < to; ++k )
             if ( samples[k].status == piece.status )
             {
@@ -171,12 +181,14 @@ namespace geostation
               course.push_back( v.point );
               sigma.push_back( v.sigmaM );
               stereo.push_back( v.stereo );
+              alongMap.push_back( along[k] );
             }
           if ( course.size() >= 2 )
           {
             piece.course = std::move( course );
             piece.sigmaM = std::move( sigma );
             piece.heightByStereo = std::move( stereo );
+            piece.alongMapM = std::move( alongMap );
           }
         }
         if ( piece.course.size() >= 2 )
@@ -339,6 +351,7 @@ namespace geostation
         invalid.road = r;
         invalid.status = RevisionStatus::InvalidGeometry;
         invalid.course = map[r].vertices;
+        invalid.alongMapM.assign( invalid.course.size(), 0.0 );
         summary.pieces.push_back( invalid );
         continue;
       }

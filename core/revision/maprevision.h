@@ -95,6 +95,9 @@ namespace geostation
     std::vector<Eigen::Vector3d> course;    //!< the revised course (confirmed, moved), else the map's
     std::vector<Eigen::Vector3d> sigmaM;    //!< per vertex of a measured course (x, y, z); empty for the map's
     std::vector<bool> heightByStereo;       //!< per vertex of a measured course: intersected rays (else the terrain's height, sigma its spread; 0 for a DEM or a given height)
+    //! Where the piece lies along the map road: metres (XY) from the road's first vertex to the piece's first and last sample
+    double fromM = 0.0, toM = 0.0;
+    std::vector<double> alongMapM;          //!< per vertex of `course`: the place along the map road of the sample it stands for
     double lengthM() const;
   };
 

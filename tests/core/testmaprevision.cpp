@@ -131,6 +131,37 @@ TEST( MapRevision, UnchangedRoadIsConfirmed )
     }
 }
 
+TEST( MapRevision, EachPieceSaysWhereItLiesAlongTheMapRoad )
+{
+  // what merging the revisions of overlapping pairs cuts by: the pieces of a road follow one another along it
+  // from 0 to its length, and each vertex is placed between its piece's ends
+  const Revised &r = revised();
+  for ( size_t road = 0; road < r.map.size(); ++road )
+  {
+    double length = 0.0;
+    for ( size_t i = 1; i < r.map[road].vertices.size(); ++i )
+      length += ( r.map[road].vertices[i] - r.map[road].vertices[i - 1] ).head<2>().norm();
+    double reached = 0.0;
+    for ( const RevisedPiece &p : r.summary.pieces )
+      if ( p.road == road )
+      {
+        EXPECT_NEAR( p.fromM, reached, 1e-6 ) << "road " << road;
+        ASSERT_EQ( p.alongMapM.size(), p.course.size() );
+        for ( size_t k = 0; k < p.alongMapM.size(); ++k )
+        {
+          EXPECT_GE( p.alongMapM[k], p.fromM - 1e-9 );
+          EXPECT_LE( p.alongMapM[k], p.toM + 1e-9 );
+          if ( k > 0 )
+          {
+            EXPECT_GE( p.alongMapM[k], p.alongMapM[k - 1] );
+          }
+        }
+        reached = p.toM;
+      }
+    EXPECT_NEAR( reached, length, 1e-6 ) << "road " << road;
+  }
+}
+
 TEST( MapRevision, ShiftedRoadIsMovedToWhereItRuns )
 {
   const Revised &r = revised();
