@@ -21,6 +21,7 @@
 #include "extractroadsalgorithm.h"
 #include "reviseroadsalgorithm.h"
 #include "mergeroadnetworksalgorithm.h"
+#include "mergerevisionsalgorithm.h"
 #include "jointracedpiecesalgorithm.h"
 #include "exportblockalgorithm.h"
 #include "identifycontrolalgorithm.h"
@@ -86,6 +87,7 @@ void GeoStationProvider::loadAlgorithms()
   addAlgorithm( new ExtractRoadsAlgorithm() );
   addAlgorithm( new ReviseRoadsAlgorithm() );
   addAlgorithm( new MergeRoadNetworksAlgorithm() );
+  addAlgorithm( new MergeRevisionsAlgorithm() );
   addAlgorithm( new JoinTracedPiecesAlgorithm() );
   addAlgorithm( new ImportBlockAlgorithm() );
   addAlgorithm( new ExportBlockAlgorithm() );

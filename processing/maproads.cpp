@@ -47,8 +47,9 @@ MapRoads readMapRoads( QgsFeatureSource &map, const QgsCoordinateTransform &toBl
     const QgsGeometry g = inBlockCrs( f, toBlock );
     const size_t before = lines.roads.size();
     const bool hasZ = !g.isNull() && QgsWkbTypes::hasZ( g.wkbType() );
+    int partIndex = 0;
     if ( !g.isNull() )
-      for ( auto part = g.const_parts_begin(); part != g.const_parts_end(); ++part )
+      for ( auto part = g.const_parts_begin(); part != g.const_parts_end(); ++part, ++partIndex )
       {
         geostation::MapRoad road;
         for ( auto v = ( *part )->vertices_begin(); v != ( *part )->vertices_end(); ++v )
@@ -57,12 +58,14 @@ MapRoads readMapRoads( QgsFeatureSource &map, const QgsCoordinateTransform &toBl
         {
           lines.roads.push_back( road );
           lines.source.push_back( f );
+          lines.part.push_back( partIndex );
         }
       }
     if ( lines.roads.size() == before )
     {
       lines.roads.emplace_back(); // no geometry: invalid_geometry, its row kept
       lines.source.push_back( f );
+      lines.part.push_back( 0 );
     }
   }
   return lines;

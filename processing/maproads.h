@@ -28,6 +28,7 @@ namespace GeoStationProcessing
   {
     std::vector<geostation::MapRoad> roads;
     std::vector<QgsFeature> source; //!< per road
+    std::vector<int> part;          //!< per road: its part of the source feature (from 0)
   };
 
   /**

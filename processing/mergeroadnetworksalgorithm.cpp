@@ -129,7 +129,7 @@ QVariantMap MergeRoadNetworksAlgorithm::processGeoStation( const QVariantMap &pa
 
   QgsFields fields;
   fields.append( QgsField( QLatin1String( fs::kLineId ), QVariant::Int ) );
-  fields.append( QgsField( QStringLiteral( "pairs" ), QVariant::String ) );
+  fields.append( QgsField( QLatin1String( fs::kPairs ), QVariant::String ) );
   fields.append( QgsField( QLatin1String( fs::kLengthM ), QVariant::Double ) );
   fields.append( QgsField( QLatin1String( fs::kSigmaMax ), QVariant::Double ) );
   QString destination;

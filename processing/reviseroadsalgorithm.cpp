@@ -46,9 +46,13 @@ QString ReviseRoadsAlgorithm::shortHelpString() const
                       "measured again in 3-D from the band centres in both images.\n\n"
                       "OUTPUT: the map's features in the block CRS (LineStringZ), each stretch with revision (confirmed, "
                       "moved, not_found, occluded, outside, invalid_geometry), evidence (0-1: the share of its samples that agree), "
-                      "shift_m, sigma_max (m; NULL where the map's course is kept), source_fid and the map's attributes. "
+                      "shift_m, sigma_max (m; NULL where the map's course is kept), source_fid, map_part (the part of a multi-part "
+                      "feature, from 0), map_from_m and map_to_m (where the stretch lies along the map line, metres from its first vertex) "
+                      "and the map's attributes. "
                       "VERTICES (optional): each measured course's vertices (piece = the OUTPUT row, vertex, X, Y, Z, sx, sy, sz, "
-                      "height_from: stereo where the rays were intersected, terrain where the road runs along the epipolar direction). "
+                      "height_from: stereo where the rays were intersected, terrain where the road runs along the epipolar direction; "
+                      "map_m: the place along the map line it was measured at). The revisions of overlapping pairs become one with "
+                      "merge_revisions. "
                       "A feature without geometry is one row, invalid_geometry, without geometry. NEW: the roads the pair's "
                       "own extraction finds that no map road explains (method extracted); the pair is extracted only when NEW is asked for, "
                       "so a revision without it takes a fraction of the time. REPORT: length and count per "
@@ -146,7 +150,7 @@ QVariantMap ReviseRoadsAlgorithm::processGeoStation( const QVariantMap &paramete
     throw QgsProcessingException( invalidSinkError( parameters, QStringLiteral( "OUTPUT" ) ) );
   for ( const geostation::RevisedPiece &p : s.pieces )
   {
-    QgsFeature f = GeoStationProcessing::revisedMapFeature( p, lines.source[p.road], fields );
+    QgsFeature f = GeoStationProcessing::revisedMapFeature( p, lines.source[p.road], lines.part[p.road], fields );
     if ( !sink->addFeature( f, QgsFeatureSink::FastInsert ) )
       throw QgsProcessingException( writeFeatureError( sink.get(), parameters, QStringLiteral( "OUTPUT" ) ) );
   }

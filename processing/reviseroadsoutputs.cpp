@@ -39,25 +39,24 @@ RevisedMapFields revisedMapFields( const QgsFields &mapFields )
       out.fields.append( mapFields.at( i ) );
       out.copied << i;
     }
-  for ( const QString &name : { QStringLiteral( "source_fid" ), QStringLiteral( "revision" ), QStringLiteral( "evidence" ), QStringLiteral( "shift_m" ), QStringLiteral( "sigma_max" ) } )
-    if ( out.fields.lookupField( name ) >= 0 )
-      throw QgsProcessingException( QObject::tr( "MAP has a field named %1, which the output adds: rename it first." ).arg( name ) );
-  out.fields.append( QgsField( QLatin1String( fs::kSourceFid ), QVariant::LongLong ) );
-  out.fields.append( QgsField( QLatin1String( fs::kRevision ), QVariant::String ) );
-  out.fields.append( QgsField( QLatin1String( fs::kEvidence ), QVariant::Double ) );
-  out.fields.append( QgsField( QLatin1String( fs::kShiftM ), QVariant::Double ) );
-  out.fields.append( QgsField( QLatin1String( fs::kSigmaMax ), QVariant::Double ) );
+  const std::vector<std::pair<const char *, QVariant::Type>> added { { fs::kSourceFid, QVariant::LongLong }, { fs::kRevision, QVariant::String }, { fs::kEvidence, QVariant::Double },
+    { fs::kShiftM, QVariant::Double }, { fs::kSigmaMax, QVariant::Double }, { fs::kMapPart, QVariant::Int }, { fs::kMapFromM, QVariant::Double }, { fs::kMapToM, QVariant::Double } };
+  for ( const auto &[name, type] : added )
+    if ( out.fields.lookupField( QLatin1String( name ) ) >= 0 )
+      throw QgsProcessingException( QObject::tr( "MAP has a field named %1, which the output adds: rename it first." ).arg( QLatin1String( name ) ) );
+  for ( const auto &[name, type] : added )
+    out.fields.append( QgsField( QLatin1String( name ), type ) );
   return out;
 }
 
-QgsFeature revisedMapFeature( const geostation::RevisedPiece &piece, const QgsFeature &source, const RevisedMapFields &fields )
+QgsFeature revisedMapFeature( const geostation::RevisedPiece &piece, const QgsFeature &source, int part, const RevisedMapFields &fields )
 {
   QgsFeature f( fields.fields );
   QgsAttributes attributes;
   for ( const int i : fields.copied )
     attributes << source.attribute( i );
   attributes << source.id() << QString::fromStdString( geostation::revisionStatusName( piece.status ) ) << piece.evidence << piece.shiftM
-             << ( piece.sigmaM.empty() ? QVariant() : QVariant( sigmaMax( piece.sigmaM ) ) );
+             << ( piece.sigmaM.empty() ? QVariant() : QVariant( sigmaMax( piece.sigmaM ) ) ) << part << piece.fromM << piece.toM;
   f.setAttributes( attributes );
   if ( piece.status != geostation::RevisionStatus::InvalidGeometry )
     f.setGeometry( lineStringZ( piece.course ) );
@@ -67,9 +66,9 @@ QgsFeature revisedMapFeature( const geostation::RevisedPiece &piece, const QgsFe
 QgsFields revisionVertexFields()
 {
   QgsFields fields;
-  for ( const auto &[name, type] : std::vector<std::pair<const char *, QVariant::Type>> { { "piece", QVariant::Int }, { fs::kVertex, QVariant::Int }, { fs::kX, QVariant::Double },
+  for ( const auto &[name, type] : std::vector<std::pair<const char *, QVariant::Type>> { { fs::kPiece, QVariant::Int }, { fs::kVertex, QVariant::Int }, { fs::kX, QVariant::Double },
         { fs::kY, QVariant::Double }, { fs::kZ, QVariant::Double }, { fs::kSx, QVariant::Double }, { fs::kSy, QVariant::Double }, { fs::kSz, QVariant::Double },
-        { "height_from", QVariant::String } } )
+        { "height_from", QVariant::String }, { fs::kMapM, QVariant::Double } } )
     fields.append( QgsField( QString::fromLatin1( name ), type ) );
   return fields;
 }
@@ -82,7 +81,8 @@ QList<QgsFeature> revisionVertexRows( const geostation::RevisedPiece &piece, int
     const bool stereo = k < piece.heightByStereo.size() && piece.heightByStereo[k];
     QgsFeature v( fields );
     v.setAttributes( QgsAttributes() << pieceNumber << static_cast<int>( k ) << piece.course[k].x() << piece.course[k].y() << piece.course[k].z()
-                     << piece.sigmaM[k].x() << piece.sigmaM[k].y() << piece.sigmaM[k].z() << ( stereo ? QStringLiteral( "stereo" ) : QStringLiteral( "terrain" ) ) );
+                     << piece.sigmaM[k].x() << piece.sigmaM[k].y() << piece.sigmaM[k].z() << ( stereo ? QStringLiteral( "stereo" ) : QStringLiteral( "terrain" ) )
+                     << ( k < piece.alongMapM.size() ? QVariant( piece.alongMapM[k] ) : QVariant() ) );
     rows << v;
   }
   return rows;

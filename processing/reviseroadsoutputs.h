@@ -18,7 +18,7 @@
 
 namespace GeoStationProcessing
 {
-  //! OUTPUT's fields: the map's own but its fid (a split feature would repeat it), then the five the revision adds.
+  //! OUTPUT's fields: the map's own but its fid (a split feature would repeat it), then the eight the revision adds.
   struct RevisedMapFields
   {
     QgsFields fields;
@@ -28,10 +28,14 @@ namespace GeoStationProcessing
   //! Throws QgsProcessingException when the map already has a field the output adds.
   RevisedMapFields revisedMapFields( const QgsFields &mapFields );
 
-  //! One OUTPUT row: the source feature's attributes, its id, status, evidence, shift and sigma; no geometry for invalid_geometry.
-  QgsFeature revisedMapFeature( const geostation::RevisedPiece &piece, const QgsFeature &source, const RevisedMapFields &fields );
+  /**
+   * One OUTPUT row: the source feature's attributes, its id, status,
+   * evidence, shift, sigma, the part of the feature (`part`) and where the
+   * piece lies along it; no geometry for invalid_geometry.
+   */
+  QgsFeature revisedMapFeature( const geostation::RevisedPiece &piece, const QgsFeature &source, int part, const RevisedMapFields &fields );
 
-  //! VERTICES' fields: piece (the OUTPUT row, from 1), vertex, X, Y, Z, sx, sy, sz, height_from.
+  //! VERTICES' fields: piece (the OUTPUT row, from 1), vertex, X, Y, Z, sx, sy, sz, height_from, map_m.
   QgsFields revisionVertexFields();
   //! The measured vertices of one piece (none where the map's course is kept).
   QList<QgsFeature> revisionVertexRows( const geostation::RevisedPiece &piece, int pieceNumber, const QgsFields &fields );

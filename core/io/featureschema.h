@@ -71,6 +71,12 @@ namespace geostation::featureschema
   inline constexpr char kShiftM[] = "shift_m";
   inline constexpr char kSourceFid[] = "source_fid";          //!< the map feature a piece comes from
   inline constexpr char kReview[] = "review";                 //!< the operator's decision
+  inline constexpr char kMapPart[] = "map_part";              //!< the part of a multi-part map feature (from 0)
+  inline constexpr char kMapFromM[] = "map_from_m";           //!< where a piece begins along its map road (m from the road's first vertex)
+  inline constexpr char kMapToM[] = "map_to_m";
+  inline constexpr char kMapM[] = "map_m";                    //!< a vertex's place along its map road (m)
+  inline constexpr char kPairs[] = "pairs";                   //!< the stereo pairs a merged line or piece comes from, separated by ';'
+  inline constexpr char kPiece[] = "piece";                   //!< a vertex table's row: the piece (the output's row, from 1)
 
 } // namespace geostation::featureschema
 

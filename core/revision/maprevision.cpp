@@ -34,6 +34,15 @@ namespace geostation
     return "not_found";
   }
 
+  std::optional<RevisionStatus> revisionStatusFromName( const std::string &name )
+  {
+    for ( const RevisionStatus s : { RevisionStatus::Confirmed, RevisionStatus::Moved, RevisionStatus::NotFound, RevisionStatus::Outside, RevisionStatus::Occluded,
+                                     RevisionStatus::InvalidGeometry } )
+      if ( revisionStatusName( s ) == name )
+        return s;
+    return std::nullopt;
+  }
+
   void MapRevisionOptions::check() const
   {
     network.coincident.check();

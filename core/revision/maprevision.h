@@ -56,6 +56,8 @@ namespace geostation
 
   //! "confirmed", "moved", "not_found", "outside", "occluded", "invalid_geometry".
   std::string revisionStatusName( RevisionStatus status );
+  //! The status of one of those names; none for any other text.
+  std::optional<RevisionStatus> revisionStatusFromName( const std::string &name );
 
   struct MapRevisionOptions
   {

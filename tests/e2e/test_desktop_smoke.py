@@ -87,7 +87,7 @@ class DesktopSmokeTest(unittest.TestCase):
         self.assertEqual(self.result.get("algorithms"), ["geostation:bundle_adjust", "geostation:enhance_image", "geostation:export_block",
                                                          "geostation:export_measurements", "geostation:extract_roads", "geostation:identify_control", "geostation:import_block",
                                                          "geostation:inner_orientation", "geostation:intersect", "geostation:join_traced_pieces",
-                                                         "geostation:match_points", "geostation:merge_road_networks", "geostation:monoplot", "geostation:project_to_image", "geostation:resection",
+                                                         "geostation:match_points", "geostation:merge_revisions", "geostation:merge_road_networks", "geostation:monoplot", "geostation:project_to_image", "geostation:resection",
                                                          "geostation:revise_roads",
                                                          "geostation:simulate_survey", "geostation:trace_road_lines"])
         self.assertIn("mActionGeoStationMonoplot", self.result.get("menu_actions", []))

@@ -101,7 +101,7 @@ class HeadlessMinimalTest(unittest.TestCase):
     # --- the runs, in an order that lets one feed the next ------------------------------------------------------
 
     def test_0_only_the_main_output_is_mandatory(self):
-        self.assertEqual(len(self.algorithms), 18, self.algorithms)
+        self.assertEqual(len(self.algorithms), 19, self.algorithms)
         for algorithm in self.algorithms:
             params = self.help[algorithm]["parameters"]
             mandatory = [n for n, p in params.items() if p["is_destination"] and not p["optional"]]
@@ -204,6 +204,12 @@ class HeadlessMinimalTest(unittest.TestCase):
         self.run_minimal("geostation:revise_roads", {"BLOCK": os.path.join(aerial, "block.geostation.json"), "LEFT": "S0001", "RIGHT": "S0002",
                                                      "MAP": os.path.join(aerial, "truth.gpkg") + "|layername=roads"},
                          self.path("revised.gpkg"))
+        # the same pair's revision with its vertex table, as one pair of a strip: merge_revisions needs both
+        pair = self.path("S0001-S0002.gpkg")
+        result = self.qgis("run", "geostation:revise_roads", "--", "BLOCK=" + os.path.join(aerial, "block.geostation.json"), "LEFT=S0001", "RIGHT=S0002",
+                           "MAP=" + os.path.join(aerial, "truth.gpkg") + "|layername=roads", "OUTPUT=" + pair, "VERTICES=" + self.path("S0001-S0002-vertices.gpkg"))
+        self.assertEqual(result.returncode, 0, result.stdout + result.stderr)
+        self.run_minimal("geostation:merge_revisions", {"INPUTS": pair, "VERTICES": self.path("S0001-S0002-vertices.gpkg")}, self.path("merged-revision.gpkg"))
         self.assertEqual(sorted(self.outputs), self.algorithms)
         self.check_every_output_is_finite()
 

@@ -2,7 +2,11 @@
 // its truth and changed on purpose: the main road as it is, the side road
 // left out, the third road mapped 25 m east of where it runs, and a road
 // mapped across the fields where there is none; the map in WGS 84, not the
-// block's CRS. With the algorithm's defaults. Then bad input.
+// block's CRS. With the algorithm's defaults. Then the revisions of the pair
+// taken either way round merged into one (merge_revisions), and bad input.
+#include <algorithm>
+#include <tuple>
+
 #include <QFile>
 #include <QJsonDocument>
 #include <QJsonObject>
@@ -28,10 +32,19 @@ class TestReviseRoadsAlgorithm : public QObject
   private slots:
     void initTestCase();
     void revisesAChangedMap();
+    void mergesTheRevisionsOfOverlappingPairs();
     void badInputFailsWithOneSentence();
 
   private:
-    QVariantMap run( const QVariantMap &parameters, bool *ok, RecordingFeedback *feedback );
+    QVariantMap run( const QVariantMap &parameters, bool *ok, RecordingFeedback *feedback, const QString &algorithm = QStringLiteral( "geostation:revise_roads" ) );
+    struct Stretch
+    {
+      double from, to;
+      QString revision, pairs;
+    };
+    //! A revised map's stretches by map line (source_fid, map_part), in map_from_m order.
+    static QMap<QPair<qlonglong, int>, QList<Stretch>> stretches( const QString &path );
+    QString mMapId;
     //! The truth's centre line `id`, shifted by (dx, dy) metres.
     QgsGeometry centre( const QString &id, double dx = 0.0, double dy = 0.0 ) const;
     QTemporaryDir mDir;
@@ -50,9 +63,9 @@ void TestReviseRoadsAlgorithm::initTestCase()
   mBlockCrs = QgsCoordinateReferenceSystem( QStringLiteral( "EPSG:32617" ) );
 }
 
-QVariantMap TestReviseRoadsAlgorithm::run( const QVariantMap &parameters, bool *ok, RecordingFeedback *feedback )
+QVariantMap TestReviseRoadsAlgorithm::run( const QVariantMap &parameters, bool *ok, RecordingFeedback *feedback, const QString &algorithm )
 {
-  std::unique_ptr<QgsProcessingAlgorithm> alg( QgsApplication::processingRegistry()->algorithmById( "geostation:revise_roads" )->create() );
+  std::unique_ptr<QgsProcessingAlgorithm> alg( QgsApplication::processingRegistry()->algorithmById( algorithm )->create() );
   return alg->run( parameters, mContext, feedback, ok );
 }
 
@@ -91,6 +104,7 @@ void TestReviseRoadsAlgorithm::revisesAChangedMap()
   }
   map->dataProvider()->addFeatures( features );
   QgsProject::instance()->addMapLayer( map );
+  mMapId = map->id();
 
   const QString out = mDir.filePath( "revised.gpkg" ), added = mDir.filePath( "new.gpkg" ), json = mDir.filePath( "revision.json" ),
                 vertices = mDir.filePath( "vertices.csv" );
@@ -172,6 +186,104 @@ void TestReviseRoadsAlgorithm::revisesAChangedMap()
   QCOMPARE( report.value( "map_features" ).toInt(), 3 );
   QVERIFY( report.value( "by_status" ).toObject().contains( "confirmed" ) );
   QVERIFY( report.value( "shift_max_m" ).toDouble() > 25.0 );
+}
+
+QMap<QPair<qlonglong, int>, QList<TestReviseRoadsAlgorithm::Stretch>> TestReviseRoadsAlgorithm::stretches( const QString &path )
+{
+  QMap<QPair<qlonglong, int>, QList<Stretch>> out;
+  QgsVectorLayer layer( path, "revision", "ogr" );
+  QgsFeature f;
+  QgsFeatureIterator it = layer.getFeatures();
+  while ( it.nextFeature( f ) )
+    out[qMakePair( f.attribute( "source_fid" ).toLongLong(), f.attribute( "map_part" ).toInt() )]
+      << Stretch { f.attribute( "map_from_m" ).toDouble(), f.attribute( "map_to_m" ).toDouble(), f.attribute( "revision" ).toString(),
+                   f.fields().indexOf( "pairs" ) >= 0 ? f.attribute( "pairs" ).toString() : QString() };
+  for ( QList<Stretch> &line : out )
+    std::sort( line.begin(), line.end(), []( const Stretch &a, const Stretch &b ) { return a.from < b.from; } );
+  return out;
+}
+
+void TestReviseRoadsAlgorithm::mergesTheRevisionsOfOverlappingPairs()
+{
+  // the pair taken either way round: two revisions of one map that overlap everywhere and differ in detail
+  const QString ab = mDir.filePath( "S0001-S0002.gpkg" ), ba = mDir.filePath( "S0002-S0001.gpkg" ), abVertices = mDir.filePath( "S0001-S0002-vertices.gpkg" ),
+                baVertices = mDir.filePath( "S0002-S0001-vertices.gpkg" );
+  for ( const auto &[left, right, out, vertices] : { std::make_tuple( "S0001", "S0002", ab, abVertices ), std::make_tuple( "S0002", "S0001", ba, baVertices ) } )
+  {
+    RecordingFeedback feedback;
+    bool ok = false;
+    run( { { "BLOCK", mRun + "/block.geostation.json" }, { "LEFT", left }, { "RIGHT", right }, { "MAP", mMapId }, { "OUTPUT", out }, { "VERTICES", vertices } }, &ok, &feedback );
+    QVERIFY2( ok, qPrintable( feedback.errors.join( '\n' ) ) );
+  }
+  const QString merged = mDir.filePath( "merged.gpkg" ), mergedVertices = mDir.filePath( "merged-vertices.gpkg" ), json = mDir.filePath( "merged.json" );
+  RecordingFeedback feedback;
+  bool ok = false;
+  run( { { "INPUTS", QStringList { ba, ab } }, { "VERTICES", QStringList { baVertices, abVertices } }, { "OUTPUT", merged }, { "VERTICES_OUTPUT", mergedVertices },
+         { "REPORT", json } }, &ok, &feedback, "geostation:merge_revisions" );
+  QVERIFY2( ok, qPrintable( feedback.errors.join( '\n' ) ) );
+
+  // each map line once: its stretches follow one another from 0 to its end, none twice
+  const auto one = stretches( merged ), first = stretches( ab ), second = stretches( ba );
+  QCOMPARE( one.keys(), first.keys() );
+  for ( auto line = one.constBegin(); line != one.constEnd(); ++line )
+  {
+    QCOMPARE( line.value().front().from, 0.0 );
+    QVERIFY( std::abs( line.value().back().to - first[line.key()].back().to ) < 1e-6 );
+    for ( int i = 1; i < line.value().size(); ++i )
+      QVERIFY( std::abs( line.value()[i].from - line.value()[i - 1].to ) < 1e-6 );
+    for ( const Stretch &s : line.value() )
+      QVERIFY2( s.pairs == "S0001-S0002" || s.pairs == "S0002-S0001" || s.pairs == "S0001-S0002;S0002-S0001", qPrintable( s.pairs ) );
+  }
+  // confirmed wherever either revision confirms the road
+  const auto lengthOf = []( const QMap<QPair<qlonglong, int>, QList<Stretch>> &r, const QString &revision ) {
+    double l = 0.0;
+    for ( const QList<Stretch> &line : r )
+      for ( const Stretch &s : line )
+        l += s.revision == revision ? s.to - s.from : 0.0;
+    return l;
+  };
+  qInfo( "confirmed: %.0f m by S0001-S0002, %.0f m by S0002-S0001, %.0f m merged", lengthOf( first, "confirmed" ), lengthOf( second, "confirmed" ), lengthOf( one, "confirmed" ) );
+  QVERIFY( lengthOf( one, "confirmed" ) >= std::max( lengthOf( first, "confirmed" ), lengthOf( second, "confirmed" ) ) - 1e-6 );
+  QFile file( json );
+  QVERIFY( file.open( QIODevice::ReadOnly ) );
+  const QJsonObject report = QJsonDocument::fromJson( file.readAll() ).object();
+  QCOMPARE( report.value( "pairs" ).toInt(), 2 );
+  QVERIFY( report.value( "seen_twice_m" ).toDouble() > 500.0 );
+  QgsVectorLayer vertexTable( mergedVertices, "vertices", "ogr" );
+  QVERIFY( vertexTable.featureCount() > 50 );
+
+  // the same whatever the order of the inputs
+  const QString reversed = mDir.filePath( "reversed.gpkg" );
+  run( { { "INPUTS", QStringList { ab, ba } }, { "VERTICES", QStringList { abVertices, baVertices } }, { "OUTPUT", reversed } }, &ok, &feedback, "geostation:merge_revisions" );
+  QVERIFY( ok );
+  QgsVectorLayer x( merged, "x", "ogr" ), y( reversed, "y", "ogr" );
+  QCOMPARE( x.featureCount(), y.featureCount() );
+  QgsFeature fx, fy;
+  QgsFeatureIterator ix = x.getFeatures(), iy = y.getFeatures();
+  while ( ix.nextFeature( fx ) && iy.nextFeature( fy ) )
+  {
+    QCOMPARE( fx.attributes(), fy.attributes() );
+    QVERIFY( fx.geometry().equals( fy.geometry() ) );
+  }
+
+  // bad input, one sentence, nothing written: the vertex tables of the wrong count; measured courses without their vertices; a layer that is no revision
+  QgsVectorLayer *empty = new QgsVectorLayer( "None?field=piece:integer&field=vertex:integer&field=X:double&field=Y:double&field=Z:double&field=sx:double"
+                                              "&field=sy:double&field=sz:double&field=height_from:string&field=map_m:double", "no vertices", "memory" );
+  QgsProject::instance()->addMapLayer( empty );
+  const QString none = mDir.filePath( "none.gpkg" );
+  for ( const auto &[parameters, sentence] : { std::make_pair( QVariantMap { { "INPUTS", QStringList { ab, ba } }, { "VERTICES", QStringList { abVertices } } }, QStringLiteral( "one per pair" ) ),
+                                             std::make_pair( QVariantMap { { "INPUTS", QStringList { ab } }, { "VERTICES", QStringList { empty->id() } } }, QStringLiteral( "has no vertex of it" ) ),
+                                             std::make_pair( QVariantMap { { "INPUTS", QStringList { mDir.filePath( "new.gpkg" ) } }, { "VERTICES", QStringList { abVertices } } },
+                                                             QStringLiteral( "not an OUTPUT of revise_roads" ) ) } )
+  {
+    RecordingFeedback bad;
+    QVariantMap p = parameters;
+    p.insert( "OUTPUT", none );
+    run( p, &ok, &bad, "geostation:merge_revisions" );
+    QVERIFY( !ok );
+    QVERIFY2( bad.errors.join( ' ' ).contains( sentence ), qPrintable( bad.errors.join( '\n' ) ) );
+    QVERIFY( !QFile::exists( none ) );
+  }
 }
 
 void TestReviseRoadsAlgorithm::badInputFailsWithOneSentence()
