@@ -132,7 +132,11 @@ QVariantMap MergeRevisionsAlgorithm::processGeoStation( const QVariantMap &param
   }
   const geostation::RevisionMergeSummary s = geostation::mergeRevisions( revisions ); // two pairs of one name: std::invalid_argument, one sentence
 
-  QgsFields fields = lineLayer( outputs[0], true )->fields();
+  // the first input's fields but a file's own feature id (pieces of several pairs would repeat it), then pairs
+  QgsFields fields;
+  for ( const QgsField &field : lineLayer( outputs[0], true )->fields() )
+    if ( field.name().compare( QLatin1String( "fid" ), Qt::CaseInsensitive ) != 0 )
+      fields.append( field );
   if ( fields.lookupField( QLatin1String( fs::kPairs ) ) >= 0 )
     throw QgsProcessingException( QObject::tr( "The revised maps have a field named pairs, which the output adds: rename it in the map first." ) );
   fields.append( QgsField( QLatin1String( fs::kPairs ), QVariant::String ) );

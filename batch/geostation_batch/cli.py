@@ -19,9 +19,11 @@ COMMANDS = {
     "monoplot": ("geostation:monoplot", "monoplot the features digitised on an image, in chunks of features"),
     "project": ("geostation:project_to_image", "project map features into an image, in chunks of features"),
     "trace": ("geostation:trace_road_lines", "trace road lines through a run from seeds, one unit per seed, joined per line_id"),
+    "revise": ("geostation:revise_roads", "revise a road map against every stereo pair of a block and merge the revisions into one"),
 }
 # parameters the batch sets for each unit itself
-PER_UNIT = {"extract": {"LEFT", "RIGHT"}, "monoplot": set(), "project": set(), "trace": {"SEEDS", "MAX_STATIONS"}}
+PER_UNIT = {"extract": {"LEFT", "RIGHT"}, "monoplot": set(), "project": set(), "trace": {"SEEDS", "MAX_STATIONS"}, "revise": {"LEFT", "RIGHT"}}
+PAIRED = ("extract", "revise")  # one unit per stereo pair
 CHUNKED_INPUT = {"monoplot": "INPUT", "project": "INPUT"}
 PATH_TYPES = {"file", "raster", "source", "vector", "layer", "multilayer", "mesh", "pointcloud"}
 
@@ -66,10 +68,13 @@ def algorithm_options(parser, command, help_json):
         parser.add_argument(*flags, dest="alg_" + name, required=required, metavar=kind.upper(),
                             help="%s%s" % (p["description"], "" if p["default_value"] is None else " (default %s)" % p["default_value"]))
         names[name] = kind
-    if command == "extract":
+    if command in PAIRED:
         parser.add_argument("--pairs", metavar="TABLE", help="the stereo pairs (a table with fields left, right); default: neighbours along each strip")
         parser.add_argument("--left", help="one pair only: its left image")
         parser.add_argument("--right", help="one pair only: its right image")
+    if command == "revise":
+        parser.add_argument("--new", metavar="PATH", help="the roads the pairs show that no map road explains, merged (the pairs are extracted only when asked)")
+        parser.add_argument("--vertices", metavar="PATH", help="the merged courses' measured vertices with their sigma (a table)")
     if command == "trace":
         parser.add_argument("--seeds", required=True, metavar="TABLE",
                             help="seed_id, image_id, col, row [, direction_deg] [, line_id: seeds of one line, traced in pieces]")
@@ -113,7 +118,7 @@ def plan_units(command, args, algorithm, inputs, work_dir):
                       "digest": unit.digest(algorithm, basis)})
 
     basis = {name: fingerprint(v) for name, v in inputs.items()}
-    if command == "extract":
+    if command in PAIRED:
         block = plan.read_block(inputs["BLOCK"])
         if args.left or args.right:
             if not (args.left and args.right):
@@ -127,8 +132,13 @@ def plan_units(command, args, algorithm, inputs, work_dir):
             raise plan.BadInput("the block %s has no two oriented images of one camera side by side along a strip: give --pairs" % inputs["BLOCK"])
         for left, right in pairs:
             name = plan.pair_name(left, right)
-            add("pair-" + name, dict(inputs, LEFT=left, RIGHT=right), {"OUTPUT": name + ".gpkg", "REPORT": "report.json"},
-                dict(basis, LEFT=left, RIGHT=right))
+            outputs = {"OUTPUT": name + ".gpkg", "REPORT": "report.json"}
+            if command == "revise":
+                # each output a file of the pair's name, so that the merges name the pairs
+                outputs.update(VERTICES=os.path.join("vertices", name + ".gpkg"), **({"NEW": os.path.join("new", name + ".gpkg")} if args.new else {}))
+            add("pair-" + name, dict(inputs, LEFT=left, RIGHT=right), outputs,
+                dict(basis, LEFT=left, RIGHT=right, **({"outputs": sorted(outputs)} if command == "revise" else {})))
+            specs[-1]["pair"] = name
         return specs, "%d stereo pairs" % len(pairs)
     if command == "trace":
         block = plan.read_block(inputs["BLOCK"])
@@ -172,10 +182,18 @@ def merge_units(command, specs, entries, work_dir, args, say):
     done = [s for s in specs if s["id"] in entries]
     if not done:
         raise merge.MergeFailed("no unit is complete: nothing to merge")
-    if command == "extract":
-        outputs = [os.path.join(unit.unit_dir(work_dir, s["id"]), s["outputs"]["OUTPUT"]) for s in done]
-        return merge.road_networks(outputs, args.output, args.qgis_process, args.qgis_home,
-                                   os.path.join(work_dir, "merge-report.json"))
+    if command in PAIRED:
+        def of(s, name):
+            return os.path.join(unit.unit_dir(work_dir, s["id"]), s["outputs"][name])
+        if command == "extract":
+            return merge.road_networks([of(s, "OUTPUT") for s in done], args.output, args.qgis_process, args.qgis_home,
+                                       os.path.join(work_dir, "merge-report.json"))
+        merged = {"revision": merge.revisions([of(s, "OUTPUT") for s in done], [of(s, "VERTICES") for s in done], args.output, args.vertices,
+                                              args.qgis_process, args.qgis_home, os.path.join(work_dir, "merge-report.json"))}
+        if args.new:
+            merged["new"] = merge.road_networks([of(s, "NEW") for s in done], args.new, args.qgis_process, args.qgis_home,
+                                                os.path.join(work_dir, "new-merge-report.json"))
+        return merged
     if command == "trace":
         pieces = [s["piece"] + (os.path.join(unit.unit_dir(work_dir, s["id"]), "piece.gpkg"),) for s in done]
         return merge.traced_pieces(pieces, args.output, args.qgis_process, args.qgis_home, work_dir, os.path.join(work_dir, "join-report.json"))
@@ -220,6 +238,9 @@ def main(argv=None):
         if value is not None:
             inputs[name] = absolute(value) if kind in PATH_TYPES else value
     args.output = os.path.abspath(args.output)
+    for extra in ("new", "vertices"):
+        if getattr(args, extra, None):
+            setattr(args, extra, os.path.abspath(getattr(args, extra)))
     work_dir = os.path.abspath(args.work_dir or args.output + ".work")
     os.makedirs(work_dir, exist_ok=True)
     report_path = os.path.abspath(args.report or os.path.join(work_dir, "run-report.json"))

@@ -40,16 +40,23 @@ def _move_into_place(staged_file, output):
         os.replace(staged_file, os.path.abspath(output))
 
 
-def _run_into_place(algorithm, inputs, output, executable, qgis_home, staging, what, report_path=None):
-    """Runs a merging algorithm into `staging`, moves its OUTPUT to `output` and returns its REPORT (copied to `report_path`)."""
+def _run_into_place(algorithm, inputs, output, executable, qgis_home, staging, what, report_path=None, more_outputs=None):
+    """Runs a merging algorithm into `staging`, moves its OUTPUT to `output` (and each of `more_outputs`, name -> path,
+    to its path) and returns its REPORT (copied to `report_path`)."""
     home = qgis.private_home(qgis_home, os.path.join(staging, "home"))
     staged = os.path.join(staging, os.path.basename(output))
     staged_report = os.path.join(staging, "report.json")
-    code, out, err = qgis.run(executable, home, algorithm, dict(inputs, OUTPUT=staged, REPORT=staged_report))
+    more = {name: os.path.join(staging, name.lower(), os.path.basename(path)) for name, path in (more_outputs or {}).items()}
+    for path in more.values():
+        os.makedirs(os.path.dirname(path), exist_ok=True)
+    code, out, err = qgis.run(executable, home, algorithm, dict(inputs, OUTPUT=staged, REPORT=staged_report, **more))
     if code != 0:
         raise MergeFailed("%s failed: %s" % (what, qgis.failure_sentence(code, out, err)))
     with open(staged_report) as f:
         report = json.load(f)
+    for name, path in (more_outputs or {}).items():
+        os.makedirs(os.path.dirname(os.path.abspath(path)), exist_ok=True)
+        _move_into_place(more[name], path)
     _move_into_place(staged, output)
     if report_path:
         shutil.copyfile(staged_report, report_path)
@@ -62,6 +69,18 @@ def road_networks(unit_outputs, output, executable, qgis_home, report_path=None)
     try:
         inputs = {"INPUTS": sorted(unit_outputs, key=lambda p: os.path.basename(p))}
         return _run_into_place("geostation:merge_road_networks", inputs, output, executable, qgis_home, staging, "merging the road networks", report_path)
+    finally:
+        shutil.rmtree(staging, ignore_errors=True)
+
+
+def revisions(unit_outputs, unit_vertices, output, vertices_output, executable, qgis_home, report_path=None):
+    """geostation:merge_revisions over the pairs' revisions and vertex tables (in the order of the pairs); returns its report."""
+    staging = _staged(output)
+    try:
+        pairs = sorted(zip(unit_outputs, unit_vertices), key=lambda p: os.path.basename(p[0]))
+        inputs = {"INPUTS": [p[0] for p in pairs], "VERTICES": [p[1] for p in pairs]}
+        return _run_into_place("geostation:merge_revisions", inputs, output, executable, qgis_home, staging, "merging the revisions", report_path,
+                               {"VERTICES_OUTPUT": vertices_output} if vertices_output else None)
     finally:
         shutil.rmtree(staging, ignore_errors=True)
 

@@ -80,6 +80,7 @@ def run_unit(spec, work_dir, executable, qgis_home, timeout=None):
         parameters = dict(spec["parameters"])
         for name, file_name in spec["outputs"].items():
             parameters[name] = os.path.join(outputs, file_name)
+            os.makedirs(os.path.dirname(parameters[name]), exist_ok=True)
         start = time.time()
         try:
             code, out, err = qgis.run(executable, home, spec["algorithm"], parameters, timeout=timeout)

@@ -13,7 +13,10 @@ dask-scheduler and two dask-worker processes, started and stopped here.
   equal to one qgis_process run of the whole layer;
 - trace of a 200-station run from seeds every 50 stations: one continuous
   line per line_id, the same as one trace through the run where the pieces
-  have settled, and as close to the truth everywhere.
+  have settled, and as close to the truth everywhere;
+- revise of a changed map over the strip: each map road once, its
+  stretches end to end, confirmed at least as far as the pair that
+  confirms it most.
 
     test_batch.py SOURCE_DIR BUILD_DIR
 """
@@ -21,6 +24,7 @@ dask-scheduler and two dask-worker processes, started and stopped here.
 import csv
 import json
 import os
+import re
 import shutil
 import subprocess
 import sys
@@ -289,6 +293,78 @@ class BatchOnALoopbackCluster(unittest.TestCase):
         run, whole, out = self.trace_fixture()
         one, (pieces, _) = self.kerb_lines(whole, out)
         self.assertLessEqual(bs.distances(pieces, [one])[0].max(), 0.01)
+
+    def test_9_a_map_revised_over_a_strip_is_one_revision(self):
+        """revise over the strip: each map road once, each stretch as confirmed as the pair that confirms it most."""
+        # the map: the strip's road centre lines, the first moved 15 m north, the last left out (a new road), and a road that is not there
+        ds = ogr.Open(os.path.join(self.strip, "truth.gpkg"))
+        roads = ds.GetLayerByName("roads")
+        centres = sorted((f.GetField("id"), f.GetGeometryRef().Clone()) for f in roads if re.match(r"R\d+-centre-\d+$", f.GetField("id")))
+        self.assertGreaterEqual(len(centres), 3)
+        map_path = os.path.join(self.tmp, "map.gpkg")
+        out_ds = ogr.GetDriverByName("GPKG").CreateDataSource(map_path)
+        layer = out_ds.CreateLayer("map", roads.GetSpatialRef(), ogr.wkbLineString)
+        layer.CreateField(ogr.FieldDefn("name", ogr.OFTString))
+        for k, (name, g) in enumerate(centres[:-1]):
+            g.FlattenTo2D()
+            if k == 0:
+                for i in range(g.GetPointCount()):
+                    g.SetPoint_2D(i, g.GetX(i), g.GetY(i) + 15.0)
+            f = ogr.Feature(layer.GetLayerDefn())
+            f.SetField("name", name + (" moved" if k == 0 else ""))
+            f.SetGeometry(g)
+            layer.CreateFeature(f)
+        x0, y0 = centres[1][1].GetX(0), centres[1][1].GetY(0)
+        f = ogr.Feature(layer.GetLayerDefn())
+        f.SetField("name", "not there")
+        f.SetGeometry(ogr.CreateGeometryFromWkt("LINESTRING (%f %f, %f %f)" % (x0 + 60, y0 + 200, x0 + 260, y0 + 230)))
+        layer.CreateFeature(f)
+        out_ds = None
+        folder = os.path.join(self.tmp, "revised")
+        os.makedirs(folder, exist_ok=True)
+        out, new, vertices = (os.path.join(folder, n) for n in ("revised.gpkg", "new.gpkg", "vertices.gpkg"))
+        done = bs.batch(self.home, "revise", "--block", self.block, "--map", map_path, "--output", out, "--new", new, "--vertices", vertices,
+                        "--scheduler", self.cluster.address)
+        self.assertRunSucceeded(done)
+        report = self.report(out)
+        self.assertEqual((report["units"], report["units_done"]), (4, 4), report)
+
+        def stretches(path):
+            lines, source = {}, ogr.Open(path)  # the data source held while its layer is read
+            for f in source.GetLayer(0):
+                lines.setdefault((f.GetField("source_fid"), f.GetField("map_part")), []).append(
+                    (f.GetField("map_from_m"), f.GetField("map_to_m"), f.GetField("revision")))
+            return {k: sorted(v) for k, v in lines.items()}
+
+        merged = stretches(out)
+        pairs = {u[len("pair-"):]: stretches(os.path.join(out + ".work", "units", u, u[len("pair-"):] + ".gpkg"))
+                 for u in os.listdir(os.path.join(out + ".work", "units"))}
+        self.assertEqual(len(pairs), 4)
+        for road, line in merged.items():
+            # the road once: its stretches follow one another from its start to its end
+            ends = {own[road][-1][1] for own in pairs.values()}
+            self.assertEqual(len(ends), 1, ends)
+            self.assertAlmostEqual(line[0][0], 0.0, places=6)
+            self.assertAlmostEqual(line[-1][1], ends.pop(), places=6)
+            for (a, b, _), (c, d, _) in zip(line, line[1:]):
+                self.assertAlmostEqual(b, c, places=6)
+            # confirmed at least as far as the pair that confirms most of it
+            confirmed = sum(b - a for a, b, r in line if r == "confirmed")
+            best = max(sum(b - a for a, b, r in own[road] if r == "confirmed") for own in pairs.values())
+            print("map road %s: %s; confirmed %.0f m merged, %.0f m by the best pair" %
+                  (road, ", ".join("%.0f-%.0f %s" % s for s in line), confirmed, best))
+            self.assertGreaterEqual(confirmed, best - 1e-6)
+        merged_ds, vertices_ds = ogr.Open(out), ogr.Open(vertices)
+        with_pairs = [f.GetField("pairs") for f in merged_ds.GetLayer(0)]
+        self.assertTrue(all(p for p in with_pairs), with_pairs)
+        self.assertGreater(vertices_ds.GetLayer(0).GetFeatureCount(), 0)
+        # the road left out of the map is among the new roads
+        left_out = [np.array([centres[-1][1].GetPoint(i)[:2] for i in range(centres[-1][1].GetPointCount())])]
+        new_lines = [pts for pts, _ in bs.read_lines(new)]
+        near = bs.distances(np.vstack(new_lines), left_out)[0] <= 3.0 if new_lines else np.zeros(0, dtype=bool)
+        print("revise: %s; new roads %d lines, %.0f %% of their vertices on the road left out of the map" %
+              (report["merge"], len(new_lines), 100 * near.mean() if len(near) else 0.0))
+        self.assertGreater(near.sum(), 20)
 
     def test_6_bad_input_is_one_sentence(self):
         done = bs.batch(self.home, "extract", "--block", os.path.join(self.tmp, "none.json"), "--output",
