@@ -220,7 +220,7 @@ namespace
   /**
    * Cancel during the adjustment of 6 x 10 000 points, as Cancel in QGIS
    * does it: another thread raises a flag after range(0) ms, which
-   * onIteration reads. Reports the time from the flag to bundleAdjust()'s
+   * the options' Progress asks after each iteration. Reports the time from the flag to bundleAdjust()'s
    * return (the worst over the repetitions).
    */
   void BM_BundleAdjustCancel6x10000( benchmark::State &state )
@@ -233,7 +233,7 @@ namespace
       std::atomic<bool> cancel { false };
       Clock::time_point cancelledAt;
       BundleOptions options;
-      options.onIteration = [&cancel]( int, double ) { return !cancel.load(); };
+      options.progress = Progress( nullptr, [&cancel] { return cancel.load(); } );
       std::thread canceller( [&]
       {
         std::this_thread::sleep_for( std::chrono::milliseconds( state.range( 0 ) ) );

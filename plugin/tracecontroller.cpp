@@ -86,12 +86,11 @@ bool GeoStationTraceController::start( const QString &imageId, const QPointF &pi
   geostation::RoadTraceOptions options = mOptions;
   options.cameraHeightM = mSession->cameraHeightAboveRoadM();
   mCancel = std::make_shared<std::atomic<bool>>( false );
-  options.progress = [cancel = mCancel, self = QPointer<GeoStationTraceController>( this )]( double fraction, const std::string &text )
+  options.progress = geostation::Progress( [self = QPointer<GeoStationTraceController>( this )]( double fraction, const std::string &text )
   {
     const QString what = QString::fromStdString( text );
     QMetaObject::invokeMethod( self, [self, fraction, what] { if ( self ) emit self->progressChanged( fraction, what ); }, Qt::QueuedConnection );
-    return !cancel->load();
-  };
+  }, [cancel = mCancel] { return cancel->load(); } );
   options.stationTraced = [self = QPointer<GeoStationTraceController>( this )]( const geostation::TracedStation &station, const std::vector<Eigen::Vector2d> &,
                           const std::vector<Eigen::Vector2d> &, const std::vector<geostation::TracedVertex> &lineSoFar )
   {

@@ -131,10 +131,7 @@ QVariantMap BundleAdjustAlgorithm::processGeoStation( const QVariantMap &paramet
   feedback->setProgress( 5 );
 
   // Cancel stops the solve between iterations; progress follows the iterations (5-75 %)
-  options.onIteration = [feedback, &options]( int iteration, double ) {
-    feedback->setProgress( 5.0 + 70.0 * std::min( 1.0, double( iteration ) / std::max( 1, options.maxIterations ) ) );
-    return !feedback->isCanceled();
-  };
+  options.progress = GeoStationProcessing::progressOf( feedback ).part( 0.05, 0.75 );
   geostation::BundleSummary summary;
   summary = geostation::bundleAdjust( block.cameras, images, ground, observations, options );
   if ( summary.status == geostation::BundleSummary::Status::Cancelled || feedback->isCanceled() )

@@ -188,7 +188,7 @@ QVariantMap ExtractRoadsAlgorithm::processGeoStation( const QVariantMap &paramet
   if ( dem.dem )
     options.terrain = geostation::demHeightAt( *dem.dem, *dem.blockToDem );
   geostation::RoadNetworkSummary s;
-  const geostation::ExtractionProgress progress = [feedback]( double f ) { feedback->setProgress( 100.0 * f ); return !feedback->isCanceled(); };
+  const geostation::Progress progress = GeoStationProcessing::progressOf( feedback );
   const geostation::OrientedImage *a = orientedLeft ? &*orientedLeft : nullptr, *b = orientedRight ? &*orientedRight : nullptr;
   // read a window at a time: memory does not grow with the images (beyond a byte a pixel for the result matrices)
   s = geostation::extractRoadNetwork( GeoStationProcessing::openImageFile( block, left ), GeoStationProcessing::openImageFile( block, right ), a, b, options, progress );

@@ -176,7 +176,10 @@ QVariantMap IdentifyControlAlgorithm::processGeoStation( const QVariantMap &para
     nominalFromScan = geostation::nominalFromScanAffine( camera, *image.innerOrientation );
   const cv::Mat grey = geostation::markGrey( geostation::readRaster( block.imageFilePath( image ).string() ).pixels );
   feedback->setProgress( 30 );
+  identification.identification.progress = GeoStationProcessing::progressOf( feedback ).part( 0.3, 0.9 );
   result = geostation::identifyControlInPhoto( grey, camera, nominalFromScan, control, identification );
+  if ( result.identification.status == geostation::ControlIdentificationSummary::Status::Cancelled )
+    throw QgsProcessingException( QObject::tr( "Cancelled: nothing was written." ) );
   feedback->pushInfo( QObject::tr( "%1 mark candidates in %2." ).arg( result.candidates ).arg( imageId ) );
   const geostation::ControlIdentificationSummary &summary = result.identification;
   if ( !summary.ok() )

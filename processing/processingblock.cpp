@@ -3,7 +3,9 @@
  ***************************************************************************/
 #include "processingblock.h"
 
+#include <algorithm>
 #include <functional>
+#include <memory>
 
 #include <QFile>
 #include <QJsonDocument>
@@ -11,6 +13,7 @@
 #include <QSaveFile>
 
 #include <qgsexception.h>
+#include <qgsprocessingfeedback.h>
 #include <qgsprocessingparameters.h>
 #include <qgsproviderregistry.h>
 
@@ -207,5 +210,30 @@ namespace GeoStationProcessing
       throw QgsProcessingException( QString::fromStdString( e.what() ) );
     }
     return out;
+  }
+
+  geostation::Progress progressOf( QgsProcessingFeedback *feedback )
+  {
+    if ( !feedback )
+      return geostation::Progress();
+    // the text beside the bar names the stage: a message is shown when its words before the first one holding a
+    // digit change ("station S0001", "station S0002", ... once; qgis_process prints every text it is given)
+    auto shown = std::make_shared<QString>();
+    return geostation::Progress( [feedback, shown]( double fraction, const std::string &message ) {
+      feedback->setProgress( 100.0 * fraction );
+      const QString text = QString::fromStdString( message );
+      QStringList stage;
+      for ( const QString &word : text.split( ' ', Qt::SkipEmptyParts ) )
+      {
+        if ( std::any_of( word.begin(), word.end(), []( QChar c ) { return c.isDigit(); } ) )
+          break;
+        stage << word;
+      }
+      if ( !text.isEmpty() && stage.join( ' ' ) != *shown )
+      {
+        *shown = stage.join( ' ' );
+        feedback->setProgressText( text );
+      }
+    }, [feedback] { return feedback->isCanceled(); } );
   }
 }

@@ -20,7 +20,9 @@
 #include "geometry/crs.h"
 #include "io/block.h"
 #include "io/rasterfile.h"
+#include "progress/progress.h"
 
+class QgsProcessingFeedback;
 class QgsProcessingParameterFile;
 
 namespace GeoStationProcessing
@@ -86,6 +88,13 @@ namespace GeoStationProcessing
     std::unique_ptr<geostation::Dem> dem;
     std::unique_ptr<geostation::CrsTransform> blockToDem;
   };
+
+  /**
+   * The algorithm's feedback as core's Progress: a fraction sets the
+   * progress bar (0-1 as 0-100 %), a message the text beside it, and
+   * Cancel is the stop. Use part() for a share of the bar.
+   */
+  geostation::Progress progressOf( QgsProcessingFeedback *feedback );
 
   //! Opens a DEM file for a block; throws QgsProcessingException with one sentence.
   LoadedDem loadDem( const QString &path, const geostation::Block &block, const geostation::DemOptions &options = geostation::DemOptions() );

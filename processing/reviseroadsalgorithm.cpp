@@ -132,7 +132,7 @@ QVariantMap ReviseRoadsAlgorithm::processGeoStation( const QVariantMap &paramete
     throw QgsProcessingException( QObject::tr( "Cancelled: nothing was written." ) );
 
   const geostation::OrientedImage a = GeoStationProcessing::orientedImage( block, left ), b = GeoStationProcessing::orientedImage( block, right );
-  const geostation::ExtractionProgress progress = [feedback]( double f ) { feedback->setProgress( 90.0 * f ); return !feedback->isCanceled(); };
+  const geostation::Progress progress = GeoStationProcessing::progressOf( feedback ).part( 0.0, 0.9 );
   const geostation::MapRevisionSummary s = geostation::reviseRoads( GeoStationProcessing::openImageFile( block, left ), GeoStationProcessing::openImageFile( block, right ), a, b, lines.roads, options, progress );
   if ( s.cancelled )
     throw QgsProcessingException( QObject::tr( "Cancelled: nothing was written." ) );

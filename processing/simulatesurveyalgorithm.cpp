@@ -5,6 +5,7 @@
   same options as the geostation-simulate command line.
  ***************************************************************************/
 #include "simulatesurveyalgorithm.h"
+#include "processingblock.h"
 
 #include <QDir>
 
@@ -158,16 +159,7 @@ QVariantMap SimulateSurveyAlgorithm::processGeoStation( const QVariantMap &param
   options.poseNoiseScale = number( "POSE_NOISE_SCALE", 1.0 );
   options.supersampling = static_cast<int>( number( "SUPERSAMPLING", 3 ) );
   options.scannedFilm = parameterAsBool( parameters, QStringLiteral( "SCANNED_FILM" ), context );
-  QString lastMessage;
-  options.progress = [feedback, &lastMessage]( double fraction, const std::string &message )
-  {
-    feedback->setProgress( 100.0 * fraction );
-    const QString text = QString::fromStdString( message );
-    if ( text != lastMessage && !text.startsWith( QLatin1String( "rendering" ) ) )
-      feedback->setProgressText( text );
-    lastMessage = text;
-    return !feedback->isCanceled();
-  };
+  options.progress = GeoStationProcessing::progressOf( feedback );
 
   geostation::SimulationSummary summary;
   try

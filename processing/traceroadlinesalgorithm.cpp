@@ -117,11 +117,7 @@ QVariantMap TraceRoadLinesAlgorithm::processGeoStation( const QVariantMap &param
   {
     if ( feedback->isCanceled() )
       break;
-    options.progress = [&, i]( double fraction, const std::string & )
-    {
-      feedback->setProgress( 100.0 * ( i + fraction ) / seeds.size() );
-      return !feedback->isCanceled();
-    };
+    options.progress = GeoStationProcessing::progressOf( feedback ).part( static_cast<double>( i ) / seeds.size(), static_cast<double>( i + 1 ) / seeds.size() );
     results.push_back( geostation::traceRoadLine( block, seeds[i].seed, options, images ) );
     const geostation::RoadTraceSummary &s = results.back();
     if ( s.ok() )

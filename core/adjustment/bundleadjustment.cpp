@@ -37,16 +37,17 @@ namespace geostation
       BundlePointResult::Role role = BundlePointResult::Role::Tie;
     };
 
-    //! Hands every iteration to BundleOptions::onIteration; aborts the solve when it says stop.
+    //! Reports every iteration to BundleOptions::progress; aborts the solve when the caller asks to stop.
     class IterationCallbackAdapter : public ceres::IterationCallback
     {
       public:
-        explicit IterationCallbackAdapter( const std::function<bool( int, double )> &onIteration )
-          : mOnIteration( onIteration ) {}
+        IterationCallbackAdapter( const Progress &progress, int maxIterations )
+          : mProgress( progress ), mMaxIterations( std::max( 1, maxIterations ) ) {}
 
         ceres::CallbackReturnType operator()( const ceres::IterationSummary &iteration ) override
         {
-          if ( mOnIteration && !mOnIteration( iteration.iteration, iteration.cost ) )
+          if ( !mProgress.report( static_cast<double>( iteration.iteration ) / mMaxIterations,
+                                  "iteration " + std::to_string( iteration.iteration ) + ", cost " + std::to_string( iteration.cost ) ) )
           {
             mStopped = true;
             return ceres::SOLVER_ABORT;
@@ -57,7 +58,8 @@ namespace geostation
         bool stopped() const { return mStopped; }
 
       private:
-        const std::function<bool( int, double )> &mOnIteration;
+        const Progress &mProgress;
+        int mMaxIterations;
         bool mStopped = false;
     };
 
@@ -347,9 +349,8 @@ namespace geostation
       solverOptions.gradient_tolerance = mOptions.gradientTolerance;
       solverOptions.parameter_tolerance = mOptions.parameterTolerance;
       solverOptions.num_threads = std::max( 1, mOptions.threads );
-      IterationCallbackAdapter callback( mOptions.onIteration );
-      if ( mOptions.onIteration )
-        solverOptions.callbacks.push_back( &callback );
+      IterationCallbackAdapter callback( mOptions.progress, mOptions.maxIterations );
+      solverOptions.callbacks.push_back( &callback );
       ceres::Solver::Summary solverSummary;
       ceres::Solve( solverOptions, &mProblem, &solverSummary );
       if ( callback.stopped() )

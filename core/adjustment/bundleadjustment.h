@@ -21,6 +21,7 @@
 #include "adjustment/interiorparameters.h"
 #include "camera/camera.h"
 #include "geometry/exteriororientation.h"
+#include "progress/progress.h"
 
 namespace geostation
 {
@@ -62,11 +63,11 @@ namespace geostation
      */
     int denseSchurMaxImages = 200;
     /**
-     * Called after every iteration of the solve with the iteration number
-     * (0 = the start) and the cost; returning false stops the adjustment,
-     * which then reports Status::Cancelled. Empty: never stops early.
+     * Told after every iteration of the solve (the iterations done of
+     * maxIterations; "iteration N, cost C", 0 = the start) and asked there
+     * whether to stop: a stop ends the adjustment with Status::Cancelled.
      */
-    std::function<bool( int iteration, double cost )> onIteration;
+    Progress progress;
 
     //! Throws std::invalid_argument naming the first bad value.
     void check() const;
@@ -113,7 +114,7 @@ namespace geostation
       TooFewObservations,
       NotConverged,
       Failed,
-      Cancelled,         //!< onIteration asked to stop
+      Cancelled,         //!< the caller asked to stop (BundleOptions::progress)
     };
     Status status = Status::Ok;
     std::string message;

@@ -272,7 +272,7 @@ namespace geostation
   }
 
   CoincidentExtractionSummary extractCoincident( const cv::Mat &greyA, const cv::Mat &greyB, const PairMapping &mapping,
-                                                 const CoincidentExtractionOptions &options, const ExtractionProgress &progress )
+                                                 const CoincidentExtractionOptions &options, const Progress &progress )
   {
     if ( greyA.empty() || greyB.empty() || greyA.type() != CV_8UC1 || greyB.type() != CV_8UC1 )
       throw std::invalid_argument( "coincident extraction needs two 8-bit single-band images" );
@@ -280,7 +280,7 @@ namespace geostation
   }
 
   CoincidentExtractionSummary extractCoincident( const GreyTiles &greyA, const GreyTiles &greyB, const PairMapping &mapping,
-                                                 const CoincidentExtractionOptions &options, const ExtractionProgress &progress )
+                                                 const CoincidentExtractionOptions &options, const Progress &progress )
   {
     options.check();
     CoincidentExtractionSummary summary;
@@ -298,7 +298,7 @@ namespace geostation
       RoundReport report;
       report.round = round + 1;
       report.image = s == 0 ? "A" : "B";
-      const ExtractionProgress roundProgress = progress ? ExtractionProgress( [&]( double f ) { return progress( ( round + 0.8 * f ) / options.maxRounds ); } ) : nullptr;
+      const Progress roundProgress = progress.part( std::min( 1.0, round / static_cast<double>( options.maxRounds ) ), std::min( 1.0, ( round + 0.8 ) / options.maxRounds ) );
       const LineExtractionSummary extracted = extractLines( *grey[s], matrix[s], continueFrom[s], !searched[s], options.extraction, roundProgress );
       if ( extracted.cancelled )
       {
@@ -342,7 +342,7 @@ namespace geostation
       report.seconds = roundStart.seconds();
       summary.rounds.push_back( report );
       totalAccepted += verified.acceptedSourceLengthPx;
-      if ( progress && !progress( ( round + 1.0 ) / options.maxRounds ) )
+      if ( !progress.report( std::min( 1.0, ( round + 1.0 ) / options.maxRounds ), "round " + std::to_string( round + 1 ) + " verified" ) )
       {
         summary = CoincidentExtractionSummary();
         summary.cancelled = true;
@@ -398,8 +398,7 @@ namespace geostation
     summary.intersectionsB = refinedB.movedIntersections( finalB.intersections );
     summary.deadEndsA = openEnds( summary.linesA );
     summary.deadEndsB = openEnds( summary.linesB );
-    if ( progress )
-      progress( 1.0 );
+    progress.report( 1.0 );
     return summary;
   }
 

@@ -79,11 +79,11 @@ namespace geostation
    * propagate; cancelling returns with `cancelled` and no lines.
    */
   CoincidentExtractionSummary extractCoincident( const GreyTiles &greyA, const GreyTiles &greyB, const PairMapping &mapping,
-                                                 const CoincidentExtractionOptions &options, const ExtractionProgress &progress = nullptr );
+                                                 const CoincidentExtractionOptions &options, const Progress &progress = Progress() );
 
   //! The same for images held in memory (CV_8UC1); std::invalid_argument for other images.
   CoincidentExtractionSummary extractCoincident( const cv::Mat &greyA, const cv::Mat &greyB, const PairMapping &mapping,
-                                                 const CoincidentExtractionOptions &options, const ExtractionProgress &progress = nullptr );
+                                                 const CoincidentExtractionOptions &options, const Progress &progress = Progress() );
 
   /**
    * Closes gaps from the open ends of the lines of `symbols` in the matrix:

@@ -347,7 +347,7 @@ namespace geostation
   }
 
   LineExtractionSummary extractLines( const GreyTiles &grey, ResultMatrix &matrix, const std::vector<DeadEnd> &continueFrom, bool searchStartingPoints,
-                                      const LineExtractionOptions &options, const ExtractionProgress &progress )
+                                      const LineExtractionOptions &options, const Progress &progress )
   {
     options.check();
     if ( matrix.width() != grey.width() || matrix.height() != grey.height() )
@@ -368,7 +368,8 @@ namespace geostation
         if ( !search && !extraction.waiting( index ) )
           continue;
         // the first run is most of the work; later runs only finish lines
-        if ( progress && !progress( 0.95 * ( run == 0 ? static_cast<double>( index ) / extraction.count() : 1.0 ) ) )
+        if ( !progress.report( 0.95 * ( run == 0 ? static_cast<double>( index ) / extraction.count() : 1.0 ),
+                               "sub-image " + std::to_string( index + 1 ) + " of " + std::to_string( extraction.count() ) ) )
         {
           summary.cancelled = true;
           return summary;
@@ -377,13 +378,12 @@ namespace geostation
       }
     }
     extraction.giveUp();
-    if ( progress )
-      progress( 1.0 );
+    progress.report( 1.0 );
     return summary;
   }
 
   LineExtractionSummary extractLines( const cv::Mat &grey, ResultMatrix &matrix, const std::vector<DeadEnd> &continueFrom, bool searchStartingPoints,
-                                      const LineExtractionOptions &options, const ExtractionProgress &progress )
+                                      const LineExtractionOptions &options, const Progress &progress )
   {
     return extractLines( GreyTiles( grey ), matrix, continueFrom, searchStartingPoints, options, progress );
   }

@@ -28,6 +28,7 @@
 
 #include <opencv2/core.hpp>
 
+#include "progress/progress.h"
 #include "extraction/greytiles.h"
 #include "extraction/localextraction.h"
 #include "extraction/regionalextraction.h"
@@ -79,7 +80,6 @@ namespace geostation
   };
 
   //! Fraction done; return false to cancel.
-  using ExtractionProgress = std::function<bool( double fraction )>;
 
   /**
    * Extracts lines into `matrix` (the image's size) from the image `grey`
@@ -88,11 +88,11 @@ namespace geostation
    * size; reader errors propagate.
    */
   LineExtractionSummary extractLines( const GreyTiles &grey, ResultMatrix &matrix, const std::vector<DeadEnd> &continueFrom, bool searchStartingPoints,
-                                      const LineExtractionOptions &options, const ExtractionProgress &progress = nullptr );
+                                      const LineExtractionOptions &options, const Progress &progress = Progress() );
 
   //! The same for an image held in memory (CV_8UC1).
   LineExtractionSummary extractLines( const cv::Mat &grey, ResultMatrix &matrix, const std::vector<DeadEnd> &continueFrom, bool searchStartingPoints,
-                                      const LineExtractionOptions &options, const ExtractionProgress &progress = nullptr );
+                                      const LineExtractionOptions &options, const Progress &progress = Progress() );
 
 } // namespace geostation
 

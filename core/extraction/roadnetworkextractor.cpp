@@ -87,7 +87,7 @@ namespace geostation
   }
 
   RoadNetworkSummary extractRoadNetwork( const MatchImage &imageA, const MatchImage &imageB, const OrientedImage *a, const OrientedImage *b,
-                                         const RoadNetworkOptions &options, const ExtractionProgress &progress )
+                                         const RoadNetworkOptions &options, const Progress &progress )
   {
     if ( imageA.empty() || imageB.empty() )
       throw std::invalid_argument( "both images of the pair are needed" );
@@ -98,7 +98,7 @@ namespace geostation
   }
 
   RoadNetworkSummary extractRoadNetwork( const GreyTiles &greyA, const GreyTiles &greyB, PairMatchWindows &matching, const OrientedImage *a, const OrientedImage *b,
-                                         const RoadNetworkOptions &options, const ExtractionProgress &progress )
+                                         const RoadNetworkOptions &options, const Progress &progress )
   {
     const auto start = std::chrono::steady_clock::now();
     if ( greyA.size() != matching.size( 0 ) || greyB.size() != matching.size( 1 ) )
@@ -119,6 +119,11 @@ namespace geostation
       else
         mapping = std::make_unique<MultiquadricMapping>( MultiquadricMapping::fit( options.control, 1.0, &report ) );
       summary.registration = report;
+    }
+    if ( !progress.report( 0.0, "the pair's set-up" ) )
+    {
+      summary.extraction.cancelled = true;
+      return summary;
     }
     if ( summary.oriented )
     {
@@ -170,9 +175,15 @@ namespace geostation
       summary.seconds = std::chrono::duration<double>( std::chrono::steady_clock::now() - start ).count();
       return summary;
     }
-    summary.extraction = extractCoincident( greyA, greyB, registration, coincident, progress );
+    // the extraction most of the time; the 3-D lines from 90 %
+    summary.extraction = extractCoincident( greyA, greyB, registration, coincident, progress.part( 0.02, oriented ? 0.9 : 1.0 ) );
     if ( oriented && !summary.extraction.cancelled )
-      summary.network = intersectNetwork( *oriented, summary.extraction.linesA, summary.extraction.linesB, matching, options.network );
+    {
+      if ( progress.report( 0.9, "the 3-D lines" ) )
+        summary.network = intersectNetwork( *oriented, summary.extraction.linesA, summary.extraction.linesB, matching, options.network );
+      else
+        summary.extraction.cancelled = true;
+    }
     summary.reading.inWindows = !greyA.whole() || !greyB.whole();
     summary.reading.greyTilesRead = greyA.tilesRead() + greyB.tilesRead();
     summary.reading.matchingWindows = matching.windowsRead();
@@ -182,7 +193,7 @@ namespace geostation
   }
 
   RoadNetworkSummary extractRoadNetwork( std::shared_ptr<const RasterReader> readerA, std::shared_ptr<const RasterReader> readerB, const OrientedImage *a,
-                                         const OrientedImage *b, const RoadNetworkOptions &options, const ExtractionProgress &progress )
+                                         const OrientedImage *b, const RoadNetworkOptions &options, const Progress &progress )
   {
     using Range = std::optional<std::pair<double, double>>;
     const auto range = []( const RasterReader &r ) { return r.eightBit() ? Range() : Range( greyRangeOf( r ) ); };

@@ -139,7 +139,7 @@ namespace geostation
    * pair without roads gives an empty result.
    */
   RoadNetworkSummary extractRoadNetwork( const GreyTiles &greyA, const GreyTiles &greyB, PairMatchWindows &matching, const OrientedImage *a,
-                                         const OrientedImage *b, const RoadNetworkOptions &options, const ExtractionProgress &progress = nullptr );
+                                         const OrientedImage *b, const RoadNetworkOptions &options, const Progress &progress = Progress() );
 
   /**
    * The same for a pair of raster files, read a window at a time through
@@ -147,11 +147,11 @@ namespace geostation
    * and its grey levels scaled by it).
    */
   RoadNetworkSummary extractRoadNetwork( std::shared_ptr<const RasterReader> readerA, std::shared_ptr<const RasterReader> readerB, const OrientedImage *a,
-                                         const OrientedImage *b, const RoadNetworkOptions &options, const ExtractionProgress &progress = nullptr );
+                                         const OrientedImage *b, const RoadNetworkOptions &options, const Progress &progress = Progress() );
 
   //! The same for two images held whole (not windows of them).
   RoadNetworkSummary extractRoadNetwork( const MatchImage &imageA, const MatchImage &imageB, const OrientedImage *a, const OrientedImage *b,
-                                         const RoadNetworkOptions &options, const ExtractionProgress &progress = nullptr );
+                                         const RoadNetworkOptions &options, const Progress &progress = Progress() );
 
 } // namespace geostation
 

@@ -301,6 +301,8 @@ namespace geostation
         if ( std::any_of( tried.begin(), tried.end(), [&]( const ControlPairs &t ) { return 2 * shared( pairs, t ) > static_cast<int>( pairs.size() ); } ) )
           continue;
         tried.push_back( pairs );
+        if ( options.progress.stopRequested() )
+          break;
         if ( std::optional<Verified> v = verify( camera, control, usablePx, pairs, exteriorOf( h.pose, origin ), options ) )
           solutions.push_back( std::move( *v ) );
       }
@@ -320,6 +322,8 @@ namespace geostation
     std::vector<const Verified *> good;
     for ( size_t n = 0, checkpoint = 6; n < firsts.size(); ++n )
     {
+      if ( !options.progress.report( static_cast<double>( n ) / firsts.size(), "candidate " + std::to_string( n + 1 ) + " of " + std::to_string( firsts.size() ) ) )
+        return finish( ControlIdentificationSummary::Status::Cancelled, "the identification was cancelled after " + std::to_string( n ) + " candidates" );
       hypotheses.addFrom( firsts[n] );
       if ( n + 1 < firsts.size() && n + 1 != checkpoint )
         continue;
@@ -337,6 +341,8 @@ namespace geostation
     }
     summary.triangles = hypotheses.triangles();
     summary.poses = hypotheses.poses();
+    if ( options.progress.stopRequested() )
+      return finish( ControlIdentificationSummary::Status::Cancelled, "the identification was cancelled while verifying its hypotheses" );
     if ( good.empty() )
     {
       double bestChance = 1e300;

@@ -49,6 +49,7 @@
 #include "adjustment/controlpoint.h"
 #include "adjustment/resection.h"
 #include "camera/camera.h"
+#include "progress/progress.h"
 #include "geometry/exteriororientation.h"
 
 namespace geostation
@@ -72,6 +73,8 @@ namespace geostation
     std::optional<ExteriorOrientation> approximate; //!< an approximate orientation, when there is one
     double searchRadiusPx = 80.0;   //!< with `approximate`: candidates this close to a prediction
     ResectionOptions resection;     //!< robust and removeBlunders are set by the identification
+    //! Told after each candidate the search takes up and asked there, and before each hypothesis verified, whether to stop (Status::Cancelled)
+    Progress progress;
 
     //! Throws std::invalid_argument naming the first bad value.
     void check() const;
@@ -102,6 +105,7 @@ namespace geostation
       TooFewControl,    //!< fewer than minPairs control points (near the approximate orientation)
       NotFound,         //!< no hypothesis survived the resection with minPairs pairs
       Ambiguous,        //!< two different solutions almost equally good
+      Cancelled,        //!< the caller asked to stop (ControlIdentificationOptions::progress)
     };
     Status status = Status::NotFound;
     std::string message;

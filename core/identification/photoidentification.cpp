@@ -34,14 +34,22 @@ namespace geostation
       throw std::invalid_argument( "The scan affine of the photo is singular." );
     auto fileOf = [&]( const Eigen::Vector2d &nominal ) { return Eigen::Vector2d( linear.inverse() * ( nominal - toNominal.col( 2 ) ) ); };
 
-    // the marks, in the camera's nominal frame
+    // the marks, in the camera's nominal frame (a tenth of the work), then the search
+    PhotoIdentificationSummary summary;
+    if ( !options.identification.progress.report( 0.0, "the marks" ) )
+    {
+      summary.identification.status = ControlIdentificationSummary::Status::Cancelled;
+      summary.identification.message = "the identification was cancelled";
+      return summary;
+    }
     const std::vector<MarkCandidate> found = detectMarkCandidates( greyFile, options.marks );
     std::vector<Eigen::Vector2d> candidates;
     for ( const MarkCandidate &m : found )
       candidates.push_back( toNominal * m.pixelInImage.homogeneous() );
-    PhotoIdentificationSummary summary;
     summary.candidates = static_cast<int>( candidates.size() );
-    summary.identification = identifyControl( camera, control, candidates, options.identification );
+    ControlIdentificationOptions search = options.identification;
+    search.progress = options.identification.progress.part( 0.1, 0.95 );
+    summary.identification = identifyControl( camera, control, candidates, search );
     if ( !summary.identification.ok() )
       return summary;
 

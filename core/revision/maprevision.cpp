@@ -297,7 +297,7 @@ namespace geostation
   }
 
   MapRevisionSummary reviseRoads( std::shared_ptr<const RasterReader> readerA, std::shared_ptr<const RasterReader> readerB, const OrientedImage &a, const OrientedImage &b,
-                                  const std::vector<MapRoad> &map, const MapRevisionOptions &options, const ExtractionProgress &progress )
+                                  const std::vector<MapRoad> &map, const MapRevisionOptions &options, const Progress &progress )
   {
     using Range = std::optional<std::pair<double, double>>;
     const auto range = []( const RasterReader &r ) { return r.eightBit() ? Range() : Range( greyRangeOf( r ) ); };
@@ -307,7 +307,7 @@ namespace geostation
   }
 
   MapRevisionSummary reviseRoads( const MatchImage &imageA, const MatchImage &imageB, const OrientedImage &a, const OrientedImage &b, const std::vector<MapRoad> &map,
-                                  const MapRevisionOptions &options, const ExtractionProgress &progress )
+                                  const MapRevisionOptions &options, const Progress &progress )
   {
     if ( imageA.empty() || imageB.empty() || imageA.windowed() || imageB.windowed() )
       throw std::invalid_argument( "map revision needs both images of the pair, whole" );
@@ -316,7 +316,7 @@ namespace geostation
   }
 
   MapRevisionSummary reviseRoads( const GreyTiles &greyA, const GreyTiles &greyB, PairMatchWindows &matching, const OrientedImage &a, const OrientedImage &b,
-                                  const std::vector<MapRoad> &map, const MapRevisionOptions &options, const ExtractionProgress &progress )
+                                  const std::vector<MapRoad> &map, const MapRevisionOptions &options, const Progress &progress )
   {
     using namespace revision;
     options.check();
@@ -325,7 +325,8 @@ namespace geostation
     // 1. the pair's own extraction: its terrain height, its widths in pixels and the roads it finds (or only the first two)
     RoadNetworkOptions network = options.network;
     network.extract = options.findNewRoads;
-    summary.extraction = extractRoadNetwork( greyA, greyB, matching, &a, &b, network, progress );
+    const double extractionShare = options.findNewRoads ? 0.7 : 0.1;
+    summary.extraction = extractRoadNetwork( greyA, greyB, matching, &a, &b, network, progress.part( 0.0, extractionShare ) );
     if ( summary.extraction.extraction.cancelled )
     {
       summary.cancelled = true;
@@ -354,6 +355,11 @@ namespace geostation
     // 2. each map road checked along its course, split where its status changes
     for ( size_t r = 0; r < map.size(); ++r )
     {
+      if ( !progress.report( extractionShare + ( 1.0 - extractionShare ) * r / map.size(), "map road " + std::to_string( r + 1 ) + " of " + std::to_string( map.size() ) ) )
+      {
+        summary.cancelled = true;
+        return summary;
+      }
       if ( !validRoad( map[r] ) )
       {
         RevisedPiece invalid;

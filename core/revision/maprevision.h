@@ -126,15 +126,15 @@ namespace geostation
    * are `outside`.
    */
   MapRevisionSummary reviseRoads( const GreyTiles &greyA, const GreyTiles &greyB, PairMatchWindows &matching, const OrientedImage &a, const OrientedImage &b,
-                                  const std::vector<MapRoad> &map, const MapRevisionOptions &options, const ExtractionProgress &progress = nullptr );
+                                  const std::vector<MapRoad> &map, const MapRevisionOptions &options, const Progress &progress = Progress() );
 
   //! The same for a pair of raster files, read a window at a time (as extractRoadNetwork).
   MapRevisionSummary reviseRoads( std::shared_ptr<const RasterReader> readerA, std::shared_ptr<const RasterReader> readerB, const OrientedImage &a, const OrientedImage &b,
-                                  const std::vector<MapRoad> &map, const MapRevisionOptions &options, const ExtractionProgress &progress = nullptr );
+                                  const std::vector<MapRoad> &map, const MapRevisionOptions &options, const Progress &progress = Progress() );
 
   //! The same for two images held whole.
   MapRevisionSummary reviseRoads( const MatchImage &imageA, const MatchImage &imageB, const OrientedImage &a, const OrientedImage &b,
-                                  const std::vector<MapRoad> &map, const MapRevisionOptions &options, const ExtractionProgress &progress = nullptr );
+                                  const std::vector<MapRoad> &map, const MapRevisionOptions &options, const Progress &progress = Progress() );
 
   /**
    * A map line with one stretch replaced by a moved road's course: the

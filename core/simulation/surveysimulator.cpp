@@ -67,7 +67,7 @@ namespace geostation
     options.validate();
     const auto report = [&]( double fraction, const std::string &message )
     {
-      if ( options.progress && !options.progress( fraction, message ) )
+      if ( !options.progress.report( fraction, message ) )
         throw SimulationCancelled();
     };
     SimulationSummary summary;

@@ -28,6 +28,7 @@
 #include <string>
 #include <vector>
 
+#include "progress/progress.h"
 #include "simulation/degradation.h"
 #include "io/block.h"
 #include "simulation/scenebuilder.h"
@@ -62,8 +63,8 @@ namespace geostation
     double poseNoiseScale = 1.0;    //!< multiplies the preset's GNSS/INS sigmas (0: block = truth)
     int supersampling = 3;          //!< n x n samples in edge pixels (4n x 4n on target edges)
     int threads = 0;                //!< 0: all cores
-    //! Called with the fraction done and a message; return false to cancel.
-    std::function<bool( double fraction, const std::string &message )> progress;
+    //! Told the fraction done and the stage, and asked whether to stop: a stop throws SimulationCancelled.
+    Progress progress;
 
     //! Throws std::invalid_argument naming the first bad value.
     void validate() const;

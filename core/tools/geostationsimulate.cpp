@@ -150,11 +150,10 @@ int main( int argc, char **argv )
   }
 
   if ( !quiet )
-    options.progress = []( double fraction, const std::string &message )
+    options.progress = geostation::Progress( []( double fraction, const std::string &message )
     {
       std::fprintf( stderr, "\r%3d%%  %-40s", static_cast<int>( fraction * 100 + 0.5 ), message.c_str() );
-      return true;
-    };
+    }, nullptr );
   try
   {
     const geostation::SimulationSummary summary = geostation::simulateSurvey( options );

@@ -30,6 +30,7 @@
 #include <vector>
 
 #include "io/block.h"
+#include "progress/progress.h"
 #include "tracing/lineprofile.h"
 #include "tracing/handovermatcher.h"
 #include "tracing/heightcontinuity.h"
@@ -178,8 +179,8 @@ namespace geostation
      */
     std::function<void( const TracedStation &, const std::vector<Eigen::Vector2d> &referenceLine, const std::vector<Eigen::Vector2d> &partnerLine,
                         const std::vector<TracedVertex> &lineSoFar )> stationTraced;
-    //! Called after each station with the fraction of the run done; return false to cancel.
-    std::function<bool( double fraction, const std::string &message )> progress;
+    //! Told after each station the fraction of the run done ("station ID") and asked whether to stop: a stop ends the trace with TraceStop::Cancelled.
+    Progress progress;
 
     //! Throws std::invalid_argument naming the first bad value.
     void check() const;

@@ -189,7 +189,7 @@ namespace geostation
   bool RoadTraceRun::mayGoOn( const StationAt &at, int stationsDone, const std::vector<Eigen::Vector3d> &groundLine, const StartMatch &partnerStart )
   {
     const std::string &id = at.station->id;
-    if ( mOptions.progress && !mOptions.progress( mSequence.size() > 1 ? static_cast<double>( stationsDone + 1 ) / mSequence.size() : 1.0, "station " + id ) )
+    if ( !mOptions.progress.report( mSequence.size() > 1 ? static_cast<double>( stationsDone + 1 ) / mSequence.size() : 1.0, "station " + id ) )
     {
       stopWith( TraceStop::Cancelled, "tracing was cancelled after station " + id );
       return false;

@@ -238,21 +238,20 @@ TEST( BundleAdjustment, CancelStopsTheSolveBetweenIterations )
   const std::vector<BundleImage> start = perturbed( run, rng, 0.5, 0.3 );
   const std::vector<BundleObservation> observations = observe( run, rng, 0.3 );
   // without cancel: several iterations, converged
-  std::vector<int> seen;
+  std::vector<std::string> seen;
   BundleOptions watched;
-  watched.onIteration = [&]( int iteration, double cost ) {
-    EXPECT_TRUE( std::isfinite( cost ) );
-    seen.push_back( iteration );
-    return true;
-  };
+  watched.progress = Progress( [&]( double fraction, const std::string &message ) {
+    EXPECT_TRUE( fraction >= 0.0 && fraction <= 1.0 );
+    seen.push_back( message );
+  }, nullptr );
   const BundleSummary full = bundleAdjust( run.cameras, start, {}, observations, watched );
   ASSERT_TRUE( full.ok() ) << full.message;
   ASSERT_GE( seen.size(), 3u );
-  EXPECT_EQ( seen.front(), 0 );
+  EXPECT_EQ( seen.front().rfind( "iteration 0, cost ", 0 ), 0u ) << seen.front();
   // cancelled after the first iteration: stopped there, nothing adjusted returned
   int calls = 0;
   BundleOptions cancelled;
-  cancelled.onIteration = [&]( int, double ) { return ++calls < 2; };
+  cancelled.progress = Progress( nullptr, [&] { return ++calls >= 2; } );
   const BundleSummary stopped = bundleAdjust( run.cameras, start, {}, observations, cancelled );
   EXPECT_EQ( stopped.status, BundleSummary::Status::Cancelled );
   EXPECT_EQ( calls, 2 );

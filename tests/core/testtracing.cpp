@@ -252,7 +252,7 @@ TEST( Tracing, OperatorStopsTakesBackAndContinues )
     grown.push_back( lineSoFar.size() );
   };
   int stations = 0;
-  options.progress = [&]( double, const std::string & ) { return ++stations < 6; }; // Esc during the 6th station
+  options.progress = Progress( nullptr, [&] { return ++stations >= 6; } ); // Esc during the 6th station
   const RoadTraceSummary first = traceRoadLine( run.block, seedOn( run, prefix, "S0001_FL", 8.0, Eigen::Vector2d( 1.2, -0.8 ) ), options, fileGreyImageSource( run.block ) );
   EXPECT_EQ( first.stop, TraceStop::Cancelled ) << first.message;
   ASSERT_EQ( grown.size(), 6u );
@@ -270,7 +270,7 @@ TEST( Tracing, OperatorStopsTakesBackAndContinues )
   const double before = line.lengthM();
 
   // continue: a click on the line in station 5's image, a little behind where the line now ends
-  options.progress = nullptr;
+  options.progress = Progress();
   options.stationTraced = nullptr;
   options.maxStations = 8;
   const RoadTraceSummary more = traceRoadLine( run.block, seedOn( run, prefix, "S0005_FL", 8.0, Eigen::Vector2d( -0.7, 1.1 ) ), options, fileGreyImageSource( run.block ) );
