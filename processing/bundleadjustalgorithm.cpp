@@ -175,12 +175,10 @@ QVariantMap BundleAdjustAlgorithm::processGeoStation( const QVariantMap &paramet
   QString pointsDestination;
   if ( outputRequested( parameters, QStringLiteral( "OUTPUT_POINTS" ) ) )
   {
-    std::unique_ptr<QgsFeatureSink> sink( parameterAsSink( parameters, QStringLiteral( "OUTPUT_POINTS" ), context, pointsDestination, fields, QgsWkbTypes::PointZ, crs ) );
-    if ( !sink )
-      throw QgsProcessingException( invalidSinkError( parameters, QStringLiteral( "OUTPUT_POINTS" ) ) );
+    OutputSink sink = openOutput( parameters, QStringLiteral( "OUTPUT_POINTS" ), context, fields, QgsWkbTypes::PointZ, crs );
     for ( QgsFeature &f : features )
-      if ( !sink->addFeature( f, QgsFeatureSink::FastInsert ) )
-        throw QgsProcessingException( writeFeatureError( sink.get(), parameters, QStringLiteral( "OUTPUT_POINTS" ) ) );
+      sink.add( f );
+    pointsDestination = sink.close();
   }
   feedback->setProgress( 100 );
 

@@ -206,21 +206,17 @@ QVariantMap ExtractRoadsAlgorithm::processGeoStation( const QVariantMap &paramet
   {
     if ( !outputRequested( parameters, name ) )
       return;
-    QString destination;
-    std::unique_ptr<QgsFeatureSink> sink( parameterAsSink( parameters, name, context, destination, lineFields, QgsWkbTypes::LineString, QgsCoordinateReferenceSystem() ) );
-    if ( !sink )
-      throw QgsProcessingException( invalidSinkError( parameters, name ) );
+    OutputSink sink = openOutput( parameters, name, context, lineFields, QgsWkbTypes::LineString, QgsCoordinateReferenceSystem() );
     for ( size_t i = 0; i < lines.size(); ++i )
     {
       QgsFeature f( lineFields );
       f.setAttributes( QgsAttributes() << static_cast<int>( i + 1 ) << acceptedIn( lines[i].symbols, inLeft ) );
       f.setGeometry( imageSpaceLine( lines[i].pixels ) );
-      if ( !sink->addFeature( f, QgsFeatureSink::FastInsert ) )
-        throw QgsProcessingException( writeFeatureError( sink.get(), parameters, name ) );
+      sink.add( f );
     }
-    sink.reset();
-    GeoStationProcessing::markPixelSpaceOutput( destination );
-    outputs.insert( name, destination );
+    sink.close();
+    GeoStationProcessing::markPixelSpaceOutput( sink.destination() );
+    outputs.insert( name, sink.destination() );
   };
   imageSink( QStringLiteral( "OUTPUT_LEFT" ), s.extraction.linesA, true );
   imageSink( QStringLiteral( "OUTPUT_RIGHT" ), s.extraction.linesB, false );
@@ -230,10 +226,9 @@ QVariantMap ExtractRoadsAlgorithm::processGeoStation( const QVariantMap &paramet
     QgsFields fields = lineFields;
     fields.append( QgsField( QLatin1String( fs::kLengthM ), QVariant::Double ) );
     fields.append( QgsField( QLatin1String( fs::kSigmaMax ), QVariant::Double ) );
-    QString destination;
-    std::unique_ptr<QgsFeatureSink> sink( parameterAsSink( parameters, QStringLiteral( "OUTPUT" ), context, destination, fields, QgsWkbTypes::LineStringZ, GeoStationProcessing::blockCrs( block ) ) );
-    if ( sink )
+    if ( outputRequested( parameters, QStringLiteral( "OUTPUT" ) ) )
     {
+      OutputSink sink = openOutput( parameters, QStringLiteral( "OUTPUT" ), context, fields, QgsWkbTypes::LineStringZ, GeoStationProcessing::blockCrs( block ) );
       for ( const geostation::NetworkLine &line : s.network.lines )
       {
         QVector<double> x, y, z;
@@ -246,29 +241,27 @@ QVariantMap ExtractRoadsAlgorithm::processGeoStation( const QVariantMap &paramet
         QgsFeature f( fields );
         f.setAttributes( QgsAttributes() << line.sourceLine + 1 << acceptedIn( s.extraction.linesA[line.sourceLine].symbols, true ) << line.lengthM() << line.sigmaMaxM() );
         f.setGeometry( QgsGeometry( new QgsLineString( x, y, z ) ) );
-        if ( !sink->addFeature( f, QgsFeatureSink::FastInsert ) )
-          throw QgsProcessingException( writeFeatureError( sink.get(), parameters, QStringLiteral( "OUTPUT" ) ) );
+        sink.add( f );
       }
-      outputs.insert( QStringLiteral( "OUTPUT" ), destination );
+      outputs.insert( QStringLiteral( "OUTPUT" ), sink.close() );
     }
   }
 
   QgsFields endFields;
   endFields.append( QgsField( QStringLiteral( "kind" ), QVariant::String ) );
-  QString endsDestination;
-  if ( std::unique_ptr<QgsFeatureSink> ends { parameterAsSink( parameters, QStringLiteral( "DEAD_ENDS" ), context, endsDestination, endFields, QgsWkbTypes::Point, QgsCoordinateReferenceSystem() ) } )
+  if ( outputRequested( parameters, QStringLiteral( "DEAD_ENDS" ) ) )
   {
+    OutputSink ends = openOutput( parameters, QStringLiteral( "DEAD_ENDS" ), context, endFields, QgsWkbTypes::Point );
     for ( const geostation::DeadEnd &d : s.extraction.deadEndsA )
     {
       QgsFeature f( endFields );
       f.setAttributes( QgsAttributes() << QString::fromStdString( geostation::deadEndKindName( d.kind ) ) );
       const Eigen::Vector2d xy = geostation::imageSpaceOfPixel( d.state.pixelInImage );
       f.setGeometry( QgsGeometry( new QgsPoint( xy.x(), xy.y() ) ) );
-      ends->addFeature( f, QgsFeatureSink::FastInsert );
+      ends.add( f );
     }
-    ends.reset();
-    GeoStationProcessing::markPixelSpaceOutput( endsDestination );
-    outputs.insert( QStringLiteral( "DEAD_ENDS" ), endsDestination );
+    GeoStationProcessing::markPixelSpaceOutput( ends.close() );
+    outputs.insert( QStringLiteral( "DEAD_ENDS" ), ends.destination() );
   }
 
   const QString reportPath = parameterAsFileOutput( parameters, QStringLiteral( "REPORT" ), context );

@@ -93,4 +93,12 @@ bool GeoStationAlgorithm::outputRequested( const QVariantMap &parameters, const 
   return !value.toString().trimmed().isEmpty();
 }
 
+OutputSink GeoStationAlgorithm::openOutput( const QVariantMap &parameters, const QString &name, QgsProcessingContext &context, const QgsFields &fields,
+                                            QgsWkbTypes::Type type, const QgsCoordinateReferenceSystem &crs ) const
+{
+  QString destination;
+  QgsFeatureSink *sink = parameterAsSink( parameters, name, context, destination, fields, type, crs );
+  return OutputSink( sink, destination, parameters, name );
+}
+
 } // namespace GeoStationProcessing

@@ -19,12 +19,15 @@
 #include <qgsprocessingalgorithm.h>
 
 #include "geostation_processing_export.h"
+#include "outputsink.h"
 
 namespace GeoStationProcessing
 {
 
 class GEOSTATION_PROCESSING_EXPORT GeoStationAlgorithm : public QgsProcessingAlgorithm
 {
+    friend class OutputSink; // QGIS's sentences for a sink that cannot be opened or written
+
   protected:
     //! The algorithm's work (what processAlgorithm() is for other algorithms).
     virtual QVariantMap processGeoStation( const QVariantMap &parameters, QgsProcessingContext &context, QgsProcessingFeedback *feedback ) = 0;
@@ -44,6 +47,10 @@ class GEOSTATION_PROCESSING_EXPORT GeoStationAlgorithm : public QgsProcessingAlg
 
     //! True if the caller asked for the optional output `name`: a destination given and not left empty.
     static bool outputRequested( const QVariantMap &parameters, const QString &name );
+
+    //! The output `name` opened for writing (outputsink.h); one sentence when it cannot be.
+    OutputSink openOutput( const QVariantMap &parameters, const QString &name, QgsProcessingContext &context, const QgsFields &fields,
+                           QgsWkbTypes::Type type, const QgsCoordinateReferenceSystem &crs = QgsCoordinateReferenceSystem() ) const;
 };
 
 } // namespace GeoStationProcessing

@@ -194,16 +194,12 @@ QVariantMap IdentifyControlAlgorithm::processGeoStation( const QVariantMap &para
   fields.append( QgsField( QLatin1String( fs::kStatus ), QVariant::String ) );
   for ( const char *name : { "pred_col", "pred_row", "resid_px" } )
     fields.append( QgsField( QString::fromLatin1( name ), QVariant::Double ) );
-  QString destination;
-  std::unique_ptr<QgsFeatureSink> sink( parameterAsSink( parameters, QStringLiteral( "OUTPUT" ), context, destination, fields, QgsWkbTypes::NoGeometry, QgsCoordinateReferenceSystem() ) );
-  if ( !sink )
-    throw QgsProcessingException( invalidSinkError( parameters, QStringLiteral( "OUTPUT" ) ) );
+  OutputSink sink = openOutput( parameters, QStringLiteral( "OUTPUT" ), context, fields, QgsWkbTypes::NoGeometry, QgsCoordinateReferenceSystem() );
   auto write = [&]( const std::string &pointId, const QVariant &col, const QVariant &row, const QVariant &sigma, const QString &status, const Eigen::Vector2d &predicted,
                     const QVariant &residual ) {
     QgsFeature f( fields );
     f.setAttributes( QgsAttributes() << QString::fromStdString( pointId ) << imageId << col << row << sigma << status << predicted.x() << predicted.y() << residual );
-    if ( !sink->addFeature( f, QgsFeatureSink::FastInsert ) )
-      throw QgsProcessingException( writeFeatureError( sink.get(), parameters, QStringLiteral( "OUTPUT" ) ) );
+    sink.add( f );
   };
   // written in the image's own pixels (the scan's, for scanned film), as measured
   for ( const geostation::PhotoIdentifiedPoint &p : result.identified )
@@ -224,7 +220,7 @@ QVariantMap IdentifyControlAlgorithm::processGeoStation( const QVariantMap &para
     feedback->pushWarning( QObject::tr( "%1 paired control points were rejected by the resection as blunders." ).arg( summary.rejected.size() ) );
   feedback->setProgress( 100 );
   QVariantMap outputs;
-  outputs.insert( QStringLiteral( "OUTPUT" ), destination );
+  outputs.insert( QStringLiteral( "OUTPUT" ), sink.destination() );
   outputs.insert( QStringLiteral( "REPORT" ), reportPath );
   outputs.insert( QStringLiteral( "PAIRS_FOUND" ), static_cast<int>( result.identified.size() ) );
   return outputs;

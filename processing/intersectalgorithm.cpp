@@ -131,7 +131,7 @@ QVariantMap IntersectAlgorithm::processGeoStation( const QVariantMap &parameters
   QVector<QgsFeature> features;
   QStringList skipped;
   long intersected = 0;
-  QMap<QString, long> statusCounts;
+  StatusTally statusCounts;
   for ( int k = 0; k < order.size(); ++k )
   {
     if ( feedback->isCanceled() )
@@ -146,7 +146,7 @@ QVariantMap IntersectAlgorithm::processGeoStation( const QVariantMap &parameters
     }
     const geostation::IntersectionSummary s = geostation::intersectRays( observations );
     const QString status = QString::fromStdString( geostation::intersectionStatusName( s.status ) );
-    ++statusCounts[status];
+    statusCounts.add( status );
     QgsFeature f( fields );
     QgsAttributes attributes;
     const QVariant none;
@@ -179,32 +179,24 @@ QVariantMap IntersectAlgorithm::processGeoStation( const QVariantMap &parameters
     throw QgsProcessingException( order.isEmpty() ? QObject::tr( "The observations table is empty." )
                                   : QObject::tr( "No point could be intersected: %1" ).arg( skipped.mid( 0, 5 ).join( QLatin1String( "; " ) ) ) );
 
-  QString destination;
-  std::unique_ptr<QgsFeatureSink> sink( parameterAsSink( parameters, QStringLiteral( "OUTPUT" ), context, destination, fields, QgsWkbTypes::PointZ, crs ) );
-  if ( !sink )
-    throw QgsProcessingException( invalidSinkError( parameters, QStringLiteral( "OUTPUT" ) ) );
+  OutputSink sink = openOutput( parameters, QStringLiteral( "OUTPUT" ), context, fields, QgsWkbTypes::PointZ, crs );
   for ( QgsFeature &f : features )
-    if ( !sink->addFeature( f, QgsFeatureSink::FastInsert ) )
-      throw QgsProcessingException( writeFeatureError( sink.get(), parameters, QStringLiteral( "OUTPUT" ) ) );
-  sink.reset();
-  GeoStationProcessing::storeMissingGeometriesAsNull( destination ); // a point seen once: its row, no NaN
+    sink.add( f );
+  sink.close( true ); // a point seen once: its row, no NaN
   feedback->setProgress( 100 );
 
   int grossErrors = 0;
   for ( const QgsFeature &f : features )
     grossErrors += f.attribute( QStringLiteral( "gross_error" ) ).toBool() ? 1 : 0;
-  QStringList counts;
-  for ( auto c = statusCounts.constBegin(); c != statusCounts.constEnd(); ++c )
-    counts << QStringLiteral( "%1 %2" ).arg( c.key() ).arg( c.value() );
   feedback->pushInfo( QObject::tr( "%1 of %2 points intersected from %3 observations (%4)." ).arg( intersected ).arg( features.size() ).arg( table.rows.size() )
-                      .arg( counts.join( QLatin1String( ", " ) ) ) );
+                      .arg( statusCounts.text() ) );
   if ( grossErrors )
     feedback->pushWarning( QObject::tr( "%1 points show a gross error (see gross_error and suspect_image)." ).arg( grossErrors ) );
   if ( !skipped.isEmpty() )
     feedback->pushWarning( QObject::tr( "%1 points cannot be intersected (kept with their status and message, without geometry): %2" ).arg( skipped.size() ).arg( skipped.mid( 0, 10 ).join( QLatin1String( "; " ) ) ) );
 
   QVariantMap outputs;
-  outputs.insert( QStringLiteral( "OUTPUT" ), destination );
+  outputs.insert( QStringLiteral( "OUTPUT" ), sink.destination() );
   outputs.insert( QStringLiteral( "POINT_COUNT" ), static_cast<qlonglong>( intersected ) );
   outputs.insert( QStringLiteral( "SKIPPED_COUNT" ), skipped.size() );
   return outputs;

@@ -99,10 +99,7 @@ QVariantMap JoinTracedPiecesAlgorithm::processGeoStation( const QVariantMap &par
   fields.append( QgsField( QStringLiteral( "pieces" ), QVariant::Int ) );
   fields.append( QgsField( QLatin1String( fs::kLengthM ), QVariant::Double ) );
   fields.append( QgsField( QLatin1String( fs::kSigmaMax ), QVariant::Double ) );
-  QString destination;
-  std::unique_ptr<QgsFeatureSink> sink( parameterAsSink( parameters, QStringLiteral( "OUTPUT" ), context, destination, fields, QgsWkbTypes::LineStringZ, source->sourceCrs() ) );
-  if ( !sink )
-    throw QgsProcessingException( invalidSinkError( parameters, QStringLiteral( "OUTPUT" ) ) );
+  OutputSink sink = openOutput( parameters, QStringLiteral( "OUTPUT" ), context, fields, QgsWkbTypes::LineStringZ, source->sourceCrs() );
   QJsonArray lines;
   for ( const geostation::JoinedLine &line : s.lines )
   {
@@ -112,11 +109,10 @@ QVariantMap JoinTracedPiecesAlgorithm::processGeoStation( const QVariantMap &par
     QgsFeature out( fields );
     out.setAttributes( QgsAttributes() << QString::fromStdString( line.lineId ) << line.pieces << length << line.sigmaM );
     out.setGeometry( lineStringZ( line.points ) );
-    if ( !sink->addFeature( out, QgsFeatureSink::FastInsert ) )
-      throw QgsProcessingException( writeFeatureError( sink.get(), parameters, QStringLiteral( "OUTPUT" ) ) );
+    sink.add( out );
     lines.append( QJsonObject { { "line_id", QString::fromStdString( line.lineId ) }, { "pieces", line.pieces }, { "length_m", length } } );
   }
-  QVariantMap outputs { { QStringLiteral( "OUTPUT" ), destination } };
+  QVariantMap outputs { { QStringLiteral( "OUTPUT" ), sink.destination() } };
   QJsonArray disagreements;
   for ( const geostation::PieceDisagreement &d : s.disagreements )
   {

@@ -129,10 +129,7 @@ QVariantMap MatchPointsAlgorithm::processGeoStation( const QVariantMap &paramete
   fields.append( QgsField( QStringLiteral( "score" ), QVariant::Double ) );
   fields.append( QgsField( QLatin1String( fs::kStatus ), QVariant::String ) );
   fields.append( QgsField( QStringLiteral( "reason" ), QVariant::String ) );
-  QString destination;
-  std::unique_ptr<QgsFeatureSink> sink( parameterAsSink( parameters, QStringLiteral( "OUTPUT" ), context, destination, fields, QgsWkbTypes::NoGeometry, QgsCoordinateReferenceSystem() ) );
-  if ( !sink )
-    throw QgsProcessingException( invalidSinkError( parameters, QStringLiteral( "OUTPUT" ) ) );
+  OutputSink sink = openOutput( parameters, QStringLiteral( "OUTPUT" ), context, fields, QgsWkbTypes::NoGeometry, QgsCoordinateReferenceSystem() );
   // a failed match is a row too, with its status and reason and no col/row (docs/conventions.md §8)
   const auto write = [&]( const QString &pointId, const QString &imageId, const std::optional<Eigen::Vector2d> &pixel, double sigma, double score, const QString &status,
                           const QString &reason )
@@ -141,12 +138,11 @@ QVariantMap MatchPointsAlgorithm::processGeoStation( const QVariantMap &paramete
     const QVariant none;
     f.setAttributes( QgsAttributes() << pointId << imageId << ( pixel ? QVariant( pixel->x() ) : none ) << ( pixel ? QVariant( pixel->y() ) : none )
                      << ( pixel ? QVariant( sigma ) : none ) << score << status << ( reason.isEmpty() ? none : QVariant( reason ) ) );
-    if ( !sink->addFeature( f, QgsFeatureSink::FastInsert ) )
-      throw QgsProcessingException( writeFeatureError( sink.get(), parameters, QStringLiteral( "OUTPUT" ) ) );
+    sink.add( f );
   };
 
   long matched = 0, unmatched = 0;
-  QMap<QString, long> statusCounts;
+  StatusTally statusCounts;
   for ( int i = 0; i < table.rows.size(); ++i )
   {
     if ( feedback->isCanceled() )
@@ -182,7 +178,7 @@ QVariantMap MatchPointsAlgorithm::processGeoStation( const QVariantMap &paramete
       else
         m = matcher->match( reference, r.pixel, target, approximate );
       const QString status = QString::fromStdString( geostation::matchStatusName( m.status ) ), reason = QString::fromStdString( m.message );
-      ++statusCounts[status];
+      statusCounts.add( status );
       if ( m.matched() )
       {
         write( r.pointId, targetId, m.pixelInImage, std::max( 0.02, m.sigmaPx ), m.score, status, reason );
@@ -196,12 +192,9 @@ QVariantMap MatchPointsAlgorithm::processGeoStation( const QVariantMap &paramete
       }
     }
   }
-  QStringList counts;
-  for ( auto it = statusCounts.constBegin(); it != statusCounts.constEnd(); ++it )
-    counts << QStringLiteral( "%1 %2" ).arg( it.key() ).arg( it.value() );
-  feedback->pushInfo( QObject::tr( "%1 matches, %2 without a match (%3)." ).arg( matched ).arg( unmatched ).arg( counts.join( QLatin1String( ", " ) ) ) );
+  feedback->pushInfo( QObject::tr( "%1 matches, %2 without a match (%3)." ).arg( matched ).arg( unmatched ).arg( statusCounts.text() ) );
   QVariantMap outputs;
-  outputs.insert( QStringLiteral( "OUTPUT" ), destination );
+  outputs.insert( QStringLiteral( "OUTPUT" ), sink.destination() );
   outputs.insert( QStringLiteral( "MATCHED_COUNT" ), static_cast<qlonglong>( matched ) );
   outputs.insert( QStringLiteral( "NO_MATCH_COUNT" ), static_cast<qlonglong>( unmatched ) );
   return outputs;

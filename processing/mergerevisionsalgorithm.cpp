@@ -140,34 +140,24 @@ QVariantMap MergeRevisionsAlgorithm::processGeoStation( const QVariantMap &param
   if ( fields.lookupField( QLatin1String( fs::kPairs ) ) >= 0 )
     throw QgsProcessingException( QObject::tr( "The revised maps have a field named pairs, which the output adds: rename it in the map first." ) );
   fields.append( QgsField( QLatin1String( fs::kPairs ), QVariant::String ) );
-  QString destination;
-  std::unique_ptr<QgsFeatureSink> sink( parameterAsSink( parameters, QStringLiteral( "OUTPUT" ), context, destination, fields, QgsWkbTypes::LineStringZ, crs ) );
-  if ( !sink )
-    throw QgsProcessingException( invalidSinkError( parameters, QStringLiteral( "OUTPUT" ) ) );
+  OutputSink sink = openOutput( parameters, QStringLiteral( "OUTPUT" ), context, fields, QgsWkbTypes::LineStringZ, crs );
   for ( const geostation::MergedRevisionPiece &m : s.pieces )
   {
     QgsFeature f = mergedRow( m, layers[m.pairIndex].rows[static_cast<int>( m.pieceIndex )], fields, keys.keyOf( m.piece.road ) );
-    if ( !sink->addFeature( f, QgsFeatureSink::FastInsert ) )
-      throw QgsProcessingException( writeFeatureError( sink.get(), parameters, QStringLiteral( "OUTPUT" ) ) );
+    sink.add( f );
   }
-  sink.reset();
-  storeMissingGeometriesAsNull( destination );
-  QVariantMap result { { QStringLiteral( "OUTPUT" ), destination } };
+  QVariantMap result { { QStringLiteral( "OUTPUT" ), sink.close( true ) } };
 
   if ( outputRequested( parameters, QStringLiteral( "VERTICES_OUTPUT" ) ) )
   {
     const QgsFields vertexFields = revisionVertexFields();
-    QString vertexDestination;
-    std::unique_ptr<QgsFeatureSink> vertexSink( parameterAsSink( parameters, QStringLiteral( "VERTICES_OUTPUT" ), context, vertexDestination, vertexFields, QgsWkbTypes::NoGeometry, QgsCoordinateReferenceSystem() ) );
-    if ( !vertexSink )
-      throw QgsProcessingException( invalidSinkError( parameters, QStringLiteral( "VERTICES_OUTPUT" ) ) );
+    OutputSink vertexSink = openOutput( parameters, QStringLiteral( "VERTICES_OUTPUT" ), context, vertexFields, QgsWkbTypes::NoGeometry, QgsCoordinateReferenceSystem() );
     for ( size_t i = 0; i < s.pieces.size(); ++i )
     {
       QgsFeatureList rows = revisionVertexRows( s.pieces[i].piece, static_cast<int>( i + 1 ), vertexFields );
-      if ( !vertexSink->addFeatures( rows, QgsFeatureSink::FastInsert ) )
-        throw QgsProcessingException( writeFeatureError( vertexSink.get(), parameters, QStringLiteral( "VERTICES_OUTPUT" ) ) );
+      vertexSink.add( rows );
     }
-    result.insert( QStringLiteral( "VERTICES_OUTPUT" ), vertexDestination );
+    result.insert( QStringLiteral( "VERTICES_OUTPUT" ), vertexSink.destination() );
   }
 
   std::map<std::string, std::pair<int, double>> byStatus;

@@ -132,10 +132,7 @@ QVariantMap MergeRoadNetworksAlgorithm::processGeoStation( const QVariantMap &pa
   fields.append( QgsField( QLatin1String( fs::kPairs ), QVariant::String ) );
   fields.append( QgsField( QLatin1String( fs::kLengthM ), QVariant::Double ) );
   fields.append( QgsField( QLatin1String( fs::kSigmaMax ), QVariant::Double ) );
-  QString destination;
-  std::unique_ptr<QgsFeatureSink> sink( parameterAsSink( parameters, QStringLiteral( "OUTPUT" ), context, destination, fields, QgsWkbTypes::LineStringZ, crs ) );
-  if ( !sink )
-    throw QgsProcessingException( invalidSinkError( parameters, QStringLiteral( "OUTPUT" ) ) );
+  OutputSink sink = openOutput( parameters, QStringLiteral( "OUTPUT" ), context, fields, QgsWkbTypes::LineStringZ, crs );
   double lengthOut = 0.0;
   for ( size_t i = 0; i < s.lines.size(); ++i )
   {
@@ -145,11 +142,10 @@ QVariantMap MergeRoadNetworksAlgorithm::processGeoStation( const QVariantMap &pa
     QgsFeature f( fields );
     f.setAttributes( QgsAttributes() << static_cast<int>( i + 1 ) << pairs.join( ';' ) << s.lines[i].lengthM() << s.lines[i].sigmaM );
     f.setGeometry( lineStringZ( s.lines[i].points ) );
-    if ( !sink->addFeature( f, QgsFeatureSink::FastInsert ) )
-      throw QgsProcessingException( writeFeatureError( sink.get(), parameters, QStringLiteral( "OUTPUT" ) ) );
+    sink.add( f );
     lengthOut += s.lines[i].lengthM();
   }
-  QVariantMap outputs { { QStringLiteral( "OUTPUT" ), destination } };
+  QVariantMap outputs { { QStringLiteral( "OUTPUT" ), sink.destination() } };
   const QString reportPath = parameterAsFileOutput( parameters, QStringLiteral( "REPORT" ), context );
   if ( !reportPath.isEmpty() )
   {

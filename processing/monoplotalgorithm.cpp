@@ -155,7 +155,7 @@ QVariantMap MonoplotAlgorithm::processGeoStation( const QVariantMap &parameters,
   // large DEM hole, above the horizon, a vertex outside the frame) is kept with an empty geometry and its
   // status; the run fails only when no feature at all can be monoplotted, and then leaves no file.
   QVector<QgsFeature> features;
-  QMap<QString, long> statusCounts;
+  StatusTally statusCounts;
   long resolved = 0, failed = 0, cut = 0, bridgedVertices = 0;
   QString firstProblem;
   constexpr int kWarningsShown = 20;
@@ -205,7 +205,7 @@ QVariantMap MonoplotAlgorithm::processGeoStation( const QVariantMap &parameters,
           feedback->pushWarning( message );
       }
     }
-    ++statusCounts[status];
+    statusCounts.add( status );
     const bool ok = out.hasGeometry(); // monoplotted, perhaps in part
     const QVariant none;
     attributes << ( ok ? QVariant( mono.worst.x() ) : none ) << ( ok ? QVariant( mono.worst.y() ) : none ) << ( ok ? QVariant( mono.worst.z() ) : none )
@@ -220,21 +220,12 @@ QVariantMap MonoplotAlgorithm::processGeoStation( const QVariantMap &parameters,
     throw QgsProcessingException( failed == 1 ? firstProblem : QObject::tr( "None of the %1 features can be monoplotted; the first: %2" ).arg( failed ).arg( firstProblem ) );
   if ( failed + cut > kWarningsShown )
     feedback->pushWarning( QObject::tr( "… and %1 more features that cannot be monoplotted, or only in part (see their status and message)." ).arg( failed + cut - kWarningsShown ) );
-  QStringList counts;
-  for ( auto c = statusCounts.constBegin(); c != statusCounts.constEnd(); ++c )
-    counts << QStringLiteral( "%1 %2" ).arg( c.key() ).arg( c.value() );
-  feedback->pushInfo( QObject::tr( "%1 of %2 features monoplotted (%3)." ).arg( resolved ).arg( features.size() ).arg( counts.join( QLatin1String( ", " ) ) ) );
+  feedback->pushInfo( QObject::tr( "%1 of %2 features monoplotted (%3)." ).arg( resolved ).arg( features.size() ).arg( statusCounts.text() ) );
 
-  QString destination;
-  std::unique_ptr<QgsFeatureSink> sink( parameterAsSink( parameters, QStringLiteral( "OUTPUT" ), context, destination, fields,
-                                        QgsWkbTypes::addZ( source->wkbType() ), crs ) );
-  if ( !sink )
-    throw QgsProcessingException( invalidSinkError( parameters, QStringLiteral( "OUTPUT" ) ) );
+  OutputSink sink = openOutput( parameters, QStringLiteral( "OUTPUT" ), context, fields, QgsWkbTypes::addZ( source->wkbType() ), crs );
   for ( QgsFeature &out : features )
-    if ( !sink->addFeature( out, QgsFeatureSink::FastInsert ) )
-      throw QgsProcessingException( writeFeatureError( sink.get(), parameters, QStringLiteral( "OUTPUT" ) ) );
-  sink.reset();
-  GeoStationProcessing::storeMissingGeometriesAsNull( destination ); // an unresolved feature: its row and status, no NaN
+    sink.add( out );
+  sink.close( true ); // an unresolved feature: its row and status, no NaN
   feedback->setProgress( 100 );
   if ( dem->filledCellCount() > 0 )
     feedback->pushInfo( QObject::tr( "%1 DEM cells in nodata holes were filled from their neighbours." ).arg( dem->filledCellCount() ) );
@@ -243,7 +234,7 @@ QVariantMap MonoplotAlgorithm::processGeoStation( const QVariantMap &parameters,
                         .arg( dem->bridgedCellCount() ).arg( bridgedVertices ) );
 
   QVariantMap outputs;
-  outputs.insert( QStringLiteral( "OUTPUT" ), destination );
+  outputs.insert( QStringLiteral( "OUTPUT" ), sink.destination() );
   outputs.insert( QStringLiteral( "FILLED_DEM_CELLS" ), static_cast<double>( dem->filledCellCount() ) );
   outputs.insert( QStringLiteral( "BRIDGED_DEM_CELLS" ), static_cast<double>( dem->bridgedCellCount() ) );
   outputs.insert( QStringLiteral( "BRIDGED_VERTICES" ), static_cast<double>( bridgedVertices ) );

@@ -200,10 +200,7 @@ QVariantMap ProjectToImageAlgorithm::processGeoStation( const QVariantMap &param
   const QgsFields outFields = QgsProcessingUtils::combineFields( source->fields(), newFields );
   const QgsWkbTypes::Type outType = QgsWkbTypes::flatType( source->wkbType() );
 
-  QString destination;
-  std::unique_ptr<QgsFeatureSink> sink( parameterAsSink( parameters, QStringLiteral( "OUTPUT" ), context, destination, outFields, outType, QgsCoordinateReferenceSystem() ) );
-  if ( !sink )
-    throw QgsProcessingException( invalidSinkError( parameters, QStringLiteral( "OUTPUT" ) ) );
+  OutputSink sink = openOutput( parameters, QStringLiteral( "OUTPUT" ), context, outFields, outType, QgsCoordinateReferenceSystem() );
 
   long long projectedCount = 0, inFrameCount = 0;
   for ( ProjectedFeature &r : results )
@@ -214,14 +211,13 @@ QVariantMap ProjectToImageAlgorithm::processGeoStation( const QVariantMap &param
     outFeature.setAttributes( attributes );
     if ( r.projected )
       outFeature.setGeometry( r.geometryInImage );
-    if ( !sink->addFeature( outFeature, QgsFeatureSink::FastInsert ) )
-      throw QgsProcessingException( writeFeatureError( sink.get(), parameters, QStringLiteral( "OUTPUT" ) ) );
+    sink.add( outFeature );
     projectedCount += r.projected ? 1 : 0;
     inFrameCount += r.inFrame ? 1 : 0;
   }
-  sink.reset(); // closes a file output
-  GeoStationProcessing::markPixelSpaceOutput( destination );
-  GeoStationProcessing::storeMissingGeometriesAsNull( destination ); // behind the camera: its row, no NaN
+  sink.close(); // closes a file output
+  GeoStationProcessing::markPixelSpaceOutput( sink.destination() );
+  GeoStationProcessing::storeMissingGeometriesAsNull( sink.destination() ); // behind the camera: its row, no NaN
   feedback->setProgress( 100 );
 
   feedback->pushInfo( QObject::tr( "%1 of %2 features projected into image %3 (%4 in the frame)." )
@@ -234,7 +230,7 @@ QVariantMap ProjectToImageAlgorithm::processGeoStation( const QVariantMap &param
     feedback->pushWarning( QObject::tr( "%1 features lie far outside the camera's field of view, where its lens model is not valid, and were not projected." ).arg( outsideFieldCount ) );
 
   QVariantMap outputs;
-  outputs.insert( QStringLiteral( "OUTPUT" ), destination );
+  outputs.insert( QStringLiteral( "OUTPUT" ), sink.destination() );
   outputs.insert( QStringLiteral( "PROJECTED_COUNT" ), projectedCount );
   outputs.insert( QStringLiteral( "IN_FRAME_COUNT" ), inFrameCount );
   outputs.insert( QStringLiteral( "BEHIND_CAMERA_COUNT" ), behindCount );

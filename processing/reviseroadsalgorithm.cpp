@@ -144,50 +144,37 @@ QVariantMap ReviseRoadsAlgorithm::processGeoStation( const QVariantMap &paramete
 
   // outputs, only now
   const GeoStationProcessing::RevisedMapFields fields = GeoStationProcessing::revisedMapFields( map->fields() );
-  QString destination;
-  std::unique_ptr<QgsFeatureSink> sink( parameterAsSink( parameters, QStringLiteral( "OUTPUT" ), context, destination, fields.fields, QgsWkbTypes::LineStringZ, blockCrs ) );
-  if ( !sink )
-    throw QgsProcessingException( invalidSinkError( parameters, QStringLiteral( "OUTPUT" ) ) );
+  OutputSink sink = openOutput( parameters, QStringLiteral( "OUTPUT" ), context, fields.fields, QgsWkbTypes::LineStringZ, blockCrs );
   for ( const geostation::RevisedPiece &p : s.pieces )
   {
     QgsFeature f = GeoStationProcessing::revisedMapFeature( p, lines.source[p.road], lines.part[p.road], fields );
-    if ( !sink->addFeature( f, QgsFeatureSink::FastInsert ) )
-      throw QgsProcessingException( writeFeatureError( sink.get(), parameters, QStringLiteral( "OUTPUT" ) ) );
+    sink.add( f );
   }
-  sink.reset();
-  GeoStationProcessing::storeMissingGeometriesAsNull( destination );
-  QVariantMap outputs { { QStringLiteral( "OUTPUT" ), destination } };
+  sink.close( true );
+  QVariantMap outputs { { QStringLiteral( "OUTPUT" ), sink.destination() } };
 
   if ( outputRequested( parameters, QStringLiteral( "VERTICES" ) ) )
   {
     const QgsFields vertexFields = GeoStationProcessing::revisionVertexFields();
-    QString vertexDestination;
-    std::unique_ptr<QgsFeatureSink> vertexSink( parameterAsSink( parameters, QStringLiteral( "VERTICES" ), context, vertexDestination, vertexFields, QgsWkbTypes::NoGeometry, QgsCoordinateReferenceSystem() ) );
-    if ( !vertexSink )
-      throw QgsProcessingException( invalidSinkError( parameters, QStringLiteral( "VERTICES" ) ) );
+    OutputSink vertexSink = openOutput( parameters, QStringLiteral( "VERTICES" ), context, vertexFields, QgsWkbTypes::NoGeometry, QgsCoordinateReferenceSystem() );
     for ( size_t i = 0; i < s.pieces.size(); ++i )
     {
       QgsFeatureList rows = GeoStationProcessing::revisionVertexRows( s.pieces[i], static_cast<int>( i + 1 ), vertexFields );
-      if ( !vertexSink->addFeatures( rows, QgsFeatureSink::FastInsert ) )
-        throw QgsProcessingException( writeFeatureError( vertexSink.get(), parameters, QStringLiteral( "VERTICES" ) ) );
+      vertexSink.add( rows );
     }
-    outputs.insert( QStringLiteral( "VERTICES" ), vertexDestination );
+    outputs.insert( QStringLiteral( "VERTICES" ), vertexSink.destination() );
   }
 
   if ( outputRequested( parameters, QStringLiteral( "NEW" ) ) )
   {
     const QgsFields newFields = GeoStationProcessing::newRoadFields();
-    QString newDestination;
-    std::unique_ptr<QgsFeatureSink> newSink( parameterAsSink( parameters, QStringLiteral( "NEW" ), context, newDestination, newFields, QgsWkbTypes::LineStringZ, blockCrs ) );
-    if ( !newSink )
-      throw QgsProcessingException( invalidSinkError( parameters, QStringLiteral( "NEW" ) ) );
+    OutputSink newSink = openOutput( parameters, QStringLiteral( "NEW" ), context, newFields, QgsWkbTypes::LineStringZ, blockCrs );
     for ( size_t i = 0; i < s.newRoads.size(); ++i )
     {
       QgsFeature f = GeoStationProcessing::newRoadFeature( s.newRoads[i], static_cast<int>( i + 1 ), newFields );
-      if ( !newSink->addFeature( f, QgsFeatureSink::FastInsert ) )
-        throw QgsProcessingException( writeFeatureError( newSink.get(), parameters, QStringLiteral( "NEW" ) ) );
+      newSink.add( f );
     }
-    outputs.insert( QStringLiteral( "NEW" ), newDestination );
+    outputs.insert( QStringLiteral( "NEW" ), newSink.destination() );
   }
   const QString reportPath = parameterAsFileOutput( parameters, QStringLiteral( "REPORT" ), context );
   if ( !reportPath.isEmpty() )

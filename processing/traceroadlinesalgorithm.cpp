@@ -9,6 +9,7 @@
  ***************************************************************************/
 #include "traceroadlinesalgorithm.h"
 
+#include <optional>
 #include <cmath>
 
 #include <qgsexception.h>
@@ -153,17 +154,15 @@ QVariantMap TraceRoadLinesAlgorithm::processGeoStation( const QVariantMap &param
   addField( QLatin1String( fs::kSigmaMax ), QVariant::Double );
   addField( QLatin1String( fs::kStopReason ), QVariant::String );
   addField( QLatin1String( fs::kMessage ), QVariant::String );
-  QString destination;
-  std::unique_ptr<QgsFeatureSink> sink( parameterAsSink( parameters, QStringLiteral( "OUTPUT" ), context, destination, fields, QgsWkbTypes::LineStringZ, crs ) );
-  if ( !sink )
-    throw QgsProcessingException( invalidSinkError( parameters, QStringLiteral( "OUTPUT" ) ) );
+  OutputSink sink = openOutput( parameters, QStringLiteral( "OUTPUT" ), context, fields, QgsWkbTypes::LineStringZ, crs );
   QgsFields vertexFields;
   for ( const auto &[name, type] : std::vector<std::pair<const char *, QVariant::Type>> { { "seed_id", QVariant::String }, { fs::kVertex, QVariant::Int }, { fs::kX, QVariant::Double },
         { fs::kY, QVariant::Double }, { fs::kZ, QVariant::Double }, { fs::kSx, QVariant::Double }, { fs::kSy, QVariant::Double }, { fs::kSz, QVariant::Double },
         { fs::kStation, QVariant::String }, { fs::kImageIds, QVariant::String }, { fs::kResidualsPx, QVariant::String } } )
     vertexFields.append( QgsField( QString::fromLatin1( name ), type ) );
-  QString vertexDestination;
-  std::unique_ptr<QgsFeatureSink> vertexSink( parameterAsSink( parameters, QStringLiteral( "VERTICES" ), context, vertexDestination, vertexFields, QgsWkbTypes::NoGeometry, QgsCoordinateReferenceSystem() ) );
+  std::optional<OutputSink> vertexSink;
+  if ( outputRequested( parameters, QStringLiteral( "VERTICES" ) ) )
+    vertexSink.emplace( openOutput( parameters, QStringLiteral( "VERTICES" ), context, vertexFields, QgsWkbTypes::NoGeometry ) );
 
   for ( size_t i = 0; i < results.size(); ++i )
   {
@@ -191,8 +190,7 @@ QVariantMap TraceRoadLinesAlgorithm::processGeoStation( const QVariantMap &param
       }
       f.setGeometry( QgsGeometry( new QgsLineString( x, y, z ) ) );
     }
-    if ( !sink->addFeature( f, QgsFeatureSink::FastInsert ) )
-      throw QgsProcessingException( writeFeatureError( sink.get(), parameters, QStringLiteral( "OUTPUT" ) ) );
+    sink.add( f );
     if ( !vertexSink )
       continue;
     for ( size_t k = 0; k < s.vertices.size(); ++k )
@@ -207,18 +205,14 @@ QVariantMap TraceRoadLinesAlgorithm::processGeoStation( const QVariantMap &param
       QgsFeature vf( vertexFields );
       vf.setAttributes( QgsAttributes() << QString::fromStdString( seeds[i].seed.id ) << static_cast<int>( k ) << v.point.x() << v.point.y() << v.point.z() << v.sigmaM.x()
                         << v.sigmaM.y() << v.sigmaM.z() << QString::fromStdString( v.stationId ) << ids.join( ';' ) << residuals.join( ';' ) );
-      if ( !vertexSink->addFeature( vf, QgsFeatureSink::FastInsert ) )
-        throw QgsProcessingException( writeFeatureError( vertexSink.get(), parameters, QStringLiteral( "VERTICES" ) ) );
+      vertexSink->add( vf );
     }
   }
-  const bool verticesWritten = vertexSink != nullptr;
-  sink.reset();
-  vertexSink.reset();
-  GeoStationProcessing::storeMissingGeometriesAsNull( destination ); // a seed not traced: its row and reason, no geometry
+  sink.close( true ); // a seed not traced: its row and reason, no geometry
   QVariantMap outputs;
-  outputs.insert( QStringLiteral( "OUTPUT" ), destination );
-  if ( verticesWritten )
-    outputs.insert( QStringLiteral( "VERTICES" ), vertexDestination );
+  outputs.insert( QStringLiteral( "OUTPUT" ), sink.destination() );
+  if ( vertexSink )
+    outputs.insert( QStringLiteral( "VERTICES" ), vertexSink->close() );
   outputs.insert( QStringLiteral( "TRACED_COUNT" ), traced );
   outputs.insert( QStringLiteral( "FAILED_COUNT" ), static_cast<int>( results.size() ) - traced );
   return outputs;
