@@ -1,7 +1,7 @@
 /***************************************************************************
   greyimagesource.cpp - block images as 8-bit grey, for tracing
  ***************************************************************************/
-#include "tracing/roadtracer.h"
+#include "tracing/greyimagesource.h"
 
 #include <list>
 #include <mutex>

@@ -31,6 +31,7 @@
 
 #include "io/block.h"
 #include "progress/progress.h"
+#include "tracing/greyimagesource.h"
 #include "tracing/lineprofile.h"
 #include "tracing/handovermatcher.h"
 #include "tracing/heightcontinuity.h"
@@ -49,15 +50,6 @@ namespace geostation
     Eigen::Vector2d pixelInImage = Eigen::Vector2d::Zero();
     std::optional<double> directionDeg; //!< 0 = up the image, clockwise
   };
-
-  /**
-   * The 8-bit grey image of a block image; nullptr and `error` (one
-   * sentence) when it cannot be read.
-   */
-  using GreyImageSource = std::function<std::shared_ptr<const cv::Mat>( const BlockImage &, std::string &error )>;
-
-  //! Reads block images with GDAL and keeps the last `capacity` in memory. The block is referenced: keep it alive.
-  GreyImageSource fileGreyImageSource( const Block &block, size_t capacity = 6 );
 
   struct TracedStation
   {
