@@ -103,7 +103,7 @@ namespace geostation
         HandoverOptions handover = options.handover;
         handover.searchAcrossPx = std::clamp( disagreementPx, options.handover.searchAcrossPx, options.handover.maxSearchAcrossPx );
         const HandoverMatch m = refineHandover( *in.referenceGrey, *in.reference, vertices[i].pixels.front(), *in.nextGrey, next, nextGround, d, handover );
-        if ( !m.ok )
+        if ( !m.found )
           continue;
         LineProfile expected = profile;
         if ( expected.kind != LineKind::Edge && widthTimesRange > 0 )

@@ -95,7 +95,7 @@ namespace geostation
     const auto at = [&]( double t ) { return correlation( values, positions, nextGrey, t * across + bestShift.y() * along ); };
     const double cm = at( bestShift.x() - 1.0 ), cp = at( bestShift.x() + 1.0 ), denom = cm - 2.0 * best + cp;
     const double subpixel = denom < 0 ? std::clamp( 0.5 * ( cm - cp ) / denom, -0.5, 0.5 ) : 0.0;
-    out.ok = true;
+    out.found = true;
     out.score = best;
     out.shiftPx = Eigen::Vector2d( bestShift.x() + subpixel, bestShift.y() );
     out.pixelInNext = predictedInNext + out.shiftPx.x() * across + out.shiftPx.y() * along;

@@ -37,7 +37,7 @@ namespace geostation
 
   struct HandoverMatch
   {
-    bool ok = false;
+    bool found = false; //!< the window matched (score and contrast enough); the rest is valid only then
     Eigen::Vector2d pixelInNext = Eigen::Vector2d::Zero();
     double score = 0.0;
     Eigen::Vector2d shiftPx = Eigen::Vector2d::Zero(); //!< across, along the line: from where the two poses put the point

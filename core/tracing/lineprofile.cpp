@@ -389,6 +389,7 @@ namespace geostation
       }
       if ( candidates.empty() )
         {
+          out.status = SeedAnalysis::Status::NoLine;
           out.message = "no edge or painted line within " + std::to_string( static_cast<int>( options.searchRadiusPx ) ) + " px of the seed";
           return out;
         }
@@ -456,7 +457,7 @@ namespace geostation
           direction = measured->dot( direction ) < 0 ? Eigen::Vector2d( -*measured ) : *measured; // (an edge's polarity is relative to the sense of travel, which is kept)
 
       out.direction = direction;
-      out.ok = true;
+      out.status = SeedAnalysis::Status::Ok;
       // support: the line found again along the direction, on the course it sets; where it is found at
       // three or more of these, the direction from all of them (a crack or a notch near the click bends the
       // nearer ones)
@@ -481,14 +482,12 @@ namespace geostation
     if ( grey.empty() || grey.type() != CV_8UC1 )
       throw std::invalid_argument( "analyseSeed needs an 8-bit grey image" );
     SeedAnalysis out;
-    const auto fail = [&]( const std::string &why )
-    {
-      out.ok = false;
-      out.message = why;
-      return out;
-    };
     if ( !sampleGrey( grey, seedPixel ) )
-      return fail( "the seed lies outside the image" );
+    {
+      out.status = SeedAnalysis::Status::OutsideImage;
+      out.message = "the seed lies outside the image";
+      return out;
+    }
     Eigen::Vector2d direction;
     if ( directionDeg )
       direction = directionFromDegrees( *directionDeg );
@@ -499,7 +498,7 @@ namespace geostation
 
     int support = 0;
     out = analyseAlong( grey, seedPixel, direction, options, support );
-    if ( !out.ok )
+    if ( !out.ok() )
       return out;
     // a line found across the direction measured at the click that is not found along it (a crack or a
     // worn notch across a stripe turns the measured direction): the direction a line of at least 70 % of
@@ -512,7 +511,7 @@ namespace geostation
       {
         int other = 0;
         const SeedAnalysis a = analyseAlong( grey, seedPixel, upOrRight( directionFromDegrees( degrees ) ), options, other );
-        if ( a.ok && other >= support + 2 && a.profile.contrast >= ( other == 8 ? 0.5 : 0.7 ) * contrast )
+        if ( a.ok() && other >= support + 2 && a.profile.contrast >= ( other == 8 ? 0.5 : 0.7 ) * contrast )
         {
           out = a;
           support = other;
@@ -534,7 +533,7 @@ namespace geostation
           const Eigen::Vector2d along = upOrRight( directionFromDegrees( degrees ) );
           int other = 0;
           SeedAnalysis a = analyseAlong( grey, seedPixel + step * along, along, options, other );
-          if ( !a.ok || other < 5 || a.profile.contrast < 0.7 * contrast )
+          if ( !a.ok() || other < 5 || a.profile.contrast < 0.7 * contrast )
             continue;
           const double across = std::abs( rightNormal( a.direction ).dot( seedPixel - a.pixelInImage ) );
           const double reachPx = a.profile.kind == LineKind::Edge ? 2.0 : 0.3 * a.profile.widthPx;

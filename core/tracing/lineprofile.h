@@ -56,8 +56,15 @@ namespace geostation
 
   struct SeedAnalysis
   {
-    bool ok = false;
+    enum class Status
+    {
+      Ok,
+      OutsideImage, //!< the click is not on the image
+      NoLine,       //!< no edge or painted line within SeedOptions::searchRadiusPx of it
+    };
+    Status status = Status::NoLine;
     std::string message;          //!< one sentence when not ok
+    bool ok() const { return status == Status::Ok; }
     Eigen::Vector2d pixelInImage = Eigen::Vector2d::Zero(); //!< snapped onto the line
     Eigen::Vector2d direction = Eigen::Vector2d( 0, -1 );
     LineProfile profile;

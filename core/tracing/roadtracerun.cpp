@@ -191,7 +191,7 @@ namespace geostation
       return false;
     }
     const SeedAnalysis analysis = analyseSeed( *mReferenceGrey, mSeed.pixelInImage, mSeed.directionDeg, mOptions.seed );
-    if ( !analysis.ok )
+    if ( !analysis.ok() )
     {
       stopWith( TraceStop::NoEdge, "in " + mSeedImage.id + ": " + analysis.message );
       return false;

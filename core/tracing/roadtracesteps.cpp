@@ -124,7 +124,7 @@ namespace geostation
     all.unconfirmed += stereo.multiStation.unconfirmed;
     all.weightedSquares += stereo.multiStation.weightedSquares;
     all.redundancy += stereo.multiStation.redundancy;
-    if ( !stereo.partnerStart.ok )
+    if ( !stereo.partnerStart.ok() )
     {
       record.partnerMessage = stereo.partnerStart.message;
       return stereo;
@@ -202,7 +202,7 @@ namespace geostation
     if ( groundLine.size() < 2 || mLineDirection.isZero() )
     {
       stopWith( TraceStop::NoEdge, "no vertex of " + at.referenceImage->id + " could be matched in " + at.partnerImage->id +
-                ( partnerStart.ok ? std::string() : " (" + partnerStart.message + ")" ) );
+                ( partnerStart.ok() ? std::string() : " (" + partnerStart.message + ")" ) );
       return false;
     }
     return true;

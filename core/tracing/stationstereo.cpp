@@ -39,10 +39,10 @@ namespace geostation
       ++tries;
       const Eigen::Vector2d along = ( points[std::min( i + 1, points.size() - 1 )] - points[i == 0 ? 0 : i - 1] ).normalized();
       out.partnerStart = matchStartInPartner( ref, points[i], along, par, ground, in.referenceLine.profile, options.start );
-      if ( out.partnerStart.ok )
+      if ( out.partnerStart.ok() )
         break;
     }
-    if ( !out.partnerStart.ok )
+    if ( !out.partnerStart.ok() )
       return out;
 
     // the partner: the same method from the start found there, both ways so it covers all of the reference line

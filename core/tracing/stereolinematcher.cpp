@@ -178,18 +178,19 @@ namespace geostation
     StartMatch out;
     const int across = std::max( options.windowAcrossPx, profile.kind == LineKind::Edge ? 0 : static_cast<int>( 2.5 * profile.widthPx + 4 ) ) | 1;
     const int along = std::max( options.windowAlongPx, 3 * across ) | 1;
-    const auto fail = [&]( const std::string &why )
+    const auto fail = [&]( StartMatch::Status status, const std::string &why )
     {
+      out.status = status;
       out.message = why;
       return out;
     };
     const std::optional<Eigen::Vector3d> ground = groundOfPixel( *reference.image, pixelInReference );
     const std::optional<Eigen::Vector3d> further = groundOfPixel( *reference.image, pixelInReference + 20.0 * directionInReference );
     if ( !ground || !further )
-      return fail( "the start's ray does not reach the road surface" );
+      return fail( StartMatch::Status::NoGround, "the start's ray does not reach the road surface" );
     const GroundProjection predicted = partner.image->projectGroundToPixel( *ground ), ahead = partner.image->projectGroundToPixel( *further );
     if ( !predicted.ok() || !predicted.inFrame || !ahead.ok() )
-      return fail( "the start is not in view of " + partner.imageId );
+      return fail( StartMatch::Status::NotInView, "the start is not in view of " + partner.imageId );
     const Eigen::Vector2d directionInPartner = ( ahead.pixelInImage - predicted.pixelInImage ).normalized();
     const double distance = ( *ground - reference.image->exterior().projectionCentre ).norm();
     EpipolarOptions epipolar;
@@ -203,7 +204,7 @@ namespace geostation
       for ( const EpipolarVertex &v : piece )
         curveDistance.push_back( v.distanceM );
     if ( curve.size() < 2 )
-      return fail( "the start's epipolar curve does not reach " + partner.imageId );
+      return fail( StartMatch::Status::NoEpipolarCurve, "the start's epipolar curve does not reach " + partner.imageId );
     // the distances along the ray at which the road surface may lie, +- the height tolerance
     const double depression = std::max( 0.02, ( reference.image->exterior().projectionCentre.z() - ground->z() ) / distance );
     const double nearest = distance - options.heightToleranceM / depression, farthest = distance + options.heightToleranceM / depression;
@@ -216,7 +217,7 @@ namespace geostation
     const Eigen::Vector3d rayDirection = ( *ground - reference.image->exterior().projectionCentre ).normalized();
     std::vector<double> templateValues, values;
     if ( !sampleWindow( *reference.grey, pixelInReference, templateOffsets, templateValues ) )
-      return fail( "the start is too close to the border of " + reference.imageId );
+      return fail( StartMatch::Status::AtBorder, "the start is too close to the border of " + reference.imageId );
     // the curve's vertex nearest the prediction, then every vertex within the search length either side
     size_t foot = 0;
     for ( size_t i = 1; i < curve.size(); ++i )
@@ -251,12 +252,12 @@ namespace geostation
       if ( scored[i].score > scored[best].score )
         best = i;
     if ( scored.empty() || scored[best].score < options.minScore )
-      return fail( "the line was not found in " + partner.imageId + " along the start's epipolar curve (best correlation " +
+      return fail( StartMatch::Status::NotFound, "the line was not found in " + partner.imageId + " along the start's epipolar curve (best correlation " +
                    std::to_string( scored.empty() ? 0.0 : scored[best].score ).substr( 0, 4 ) + ")" );
     // a best score at either end of the candidates is no peak: the correlation still rises where the search
     // ends or the window leaves the partner image, and the line lies beyond (the caller tries a point further on)
     if ( ( best == 0 || best + 1 == scored.size() ) )
-      return fail( "the line's correlation in " + partner.imageId + " peaks at the end of the start's search (best correlation " +
+      return fail( StartMatch::Status::AtSearchEnd, "the line's correlation in " + partner.imageId + " peaks at the end of the start's search (best correlation " +
                    std::to_string( scored[best].score ).substr( 0, 4 ) + "): the start is not in full view there" );
     Eigen::Vector2d pixel = scored[best].pixel;
     {
@@ -269,7 +270,7 @@ namespace geostation
         pixel = shift > 0 ? Eigen::Vector2d( pixel + shift * ( scored[best + 1].pixel - pixel ) ) : Eigen::Vector2d( pixel - shift * ( scored[best - 1].pixel - pixel ) );
       }
     }
-    out.ok = true;
+    out.status = StartMatch::Status::Ok;
     out.pixelInImage = pixel;
     out.direction = directionInPartner;
     {

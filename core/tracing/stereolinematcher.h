@@ -43,8 +43,19 @@ namespace geostation
 
   struct StartMatch
   {
-    bool ok = false;
-    std::string message;
+    enum class Status
+    {
+      Ok,
+      NoGround,         //!< the start's ray does not reach the road surface
+      NotInView,        //!< the partner does not see the start
+      NoEpipolarCurve,  //!< the start's epipolar curve does not reach the partner
+      AtBorder,         //!< the start is too close to the reference image's border for a window
+      NotFound,         //!< no window along the epipolar curve correlates well enough
+      AtSearchEnd,      //!< the best correlation lies at the end of the search: the line may be beyond it
+    };
+    Status status = Status::NotFound;
+    std::string message; //!< one sentence when not ok
+    bool ok() const { return status == Status::Ok; }
     Eigen::Vector2d pixelInImage = Eigen::Vector2d::Zero(); //!< in the partner
     Eigen::Vector2d direction = Eigen::Vector2d( 0, -1 );   //!< the line's direction there
     double score = 0.0;                                     //!< NCC of the best window

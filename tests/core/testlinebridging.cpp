@@ -126,7 +126,9 @@ TEST( LineBridging, AWornCrackAtTheClickDoesNotTurnTheSeedDirection )
   cv::line( grey, pt( onCrack - 14.0 * crack ), pt( onCrack + 14.0 * crack ), cv::Scalar( 60 ), 4 );
   cv::GaussianBlur( grey, grey, cv::Size( 5, 5 ), 1.0 );
   const SeedAnalysis seed = analyseSeed( grey, click, std::nullopt );
-  ASSERT_TRUE( seed.ok ) << seed.message;
+  ASSERT_TRUE( seed.ok() ) << seed.message;
+  EXPECT_EQ( seed.status, SeedAnalysis::Status::Ok );
+  EXPECT_EQ( analyseSeed( grey, Eigen::Vector2d( -4.0, -4.0 ), std::nullopt ).status, SeedAnalysis::Status::OutsideImage );
   EXPECT_EQ( seed.profile.kind, LineKind::BrightStripe );
   EXPECT_GT( std::abs( seed.direction.dot( along ) ), std::cos( 8.0 * 3.14159265358979 / 180.0 ) ) << seed.direction.transpose();
   EXPECT_NEAR( seed.profile.widthPx, 10.0, 2.5 );
@@ -146,7 +148,7 @@ TEST( LineBridging, AClickOnAShortDashKeepsTheDashsDirection )
     cv::line( grey, pt( click - 7.0 * along ), pt( click + 7.0 * along ), cv::Scalar( 190 ), 4 );
     cv::GaussianBlur( grey, grey, cv::Size( 5, 5 ), 0.8 );
     const SeedAnalysis seed = analyseSeed( grey, click, std::nullopt );
-    ASSERT_TRUE( seed.ok ) << seed.message;
+    ASSERT_TRUE( seed.ok() ) << seed.message;
     EXPECT_EQ( seed.profile.kind, LineKind::BrightStripe );
     EXPECT_GT( std::abs( seed.direction.dot( along ) ), std::cos( 10.0 * 3.14159265358979 / 180.0 ) ) << seed.direction.transpose();
   }
@@ -207,7 +209,7 @@ TEST( LineBridging, TheLineBeyondAGapHasTheSidesItHadBefore )
   cv::fillPoly( grey, std::vector<std::vector<cv::Point>> { stone }, cv::Scalar( 120 ) );
   cv::GaussianBlur( grey, grey, cv::Size( 5, 5 ), 1.0 );
   const SeedAnalysis seed = analyseSeed( grey, Eigen::Vector2d( 200.0, 360.0 ), std::nullopt );
-  ASSERT_TRUE( seed.ok ) << seed.message;
+  ASSERT_TRUE( seed.ok() ) << seed.message;
   ASSERT_EQ( seed.profile.kind, LineKind::Edge );
   FollowRequest request;
   request.start = seed.pixelInImage;

@@ -105,7 +105,7 @@ namespace
   {
     Traced t;
     t.seed = analyseSeed( grey, click, std::nullopt );
-    if ( !t.seed.ok )
+    if ( !t.seed.ok() )
       return t;
     FollowRequest request;
     request.start = t.seed.pixelInImage;
@@ -173,7 +173,7 @@ namespace
         const Eigen::Vector2d onLine = pointAlong( truth, along );
         Traced candidate = traceFromClick( view, toView ? apply( *toView, onLine ) : onLine, method );
         const Eigen::Vector2d snapped = toView ? apply( fromView, candidate.seed.pixelInImage ) : candidate.seed.pixelInImage;
-        if ( candidate.seed.ok && candidate.seed.profile.kind == kind && distanceToLines( snapped, { truth } ) <= 2.0 )
+        if ( candidate.seed.ok() && candidate.seed.profile.kind == kind && distanceToLines( snapped, { truth } ) <= 2.0 )
           t = candidate;
       }
       if ( !t )
@@ -227,7 +227,7 @@ TEST( RealRoadTracing, PathEdgeFromOneClickInARealPhotograph )
       {
         const Eigen::Vector2d click = otherView ? apply( toOther, clickInPhoto ) : clickInPhoto;
         const Traced t = traceFromClick( otherView ? other : photo, click, method );
-        ASSERT_TRUE( t.seed.ok ) << t.seed.message;
+        ASSERT_TRUE( t.seed.ok() ) << t.seed.message;
         EXPECT_EQ( t.seed.profile.kind, LineKind::Edge );
         // in the photo's pixels, and within its frame: the other view's margin has no truth (its border replicated)
         const ImageBufferScore s = imageBufferScore( inPhoto( t.follow.line.points, otherView ? &fromOther : nullptr, photo.size() ), truth, bufferPx );
@@ -309,7 +309,7 @@ TEST( RealRoadTracing, KerbOnCobblesInTwoPhotographsOfOneStreet )
       for ( const TraceMethod method : { TraceMethod::LeastSquares, TraceMethod::Polynomial, TraceMethod::Directional } )
       {
         const Traced t = traceFromClick( grey, click, method );
-        ASSERT_TRUE( t.seed.ok ) << t.seed.message;
+        ASSERT_TRUE( t.seed.ok() ) << t.seed.message;
         const double seedOff = distanceToLines( t.seed.pixelInImage, { photo.kerb } );
         const ImageBufferScore s = imageBufferScore( { t.follow.line.points }, { photo.kerb }, bufferPx );
         std::printf( "%-8s (%3.0f, %3.0f)   %-14s  %-12s %5.1f px %11.3f %11.3f %8.2f %9.2f  %s\n", name.c_str(), click.x(), click.y(), traceMethodName( method ).c_str(),

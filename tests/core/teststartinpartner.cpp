@@ -95,7 +95,7 @@ TEST( StartInPartner, FoundThroughTheRoadSurfaceAtAnotherScale )
       return Eigen::Vector3d( ray->origin + ( kRoadZ + 0.25 - ray->origin.z() ) / ray->direction.z() * ray->direction );
     };
     const StartMatch match = matchStartInPartner( ref, pixel, direction, { "partner", &partner->image, &partner->grey }, raised, stripe );
-    ASSERT_TRUE( match.ok ) << ( partner == &ahead ? "ahead: " : "beside: " ) << match.message;
+    ASSERT_TRUE( match.ok() ) << ( partner == &ahead ? "ahead: " : "beside: " ) << match.message;
     EXPECT_LT( ( match.pixelInImage - truth ).norm(), 0.7 ) << ( partner == &ahead ? "ahead" : "beside" );
     EXPECT_GT( match.score, 0.8 );
     EXPECT_GT( match.direction.dot( truthDirection ), std::cos( 3.0 * M_PI / 180.0 ) );
@@ -123,12 +123,13 @@ TEST( StartInPartner, NoMatchWhereTheWindowLeavesThePartner )
   const GroundOfPixel ground = []( const OrientedImage &i, const Eigen::Vector2d &p ) { return onRoad( i, p ); };
   const StereoImage ref { "reference", &reference.image, &reference.grey }, par { "partner", &partner.image, &partner.grey };
   const StartMatch match = matchStartInPartner( ref, pixel, direction, par, ground, stripe );
-  EXPECT_FALSE( match.ok ) << "matched at " << match.pixelInImage.transpose() << ", the line is at " << truth.transpose();
+  EXPECT_FALSE( match.ok() ) << "matched at " << match.pixelInImage.transpose() << ", the line is at " << truth.transpose();
+  EXPECT_EQ( match.status, StartMatch::Status::AtSearchEnd ) << match.message;
   EXPECT_NE( match.message.find( "end of the start's search" ), std::string::npos ) << match.message << " " << truth.transpose();
   // 2 m further along the line, in full view of the partner: found
   const Eigen::Vector3d further( kStripeX, 14.5, kRoadZ );
   const Eigen::Vector2d furtherPixel = reference.image.projectGroundToPixel( further ).pixelInImage;
   const StartMatch found = matchStartInPartner( ref, furtherPixel, direction, par, ground, stripe );
-  ASSERT_TRUE( found.ok ) << found.message;
+  ASSERT_TRUE( found.ok() ) << found.message;
   EXPECT_LT( ( found.pixelInImage - partner.image.projectGroundToPixel( further ).pixelInImage ).norm(), 0.7 );
 }

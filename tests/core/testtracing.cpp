@@ -389,7 +389,7 @@ TEST( Tracing, RealPhotographUnderAKnownHomography )
   const auto trace = []( const cv::Mat &grey, const Eigen::Vector2d &click, TraceMethod method )
   {
     const SeedAnalysis seed = analyseSeed( grey, click, std::nullopt );
-    EXPECT_TRUE( seed.ok ) << seed.message;
+    EXPECT_TRUE( seed.ok() ) << seed.message;
     FollowRequest request;
     request.start = seed.pixelInImage;
     request.direction = seed.direction;

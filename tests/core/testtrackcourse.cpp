@@ -103,7 +103,7 @@ namespace
   //! The seed took that stripe at its full width, through its centre line (column 60).
   void expectTheWholeStripe( const SeedAnalysis &seed )
   {
-    ASSERT_TRUE( seed.ok ) << seed.message;
+    ASSERT_TRUE( seed.ok() ) << seed.message;
     EXPECT_EQ( seed.profile.kind, LineKind::BrightStripe );
     EXPECT_NEAR( seed.profile.widthPx, 10.0, 1.5 );
     EXPECT_NEAR( seed.pixelInImage.x(), 60.0, 0.7 );
@@ -239,7 +239,7 @@ TEST( TrackCourse, AClickOnWornPaintPicksTheStripeNotItsSide )
   cv::rectangle( grey, cv::Point( 55, 57 ), cv::Point( 59, 63 ), cv::Scalar( 60 ), cv::FILLED );
   cv::GaussianBlur( grey, grey, cv::Size( 5, 5 ), 0.8 );
   const SeedAnalysis worn = analyseSeed( grey, Eigen::Vector2d( 60.6, 60.0 ), 0.0 );
-  ASSERT_TRUE( worn.ok ) << worn.message;
+  ASSERT_TRUE( worn.ok() ) << worn.message;
   EXPECT_EQ( worn.profile.kind, LineKind::BrightStripe );
   EXPECT_NEAR( worn.profile.widthPx, 10.0, 1.5 ); // from the profiles either side, not the worn one
   // a kerb face: a bright band 18 px wide beside the asphalt, clicked at its foot: the edge, not the band
@@ -248,7 +248,7 @@ TEST( TrackCourse, AClickOnWornPaintPicksTheStripeNotItsSide )
   cv::rectangle( kerb, cv::Point( 78, 0 ), cv::Point( 119, 119 ), cv::Scalar( 110 ), cv::FILLED );
   cv::GaussianBlur( kerb, kerb, cv::Size( 5, 5 ), 0.8 );
   const SeedAnalysis foot = analyseSeed( kerb, Eigen::Vector2d( 60.8, 60.0 ), 0.0 );
-  ASSERT_TRUE( foot.ok ) << foot.message;
+  ASSERT_TRUE( foot.ok() ) << foot.message;
   EXPECT_EQ( foot.profile.kind, LineKind::Edge );
   EXPECT_NEAR( foot.pixelInImage.x(), 60.0, 1.0 );
 }
@@ -295,7 +295,7 @@ TEST( TrackCourse, AClickAtTheNearEndOfAStretchWornHalfAwayPicksTheStripe )
   }
   cv::GaussianBlur( kerb, kerb, cv::Size( 5, 5 ), 0.8 );
   const SeedAnalysis foot = analyseSeed( kerb, Eigen::Vector2d( 60.8, 70.0 ), 0.0 );
-  ASSERT_TRUE( foot.ok ) << foot.message;
+  ASSERT_TRUE( foot.ok() ) << foot.message;
   EXPECT_EQ( foot.profile.kind, LineKind::Edge );
   EXPECT_NEAR( foot.pixelInImage.x(), 60.0, 1.0 );
   // a clean stripe narrower up the image and wider down it, as perspective makes a line (8 px at the click,
@@ -314,7 +314,7 @@ TEST( TrackCourse, AClickAtTheNearEndOfAStretchWornHalfAwayPicksTheStripe )
   }
   cv::GaussianBlur( narrowing, narrowing, cv::Size( 5, 5 ), 0.8 );
   const SeedAnalysis side = analyseSeed( narrowing, Eigen::Vector2d( 56.3, 70.0 ), 0.0 );
-  ASSERT_TRUE( side.ok ) << side.message;
+  ASSERT_TRUE( side.ok() ) << side.message;
   EXPECT_EQ( side.profile.kind, LineKind::Edge );
   EXPECT_NEAR( side.pixelInImage.x(), 56.0, 1.0 );
 }
@@ -369,7 +369,7 @@ TEST( TrackCourse, AClickOnALongCrackAcrossAStripeFindsTheStripe )
   cv::GaussianBlur( grey, grey, cv::Size( 5, 5 ), 0.8 );
   const Eigen::Vector2d click( 120.0, 120.0 );
   const SeedAnalysis seed = analyseSeed( grey, click, std::nullopt );
-  ASSERT_TRUE( seed.ok ) << seed.message;
+  ASSERT_TRUE( seed.ok() ) << seed.message;
   EXPECT_EQ( seed.profile.kind, LineKind::BrightStripe );
   EXPECT_NEAR( seed.profile.widthPx, 10.0, 2.0 );
   // the stripe runs up the image turned 35 degrees clockwise
