@@ -122,7 +122,7 @@ void GeoStationMeasurementController::pick( int view, const QPointF &pixelInImag
     if ( !path.isEmpty() )
     {
       entries[i] = mCache->get( path.toStdString() );
-      unreadable[i] = QString::fromStdString( entries[i].error );
+      unreadable[i] = QString::fromStdString( entries[i].message );
       windowsNeeded = windowsNeeded || entries[i].needsWindow;
     }
   }

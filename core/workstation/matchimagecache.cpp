@@ -78,7 +78,8 @@ namespace geostation
     catch ( const std::exception &e )
     {
       entry = Entry();
-      entry.error = e.what();
+      entry.status = Entry::Status::Unreadable;
+      entry.message = e.what();
     }
     return entry;
   }
@@ -89,7 +90,7 @@ namespace geostation
       std::unique_lock<std::mutex> lock( mMutex );
       mLoaded.wait( lock, [&] { return mLoading.count( path ) == 0; } );
       auto it = mEntries.find( path );
-      if ( it != mEntries.end() && !it->second.error.empty() && mErrorStamps[path] != fileStamp( path ) )
+      if ( it != mEntries.end() && !it->second.ok() && mErrorStamps[path] != fileStamp( path ) )
       {
         // the file was put back or rewritten since it failed: read it again
         mEntries.erase( it ); // (an error holds no bytes)
@@ -123,7 +124,7 @@ namespace geostation
       mLoading.erase( path );
       mEntries[path] = entry;
       mBytes += entry.image ? entry.image->bytes() : 0;
-      if ( entry.error.empty() )
+      if ( entry.ok() )
         mErrorStamps.erase( path );
       else
         mErrorStamps[path] = stamp;

@@ -44,11 +44,18 @@ namespace geostation
 
       struct Entry
       {
-        //! nullptr when it cannot be read; for an image too large to prepare whole, the window last read of it (or nullptr)
+        enum class Status
+        {
+          Ready,      //!< prepared (whole, or the window asked for)
+          Unreadable, //!< the file cannot be opened or decoded: `message` says why
+        };
+        Status status = Status::Ready;
+        std::string message;                     //!< one sentence when Unreadable
+        //! nullptr when Unreadable; for an image too large to prepare whole, the window last read of it (or nullptr)
         std::shared_ptr<const MatchImage> image;
-        std::string error;                       //!< one sentence when it cannot be read
         cv::Size imageSize { 0, 0 };             //!< the whole image's (pixels), when it could be opened
         bool needsWindow = false;                //!< too large to prepare whole: ask for a window of it
+        bool ok() const { return status == Status::Ready; }
       };
 
       /**

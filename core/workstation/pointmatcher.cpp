@@ -35,8 +35,8 @@ namespace geostation
     if ( entry.needsWindow )
       if ( const cv::Rect pixels = window( entry.imageSize ); !pixels.empty() )
         entry = mCache.get( path, pixels );
-    if ( !entry.error.empty() )
-      mUnreadable[image.id] = entry.error;
+    if ( !entry.ok() )
+      mUnreadable[image.id] = entry.message;
     return entry.image;
   }
 

@@ -91,7 +91,7 @@ TEST( HugeImages, APointMeasuredInWindowsOfTwentyThousandPixelFrames )
   for ( const std::string &path : paths )
   {
     const MatchImageCache::Entry entry = cache.get( path );
-    EXPECT_TRUE( entry.error.empty() ) << entry.error;
+    EXPECT_TRUE( entry.ok() ) << entry.message;
     EXPECT_TRUE( entry.needsWindow );
     EXPECT_EQ( entry.image, nullptr );
     sizes.push_back( entry.imageSize );
@@ -115,7 +115,7 @@ TEST( HugeImages, APointMeasuredInWindowsOfTwentyThousandPixelFrames )
       if ( !windows.windows[i] )
         continue;
       const MatchImageCache::Entry entry = cache.get( paths[i], *windows.windows[i] );
-      EXPECT_TRUE( entry.error.empty() ) << entry.error;
+      EXPECT_TRUE( entry.ok() ) << entry.message;
       held.push_back( entry.image );
       views[i].pixels = entry.image.get();
     }

@@ -313,7 +313,8 @@ TEST( MatchImageCache, ReadsOnceForgetsTheOldestWithinItsBudgetAndRetriesAFilePu
   EXPECT_TRUE( cache.contains( c ) );
   const MatchImageCache::Entry missing = cache.get( "/nonexistent/image.tif" );
   EXPECT_FALSE( missing.image );
-  EXPECT_NE( missing.error.find( "/nonexistent/image.tif" ), std::string::npos ) << missing.error;
+  EXPECT_EQ( missing.status, MatchImageCache::Entry::Status::Unreadable );
+  EXPECT_NE( missing.message.find( "/nonexistent/image.tif" ), std::string::npos ) << missing.message;
 
   // a memory budget of two and a half images: the third evicts the first, the most recent always stays
   const size_t imageBytes = first->bytes();
@@ -340,7 +341,7 @@ TEST( MatchImageCache, ReadsOnceForgetsTheOldestWithinItsBudgetAndRetriesAFilePu
   EXPECT_FALSE( cache.get( back.string() ).image );
   std::filesystem::copy_file( a, back );
   const MatchImageCache::Entry putBack = cache.get( back.string() );
-  ASSERT_TRUE( putBack.image ) << putBack.error;
+  ASSERT_TRUE( putBack.image ) << putBack.message;
   EXPECT_EQ( putBack.image->width(), first->width() );
   std::filesystem::remove( back );
 }
