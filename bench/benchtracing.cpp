@@ -38,7 +38,7 @@ namespace
     std::filesystem::path dir;
     Block block, truth;
     TraceSeed seed;
-    std::map<std::string, std::shared_ptr<const cv::Mat>> grey; //!< image id -> pixels, for the in-memory source
+    std::map<std::string, GreyImage> grey; //!< image id -> pixels, for the in-memory source
     RoadTraceSummary traced;                                    //!< what the baseline measures again
 
     Run()
@@ -63,10 +63,7 @@ namespace
       seed = seedOnCentreLine( readTruthRoadLines( dir / "truth.gpkg" ) );
       const GreyImageSource files = fileGreyImageSource( block, 2 * kStations + 2 );
       for ( const BlockImage &image : block.images )
-      {
-        std::string error;
-        grey[image.id] = files( image, error );
-      }
+        grey[image.id] = files( image );
       traced = traceRoadLine( block, seed, RoadTraceOptions(), memorySource() );
       std::printf( "Seed on the centre line in %s at (%.0f, %.0f): %zu stations, %zu vertices, %.0f m traced; %s\n", seed.imageId.c_str(), seed.pixelInImage.x(),
                    seed.pixelInImage.y(), traced.stations.size(), traced.vertices.size(), traced.lengthM, traced.message.c_str() );
@@ -100,7 +97,7 @@ namespace
 
     GreyImageSource memorySource() const
     {
-      return [this]( const BlockImage &image, std::string & ) { return grey.at( image.id ); };
+      return [this]( const BlockImage &image ) { return grey.at( image.id ); };
     }
   };
 

@@ -21,14 +21,20 @@ namespace geostation
       std::list<std::pair<std::string, std::shared_ptr<const cv::Mat>>> entries;
     };
     auto cache = std::make_shared<Cache>();
-    return [cache, capacity, &block]( const BlockImage &image, std::string &error ) -> std::shared_ptr<const cv::Mat>
+    const auto failed = []( GreyImage::Status status, const std::string &message ) {
+      GreyImage out;
+      out.status = status;
+      out.message = message;
+      return out;
+    };
+    return [cache, capacity, &block, failed]( const BlockImage &image ) -> GreyImage
     {
       const std::string path = block.imageFilePath( image ).string();
       {
         std::lock_guard<std::mutex> lock( cache->mutex );
         for ( const auto &e : cache->entries )
           if ( e.first == path )
-            return e.second;
+            return GreyImage { GreyImage::Status::Ready, std::string(), e.second };
       }
       try
       {
@@ -48,20 +54,18 @@ namespace geostation
         const Camera *camera = block.findCamera( image.cameraId );
         if ( camera && ( grey->cols != camera->width || grey->rows != camera->height ) )
         {
-          error = "the image " + image.id + " is " + std::to_string( grey->cols ) + " x " + std::to_string( grey->rows ) + " px but its camera " + camera->id + " is " +
-                  std::to_string( camera->width ) + " x " + std::to_string( camera->height );
-          return nullptr;
+          return failed( GreyImage::Status::WrongSize, "the image " + image.id + " is " + std::to_string( grey->cols ) + " x " + std::to_string( grey->rows ) +
+                         " px but its camera " + camera->id + " is " + std::to_string( camera->width ) + " x " + std::to_string( camera->height ) );
         }
         std::lock_guard<std::mutex> lock( cache->mutex );
         cache->entries.push_front( { path, grey } );
         if ( cache->entries.size() > capacity )
           cache->entries.pop_back();
-        return grey;
+        return GreyImage { GreyImage::Status::Ready, std::string(), grey };
       }
       catch ( const std::exception &e )
       {
-        error = "the image " + image.id + " cannot be read: " + e.what();
-        return nullptr;
+        return failed( GreyImage::Status::Unreadable, "the image " + image.id + " cannot be read: " + e.what() );
       }
     };
   }

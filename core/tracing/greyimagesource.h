@@ -22,11 +22,23 @@
 namespace geostation
 {
 
-  /**
-   * The 8-bit grey image of a block image; nullptr and `error` (one
-   * sentence) when it cannot be read.
-   */
-  using GreyImageSource = std::function<std::shared_ptr<const cv::Mat>( const BlockImage &, std::string &error )>;
+  //! A block image's 8-bit grey levels, or why there are none.
+  struct GreyImage
+  {
+    enum class Status
+    {
+      Ready,
+      Unreadable, //!< the file cannot be opened or decoded
+      WrongSize,  //!< its size is not its camera's
+    };
+    Status status = Status::Ready;
+    std::string message;                  //!< one sentence when not Ready
+    std::shared_ptr<const cv::Mat> grey;  //!< CV_8UC1 when Ready, else null
+    bool ok() const { return status == Status::Ready; }
+  };
+
+  //! The grey image of a block image (shared: the same pixels for every caller).
+  using GreyImageSource = std::function<GreyImage( const BlockImage & )>;
 
   //! Reads block images with GDAL and keeps the last `capacity` in memory (thread-safe). The block is referenced: keep it alive.
   GreyImageSource fileGreyImageSource( const Block &block, size_t capacity = 6 );

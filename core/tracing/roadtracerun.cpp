@@ -183,13 +183,13 @@ namespace geostation
   //! The seed put onto the line: its start, direction and profile; false (stopped) when there is no line.
   bool RoadTraceRun::startAtSeed()
   {
-    std::string error;
-    mReferenceGrey = mImages( mSeedImage, error );
-    if ( !mReferenceGrey )
+    const GreyImage reference = mImages( mSeedImage );
+    if ( !reference.ok() )
     {
-      stopWith( TraceStop::ImageMissing, error );
+      stopWith( TraceStop::ImageMissing, reference.message );
       return false;
     }
+    mReferenceGrey = reference.grey;
     const SeedAnalysis analysis = analyseSeed( *mReferenceGrey, mSeed.pixelInImage, mSeed.directionDeg, mOptions.seed );
     if ( !analysis.ok() )
     {
@@ -224,13 +224,13 @@ namespace geostation
       return false;
     }
     at.partner.emplace( mBlock.orientedImage( *at.partnerImage ) );
-    std::string error;
-    at.partnerGrey = mImages( *at.partnerImage, error );
-    if ( !at.partnerGrey )
+    const GreyImage partner = mImages( *at.partnerImage );
+    if ( !partner.ok() )
     {
-      stopWith( TraceStop::ImageMissing, error );
+      stopWith( TraceStop::ImageMissing, partner.message );
       return false;
     }
+    at.partnerGrey = partner.grey;
     at.ground = mOptions.groundOfPixel ? mOptions.groundOfPixel : roadPlaneOf( 0.5 * ( at.centre.z() + at.partner->exterior().projectionCentre.z() ), at.centre.head<2>() );
     at.rangeLimitM = rangeLimitAt( at.centre );
     prepareFollowing( at );

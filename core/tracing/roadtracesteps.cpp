@@ -256,13 +256,13 @@ namespace geostation
       stopWith( TraceStop::StationsOutOfOrder, "station " + nextStation.id + " does not lie ahead of station " + id + " along the line: the run's stations are out of order" );
       return false;
     }
-    std::string error;
-    std::shared_ptr<const cv::Mat> nextGrey = mImages( *nextImage, error );
-    if ( !nextGrey )
+    const GreyImage next = mImages( *nextImage );
+    if ( !next.ok() )
     {
-      stopWith( TraceStop::ImageMissing, error );
+      stopWith( TraceStop::ImageMissing, next.message );
       return false;
     }
+    std::shared_ptr<const cv::Mat> nextGrey = next.grey;
     mStep = nextStep;
     std::optional<DynamicLink> linked = linkTo( at, *nextImage, *nextGrey, groundLine, firstOfStation );
     int skip = 1;
@@ -274,10 +274,10 @@ namespace geostation
       const BlockImage *laterImage = referenceImageAt( index );
       if ( !laterImage || ( laterImage->exterior->projectionCentre - at.centre ).dot( runDirection ) <= 0 )
         break;
-      std::string laterError;
-      const std::shared_ptr<const cv::Mat> laterGrey = mImages( *laterImage, laterError );
-      if ( !laterGrey )
+      const GreyImage later = mImages( *laterImage );
+      if ( !later.ok() )
         break;
+      const std::shared_ptr<const cv::Mat> laterGrey = later.grey;
       if ( ( linked = linkTo( at, *laterImage, *laterGrey, groundLine, firstOfStation ) ) )
       {
         skip = further;

@@ -201,6 +201,16 @@ TEST( Tracing, BadInputKeepsWhatWasTraced )
     EXPECT_NE( s.message.find( "S0006_FL" ), std::string::npos ) << s.message;
     EXPECT_GE( s.stations.size(), 5u );
     EXPECT_GE( s.lengthM, 40.0 );
+    const auto missing = std::find_if( block.images.begin(), block.images.end(), []( const BlockImage &i ) { return i.id == "S0006_FL"; } );
+    const GreyImage unreadable = fileGreyImageSource( block )( *missing );
+    EXPECT_EQ( unreadable.status, GreyImage::Status::Unreadable );
+    EXPECT_FALSE( unreadable.grey );
+    // an image of another size than its camera's
+    Block resized = run.block;
+    resized.cameras.front().width += 8;
+    const auto other = std::find_if( resized.images.begin(), resized.images.end(), [&]( const BlockImage &i ) { return i.cameraId == resized.cameras.front().id; } );
+    const GreyImage wrong = fileGreyImageSource( resized )( *other );
+    EXPECT_EQ( wrong.status, GreyImage::Status::WrongSize ) << wrong.message;
   }
   // a seed image whose station has no other image that sees the line
   {
