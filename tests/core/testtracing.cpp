@@ -1,6 +1,7 @@
 // Road tracing (core/tracing) against the simulator's truth: a highway run
 // with curves, solid and dashed markings, worn paint, kerbs, shadows,
 // image noise, blur and JPEG, and GNSS/INS errors.
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
