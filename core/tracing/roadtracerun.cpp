@@ -43,37 +43,15 @@ namespace geostation
     }
   } // namespace
 
-  //! The seed image's station in the sequence; throws std::invalid_argument for an image not oriented or in no station.
-  int RoadTraceRun::seedStationIndex( const StationSequence &sequence, const BlockImage &seedImage )
-  {
-    if ( !seedImage.exterior )
-      throw std::invalid_argument( "the seed image " + seedImage.id + " is not oriented" );
-    const int k = sequence.indexOf( seedImage.stationId.empty() ? seedImage.id : seedImage.stationId );
-    if ( k < 0 )
-      throw std::invalid_argument( "the seed image " + seedImage.id + " belongs to no station of the block" );
-    return k;
-  }
-
-  const BlockImage *RoadTraceRun::referenceImageAt( int stationIndex ) const
-  {
-    if ( stationIndex < 0 || stationIndex >= static_cast<int>( mReferenceImages.size() ) )
-      return nullptr;
-    const BlockImage *image = mReferenceImages[stationIndex];
-    return image && image->exterior ? image : nullptr;
-  }
-
   RoadTraceRun::RoadTraceRun( const Block &block, const TraceSeed &seed, const RoadTraceOptions &options, const GreyImageSource &images )
     : mBlock( block )
     , mSeed( seed )
     , mOptions( checked( options ) )
     , mImages( images )
     , mSeedImage( block.image( seed.imageId ) )
-    , mSequence( block )
-    , mSeedStation( seedStationIndex( mSequence, mSeedImage ) )
-    , mReferenceImages( imagesInRole( block, mSequence, mSeedStation, mSeedImage ) )
-    , mTrajectory( referenceTrajectory() )
-    , mSmoothTrack( smoothedHeights( mTrajectory, 30.0 ) )
-    , mK( mSeedStation )
+    , mTrack( block, mSeedImage, mOptions.cameraHeightM )
+    , mSequence( mTrack.sequence() )
+    , mK( mTrack.seedStation() )
   {
   }
 
@@ -81,44 +59,6 @@ namespace geostation
   {
     options.check();
     return options;
-  }
-
-  //! A station out of order (behind the one before) is left out: it would fold the track back on itself.
-  std::vector<Eigen::Vector3d> RoadTraceRun::referenceTrajectory() const
-  {
-    std::vector<Eigen::Vector3d> trajectory;
-    for ( int k = 0; k < mSequence.size(); ++k )
-      if ( const BlockImage *image = referenceImageAt( k ) )
-      {
-        const Eigen::Vector3d &c = image->exterior->projectionCentre;
-        if ( trajectory.size() >= 2 && ( c - trajectory.back() ).head<2>().dot( ( trajectory.back() - trajectory[trajectory.size() - 2] ).head<2>() ) <= 0 )
-          continue;
-        trajectory.push_back( c );
-      }
-    return trajectory;
-  }
-
-  //! The road surface under a point, hung from a camera at `cameraZ` over `cameraXY`: the smoothed track's shape, the camera's height below it there.
-  std::optional<double> RoadTraceRun::surfaceHeight( const Eigen::Vector2d &xy, double cameraZ, const Eigen::Vector2d &cameraXY ) const
-  {
-    const std::optional<double> here = trackSurfaceHeight( mSmoothTrack, xy, mOptions.cameraHeightM ), under = trackSurfaceHeight( mSmoothTrack, cameraXY, 0.0 );
-    if ( !here || !under )
-      return std::nullopt;
-    return *here + ( cameraZ - *under );
-  }
-
-  //! The road surface: the plane under the station, its height then taken from the track where the ray meets it.
-  GroundOfPixel RoadTraceRun::roadPlaneOf( double cameraZ, const Eigen::Vector2d &cameraXY ) const
-  {
-    return [this, cameraZ, cameraXY]( const OrientedImage &image, const Eigen::Vector2d &pixel ) -> std::optional<Eigen::Vector3d>
-    {
-      std::optional<Eigen::Vector3d> p = roadPlanePoint( image, pixel, cameraZ - mOptions.cameraHeightM );
-      for ( int it = 0; it < 2 && p; ++it )
-        if ( const std::optional<double> surface = surfaceHeight( p->head<2>(), cameraZ, cameraXY ) )
-          if ( std::optional<Eigen::Vector3d> q = roadPlanePoint( image, pixel, *surface ) )
-            p = q;
-      return p;
-    };
   }
 
   void RoadTraceRun::stopWith( TraceStop stop, const std::string &message )
@@ -206,7 +146,7 @@ namespace geostation
   bool RoadTraceRun::openStation( StationAt &at )
   {
     at.station = &mSequence.at( mK );
-    at.referenceImage = referenceImageAt( mK );
+    at.referenceImage = mTrack.referenceImageAt( mK );
     if ( !at.referenceImage )
     {
       stopWith( TraceStop::ImageMissing, "station " + at.station->id + " has no oriented image placed in the rig as " + mSeedImage.id + " is" );
@@ -231,7 +171,7 @@ namespace geostation
       return false;
     }
     at.partnerGrey = partner.grey;
-    at.ground = mOptions.groundOfPixel ? mOptions.groundOfPixel : roadPlaneOf( 0.5 * ( at.centre.z() + at.partner->exterior().projectionCentre.z() ), at.centre.head<2>() );
+    at.ground = mOptions.groundOfPixel ? mOptions.groundOfPixel : mTrack.roadPlaneOf( 0.5 * ( at.centre.z() + at.partner->exterior().projectionCentre.z() ), at.centre.head<2>() );
     at.rangeLimitM = rangeLimitAt( at.centre );
     prepareFollowing( at );
     return true;
@@ -240,7 +180,7 @@ namespace geostation
   //! At the seed station: the image that sees the line's first 200 px on the ground (some of them), and where it lies beside the reference.
   bool RoadTraceRun::choosePartner( const StationAt &at )
   {
-    const GroundOfPixel single = mOptions.groundOfPixel ? mOptions.groundOfPixel : roadPlaneOf( at.centre.z(), at.centre.head<2>() );
+    const GroundOfPixel single = mOptions.groundOfPixel ? mOptions.groundOfPixel : mTrack.roadPlaneOf( at.centre.z(), at.centre.head<2>() );
     const BlockImage *partner = nullptr;
     bool anyGround = false;
     for ( double s = 0.0; !partner && s <= 200.0; s += 20.0 )
@@ -279,7 +219,7 @@ namespace geostation
     double limit = mOptions.maxRangeM;
     for ( const int s : { 1, -1 } )
       if ( ( mStep == 0 || s == mStep ) && mK + s >= 0 && mK + s < mSequence.size() )
-        if ( const BlockImage *next = referenceImageAt( mK + s ) )
+        if ( const BlockImage *next = mTrack.referenceImageAt( mK + s ) )
           limit = std::min( limit, std::max( horizontalDistance( next->exterior->projectionCentre, centre ) + mOptions.handoverRangeM + 4.0, 18.0 ) );
     return limit;
   }

@@ -7,8 +7,10 @@
   reference image (followInReference), find it in the partner and
   intersect (matchInPartner), append the station's vertices to the run's
   line (appendToRun), and link to the next station (linkToNext). finish()
-  scales the sigmas by the run's sigma0. roadtracerun.cpp holds the set-up,
-  the loop and the opening of a station; roadtracesteps.cpp the steps.
+  scales the sigmas by the run's sigma0. The run itself - its stations, the
+  image playing the seed's part at each, their track and the road under it
+  - is a RunTrack (runtrack.h). roadtracerun.cpp holds the set-up, the loop
+  and the opening of a station; roadtracesteps.cpp the steps.
  ***************************************************************************/
 #ifndef GEOSTATION_TRACING_ROADTRACERUN_H
 #define GEOSTATION_TRACING_ROADTRACERUN_H
@@ -23,6 +25,7 @@
 #include "tracing/rigroles.h"
 #include "tracing/roadtracer.h"
 #include "tracing/runline.h"
+#include "tracing/runtrack.h"
 #include "tracing/stationstereo.h"
 #include "io/stationsequence.h"
 
@@ -96,12 +99,6 @@ namespace geostation
 
     private:
       static const RoadTraceOptions &checked( const RoadTraceOptions &options );
-      static int seedStationIndex( const StationSequence &sequence, const BlockImage &seedImage );
-      //! The oriented image that plays the seed image's part at a station (rigroles.h); nullptr if none.
-      const BlockImage *referenceImageAt( int stationIndex ) const;
-      std::vector<Eigen::Vector3d> referenceTrajectory() const;
-      std::optional<double> surfaceHeight( const Eigen::Vector2d &xy, double cameraZ, const Eigen::Vector2d &cameraXY ) const;
-      GroundOfPixel roadPlaneOf( double cameraZ, const Eigen::Vector2d &cameraXY ) const;
       bool startAtSeed();
       bool openStation( StationAt &at );
       bool choosePartner( const StationAt &at );
@@ -126,11 +123,8 @@ namespace geostation
       const RoadTraceOptions &mOptions;
       const GreyImageSource &mImages;
       const BlockImage &mSeedImage;
-      const StationSequence mSequence;
-      const int mSeedStation;
-      const std::vector<const BlockImage *> mReferenceImages; //!< the seed image's part at each station
-      //! the reference camera's path through the run, in run order, and with heights smoothed over 30 m
-      const std::vector<Eigen::Vector3d> mTrajectory, mSmoothTrack;
+      const RunTrack mTrack;                       //!< the stations, the seed image's part at each, their track and the road under it
+      const StationSequence &mSequence;            //!< mTrack's
 
       RoadTraceSummary mOut;
       int mK;                                      //!< the station being traced, in the sequence

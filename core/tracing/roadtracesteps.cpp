@@ -33,7 +33,7 @@ namespace geostation
     std::vector<std::optional<Eigen::Vector3d>> onGround;
     for ( const Eigen::Vector2d &p : result.line.points )
       onGround.push_back( at.ground( *at.reference, p ) );
-    const size_t n = pointsInCourse( mTrajectory, *at.startGround, onGround, mOptions.courseHalfWidthM, mOptions.courseSlope );
+    const size_t n = pointsInCourse( mTrack.trajectory(), *at.startGround, onGround, mOptions.courseHalfWidthM, mOptions.courseSlope );
     if ( n < result.line.points.size() )
     {
       result.line.points.resize( n );
@@ -148,9 +148,9 @@ namespace geostation
     part.partnerImageId = at.partnerImage->id;
     part.runAlong = mPreviousCentre ? Eigen::Vector3d( at.centre - *mPreviousCentre ) : Eigen::Vector3d( at.reference->cameraFromWorldRotation().row( 2 ).transpose() * -1.0 );
     part.keep = mKeep;
-    part.trajectory = &mTrajectory;
+    part.trajectory = &mTrack.trajectory();
     if ( !mOptions.groundOfPixel )
-      part.surfaceHeight = [this, &at]( const Eigen::Vector3d &p ) { return surfaceHeight( p.head<2>(), at.centre.z(), at.centre.head<2>() ); };
+      part.surfaceHeight = [this, &at]( const Eigen::Vector3d &p ) { return mTrack.surfaceHeight( p.head<2>(), at.centre.z(), at.centre.head<2>() ); };
     const StationPartSummary joined = appendStationPart( mOut.vertices, vertices, part, mOptions );
     mOut.heightOutliers += joined.heightOutliers;
     mOut.lateralOutliers += joined.lateralOutliers;
@@ -213,7 +213,7 @@ namespace geostation
   {
     for ( const int s : { 1, -1 } )
       if ( mK + s >= 0 && mK + s < mSequence.size() )
-        if ( const BlockImage *n = referenceImageAt( mK + s ); n &&
+        if ( const BlockImage *n = mTrack.referenceImageAt( mK + s ); n &&
              ( n->exterior->projectionCentre - centre ).dot( mLineDirection ) > 0 )
           return s;
     return 0;
@@ -243,7 +243,7 @@ namespace geostation
       return false;
     }
     const SequenceStation &nextStation = mSequence.at( mK + nextStep );
-    const BlockImage *nextImage = referenceImageAt( mK + nextStep );
+    const BlockImage *nextImage = mTrack.referenceImageAt( mK + nextStep );
     if ( !nextImage )
     {
       stopWith( TraceStop::ImageMissing, "station " + nextStation.id + " has no oriented image placed in the rig as " + mSeedImage.id + " is" );
@@ -271,7 +271,7 @@ namespace geostation
       const int index = mK + further * mStep;
       if ( index < 0 || index >= mSequence.size() )
         break;
-      const BlockImage *laterImage = referenceImageAt( index );
+      const BlockImage *laterImage = mTrack.referenceImageAt( index );
       if ( !laterImage || ( laterImage->exterior->projectionCentre - at.centre ).dot( runDirection ) <= 0 )
         break;
       const GreyImage later = mImages( *laterImage );
@@ -312,12 +312,12 @@ namespace geostation
     link.referenceGrey = mReferenceGrey.get();
     link.next = &next;
     link.nextGrey = &nextGrey;
-    link.nextGround = mOptions.groundOfPixel ? mOptions.groundOfPixel : roadPlaneOf( nextCentre.z(), nextCentre.head<2>() );
+    link.nextGround = mOptions.groundOfPixel ? mOptions.groundOfPixel : mTrack.roadPlaneOf( nextCentre.z(), nextCentre.head<2>() );
     link.vertices = &mOut.vertices;
     link.firstOfStation = firstOfStation;
     link.groundLine = &groundLine;
     link.lineDirection = mLineDirection;
-    link.trajectory = &mTrajectory;
+    link.trajectory = &mTrack.trajectory();
     link.step = mStep;
     link.profile = mProfile;
     link.widthTimesRange = mWidthTimesRange;
