@@ -6,8 +6,8 @@
 #include <QStringList>
 
 #include <qgsexception.h>
-#include "geostationalgorithm.h"
 
+#include "geostationalgorithm.h"
 #include "processingblock.h"
 
 namespace GeoStationProcessing
@@ -22,6 +22,7 @@ OutputSink::OutputSink( QgsFeatureSink *sink, const QString &destination, const 
 
 void OutputSink::add( QgsFeature &feature )
 {
+  requireOpen();
   if ( !mSink->addFeature( feature, QgsFeatureSink::FastInsert ) )
     throw QgsProcessingException( GeoStationAlgorithm::writeFeatureError( mSink.get(), mParameters, mName ) );
   ++mWritten;
@@ -29,9 +30,16 @@ void OutputSink::add( QgsFeature &feature )
 
 void OutputSink::add( QgsFeatureList &features )
 {
+  requireOpen();
   if ( !mSink->addFeatures( features, QgsFeatureSink::FastInsert ) )
     throw QgsProcessingException( GeoStationAlgorithm::writeFeatureError( mSink.get(), mParameters, mName ) );
   mWritten += features.size();
+}
+
+void OutputSink::requireOpen() const
+{
+  if ( !mSink )
+    throw QgsProcessingException( QStringLiteral( "%1 was written to after it was closed: this is a fault of the algorithm, please report it." ).arg( mName ) );
 }
 
 QString OutputSink::close( bool nullGeometries )

@@ -27,7 +27,7 @@ namespace GeoStationProcessing
   class GEOSTATION_PROCESSING_EXPORT OutputSink
   {
     public:
-      //! `sink` as parameterAsSink() gave it (null: it could not be opened - a sentence naming `name` is thrown).
+      //! `sink` as parameterAsSink() gave it (null: it could not be opened - a sentence naming `name` is thrown). Closing twice is harmless; adding after close() throws.
       OutputSink( QgsFeatureSink *sink, const QString &destination, const QVariantMap &parameters, const QString &name );
 
       void add( QgsFeature &feature );
@@ -44,6 +44,8 @@ namespace GeoStationProcessing
       QString close( bool nullGeometries = false );
 
     private:
+      void requireOpen() const;
+
       std::unique_ptr<QgsFeatureSink> mSink;
       QString mDestination;
       QVariantMap mParameters;
