@@ -16,6 +16,7 @@
 #include "adjustment/intersection.h"
 #include "adjustment/resection.h"
 #include "geometry/rotation.h"
+#include "bundlescene.h"
 #include "pinholecamera.h"
 
 using namespace geostation;
@@ -166,44 +167,9 @@ namespace
   }
 
   //! Six images (two stations of three cameras) and 10 000 points seen by all.
-  struct BundleScene
-  {
-    std::vector<Camera> cameras { pinhole() };
-    std::vector<BundleImage> images;
-    std::vector<BundleObservation> observations;
-    std::vector<ControlPoint> control;
-    BundleScene()
-    {
-      std::mt19937 rng( 3 );
-      std::normal_distribution<double> noise( 0.0, 1.0 );
-      std::vector<OrientedImage> truth;
-      for ( int s = 0; s < 2; ++s )
-        for ( int k = 0; k < 3; ++k )
-        {
-          ExteriorOrientation eo = forward( k - 1.0 );
-          eo.projectionCentre.y() += 4.0 * s;
-          truth.emplace_back( cameras[0], eo );
-          ExteriorOrientation start = eo;
-          start.projectionCentre += 0.1 * Eigen::Vector3d( noise( rng ), noise( rng ), noise( rng ) );
-          start.omegaDeg += 0.02 * noise( rng );
-          start.sigma = ExteriorSigma { 0.1, 0.1, 0.1, 0.02, 0.02, 0.02 };
-          images.push_back( { "I" + std::to_string( images.size() ), cameras[0].id, start } );
-        }
-      std::uniform_real_distribution<double> x( -4, 4 ), y( 14, 40 ), z( 100, 105 );
-      for ( int i = 0; i < 10000; ++i )
-      {
-        const Eigen::Vector3d p( 500000.0 + x( rng ), 4400000.0 + y( rng ), z( rng ) );
-        for ( size_t k = 0; k < truth.size(); ++k )
-          observations.push_back( { "P" + std::to_string( i ), images[k].id, truth[k].projectGroundToPixel( p ).pixelInImage + 0.3 * Eigen::Vector2d( noise( rng ), noise( rng ) ), 0.3 } );
-        if ( i < 4 )
-          control.push_back( { "P" + std::to_string( i ), p, Eigen::Vector3d::Zero(), false } );
-      }
-    }
-  };
-
   void BM_BundleAdjust6x10000( benchmark::State &state )
   {
-    static const BundleScene scene;
+    static const BundleScene scene( 10000 );
     BundleOptions options;
     options.computeCovariance = state.range( 0 ) != 0;
     for ( auto _ : state )
@@ -225,7 +191,7 @@ namespace
    */
   void BM_BundleAdjustCancel6x10000( benchmark::State &state )
   {
-    static const BundleScene scene;
+    static const BundleScene scene( 10000 );
     using Clock = std::chrono::steady_clock;
     double worstLatencyS = 0.0;
     for ( auto _ : state )

@@ -89,7 +89,7 @@ QString MergeRevisionsAlgorithm::shortHelpString() const
                       "order of their names, so the result does not depend on the order of the inputs.\n\n"
                       "OUTPUT: the map's features as revise_roads writes them (LineStringZ in the inputs' CRS, revision, evidence, "
                       "shift_m, sigma_max, source_fid, map_part, map_from_m, map_to_m and the map's attributes) with pairs. "
-                      "VERTICES_OUTPUT (optional): the measured courses' vertices as revise_roads' VERTICES. REPORT (optional): length and count per "
+                      "VERTICES_OUTPUT (optional): the measured courses' vertices as revise_roads' VERTICES. REPORT (optional): length along the map lines (map_length_m) and count per "
                       "status, the map length seen by more than one pair and the part of it where they disagree (confirmed, moved "
                       "or not found)." );
 }
@@ -172,7 +172,7 @@ QVariantMap MergeRevisionsAlgorithm::processGeoStation( const QVariantMap &param
   {
     QJsonObject statuses;
     for ( const auto &[name, c] : byStatus )
-      statuses.insert( QString::fromStdString( name ), QJsonObject { { "pieces", c.first }, { "length_m", c.second } } );
+      statuses.insert( QString::fromStdString( name ), QJsonObject { { "pieces", c.first }, { "map_length_m", c.second } } );
     writeReport( QJsonObject { { "pairs", static_cast<int>( revisions.size() ) }, { "pieces_in", s.piecesIn }, { "pieces_out", static_cast<int>( s.pieces.size() ) },
                                { "by_status", statuses }, { "seen_twice_m", s.seenTwiceM }, { "disagreed_m", s.disagreedM } },
                  reportPath );

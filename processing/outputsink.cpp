@@ -25,7 +25,6 @@ void OutputSink::add( QgsFeature &feature )
   requireOpen();
   if ( !mSink->addFeature( feature, QgsFeatureSink::FastInsert ) )
     throw QgsProcessingException( GeoStationAlgorithm::writeFeatureError( mSink.get(), mParameters, mName ) );
-  ++mWritten;
 }
 
 void OutputSink::add( QgsFeatureList &features )
@@ -33,7 +32,6 @@ void OutputSink::add( QgsFeatureList &features )
   requireOpen();
   if ( !mSink->addFeatures( features, QgsFeatureSink::FastInsert ) )
     throw QgsProcessingException( GeoStationAlgorithm::writeFeatureError( mSink.get(), mParameters, mName ) );
-  mWritten += features.size();
 }
 
 void OutputSink::requireOpen() const

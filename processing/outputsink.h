@@ -32,7 +32,6 @@ namespace GeoStationProcessing
 
       void add( QgsFeature &feature );
       void add( QgsFeatureList &features );
-      long long written() const { return mWritten; }
       //! Where it is written (the algorithm's result for the output).
       const QString &destination() const { return mDestination; }
 
@@ -50,7 +49,6 @@ namespace GeoStationProcessing
       QString mDestination;
       QVariantMap mParameters;
       QString mName;
-      long long mWritten = 0;
   };
 
   //! How many rows had each outcome, in the order of the outcomes' names.
@@ -58,7 +56,6 @@ namespace GeoStationProcessing
   {
     public:
       void add( const QString &status ) { ++mCounts[status]; }
-      long count( const QString &status ) const { return mCounts.value( status ); }
       //! "lsm 40, no_peak 2": for the algorithm's closing line.
       QString text() const;
 

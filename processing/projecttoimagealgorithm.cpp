@@ -215,9 +215,7 @@ QVariantMap ProjectToImageAlgorithm::processGeoStation( const QVariantMap &param
     projectedCount += r.projected ? 1 : 0;
     inFrameCount += r.inFrame ? 1 : 0;
   }
-  sink.close(); // closes a file output
-  GeoStationProcessing::markPixelSpaceOutput( sink.destination() );
-  GeoStationProcessing::storeMissingGeometriesAsNull( sink.destination() ); // behind the camera: its row, no NaN
+  GeoStationProcessing::markPixelSpaceOutput( sink.close( true ) ); // behind the camera: its row, no NaN
   feedback->setProgress( 100 );
 
   feedback->pushInfo( QObject::tr( "%1 of %2 features projected into image %3 (%4 in the frame)." )

@@ -138,7 +138,6 @@ def plan_units(command, args, algorithm, inputs, work_dir):
                 outputs.update(VERTICES=os.path.join("vertices", name + ".gpkg"), **({"NEW": os.path.join("new", name + ".gpkg")} if args.new else {}))
             add("pair-" + name, dict(inputs, LEFT=left, RIGHT=right), outputs,
                 dict(basis, LEFT=left, RIGHT=right, **({"outputs": sorted(outputs)} if command == "revise" else {})))
-            specs[-1]["pair"] = name
         return specs, "%d stereo pairs" % len(pairs)
     if command == "trace":
         block = plan.read_block(inputs["BLOCK"])

@@ -75,7 +75,7 @@ def summary(run):
         by = rev.get("by_status", {})
         lines.append("Merged %d pieces of %d pairs into %d: %s; %.0f m seen by more than one pair, %.0f m of it with different statuses." %
                      (rev.get("pieces_in", 0), rev.get("pairs", 0), rev.get("pieces_out", 0),
-                      ", ".join("%.0f m %s" % (by[s]["length_m"], s) for s in sorted(by)) or "nothing",
+                      ", ".join("%.0f m %s" % (by[s]["map_length_m"], s) for s in sorted(by)) or "nothing",
                       rev.get("seen_twice_m", 0.0), rev.get("disagreed_m", 0.0)))
         if "new" in merged:
             lines.append("New roads: %d lines of the pairs merged into %d." % (merged["new"].get("lines_in", 0), merged["new"].get("lines_out", 0)))

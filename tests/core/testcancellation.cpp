@@ -22,6 +22,7 @@
 #include "identification/controlidentification.h"
 #include "matching/matchimage.h"
 #include "paintedroads.h"
+#include "bundlescene.h"
 #include "pinholecamera.h"
 #include "progress/progress.h"
 
@@ -73,45 +74,16 @@ namespace
 
 TEST( CancelWithinASecond, BundleAdjustment )
 {
-  // six images along two strips, 8 000 points seen in all of them, the starts a little off
-  const Camera camera = centredPinhole( "cancel", 1280, 960, 1100.0 );
-  std::mt19937 rng( 3 );
-  std::normal_distribution<double> noise( 0.0, 1.0 );
-  std::vector<OrientedImage> truth;
-  std::vector<BundleImage> images;
-  for ( int s = 0; s < 2; ++s )
-    for ( int k = 0; k < 3; ++k )
-    {
-      Eigen::Matrix3d axes;
-      axes << 1, 0, 0, 0, 0, -1, 0, 1, 0; // looking north, level
-      const ExteriorOrientation eo = ExteriorOrientation::fromCentreAndRotation( Eigen::Vector3d( 500000.0 + k - 1.0, 4400000.0 + 4.0 * s, 102.0 ), axes );
-      truth.emplace_back( camera, eo );
-      ExteriorOrientation start = eo;
-      start.projectionCentre += 0.1 * Eigen::Vector3d( noise( rng ), noise( rng ), noise( rng ) );
-      start.omegaDeg += 0.02 * noise( rng );
-      start.sigma = ExteriorSigma { 0.1, 0.1, 0.1, 0.02, 0.02, 0.02 };
-      images.push_back( { "I" + std::to_string( images.size() ), camera.id, start } );
-    }
-  std::vector<BundleObservation> observations;
-  std::uniform_real_distribution<double> x( -4, 4 ), y( 14, 40 ), z( 100, 105 );
-  for ( int i = 0; i < 8000; ++i )
-  {
-    const Eigen::Vector3d p( 500000.0 + x( rng ), 4400000.0 + y( rng ), z( rng ) );
-    for ( size_t k = 0; k < truth.size(); ++k )
-    {
-      const GroundProjection g = truth[k].projectGroundToPixel( p );
-      ASSERT_TRUE( g.ok() );
-      observations.push_back( { "P" + std::to_string( i ), images[k].id, g.pixelInImage + 0.3 * Eigen::Vector2d( noise( rng ), noise( rng ) ), 0.3 } );
-    }
-  }
+  // six images in two strips, 8 000 points seen in all of them, the starts a little off (bundlescene.h)
+  const BundleScene scene( 8000 );
   BundleOptions options;
   BundleSummary whole;
-  const double wholeSeconds = secondsOf( [&] { whole = bundleAdjust( { camera }, images, {}, observations, options ); } );
+  const double wholeSeconds = secondsOf( [&] { whole = bundleAdjust( scene.cameras, scene.images, scene.control, scene.observations, options ); } );
   ASSERT_TRUE( whole.ok() ) << whole.message;
 
   CancelAfterChecks cancel( 2 ); // after the first iteration
   options.progress = cancel.progress();
-  const BundleSummary stopped = bundleAdjust( { camera }, images, {}, observations, options );
+  const BundleSummary stopped = bundleAdjust( scene.cameras, scene.images, scene.control, scene.observations, options );
   ASSERT_TRUE( cancel.asked() );
   const double waited = cancel.secondsSinceAsked();
   std::printf( "bundle adjustment of 6 x 8000: %.2f s whole (%d iterations), stopped %.3f s after the cancel\n", wholeSeconds, whole.iterations, waited );
