@@ -147,6 +147,7 @@ namespace geostation
     {
       int a, w;
       double contrast, variation, score, inside, left, right;
+      int tone;
     };
     const int n = static_cast<int>( profile.size() );
     const ProfileSums sums( profile );
@@ -169,6 +170,8 @@ namespace geostation
         const double left = sums.mean( a - gap - f, a - gap );
         const double right = sums.mean( a + w + gap, a + w + gap + f );
         double toLeft = inside - left, toRight = inside - right;
+        // the band's tone in the image's grey levels (the profile carries the polarity's sign)
+        const int tone = toLeft * toRight < 0.0 ? 0 : ( toLeft + toRight > 0.0 ? profileSign( polarity ) : -profileSign( polarity ) );
         bool mixed = false;
         if ( eitherSign )
         {
@@ -187,7 +190,7 @@ namespace geostation
         const double variation = w >= 4 ? sums.stdDev( a + 1, a + w - 1 ) : w >= 2 ? sums.stdDev( a, a + w ) : 0.0;
         if ( variation > 2.0 * maxVariation )
           continue;
-        candidates.push_back( { a, w, contrast, variation, contrast - 0.5 * variation, inside, left, right } );
+        candidates.push_back( { a, w, contrast, variation, contrast - 0.5 * variation, inside, left, right, tone } );
       }
     }
     std::sort( candidates.begin(), candidates.end(), []( const Candidate &x, const Candidate &y ) { return x.score > y.score; } );
@@ -217,6 +220,7 @@ namespace geostation
       s.widthPx = r > l ? r - l : c.w;
       s.contrast = c.contrast;
       s.variation = robustSpread( profile, w0( c.a, c.w ), w1( c.a, c.w ) );
+      s.tone = c.tone;
       found.push_back( s );
     }
     return found;

@@ -49,6 +49,7 @@ namespace geostation
     double widthPx = 0.0;   //!< between the half-contrast crossings
     double contrast = 0.0;  //!< the smaller side's contrast, polarity applied (grey levels)
     double variation = 0.0; //!< robust spread inside (grey levels; markings and cars hardly count)
+    int tone = 0;           //!< +1 brighter than both sides, -1 darker than both, 0 between a darker and a brighter side
   };
 
   /**

@@ -21,6 +21,15 @@ namespace geostation
     Eigen::Vector2d direction = Eigen::Vector2d::UnitX(); //!< unit, (col, row), direction of travel
     double widthPx = 8.0;
     double contrast = 20.0; //!< grey levels, polarity applied
+    /**
+     * The band's tone where it was last measured: +1 brighter than both
+     * sides, -1 darker than both, 0 between a darker and a brighter side
+     * or not known. A line does not pass from a band of one tone to one of
+     * the other in a step (from the asphalt onto its bright shoulder); it
+     * may through a stretch between (a road passing from a bright field
+     * into a dark wood).
+     */
+    int tone = 0;
   };
 
   enum class DeadEndKind

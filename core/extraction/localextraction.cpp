@@ -111,7 +111,7 @@ namespace geostation
     const std::vector<CrossSection> sections = findCrossSections( profile, wMin, wMax, minContrast, object.maxVariation, openSide, object.polarity );
     const CrossSection *chosen = nullptr;
     for ( const CrossSection &s : sections )
-      if ( std::abs( s.offsetPx ) <= search && ( !chosen || std::abs( s.offsetPx ) < std::abs( chosen->offsetPx ) ) )
+      if ( std::abs( s.offsetPx ) <= search && ( from.tone == 0 || s.tone != -from.tone ) && ( !chosen || std::abs( s.offsetPx ) < std::abs( chosen->offsetPx ) ) )
         chosen = &s;
     if ( !chosen )
       return std::nullopt;
@@ -124,6 +124,7 @@ namespace geostation
     next.direction = openSide ? from.direction : Eigen::Vector2d( ( from.direction + heading ).normalized() );
     next.widthPx = openSide ? w : 0.8 * w + 0.2 * chosen->widthPx;
     next.contrast = openSide ? from.contrast : 0.8 * from.contrast + 0.2 * chosen->contrast;
+    next.tone = openSide ? from.tone : chosen->tone;
     return next;
   }
 

@@ -115,6 +115,7 @@ namespace geostation
       state.direction = along;
       state.widthPx = meanWidth;
       state.contrast = std::min( { ahead->contrast, mid->contrast, behind->contrast } );
+      state.tone = mid->tone;
       return state;
     }
   } // namespace
