@@ -204,6 +204,27 @@ namespace
     e.lengthPx = totalLength( photoLines );
     return e;
   }
+
+  //! With GEOSTATION_EXTRACTION_DEBUG set to a folder: the photograph with its lines (red), the partner's mapped back (green) and the main roads (blue).
+  void drawDebug( const std::string &name, const cv::Mat &photo, const RoadNetworkSummary &s )
+  {
+    const char *out = std::getenv( "GEOSTATION_EXTRACTION_DEBUG" );
+    if ( !out )
+      return;
+    cv::Mat canvas;
+    cv::cvtColor( photo, canvas, cv::COLOR_GRAY2BGR );
+    const cv::Matx33d photoFromPartner = partnerFromPhoto().inv();
+    const auto draw = [&canvas]( const std::vector<Polyline> &lines, const cv::Scalar &colour ) {
+      for ( const Polyline &l : lines )
+        for ( size_t i = 0; i + 1 < l.size(); ++i )
+          cv::line( canvas, cv::Point2d( l[i].x() - 0.5, l[i].y() - 0.5 ), cv::Point2d( l[i + 1].x() - 0.5, l[i + 1].y() - 0.5 ), colour, 1 );
+    };
+    for ( const TruthRoad &road : mainRoads() )
+      draw( { road.centre }, cv::Scalar( 255, 0, 0 ) );
+    draw( linesOf( s.extraction.linesB, &photoFromPartner ), cv::Scalar( 0, 255, 0 ) );
+    draw( linesOf( s.extraction.linesA ), cv::Scalar( 0, 0, 255 ) );
+    cv::imwrite( std::string( out ) + "/" + name + ".png", canvas );
+  }
 } // namespace
 
 TEST( RealAerialPhotograph, RoadsFoundAndVerifiedInAPartnerUnderAKnownHomography )
@@ -232,23 +253,7 @@ TEST( RealAerialPhotograph, RoadsFoundAndVerifiedInAPartnerUnderAKnownHomography
                  name, e.lengthPx, e.completenessPhoto, e.completenessPartner, e.partnerInPhoto.fraction, e.partnerInPhoto.medianPx,
                  e.photoInPartner.fraction, e.photoInPartner.medianPx, e.roadlessPx );
 
-  if ( const char *out = std::getenv( "GEOSTATION_EXTRACTION_DEBUG" ) )
-  {
-    // the photograph with its lines (red), the partner's mapped back (green) and the main roads (blue)
-    cv::Mat canvas;
-    cv::cvtColor( pair.photo, canvas, cv::COLOR_GRAY2BGR );
-    const cv::Matx33d photoFromPartner = partnerFromPhoto().inv();
-    const auto draw = [&canvas]( const std::vector<Polyline> &lines, const cv::Scalar &colour ) {
-      for ( const Polyline &l : lines )
-        for ( size_t i = 0; i + 1 < l.size(); ++i )
-          cv::line( canvas, cv::Point2d( l[i].x() - 0.5, l[i].y() - 0.5 ), cv::Point2d( l[i + 1].x() - 0.5, l[i + 1].y() - 0.5 ), colour, 1 );
-    };
-    for ( const TruthRoad &road : mainRoads() )
-      draw( { road.centre }, cv::Scalar( 255, 0, 0 ) );
-    draw( linesOf( narrow.extraction.linesB, &photoFromPartner ), cv::Scalar( 0, 255, 0 ) );
-    draw( linesOf( narrow.extraction.linesA ), cv::Scalar( 0, 0, 255 ) );
-    cv::imwrite( std::string( out ) + "/real_aerial.png", canvas );
-  }
+  drawDebug( "real_aerial", pair.photo, narrow );
 
   // the main roads are found in both images
   EXPECT_GT( n.completenessPhoto, 0.75 );
@@ -298,8 +303,11 @@ TEST( RealAerialPhotograph, DefaultsOnTheMainRoads )
   options.controlMapping = ControlMapping::Projective;
   const RoadNetworkSummary s = extractRoadNetwork( MatchImage( pair.photo ), MatchImage( pair.partner ), nullptr, nullptr, options );
   const Evaluation e = evaluate( s );
+  drawDebug( "aero3_defaults", pair.photo, s );
   std::printf( "aero3 with the defaults: main roads' completeness %.2f (photo), %.2f (partner); %.0f px of line, %.0f px in the sea and forest; contrast %.0f\n",
                e.completenessPhoto, e.completenessPartner, e.lengthPx, e.roadlessPx, s.minContrast );
+  for ( const TruthRoad &road : mainRoads() )
+    std::printf( "  %s: %.2f found\n", road.name.c_str(), completenessOf( { road }, linesOf( s.extraction.linesA ), 3.0 ) );
   EXPECT_GE( e.completenessPhoto, 0.70 );
   EXPECT_LT( e.roadlessPx, 0.05 * e.lengthPx );
 }
