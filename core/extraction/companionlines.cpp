@@ -36,19 +36,6 @@ namespace geostation
       return v[v.size() / 2];
     }
 
-    //! The width of the band nearest `p` across `direction` (within 3 px of it), NaN where there is none.
-    double bandWidthAt( const GreyTiles &grey, const Eigen::Vector2d &p, const Eigen::Vector2d &direction, const LineObjectOptions &object )
-    {
-      const int half = static_cast<int>( std::ceil( object.maxWidthPx ) ) + 6;
-      const GreyWindow w = grey.around( p, half + 6 );
-      const std::vector<double> profile = sampleCrossProfile( w.pixels, w.toWindow( p ), direction, half, object.polarity, 2.0, 3 );
-      std::optional<CrossSection> best;
-      for ( const CrossSection &s : findCrossSections( profile, object.minWidthPx, object.maxWidthPx, object.minContrast, object.maxVariation, false, object.polarity ) )
-        if ( std::abs( s.offsetPx ) <= 3.0 && ( !best || std::abs( s.offsetPx ) < std::abs( best->offsetPx ) ) )
-          best = s;
-      return best ? best->widthPx : std::numeric_limits<double>::quiet_NaN();
-    }
-
     //! The line densified to kStepPx (its vertices kept), the length along it and its bounds; no widths yet.
     DenseLine densified( const CompiledPolygon &line )
     {
@@ -126,7 +113,8 @@ namespace geostation
         const Eigen::Vector2d course = dense.points[std::min( i + 1, n - 1 )] - dense.points[i > 0 ? i - 1 : 0];
         if ( course.norm() == 0.0 )
           continue;
-        measured[i] = bandWidthAt( grey, dense.points[i], course.normalized(), object );
+        if ( const std::optional<CrossSection> band = bandAt( grey, dense.points[i], course.normalized(), object ) )
+          measured[i] = band->widthPx;
         if ( std::isfinite( measured[i] ) )
           all.push_back( measured[i] );
       }

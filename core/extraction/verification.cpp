@@ -40,22 +40,26 @@ namespace geostation
     return out;
   }
 
+  std::optional<CrossSection> bandAt( const GreyTiles &grey, const Eigen::Vector2d &pixelInImage, const Eigen::Vector2d &direction, const LineObjectOptions &object )
+  {
+    const int half = static_cast<int>( std::ceil( object.maxWidthPx ) ) + 6;
+    // the profile's pixels: half across, 2 along, 2 for interpolation
+    const GreyWindow w = grey.around( pixelInImage, half + 6 );
+    const std::vector<double> profile = sampleCrossProfile( w.pixels, w.toWindow( pixelInImage ), direction, half, object.polarity, 2.0, 3 );
+    std::optional<CrossSection> best;
+    for ( const CrossSection &s : findCrossSections( profile, object.minWidthPx, object.maxWidthPx, object.minContrast, object.maxVariation, false, object.polarity ) )
+      if ( std::abs( s.offsetPx ) <= 3.0 && ( !best || std::abs( s.offsetPx ) < std::abs( best->offsetPx ) ) )
+        best = s;
+    return best;
+  }
+
   std::pair<double, double> measureBand( const GreyTiles &grey, const std::vector<Eigen::Vector2d> &line, const LineObjectOptions &object )
   {
     std::vector<double> widths, contrasts;
     for ( int k = 1; k <= 7 && line.size() > 2; ++k )
     {
       const size_t i = std::min( line.size() - 2, line.size() * k / 8 );
-      const Eigen::Vector2d d = ( line[i + 1] - line[i] ).normalized();
-      const int half = static_cast<int>( std::ceil( object.maxWidthPx ) ) + 6;
-      // the profile's pixels: half across, 2 along, 2 for interpolation
-      const GreyWindow w = grey.around( line[i], half + 6 );
-      const std::vector<double> profile = sampleCrossProfile( w.pixels, w.toWindow( line[i] ), d, half, object.polarity, 2.0, 3 );
-      std::optional<CrossSection> best;
-      for ( const CrossSection &s : findCrossSections( profile, object.minWidthPx, object.maxWidthPx, object.minContrast, object.maxVariation, false, object.polarity ) )
-        if ( std::abs( s.offsetPx ) <= 3.0 && ( !best || std::abs( s.offsetPx ) < std::abs( best->offsetPx ) ) )
-          best = s;
-      if ( best )
+      if ( const std::optional<CrossSection> best = bandAt( grey, line[i], ( line[i + 1] - line[i] ).normalized(), object ) )
       {
         widths.push_back( best->widthPx );
         contrasts.push_back( best->contrast );

@@ -80,14 +80,20 @@ namespace geostation
   VerificationSummary verifyPolygons( const cv::Mat &sourceGrey, const cv::Mat &targetGrey, const std::vector<CompiledPolygon> &polygons,
                                       const PixelMap &sourceToTarget, const LineObjectOptions &object, const VerificationOptions &options );
 
-  //! The polyline resampled every `stepPx` (ends kept).
+  /**
+   * The band of `object` across `direction` at `pixelInImage` of `grey`
+   * nearest it, within 3 px; nothing where there is none.
+   */
+  std::optional<CrossSection> bandAt( const GreyTiles &grey, const Eigen::Vector2d &pixelInImage, const Eigen::Vector2d &direction, const LineObjectOptions &object );
+
   /**
    * The band's width and contrast along a line of `grey` (medians of up to
-   * 7 profiles, the band nearest the line within 3 px); where none is
-   * found, the middle of the object's widths and 1.5 x its minimum contrast.
+   * 7 profiles, bandAt() the line); where none is found, the middle of the
+   * object's widths and 1.5 x its minimum contrast.
    */
   std::pair<double, double> measureBand( const GreyTiles &grey, const std::vector<Eigen::Vector2d> &line, const LineObjectOptions &object );
 
+  //! The polyline resampled every `stepPx` (its vertices and ends kept).
   std::vector<Eigen::Vector2d> densifyPolyline( const std::vector<Eigen::Vector2d> &polyline, double stepPx );
 
 } // namespace geostation
