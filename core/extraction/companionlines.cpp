@@ -177,7 +177,7 @@ namespace geostation
   void CompanionLineOptions::check() const
   {
     if ( !( besideFraction > 0.0 && besideFraction <= 1.0 ) || !( narrowerBy > 0.0 && narrowerBy <= 1.0 ) || !( gapPx >= 0.0 ) || !( narrowerThanRoads >= 0.0 ) )
-      throw std::invalid_argument( "companion lines need a fraction of length and a width ratio in (0, 1] and a non-negative gap" );
+      throw std::invalid_argument( "companion lines need a fraction of length and a width ratio in (0, 1], a non-negative gap and a non-negative fraction of the narrowest road" );
   }
 
   CompanionLineSummary removeCompanionLines( const GreyTiles &grey, const std::vector<CompiledPolygon> &lines, const LineObjectOptions &object,

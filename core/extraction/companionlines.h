@@ -46,13 +46,15 @@ namespace geostation
 
   /**
    * `lines` of the image `grey` without their companions. Each line is
-   * judged at points 4 px apart, the band's width measured across it at
-   * every other one: a line compiled through a junction may run along a
-   * shoulder and then along the road itself. A line is removed whole when
-   * at least `besideFraction` of its points run beside wider bands; else
-   * the stretches that do (two points or more) are cut out and each piece
-   * left at least twice its width and 12 px long is kept, its cut ends dead
-   * ends.
+   * judged at points 4 px apart, the band's width measured across it where
+   * it runs near another line (the median of the measurements over 16 px):
+   * a line compiled through a junction may run along a shoulder and then
+   * along the road itself. A line is removed whole when at least
+   * `besideFraction` of its points run beside wider bands; else the
+   * stretches that do (two points or more) and whose band is narrower than
+   * `narrowerThanRoads` x the narrowest road looked for are cut out, and
+   * each piece left at least twice its width and 12 px long is kept, its
+   * cut ends dead ends.
    */
   CompanionLineSummary removeCompanionLines( const GreyTiles &grey, const std::vector<CompiledPolygon> &lines, const LineObjectOptions &object,
                                              const CompanionLineOptions &options = CompanionLineOptions() );
