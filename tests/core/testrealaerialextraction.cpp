@@ -205,8 +205,8 @@ namespace
     return e;
   }
 
-  //! With GEOSTATION_EXTRACTION_DEBUG set to a folder: the photograph with its lines (red), the partner's mapped back (green) and the main roads (blue).
-  void drawDebug( const std::string &name, const cv::Mat &photo, const RoadNetworkSummary &s )
+  //! With GEOSTATION_EXTRACTION_DEBUG set to a folder: the photograph with its lines (red), the partner's mapped back (green) and the roads of the truth (blue).
+  void drawDebug( const std::string &name, const cv::Mat &photo, const RoadNetworkSummary &s, const std::vector<TruthRoad> &truth = mainRoads() )
   {
     const char *out = std::getenv( "GEOSTATION_EXTRACTION_DEBUG" );
     if ( !out )
@@ -219,7 +219,7 @@ namespace
         for ( size_t i = 0; i + 1 < l.size(); ++i )
           cv::line( canvas, cv::Point2d( l[i].x() - 0.5, l[i].y() - 0.5 ), cv::Point2d( l[i + 1].x() - 0.5, l[i + 1].y() - 0.5 ), colour, 1 );
     };
-    for ( const TruthRoad &road : mainRoads() )
+    for ( const TruthRoad &road : truth )
       draw( { road.centre }, cv::Scalar( 255, 0, 0 ) );
     draw( linesOf( s.extraction.linesB, &photoFromPartner ), cv::Scalar( 0, 255, 0 ) );
     draw( linesOf( s.extraction.linesA ), cv::Scalar( 0, 0, 255 ) );
@@ -327,6 +327,7 @@ TEST( RealAerialPhotograph, Aero1HighwayWithTheDefaults )
   options.controlMapping = ControlMapping::Projective;
   const RoadNetworkSummary s = extractRoadNetwork( MatchImage( pair.photo ), MatchImage( pair.partner ), nullptr, nullptr, options );
   const std::vector<Polyline> lines = linesOf( s.extraction.linesA );
+  drawDebug( "aero1_defaults", pair.photo, s, highway );
   const double found = completenessOf( highway, lines, 3.0 ), wrong = lengthInAreas( lines, roadless );
   std::printf( "aero1 with the defaults: the highway %.2f found; %.0f px of line, %.0f px in the lake and the wood; contrast %.0f\n", found, totalLength( lines ), wrong,
                s.minContrast );
