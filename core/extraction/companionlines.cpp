@@ -102,7 +102,7 @@ namespace geostation
      * where the line is near nothing; where no band is found nearby, the
      * median.
      */
-    void measureWidths( const GreyTiles &grey, const CompiledPolygon &polygon, DenseLine &dense, const std::vector<bool> &near, const LineObjectOptions &object )
+    void measureWidths( const GreyTiles &grey, DenseLine &dense, const std::vector<bool> &near, const LineObjectOptions &object )
     {
       const size_t n = dense.points.size();
       std::vector<double> measured( n, std::numeric_limits<double>::quiet_NaN() ), all;
@@ -114,11 +114,9 @@ namespace geostation
         if ( course.norm() == 0.0 )
           continue;
         if ( const std::optional<CrossSection> band = bandAt( grey, dense.points[i], course.normalized(), object ) )
-          measured[i] = band->widthPx;
-        if ( std::isfinite( measured[i] ) )
-          all.push_back( measured[i] );
+          all.push_back( measured[i] = band->widthPx );
       }
-      dense.medianWidth = !all.empty() ? median( all ) : n >= 2 ? measureBand( grey, densifyPolyline( polygon.pixels, kStepPx ), object ).first : 0.5 * ( object.minWidthPx + object.maxWidthPx );
+      dense.medianWidth = !all.empty() ? median( all ) : measureBand( grey, dense.points, object ).first;
       for ( size_t i = 0; i < n; ++i )
       {
         std::vector<double> around;
@@ -190,7 +188,7 @@ namespace geostation
     // the farthest a companion can lie from the band it runs beside
     const double reach = object.maxWidthPx + options.gapPx;
     for ( size_t q = 0; q < lines.size(); ++q )
-      measureWidths( grey, lines[q], dense[q], pointsNearOthers( dense, q, reach ), object );
+      measureWidths( grey, dense[q], pointsNearOthers( dense, q, reach ), object );
     CompanionLineSummary summary;
     for ( size_t q = 0; q < lines.size(); ++q )
     {

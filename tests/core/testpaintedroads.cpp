@@ -17,9 +17,8 @@
 #include <tuple>
 
 #include <gtest/gtest.h>
-#include <opencv2/imgcodecs.hpp>
-#include <opencv2/imgproc.hpp>
 
+#include "debugdrawing.h"
 #include "extraction/companionlines.h"
 #include "extraction/roadnetworkextractor.h"
 #include "imagelinescoring.h"
@@ -53,19 +52,8 @@ namespace
     std::printf( "%s: completeness %.2f, correctness %.2f, quality %.2f, RMS %.2f px; height %.1f m (truth 300), widths %.1f-%.1f px, contrast %.0f, %.1f s\n",
                  scene.name.c_str(), r.score.completeness, r.score.correctness, quality, r.score.rmsPx, r.summary.meanHeightM, r.summary.widthsFromMetres->minPx,
                  r.summary.widthsFromMetres->maxPx, r.summary.minContrast, r.summary.seconds );
-    if ( const char *out = std::getenv( "GEOSTATION_EXTRACTION_DEBUG" ) )
-    {
-      cv::Mat canvas;
-      cv::cvtColor( pair.grey[0], canvas, cv::COLOR_GRAY2BGR );
-      const auto drawLines = [&]( const std::vector<PixelPolyline> &ls, const cv::Scalar &colour ) {
-        for ( const PixelPolyline &l : ls )
-          for ( size_t i = 0; i + 1 < l.size(); ++i )
-            cv::line( canvas, cv::Point2d( l[i].x() - 0.5, l[i].y() - 0.5 ), cv::Point2d( l[i + 1].x() - 0.5, l[i + 1].y() - 0.5 ), colour, 1 );
-      };
-      drawLines( truthInPhoto( pair, 0, 10.0 ), cv::Scalar( 0, 255, 0 ) );
-      drawLines( lines, cv::Scalar( 0, 0, 255 ) );
-      cv::imwrite( std::string( out ) + "/painted_" + scene.name.substr( 0, scene.name.find( ' ', 4 ) ) + ".png", canvas );
-    }
+    drawLinesForDebugging( "painted_" + scene.name.substr( 0, scene.name.find( ' ', 4 ) ), pair.grey[0],
+                           { { truthInPhoto( pair, 0, 10.0 ), cv::Scalar( 0, 255, 0 ) }, { lines, cv::Scalar( 0, 0, 255 ) } } );
     return r;
   }
 

@@ -22,6 +22,7 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include "debugdrawing.h"
 #include "extraction/polygoncompilation.h"
 #include "imagelinescoring.h"
 #include "extraction/roadnetworkextractor.h"
@@ -208,22 +209,12 @@ namespace
   //! With GEOSTATION_EXTRACTION_DEBUG set to a folder: the photograph with its lines (red), the partner's mapped back (green) and the roads of the truth (blue).
   void drawDebug( const std::string &name, const cv::Mat &photo, const RoadNetworkSummary &s, const std::vector<TruthRoad> &truth = mainRoads() )
   {
-    const char *out = std::getenv( "GEOSTATION_EXTRACTION_DEBUG" );
-    if ( !out )
-      return;
-    cv::Mat canvas;
-    cv::cvtColor( photo, canvas, cv::COLOR_GRAY2BGR );
     const cv::Matx33d photoFromPartner = partnerFromPhoto().inv();
-    const auto draw = [&canvas]( const std::vector<Polyline> &lines, const cv::Scalar &colour ) {
-      for ( const Polyline &l : lines )
-        for ( size_t i = 0; i + 1 < l.size(); ++i )
-          cv::line( canvas, cv::Point2d( l[i].x() - 0.5, l[i].y() - 0.5 ), cv::Point2d( l[i + 1].x() - 0.5, l[i + 1].y() - 0.5 ), colour, 1 );
-    };
+    std::vector<Polyline> truthLines;
     for ( const TruthRoad &road : truth )
-      draw( { road.centre }, cv::Scalar( 255, 0, 0 ) );
-    draw( linesOf( s.extraction.linesB, &photoFromPartner ), cv::Scalar( 0, 255, 0 ) );
-    draw( linesOf( s.extraction.linesA ), cv::Scalar( 0, 0, 255 ) );
-    cv::imwrite( std::string( out ) + "/" + name + ".png", canvas );
+      truthLines.push_back( road.centre );
+    drawLinesForDebugging( name, photo, { { truthLines, cv::Scalar( 255, 0, 0 ) }, { linesOf( s.extraction.linesB, &photoFromPartner ), cv::Scalar( 0, 255, 0 ) },
+                                          { linesOf( s.extraction.linesA ), cv::Scalar( 0, 0, 255 ) } } );
   }
 } // namespace
 
