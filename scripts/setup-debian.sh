@@ -15,13 +15,33 @@ packages=(
   opencv-doc colmap
 )
 
+# Real images the tests measure on that Debian ships only inside packages not worth installing whole:
+# SP27GTIF.TIF (a 10 m image of Chicago) from r-cran-rgdal, unpacked into testdata/ (no root needed).
+fetch_test_images() {
+  local testdata
+  testdata="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)/testdata"
+  [ -f "$testdata/SP27GTIF.TIF" ] && return 0
+  mkdir -p "$testdata"
+  local tmp
+  tmp="$(mktemp -d)"
+  if (cd "$tmp" && apt-get download -qq r-cran-rgdal > /dev/null 2>&1) && dpkg-deb -x "$tmp"/r-cran-rgdal_*.deb "$tmp/x"; then
+    cp "$tmp/x/usr/lib/R/site-library/rgdal/pictures/SP27GTIF.TIF" "$testdata/"
+  else
+    echo "setup-debian.sh: could not download r-cran-rgdal for testdata/SP27GTIF.TIF (run apt-get update first); its tests will say so" >&2
+  fi
+  rm -rf "$tmp"
+}
+
 missing=()
 for p in "${packages[@]}"; do
   if ! dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed"; then
     missing+=("$p")
   fi
 done
-[ ${#missing[@]} -eq 0 ] && exit 0
+if [ ${#missing[@]} -eq 0 ]; then
+  fetch_test_images
+  exit 0
+fi
 
 echo "Installing ${#missing[@]} Debian packages: ${missing[*]}"
 sudo=()
@@ -32,3 +52,4 @@ fi
 export DEBIAN_FRONTEND=noninteractive
 "${sudo[@]}" apt-get update -qq
 "${sudo[@]}" apt-get install -y -qq --no-install-recommends "${missing[@]}" > /dev/null
+fetch_test_images

@@ -1,0 +1,148 @@
+/***************************************************************************
+  orthophotopair.h - a vertical stereo pair resampled from a real
+  orthophoto, for tests on real imagery at a known ground pixel
+  -------------------------------------------------------------------------
+  A real grey orthophoto (north up, square ground pixels of `gsdM`) is laid
+  on level ground at `groundM`; two vertical photos of one camera model
+  (the orthophoto's size, principal distance = its width) look at it from
+  `groundM + f * gsdM`, the second displaced north by a fraction of the
+  footprint and both tilted a little, so neither is the orthophoto itself.
+  Each photo pixel is the orthophoto's grey where its ray meets the ground
+  (bicubic), blurred by 0.5 px and given noise of 2 grey levels; pixels
+  whose ray falls beyond the orthophoto are 0.
+
+  Ground x east, y north, metres from the orthophoto's centre; truth
+  digitised on the orthophoto (pixelInImage, centres at i + 0.5) is
+  carried into a photo by the collinearity equations (orthoToGround, then
+  projectGroundToPixel).
+ ***************************************************************************/
+#ifndef GEOSTATION_TESTS_ORTHOPHOTOPAIR_H
+#define GEOSTATION_TESTS_ORTHOPHOTOPAIR_H
+
+#include <random>
+#include <vector>
+
+#include <Eigen/Core>
+#include <opencv2/core.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include "camera/camera.h"
+#include "geometry/projection.h"
+#include "imagelinescoring.h"
+
+namespace geostation::orthophotopair
+{
+  struct OrthophotoPair
+  {
+    Camera camera;
+    std::vector<ExteriorOrientation> exterior; //!< A, B
+    std::vector<cv::Mat> grey;                 //!< A, B
+    cv::Size ortho;
+    double gsdM = 1.0;
+    double groundM = 200.0;
+
+    //! Ground (x, y, groundM) of an orthophoto pixelInImage position.
+    Eigen::Vector3d orthoToGround( const Eigen::Vector2d &p ) const
+    {
+      return Eigen::Vector3d( ( p.x() - 0.5 * ortho.width ) * gsdM, ( 0.5 * ortho.height - p.y() ) * gsdM, groundM );
+    }
+  };
+
+  /**
+   * The pair over `ortho` (8-bit grey). `baseFraction`: the second photo's
+   * displacement north as a fraction of the footprint's height.
+   */
+  inline OrthophotoPair orthophotoPair( const cv::Mat &ortho, double gsdM, double baseFraction = 0.3, uint32_t seed = 11 )
+  {
+    OrthophotoPair pair;
+    pair.ortho = ortho.size();
+    pair.gsdM = gsdM;
+    Camera &camera = pair.camera;
+    camera.id = "one";
+    camera.width = ortho.cols;
+    camera.height = ortho.rows;
+    camera.f = ortho.cols;
+    camera.cx = ortho.cols / 2.0;
+    camera.cy = ortho.rows / 2.0;
+    camera.pixelSizeMm = 0.006;
+    const double flyingM = pair.groundM + camera.f * gsdM;
+    for ( int k = 0; k < 2; ++k )
+    {
+      ExteriorOrientation e;
+      e.projectionCentre = Eigen::Vector3d( 0.0, k * baseFraction * ortho.rows * gsdM, flyingM );
+      e.omegaDeg = k == 0 ? 0.2 : -0.3;
+      e.phiDeg = k == 0 ? -0.15 : 0.25;
+      e.kappaDeg = k == 0 ? 0.3 : -0.5;
+      pair.exterior.push_back( e );
+    }
+    std::mt19937 random( seed );
+    std::normal_distribution<double> noise( 0.0, 2.0 );
+    for ( int k = 0; k < 2; ++k )
+    {
+      const OrientedImage image( camera, pair.exterior[k] );
+      cv::Mat mapX( camera.height, camera.width, CV_32F ), mapY( camera.height, camera.width, CV_32F );
+      for ( int r = 0; r < camera.height; ++r )
+        for ( int c = 0; c < camera.width; ++c )
+        {
+          const std::optional<Ray> ray = image.worldRayFromPixel( Eigen::Vector2d( c + 0.5, r + 0.5 ) );
+          const Eigen::Vector3d g = ray->origin + ( pair.groundM - ray->origin.z() ) / ray->direction.z() * ray->direction;
+          // the orthophoto's pixel indices (OpenCV: centres at i)
+          mapX.at<float>( r, c ) = static_cast<float>( g.x() / gsdM + 0.5 * ortho.cols - 0.5 );
+          mapY.at<float>( r, c ) = static_cast<float>( 0.5 * ortho.rows - g.y() / gsdM - 0.5 );
+        }
+      cv::Mat sampled;
+      cv::remap( ortho, sampled, mapX, mapY, cv::INTER_CUBIC, cv::BORDER_CONSTANT, cv::Scalar( 0 ) );
+      cv::Mat blurred;
+      sampled.convertTo( blurred, CV_32F );
+      cv::GaussianBlur( blurred, blurred, cv::Size( 0, 0 ), 0.5 );
+      cv::Mat grey( camera.height, camera.width, CV_8U );
+      for ( int r = 0; r < camera.height; ++r )
+        for ( int c = 0; c < camera.width; ++c )
+          grey.at<uint8_t>( r, c ) = sampled.at<uint8_t>( r, c ) == 0 ? 0 : cv::saturate_cast<uint8_t>( blurred.at<float>( r, c ) + noise( random ) );
+      pair.grey.push_back( grey );
+    }
+    return pair;
+  }
+
+  /**
+   * Lines digitised on the orthophoto carried into photo k, sampled every
+   * pixel and cut to the parts both photos see (`marginPx` from their edges).
+   */
+  inline std::vector<PixelPolyline> inPhoto( const OrthophotoPair &pair, int k, const std::vector<PixelPolyline> &orthoLines, double marginPx )
+  {
+    const OrientedImage a( pair.camera, pair.exterior[0] ), b( pair.camera, pair.exterior[1] );
+    const OrientedImage &self = k == 0 ? a : b;
+    const auto inside = [&]( const OrientedImage &image, const Eigen::Vector3d &g ) {
+      const Eigen::Vector2d q = image.projectGroundToPixel( g ).pixelInImage;
+      return q.x() > marginPx && q.y() > marginPx && q.x() < pair.camera.width - marginPx && q.y() < pair.camera.height - marginPx;
+    };
+    std::vector<PixelPolyline> out;
+    for ( const PixelPolyline &line : orthoLines )
+    {
+      PixelPolyline current;
+      for ( size_t i = 0; i + 1 < line.size(); ++i )
+      {
+        const int n = std::max( 1, static_cast<int>( ( line[i + 1] - line[i] ).norm() ) );
+        for ( int s = 0; s <= n; ++s )
+        {
+          if ( s == n && i + 2 < line.size() )
+            break; // the next segment starts here
+          const Eigen::Vector3d g = pair.orthoToGround( line[i] + ( line[i + 1] - line[i] ) * s / n );
+          if ( inside( a, g ) && inside( b, g ) )
+            current.push_back( self.projectGroundToPixel( g ).pixelInImage );
+          else
+          {
+            if ( current.size() > 1 )
+              out.push_back( current );
+            current.clear();
+          }
+        }
+      }
+      if ( current.size() > 1 )
+        out.push_back( current );
+    }
+    return out;
+  }
+} // namespace geostation::orthophotopair
+
+#endif // GEOSTATION_TESTS_ORTHOPHOTOPAIR_H
