@@ -7,6 +7,8 @@
 #include "reviewtool.h"
 
 #include <QAction>
+#include <QDesktopServices>
+#include <QUrl>
 #include <QFileDialog>
 #include <QInputDialog>
 #include <QFileInfo>
@@ -26,6 +28,7 @@
 #include "blockinfodialog.h"
 #include "featureclassdialog.h"
 #include "geostationprovider.h"
+#include "userguide.h"
 #include "io/block.h"
 #include "measurementcontroller.h"
 #include "measurementsettingsdialog.h"
@@ -231,7 +234,26 @@ void GeoStationPlugin::initGui()
   addAlgorithmAction( mAdjustmentMenu, QStringLiteral( "mActionGeoStationResection" ), tr( "Space Resection…" ), QStringLiteral( "geostation:resection" ) );
   addAlgorithmAction( mAdjustmentMenu, QStringLiteral( "mActionGeoStationBundleAdjust" ), tr( "Bundle Adjustment…" ), QStringLiteral( "geostation:bundle_adjust" ) );
   addAlgorithmAction( mAdjustmentMenu, QStringLiteral( "mActionGeoStationInnerOrientation" ), tr( "Inner Orientation from Fiducials…" ), QStringLiteral( "geostation:inner_orientation" ) );
+
+  mMenu->addSeparator();
+  QAction *guide = new QAction( tr( "User Guide" ), mIface->mainWindow() );
+  guide->setObjectName( QStringLiteral( "mActionGeoStationUserGuide" ) );
+  guide->setToolTip( tr( "Open GeoStation's user guide in the web browser: getting started, each tool, each Processing algorithm" ) );
+  connect( guide, &QAction::triggered, this, &GeoStationPlugin::openUserGuide );
+  mMenu->addAction( guide );
+  mActions << guide;
   updateActions();
+}
+
+void GeoStationPlugin::openUserGuide()
+{
+  const QString url = GeoStationProcessing::userGuidePage( QStringLiteral( "getting-started.html" ) );
+  if ( url.isEmpty() )
+  {
+    mIface->messageBar()->pushWarning( tr( "GeoStation" ), tr( "The user guide is not installed with this build (it needs python3-markdown when building); it is in the docs folder of the source." ) );
+    return;
+  }
+  QDesktopServices::openUrl( QUrl( url ) );
 }
 
 void GeoStationPlugin::updateActions()

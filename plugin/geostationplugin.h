@@ -92,6 +92,8 @@ class GeoStationPlugin : public QObject, public QgisPlugin
     void editMeasurementSettings();
     //! Asks for coordinates (block CRS), a station id or a time, and goes to the nearest station.
     void goToCoordinate();
+    //! GeoStation > User Guide: the installed guide in the web browser (userguide.h), or a warning where it is not installed.
+    void openUserGuide();
     //! Goes to the station nearest to X, Y in the block CRS; false if there is none.
     bool goToCoordinateXY( double x, double y );
 

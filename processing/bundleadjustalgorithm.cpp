@@ -47,7 +47,7 @@ QString BundleAdjustAlgorithm::groupId() const
   return QStringLiteral( "adjustment" );
 }
 
-QString BundleAdjustAlgorithm::shortHelpString() const
+QString BundleAdjustAlgorithm::helpText() const
 {
   return QObject::tr( "Adjusts the orientations of all observed images of a block together with every measured point.\n\n"
                       "OBSERVATIONS: point_id, image_id, col, row (pixels) and optionally sigma_px. GCPS (optional): point_id, X, Y, Z "

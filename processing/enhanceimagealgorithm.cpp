@@ -49,7 +49,7 @@ QString EnhanceImageAlgorithm::groupId() const
   return QStringLiteral( "imageprocessing" );
 }
 
-QString EnhanceImageAlgorithm::shortHelpString() const
+QString EnhanceImageAlgorithm::helpText() const
 {
   return QObject::tr( "Enhances an 8- or 16-bit grey or RGB image for viewing and measuring, as the Geostation thesis does "
                       "(chapter 4), and writes a GeoTIFF that keeps the input's georeferencing (pixel-space images stay in "

@@ -45,7 +45,7 @@ QString ExportBlockAlgorithm::groupId() const
   return QStringLiteral( "block" );
 }
 
-QString ExportBlockAlgorithm::shortHelpString() const
+QString ExportBlockAlgorithm::helpText() const
 {
   return QObject::tr( "Hands an oriented block back.\n\n"
                       "FORMAT colmap writes a COLMAP text model (cameras.txt, images.txt, points3D.txt) into the folder "

@@ -22,7 +22,7 @@ class GEOSTATION_PROCESSING_EXPORT ExportBlockAlgorithm : public GeoStationAlgor
     QStringList tags() const override;
     QString group() const override;
     QString groupId() const override;
-    QString shortHelpString() const override;
+    QString helpText() const override;
     ExportBlockAlgorithm *createInstance() const override;
 
   protected:

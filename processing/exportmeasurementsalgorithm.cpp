@@ -95,7 +95,7 @@ QString ExportMeasurementsAlgorithm::groupId() const
   return QStringLiteral( "measurement" );
 }
 
-QString ExportMeasurementsAlgorithm::shortHelpString() const
+QString ExportMeasurementsAlgorithm::helpText() const
 {
   return QObject::tr( "Writes the layers of a GeoStation measurement GeoPackage for ArcGIS and CAD users with QGIS's own writers. "
                       "Every feature layer LAYER becomes LAYER.shp (attributes and Z kept; Shapefile field names are cut to 10 "

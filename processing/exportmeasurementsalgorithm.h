@@ -19,7 +19,7 @@ class GEOSTATION_PROCESSING_EXPORT ExportMeasurementsAlgorithm : public GeoStati
     QStringList tags() const override;
     QString group() const override;
     QString groupId() const override;
-    QString shortHelpString() const override;
+    QString helpText() const override;
     ExportMeasurementsAlgorithm *createInstance() const override;
 
   protected:

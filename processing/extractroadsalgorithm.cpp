@@ -71,7 +71,7 @@ QStringList ExtractRoadsAlgorithm::tags() const { return QObject::tr( "road,netw
 QString ExtractRoadsAlgorithm::group() const { return QObject::tr( "Image processing" ); }
 QString ExtractRoadsAlgorithm::groupId() const { return QStringLiteral( "imageprocessing" ); }
 
-QString ExtractRoadsAlgorithm::shortHelpString() const
+QString ExtractRoadsAlgorithm::helpText() const
 {
   return QObject::tr( "Extracts roads automatically from one image of a stereo pair, verifies every line in the other image, "
                       "continues from where verification stopped, alternating between the images until a round adds little, "

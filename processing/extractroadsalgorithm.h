@@ -19,7 +19,7 @@ class GEOSTATION_PROCESSING_EXPORT ExtractRoadsAlgorithm : public GeoStationAlgo
     QStringList tags() const override;
     QString group() const override;
     QString groupId() const override;
-    QString shortHelpString() const override;
+    QString helpText() const override;
     ExtractRoadsAlgorithm *createInstance() const override;
 
   protected:

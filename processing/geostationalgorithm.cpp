@@ -2,11 +2,15 @@
   geostationalgorithm.cpp
  ***************************************************************************/
 #include "geostationalgorithm.h"
+#include "userguide.h"
 
 #include <new>
 #include <stdexcept>
 
+#include <QRegularExpression>
+
 #include <qgsprocessingfeedback.h>
+#include <qgsprocessingoutputs.h>
 #include <qgsprocessingparameters.h>
 #include <qgsprocessingutils.h>
 
@@ -31,6 +35,31 @@ QVariantMap GeoStationAlgorithm::processAlgorithm( const QVariantMap &parameters
   {
     throw QgsProcessingException( QObject::tr( "%1 stopped: %2" ).arg( displayName(), QString::fromStdString( e.what() ) ) );
   }
+}
+
+QString GeoStationAlgorithm::shortHelpString() const
+{
+  QList<QPair<QString, QString>> named; // name, label
+  for ( const QgsProcessingParameterDefinition *p : parameterDefinitions() )
+    named << qMakePair( p->name(), p->description() );
+  for ( const QgsProcessingOutputDefinition *o : outputDefinitions() )
+    if ( !parameterDefinition( o->name() ) )
+      named << qMakePair( o->name(), o->description() );
+  QString text = helpText();
+  for ( const auto &[name, description] : named )
+  {
+    const int bracket = description.indexOf( QLatin1String( " (" ) );
+    const QString label = bracket > 0 ? description.left( bracket ) : description;
+    if ( label.isEmpty() || label.compare( name, Qt::CaseInsensitive ) == 0 )
+      continue; // "DEM" (DEM) says nothing more
+    text.replace( QRegularExpression( QStringLiteral( "\\b%1\\b" ).arg( QRegularExpression::escape( name ) ) ), QStringLiteral( "\u201c%1\u201d (%2)" ).arg( label, name ) );
+  }
+  return text;
+}
+
+QString GeoStationAlgorithm::helpUrl() const
+{
+  return userGuidePage( QStringLiteral( "algorithms/%1.html" ).arg( name() ) );
 }
 
 bool GeoStationAlgorithm::checkParameterValues( const QVariantMap &parameters, QgsProcessingContext &context, QString *message ) const

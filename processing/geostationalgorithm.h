@@ -28,7 +28,20 @@ class GEOSTATION_PROCESSING_EXPORT GeoStationAlgorithm : public QgsProcessingAlg
 {
     friend class OutputSink; // QGIS's sentences for a sink that cannot be opened or written
 
+  public:
+    /**
+     * The help as the dialog and qgis_process show it: helpText() with each
+     * parameter and output named by its label (up to its first bracket),
+     * its name in brackets: "Minimum contrast" (MIN_CONTRAST).
+     */
+    QString shortHelpString() const final;
+    //! The algorithm's page of the installed user guide (userguide.h); empty where there is none (QGIS then hides the Help button).
+    QString helpUrl() const override;
+
   protected:
+    //! The algorithm's help, naming its parameters and outputs by their names (MIN_CONTRAST).
+    virtual QString helpText() const = 0;
+
     //! The algorithm's work (what processAlgorithm() is for other algorithms).
     virtual QVariantMap processGeoStation( const QVariantMap &parameters, QgsProcessingContext &context, QgsProcessingFeedback *feedback ) = 0;
 

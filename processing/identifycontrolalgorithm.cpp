@@ -82,7 +82,7 @@ QString IdentifyControlAlgorithm::groupId() const
   return QStringLiteral( "adjustment" );
 }
 
-QString IdentifyControlAlgorithm::shortHelpString() const
+QString IdentifyControlAlgorithm::helpText() const
 {
   return QObject::tr( "Finds the signalised control points of CONTROL in one photo of the block, with no point measured by hand. "
                       "Bright compact marks (targets) are detected in the image; triangles of neighbouring control points are "

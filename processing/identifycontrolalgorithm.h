@@ -24,7 +24,7 @@ class GEOSTATION_PROCESSING_EXPORT IdentifyControlAlgorithm : public GeoStationA
     QStringList tags() const override;
     QString group() const override;
     QString groupId() const override;
-    QString shortHelpString() const override;
+    QString helpText() const override;
     IdentifyControlAlgorithm *createInstance() const override;
 
   protected:

@@ -55,7 +55,7 @@ QStringList ImportBlockAlgorithm::tags() const { return QObject::tr( "photogramm
 QString ImportBlockAlgorithm::group() const { return QObject::tr( "Block" ); }
 QString ImportBlockAlgorithm::groupId() const { return QStringLiteral( "block" ); }
 
-QString ImportBlockAlgorithm::shortHelpString() const
+QString ImportBlockAlgorithm::helpText() const
 {
   return QObject::tr( "Turns a COLMAP sparse model, Metashape's camera XML, or a mapping van's OpenCV calibration with "
                       "its trajectory, into a GeoStation block.\n\n"

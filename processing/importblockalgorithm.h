@@ -23,7 +23,7 @@ class GEOSTATION_PROCESSING_EXPORT ImportBlockAlgorithm : public GeoStationAlgor
     QStringList tags() const override;
     QString group() const override;
     QString groupId() const override;
-    QString shortHelpString() const override;
+    QString helpText() const override;
     ImportBlockAlgorithm *createInstance() const override;
 
   protected:

@@ -52,7 +52,7 @@ QString InnerOrientationAlgorithm::groupId() const
   return QStringLiteral( "adjustment" );
 }
 
-QString InnerOrientationAlgorithm::shortHelpString() const
+QString InnerOrientationAlgorithm::helpText() const
 {
   return QObject::tr( "Relates a scanned film photo's pixels to the camera's photo coordinates (mm) by an affine "
                       "transformation estimated from three or more fiducial marks, whose calibrated positions the "

@@ -49,7 +49,7 @@ QString IntersectAlgorithm::groupId() const
   return QStringLiteral( "adjustment" );
 }
 
-QString IntersectAlgorithm::shortHelpString() const
+QString IntersectAlgorithm::helpText() const
 {
   return QObject::tr( "Computes the 3D position of every point measured in two or more oriented images of a block, "
                       "by least squares on the collinearity equations with the cameras' lens distortion.\n\n"

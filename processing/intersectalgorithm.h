@@ -21,7 +21,7 @@ class GEOSTATION_PROCESSING_EXPORT IntersectAlgorithm : public GeoStationAlgorit
     QStringList tags() const override;
     QString group() const override;
     QString groupId() const override;
-    QString shortHelpString() const override;
+    QString helpText() const override;
     IntersectAlgorithm *createInstance() const override;
 
   protected:

@@ -35,7 +35,7 @@ QStringList JoinTracedPiecesAlgorithm::tags() const { return QObject::tr( "road,
 QString JoinTracedPiecesAlgorithm::group() const { return QObject::tr( "Image processing" ); }
 QString JoinTracedPiecesAlgorithm::groupId() const { return QStringLiteral( "imageprocessing" ); }
 
-QString JoinTracedPiecesAlgorithm::shortHelpString() const
+QString JoinTracedPiecesAlgorithm::helpText() const
 {
   return QObject::tr( "Joins the pieces of long lines traced from several seeds (Trace road lines, one run per seed) "
                       "into one line per line id.\n\n"

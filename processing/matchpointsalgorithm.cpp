@@ -36,7 +36,7 @@ QStringList MatchPointsAlgorithm::tags() const { return QObject::tr( "matching,c
 QString MatchPointsAlgorithm::group() const { return QObject::tr( "Image processing" ); }
 QString MatchPointsAlgorithm::groupId() const { return QStringLiteral( "imageprocessing" ); }
 
-QString MatchPointsAlgorithm::shortHelpString() const
+QString MatchPointsAlgorithm::helpText() const
 {
   return QObject::tr( "Finds points measured in reference images (OBSERVATIONS: point_id, image_id, col, row) in other images "
                       "of the block. TARGETS lists the image ids to search (comma-separated; default: the other images of the "

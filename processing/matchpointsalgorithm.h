@@ -19,7 +19,7 @@ class GEOSTATION_PROCESSING_EXPORT MatchPointsAlgorithm : public GeoStationAlgor
     QStringList tags() const override;
     QString group() const override;
     QString groupId() const override;
-    QString shortHelpString() const override;
+    QString helpText() const override;
     MatchPointsAlgorithm *createInstance() const override;
 
   protected:

@@ -75,7 +75,7 @@ QStringList MergeRevisionsAlgorithm::tags() const { return QObject::tr( "road,ma
 QString MergeRevisionsAlgorithm::group() const { return QObject::tr( "Image processing" ); }
 QString MergeRevisionsAlgorithm::groupId() const { return QStringLiteral( "imageprocessing" ); }
 
-QString MergeRevisionsAlgorithm::shortHelpString() const
+QString MergeRevisionsAlgorithm::helpText() const
 {
   return QObject::tr( "Makes one revised map of the revisions that Revise a road map against a stereo pair (revise_roads) made of one map "
                       "with overlapping pairs: each input layer (INPUTS) is one pair's OUTPUT, named by the layer's name, and VERTICES "

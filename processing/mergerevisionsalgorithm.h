@@ -25,7 +25,7 @@ class GEOSTATION_PROCESSING_EXPORT MergeRevisionsAlgorithm : public GeoStationAl
     QStringList tags() const override;
     QString group() const override;
     QString groupId() const override;
-    QString shortHelpString() const override;
+    QString helpText() const override;
     MergeRevisionsAlgorithm *createInstance() const override;
 
   protected:

@@ -77,7 +77,7 @@ QStringList MergeRoadNetworksAlgorithm::tags() const { return QObject::tr( "road
 QString MergeRoadNetworksAlgorithm::group() const { return QObject::tr( "Image processing" ); }
 QString MergeRoadNetworksAlgorithm::groupId() const { return QStringLiteral( "imageprocessing" ); }
 
-QString MergeRoadNetworksAlgorithm::shortHelpString() const
+QString MergeRoadNetworksAlgorithm::helpText() const
 {
   return QObject::tr( "Makes one road network of the networks that Extract the road network of a stereo pair (extract_roads) "
                       "made of overlapping pairs of a block: each input layer (INPUTS) is one pair's OUTPUT, named by its pair field "

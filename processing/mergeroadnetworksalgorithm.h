@@ -24,7 +24,7 @@ class GEOSTATION_PROCESSING_EXPORT MergeRoadNetworksAlgorithm : public GeoStatio
     QStringList tags() const override;
     QString group() const override;
     QString groupId() const override;
-    QString shortHelpString() const override;
+    QString helpText() const override;
     MergeRoadNetworksAlgorithm *createInstance() const override;
 
   protected:

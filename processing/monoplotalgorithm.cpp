@@ -51,7 +51,7 @@ QString MonoplotAlgorithm::groupId() const
   return QStringLiteral( "monoplotting" );
 }
 
-QString MonoplotAlgorithm::shortHelpString() const
+QString MonoplotAlgorithm::helpText() const
 {
   return QObject::tr( "Turns features digitised on one oriented image into map features with heights: every vertex's "
                       "viewing ray is intersected with the DEM (the first crossing, exact on the DEM's bilinear surface).\n\n"

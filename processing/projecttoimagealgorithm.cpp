@@ -54,7 +54,7 @@ QStringList ProjectToImageAlgorithm::tags() const { return QObject::tr( "photogr
 QString ProjectToImageAlgorithm::group() const { return QObject::tr( "Monoplotting" ); }
 QString ProjectToImageAlgorithm::groupId() const { return QStringLiteral( "monoplotting" ); }
 
-QString ProjectToImageAlgorithm::shortHelpString() const
+QString ProjectToImageAlgorithm::helpText() const
 {
   return QObject::tr( "Projects map features with heights (or draped on a DEM) into one oriented image of a GeoStation "
                       "block, using the collinearity equations with the camera's lens distortion. Lines and polygon "

@@ -101,7 +101,7 @@ QString ResectionAlgorithm::groupId() const
   return QStringLiteral( "adjustment" );
 }
 
-QString ResectionAlgorithm::shortHelpString() const
+QString ResectionAlgorithm::helpText() const
 {
   return QObject::tr( "Orients one image of a block from four or more control points measured in it. No approximate "
                       "orientation is needed. GCPS has point_id, X, Y, Z (block CRS; or PointZ geometries) and optionally "

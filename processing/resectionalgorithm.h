@@ -22,7 +22,7 @@ class GEOSTATION_PROCESSING_EXPORT ResectionAlgorithm : public GeoStationAlgorit
     QStringList tags() const override;
     QString group() const override;
     QString groupId() const override;
-    QString shortHelpString() const override;
+    QString helpText() const override;
     ResectionAlgorithm *createInstance() const override;
 
   protected:

@@ -33,7 +33,7 @@ QStringList ReviseRoadsAlgorithm::tags() const { return QObject::tr( "road,map,r
 QString ReviseRoadsAlgorithm::group() const { return QObject::tr( "Image processing" ); }
 QString ReviseRoadsAlgorithm::groupId() const { return QStringLiteral( "imageprocessing" ); }
 
-QString ReviseRoadsAlgorithm::shortHelpString() const
+QString ReviseRoadsAlgorithm::helpText() const
 {
   return QObject::tr( "Holds an existing road map (MAP, a line layer in any CRS) against an oriented stereo pair (LEFT, RIGHT) "
                       "and says, road by road, what the images show.\n\n"

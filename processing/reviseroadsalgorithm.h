@@ -23,7 +23,7 @@ class GEOSTATION_PROCESSING_EXPORT ReviseRoadsAlgorithm : public GeoStationAlgor
     QStringList tags() const override;
     QString group() const override;
     QString groupId() const override;
-    QString shortHelpString() const override;
+    QString helpText() const override;
     ReviseRoadsAlgorithm *createInstance() const override;
 
   protected:

@@ -70,7 +70,7 @@ QString SimulateSurveyAlgorithm::groupId() const
   return QStringLiteral( "simulation" );
 }
 
-QString SimulateSurveyAlgorithm::shortHelpString() const
+QString SimulateSurveyAlgorithm::helpText() const
 {
   return QObject::tr( "Renders a synthetic survey whose truth is known exactly, for testing measurements and training.\n\n"
                       "PRESET highway: a mapping van with 2-6 roof cameras driving along a road (stations every SPACING m); "

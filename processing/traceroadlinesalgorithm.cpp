@@ -43,7 +43,7 @@ QStringList TraceRoadLinesAlgorithm::tags() const { return QObject::tr( "road,la
 QString TraceRoadLinesAlgorithm::group() const { return QObject::tr( "Image processing" ); }
 QString TraceRoadLinesAlgorithm::groupId() const { return QStringLiteral( "imageprocessing" ); }
 
-QString TraceRoadLinesAlgorithm::shortHelpString() const
+QString TraceRoadLinesAlgorithm::helpText() const
 {
   return QObject::tr( "Follows road lines (painted markings, centre lines, kerbs) from one seed each through the stations of a "
                       "mobile-mapping run and returns them as 3-D lines in the block CRS.\n\n"

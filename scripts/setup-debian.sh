@@ -9,7 +9,7 @@ packages=(
   libgtest-dev libgmock-dev libbenchmark-dev
   qtbase5-dev qttools5-dev qttools5-dev-tools libqt5svg5-dev
   libqgis-dev qgis qgis-providers python3-qgis
-  gdal-bin python3-gdal python3-numpy python3-jsonschema python3-pyqt5
+  gdal-bin python3-gdal python3-numpy python3-jsonschema python3-pyqt5 python3-markdown
   python3-distributed python3-dask
   xvfb xauth
   opencv-doc colmap

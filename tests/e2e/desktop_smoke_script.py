@@ -11,7 +11,7 @@ import traceback
 
 from qgis.core import QgsApplication, QgsCoordinateReferenceSystem, QgsProject
 from qgis.PyQt.QtCore import Q_ARG, Q_RETURN_ARG, QMetaObject, QObject, Qt, QTimer
-from qgis.PyQt.QtWidgets import QAction, QApplication, QDialog, QDockWidget, QMenu, QTableView, QToolBar
+from qgis.PyQt.QtWidgets import QAction, QApplication, QDialog, QDialogButtonBox, QDockWidget, QMenu, QTableView, QToolBar
 from qgis.utils import iface
 
 RESULT = os.environ["GEOSTATION_SMOKE_RESULT"]
@@ -67,6 +67,9 @@ def open_algorithm_dialog(window, action_name):
         seen["tries"] += 1
         if dialog:
             seen["title"] = dialog.windowTitle()
+            # QGIS shows the Help button only for an algorithm with a help URL
+            boxes = [b for b in dialog.findChildren(QDialogButtonBox) if b.button(QDialogButtonBox.Help)]
+            seen["help_button"] = bool(boxes) and boxes[0].button(QDialogButtonBox.Help).isVisibleTo(dialog)
             dialog.reject()
         elif seen["tries"] < 40:
             QTimer.singleShot(250, inspect)
@@ -142,6 +145,8 @@ def check():
                 continue
             image = action.icon().pixmap(32, 32).toImage()
             result["toolbar_icons"][action.objectName()] = None if image.isNull() else hashlib.sha1(bytes(image.constBits().asarray(image.sizeInBytes()))).hexdigest()
+        guide = window.findChild(QAction, "mActionGeoStationUserGuide")
+        result["user_guide_action"] = guide is not None and bool(guide.toolTip())
         result["provider_icon"] = not QgsApplication.processingRegistry().providerById("geostation").icon().isNull()
         adjustment = window.findChild(QMenu, "mGeoStationAdjustmentMenu")
         result["adjustment_actions"] = [a.objectName() for a in adjustment.actions()] if adjustment else []

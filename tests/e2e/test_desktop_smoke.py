@@ -125,6 +125,11 @@ class DesktopSmokeTest(unittest.TestCase):
     def test_menu_opens_the_algorithm_dialog(self):
         self.assertEqual(self.result.get("resection_dialog", {}).get("title"), "Space resection of an image")
 
+    def test_the_dialog_has_a_help_button_and_the_menu_the_user_guide(self):
+        # the Help button shows only for an algorithm whose help page is installed
+        self.assertTrue(self.result.get("resection_dialog", {}).get("help_button"), self.result.get("resection_dialog"))
+        self.assertTrue(self.result.get("user_guide_action"))
+
     def test_import_block_opens_a_colmap_rig_run_station_by_station(self):
         seen = self.result.get("import_dialog", {})
         self.assertEqual(seen.get("title"), "Import block (COLMAP, Metashape, calibration + trajectory)", seen)
