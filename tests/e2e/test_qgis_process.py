@@ -61,6 +61,23 @@ class QgisProcessTest(unittest.TestCase):
         self.assertEqual(result.returncode, 0, result.stderr)
         self.assertIn("geostation:project_to_image", result.stdout)
 
+    def test_the_bridge_metadata_is_complete_and_has_no_placeholders(self):
+        import configparser
+        bridge = os.path.join(self.home, ".local", "share", "QGIS", "QGIS3", "profiles", "default", "python", "plugins", "geostation_processing")
+        metadata = configparser.ConfigParser()
+        metadata.read(os.path.join(bridge, "metadata.txt"))
+        general = metadata["general"]
+        # bound to the QGIS it was built against
+        qgis_version = subprocess.run(["/usr/bin/python3", "-c", "from qgis.core import Qgis; print(Qgis.version())"],
+                                      capture_output=True, text=True).stdout.strip()
+        major_minor = ".".join(qgis_version.split(".")[:2])
+        self.assertEqual(general["qgisMinimumVersion"], major_minor)
+        self.assertEqual(general["qgisMaximumVersion"], major_minor + ".99")
+        self.assertTrue(os.path.isfile(os.path.join(bridge, general["icon"])))
+        self.assertIn("- ", general["changelog"])
+        with open(os.path.join(bridge, "metadata.txt")) as f:
+            self.assertNotIn("example.invalid", f.read())
+
     def test_pixels_match_the_conventions_for_every_camera_model(self):
         cameras = {c["id"]: c for c in self.block["cameras"]}
         objects = {}
