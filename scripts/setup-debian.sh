@@ -3,17 +3,24 @@
 # skipping those already installed. Needs root (or sudo).
 set -euo pipefail
 
+# --runtime (scripts/demo.sh): only what building and running GeoStation needs; without it also what the
+# tests need (GoogleTest, Google Benchmark, COLMAP, OpenCV's sample photos, an X server, the test images)
+runtime_only=0
+[ "${1:-}" = "--runtime" ] && runtime_only=1
 packages=(
   build-essential cmake ninja-build pkg-config git
   libeigen3-dev libceres-dev libopencv-dev libgdal-dev libproj-dev libgeos-dev nlohmann-json3-dev
-  libgtest-dev libgmock-dev libbenchmark-dev
   qtbase5-dev qttools5-dev qttools5-dev-tools libqt5svg5-dev
   libqgis-dev qgis qgis-providers python3-qgis
-  gdal-bin python3-gdal python3-numpy python3-jsonschema python3-pyqt5 python3-markdown
+  gdal-bin python3-gdal python3-numpy python3-pyqt5 python3-markdown
   python3-distributed python3-dask
+)
+test_packages=(
+  libgtest-dev libgmock-dev libbenchmark-dev python3-jsonschema
   xvfb xauth
   opencv-doc colmap
 )
+[ "$runtime_only" = 1 ] || packages+=("${test_packages[@]}")
 
 # Real images the tests measure on that Debian ships only inside packages not worth installing whole:
 # SP27GTIF.TIF (a 10 m image of Chicago) from r-cran-rgdal, unpacked into testdata/ (no root needed).
@@ -39,7 +46,7 @@ for p in "${packages[@]}"; do
   fi
 done
 if [ ${#missing[@]} -eq 0 ]; then
-  fetch_test_images
+  [ "$runtime_only" = 1 ] || fetch_test_images
   exit 0
 fi
 
@@ -52,4 +59,4 @@ fi
 export DEBIAN_FRONTEND=noninteractive
 "${sudo[@]}" apt-get update -qq
 "${sudo[@]}" apt-get install -y -qq --no-install-recommends "${missing[@]}" > /dev/null
-fetch_test_images
+[ "$runtime_only" = 1 ] || fetch_test_images
