@@ -3,10 +3,11 @@
  ***************************************************************************/
 #include "fiducialpanel.h"
 
-#include <qgsguiutils.h>
+#include <algorithm>
 
 #include <QItemSelectionModel>
 
+#include "backgroundtask.h"
 #include "fiducialmodel.h"
 #include "imageproc/fiducialdetection.h"
 
@@ -17,7 +18,20 @@ GeoStationFiducialPanel::GeoStationFiducialPanel( QWidget *parent )
   mModel = new GeoStationFiducialModel( this );
   mFiducialTable->setModel( mModel );
   connect( mModel, &GeoStationFiducialModel::innerOrientationChanged, this, &GeoStationFiducialPanel::updateResult );
-  connect( mDetectButton, &QToolButton::clicked, this, &GeoStationFiducialPanel::detect );
+  // one button: Detect Fiducials, and while the detection runs (in the background) Cancel Detection
+  mDetection = new GeoStationBackgroundTask( this );
+  connect( mDetectButton, &QToolButton::clicked, this, [this]
+  {
+    if ( mDetection->isRunning() )
+      mDetection->cancel();
+    else
+      detect();
+  } );
+  connect( mDetection, &GeoStationBackgroundTask::progressChanged, this, [this]( double fraction, const QString &text )
+  {
+    emit message( tr( "Detecting fiducials: %1 %%2" ).arg( static_cast<int>( 100.0 * fraction ) ).arg( text.isEmpty() ? QString() : QStringLiteral( " (" ) + text + ')' ), false );
+  } );
+  connect( mDetection, &GeoStationBackgroundTask::finished, this, &GeoStationFiducialPanel::takeDetection );
   connect( mMeasureButton, &QToolButton::toggled, this, &GeoStationFiducialPanel::measuringToggled );
 }
 
@@ -51,8 +65,10 @@ void GeoStationFiducialPanel::selectRow( int row )
   mFiducialTable->selectRow( row );
 }
 
-int GeoStationFiducialPanel::detect()
+bool GeoStationFiducialPanel::detect()
 {
+  if ( mDetection->isRunning() )
+    return false;
   geostation::FiducialDetectionOptions options;
   options.scanPixelMm = mCamera.pixelSizeMm.value_or( 0.0 );
   options.markDiameterPx = mDiameterSpin->value();
@@ -60,36 +76,52 @@ int GeoStationFiducialPanel::detect()
   if ( !( options.scanPixelMm > 0.0 ) )
   {
     emit message( tr( "Detecting fiducials needs the camera's pixel size (mm)." ), true );
-    return 0;
+    return false;
   }
-  std::array<geostation::DetectedFiducial, 4> found;
-  try
+  auto detected = std::make_shared<std::array<geostation::DetectedFiducial, 4>>();
+  mDetected = detected;
+  mDetectingPath = mImagePath;
+  mDetection->start( [detected, path = mImagePath.toStdString(), options]( const geostation::Progress &progress )
   {
-    const QgsTemporaryCursorOverride busy( Qt::WaitCursor ); // the whole scan is read
-    found = geostation::detectCornerFiducials( mImagePath.toStdString(), options );
-  }
-  catch ( const std::exception &e )
-  {
-    emit message( tr( "No fiducials detected: %1" ).arg( QString::fromStdString( e.what() ) ), true );
-    return 0;
-  }
-  const std::array<std::string, 4> ids = geostation::cornerFiducialIds( mCamera.fiducials );
+    geostation::FiducialDetectionOptions run = options;
+    run.progress = progress;
+    *detected = geostation::detectCornerFiducials( path, run );
+  } );
+  mDetectButton->setText( tr( "Cancel Detection" ) );
+  emit message( tr( "Detecting fiducials in the scan's corners…" ), false );
+  return true;
+}
+
+void GeoStationFiducialPanel::takeDetection( const QString &error )
+{
+  mDetectButton->setText( tr( "Detect Fiducials" ) );
   int count = 0;
-  QStringList missed;
-  for ( int k = 0; k < 4; ++k )
+  if ( mDetectingPath != mImagePath )
+    emit message( tr( "The fiducials detected in %1 were dropped: another photo was chosen meanwhile." ).arg( mDetectingPath ), true );
+  else if ( !error.isEmpty() )
+    emit message( tr( "No fiducials detected: %1" ).arg( error ), true );
+  else if ( std::all_of( mDetected->begin(), mDetected->end(), []( const geostation::DetectedFiducial &d ) { return d.status == geostation::DetectedFiducial::Status::Cancelled; } ) )
+    emit message( tr( "Fiducial detection cancelled; nothing measured." ), true );
+  else
   {
-    const int row = mModel->rowOf( QString::fromStdString( ids[static_cast<size_t>( k )] ) );
-    if ( found[static_cast<size_t>( k )].found() && row >= 0 )
+    const std::array<geostation::DetectedFiducial, 4> &found = *mDetected;
+    const std::array<std::string, 4> ids = geostation::cornerFiducialIds( mCamera.fiducials );
+    QStringList missed;
+    for ( int k = 0; k < 4; ++k )
     {
-      mModel->setMeasurement( row, QPointF( found[static_cast<size_t>( k )].pixelInImage.x(), found[static_cast<size_t>( k )].pixelInImage.y() ) );
-      ++count;
+      const int row = mModel->rowOf( QString::fromStdString( ids[static_cast<size_t>( k )] ) );
+      if ( found[static_cast<size_t>( k )].found() && row >= 0 )
+      {
+        mModel->setMeasurement( row, QPointF( found[static_cast<size_t>( k )].pixelInImage.x(), found[static_cast<size_t>( k )].pixelInImage.y() ) );
+        ++count;
+      }
+      else if ( row >= 0 )
+        missed << QStringLiteral( "%1 (%2)" ).arg( QString::fromStdString( ids[static_cast<size_t>( k )] ), QString::fromStdString( found[static_cast<size_t>( k )].message ) );
     }
-    else if ( row >= 0 )
-      missed << QStringLiteral( "%1 (%2)" ).arg( QString::fromStdString( ids[static_cast<size_t>( k )] ), QString::fromStdString( found[static_cast<size_t>( k )].message ) );
+    emit message( missed.isEmpty() ? tr( "%1 corner fiducials detected." ).arg( count )
+                  : tr( "%1 corner fiducials detected; not found: %2. Measure them with a click." ).arg( count ).arg( missed.join( QStringLiteral( ", " ) ) ), !missed.isEmpty() );
   }
-  emit message( missed.isEmpty() ? tr( "%1 corner fiducials detected." ).arg( count )
-                : tr( "%1 corner fiducials detected; not found: %2. Measure them with a click." ).arg( count ).arg( missed.join( QStringLiteral( ", " ) ) ), !missed.isEmpty() );
-  return count;
+  emit detectionFinished( count );
 }
 
 void GeoStationFiducialPanel::measurePixel( const QPointF &pixelInScan )

@@ -10,15 +10,19 @@
 #ifndef GEOSTATIONFIDUCIALPANEL_H
 #define GEOSTATIONFIDUCIALPANEL_H
 
+#include <array>
+#include <memory>
 #include <optional>
 
 #include <QPointF>
 #include <QWidget>
 
 #include "camera/camera.h"
+#include "imageproc/fiducialdetection.h"
 #include "io/block.h"
 #include "ui_geostationfiducialpanelbase.h"
 
+class GeoStationBackgroundTask;
 class GeoStationFiducialModel;
 
 class GeoStationFiducialPanel : public QWidget, private Ui::GeoStationFiducialPanelBase
@@ -41,8 +45,13 @@ class GeoStationFiducialPanel : public QWidget, private Ui::GeoStationFiducialPa
     QString resultText() const;
 
   public slots:
-    //! Detects the corner fiducials; returns how many were found.
-    int detect();
+    /**
+     * Starts detecting the corner fiducials in the background (the whole
+     * scan's corners are read): progress in message(), the button cancels;
+     * detectionFinished() tells how many were found. False when it cannot
+     * start (one runs, no pixel size).
+     */
+    bool detect();
     //! Measures the selected fiducial (else the first not measured) at a pixel of the scan.
     void measurePixel( const QPointF &pixelInScan );
     void selectRow( int row );
@@ -51,15 +60,22 @@ class GeoStationFiducialPanel : public QWidget, private Ui::GeoStationFiducialPa
     void innerOrientationChanged();
     void measuringToggled( bool on );
     void message( const QString &text, bool warning );
+    //! Detect Fiducials has ended: how many corners were found (0 when cancelled).
+    void detectionFinished( int found );
 
   private slots:
     void updateResult();
+    //! The detected corners measured (or why not said).
+    void takeDetection( const QString &error );
 
   private:
     GeoStationFiducialModel *mModel = nullptr;
     geostation::Camera mCamera;
     QString mImagePath;
     std::optional<geostation::ImageInnerOrientation> mExisting;
+    GeoStationBackgroundTask *mDetection = nullptr;
+    std::shared_ptr<std::array<geostation::DetectedFiducial, 4>> mDetected; //!< what the running (or last) detection writes
+    QString mDetectingPath; //!< the scan the running (or last) detection reads
 };
 
 #endif // GEOSTATIONFIDUCIALPANEL_H

@@ -28,6 +28,7 @@
 #include "mappointtool.h"
 #include "identification/markcandidates.h"
 #include "identification/photoidentification.h"
+#include "backgroundtask.h"
 #include "io/rasterfile.h"
 #include "multiviewdock.h"
 #include "multiviewsession.h"
@@ -70,7 +71,20 @@ GeoStationOrientationDock::GeoStationOrientationDock( GeoStationMultiviewSession
   } );
   connect( mRefineButton, &QToolButton::clicked, this, &GeoStationOrientationDock::refineSelected );
   connect( mPredictButton, &QToolButton::clicked, this, &GeoStationOrientationDock::predictAndFind );
-  connect( mIdentifyButton, &QToolButton::clicked, this, &GeoStationOrientationDock::identifyAutomatically );
+  // one button: Identify Automatically, and while the search runs (in the background) Cancel Identification
+  mIdentification = new GeoStationBackgroundTask( this );
+  connect( mIdentifyButton, &QToolButton::clicked, this, [this]
+  {
+    if ( mIdentification->isRunning() )
+      mIdentification->cancel();
+    else
+      identifyAutomatically();
+  } );
+  connect( mIdentification, &GeoStationBackgroundTask::progressChanged, this, [this]( double fraction, const QString &text )
+  {
+    showMessage( tr( "Identifying control: %1 %%2" ).arg( static_cast<int>( 100.0 * fraction ) ).arg( text.isEmpty() ? QString() : QStringLiteral( " (" ) + text + ')' ) );
+  } );
+  connect( mIdentification, &GeoStationBackgroundTask::finished, this, &GeoStationOrientationDock::takeIdentification );
   connect( mAcceptButton, &QToolButton::clicked, this, &GeoStationOrientationDock::acceptFound );
   connect( mRejectButton, &QToolButton::clicked, mModel, &GeoStationControlPointModel::rejectOffers );
   connect( mSaveButton, &QPushButton::clicked, this, &GeoStationOrientationDock::saveToBlock );
@@ -403,11 +417,13 @@ int GeoStationOrientationDock::predictAndFind()
   return found;
 }
 
-int GeoStationOrientationDock::identifyAutomatically()
+bool GeoStationOrientationDock::identifyAutomatically()
 {
+  if ( mIdentification->isRunning() )
+    return false;
   const cv::Mat &grey = photoGrey();
   if ( grey.empty() )
-    return 0;
+    return false;
   std::vector<geostation::ControlPoint> control;
   for ( const geostation::PhotoControlPoint &p : mModel->points() )
     if ( p.role != geostation::ControlRole::Off )
@@ -416,33 +432,53 @@ int GeoStationOrientationDock::identifyAutomatically()
   const std::optional<geostation::OrientedImage> current = currentOrientation();
   if ( current )
     options.identification.approximate = current->exterior(); // narrows the search to the marks near each prediction
-  geostation::PhotoIdentificationSummary result;
-  try
+  // the search works on its own references: the photo's grey levels are shared (a new photo replaces them,
+  // it does not write into them), the camera and control copied
+  auto result = std::make_shared<geostation::PhotoIdentificationSummary>();
+  mIdentificationResult = result;
+  mIdentification->start( [result, grey, camera = mModel->camera(), nominal = mModel->nominalFromFile(), control, options]( const geostation::Progress &progress )
   {
-    const QgsTemporaryCursorOverride busy( Qt::WaitCursor ); // seconds on a large photo
-    result = geostation::identifyControlInPhoto( grey, mModel->camera(), mModel->nominalFromFile(), control, options );
-  }
-  catch ( const std::exception &e )
-  {
-    showMessage( tr( "No control identified: %1" ).arg( QString::fromStdString( e.what() ) ), true );
-    return 0;
-  }
-  if ( !result.ok() )
-  {
+    geostation::PhotoIdentificationOptions run = options;
+    run.identification.progress = progress;
+    *result = geostation::identifyControlInPhoto( grey, camera, nominal, control, run );
+  } );
+  mIdentifyingImageId = mImageId;
+  mIdentifyButton->setText( tr( "Cancel Identification" ) );
+  mIdentifyButton->setToolTip( tr( "Stops the search; nothing is offered" ) );
+  showMessage( tr( "Identifying control among the photo's marks…" ) );
+  return true;
+}
+
+void GeoStationOrientationDock::takeIdentification( const QString &error )
+{
+  mIdentifyButton->setText( tr( "Identify Automatically" ) );
+  mIdentifyButton->setToolTip( tr( "Finds the control points among the marks of the photo with no point measured (distance lists and P3P, the a-contrario test, "
+                                   "verified by resection) and offers them" ) );
+  const geostation::PhotoIdentificationSummary &result = *mIdentificationResult;
+  int identified = 0;
+  if ( mIdentifyingImageId != mImageId )
+    showMessage( tr( "The control identified in %1 was dropped: another photo was chosen meanwhile." ).arg( mIdentifyingImageId ), true );
+  else if ( !error.isEmpty() )
+    showMessage( tr( "No control identified: %1" ).arg( error ), true );
+  else if ( result.identification.status == geostation::ControlIdentificationSummary::Status::Cancelled )
+    showMessage( tr( "Identification cancelled; nothing offered." ), true );
+  else if ( !result.ok() )
     showMessage( tr( "No control identified among %1 marks: %2." ).arg( result.candidates ).arg( QString::fromStdString( result.identification.message ) ), true );
-    return 0;
+  else
+  {
+    std::vector<geostation::ControlOffer> offers;
+    for ( const geostation::PhotoIdentifiedPoint &p : result.identified )
+      offers.push_back( { p.pointId, geostation::PredictedPoint::Status::Found, std::string(), p.pixelInFile, p.predictedInFile } );
+    for ( const geostation::PhotoIdentifiedPoint &p : result.flagged )
+      offers.push_back( { p.pointId, geostation::PredictedPoint::Status::Flagged,
+                          tr( "%1 px from its prediction" ).arg( ( p.pixelInFile - p.predictedInFile ).norm(), 0, 'f', 1 ).toStdString(), p.pixelInFile, p.predictedInFile } );
+    mModel->setOffers( offers );
+    showMessage( tr( "%1 control points identified among %2 marks (chance explains it with odds %3); accept them with Accept Found." )
+                 .arg( result.identified.size() ).arg( result.candidates ).arg( result.identification.falseAlarms, 0, 'g', 2 ) );
+    drawMarkers();
+    identified = static_cast<int>( result.identified.size() );
   }
-  std::vector<geostation::ControlOffer> offers;
-  for ( const geostation::PhotoIdentifiedPoint &p : result.identified )
-    offers.push_back( { p.pointId, geostation::PredictedPoint::Status::Found, std::string(), p.pixelInFile, p.predictedInFile } );
-  for ( const geostation::PhotoIdentifiedPoint &p : result.flagged )
-    offers.push_back( { p.pointId, geostation::PredictedPoint::Status::Flagged,
-                        tr( "%1 px from its prediction" ).arg( ( p.pixelInFile - p.predictedInFile ).norm(), 0, 'f', 1 ).toStdString(), p.pixelInFile, p.predictedInFile } );
-  mModel->setOffers( offers );
-  showMessage( tr( "%1 control points identified among %2 marks (chance explains it with odds %3); accept them with Accept Found." )
-               .arg( result.identified.size() ).arg( result.candidates ).arg( result.identification.falseAlarms, 0, 'g', 2 ) );
-  drawMarkers();
-  return static_cast<int>( result.identified.size() );
+  emit identificationFinished( identified );
 }
 
 int GeoStationOrientationDock::acceptFound()

@@ -31,12 +31,14 @@
 
 #include "dem/demcoverage.h"
 #include "geometry/projection.h"
+#include "identification/photoidentification.h"
 #include "ui_geostationorientationdockbase.h"
 
 class QgsMapCanvas;
 class QgsVectorLayer;
 class GeoStationControlPointModel;
 class GeoStationControlPointOverlay;
+class GeoStationBackgroundTask;
 class GeoStationFiducialPanel;
 class GeoStationLayerInPhoto;
 class GeoStationMapPointTool;
@@ -89,8 +91,13 @@ class GeoStationOrientationDock : public QgsDockWidget, private Ui::GeoStationOr
     int refineSelected();
     //! The semi-automatic mode: offers for every point not measured; how many were found.
     int predictAndFind();
-    //! Control identified in the photo with nothing measured (core identifyControlInPhoto()), offered; how many.
-    int identifyAutomatically();
+    /**
+     * Starts identifying the control in the photo with nothing measured (core
+     * identifyControlInPhoto(), in the background: progress in the message,
+     * the button cancels); identificationFinished() tells how many were
+     * offered. False when it cannot start (one runs, no photo).
+     */
+    bool identifyAutomatically();
     //! Accept Found: every found offer, and the flagged ones whose rows are selected (reviewed by the operator); how many.
     int acceptFound();
     //! Writes the orientation and the measurements; false (with the message) when it cannot.
@@ -99,6 +106,8 @@ class GeoStationOrientationDock : public QgsDockWidget, private Ui::GeoStationOr
 
   signals:
     void messageShown( const QString &text, bool warning );
+    //! Identify Automatically has ended: how many points it offers (0 when cancelled or none identified).
+    void identificationFinished( int identified );
 
   private slots:
     void updateOrientation();
@@ -108,6 +117,8 @@ class GeoStationOrientationDock : public QgsDockWidget, private Ui::GeoStationOr
     void updateFreeParameters();
     //! The scan affine of the inner orientation (measured in the fiducial panel, or the block's) to the control-point model.
     void applyInnerOrientation();
+    //! The identification's result offered (or its failure said).
+    void takeIdentification( const QString &error );
 
   private:
     void showMessage( const QString &text, bool warning = false );
@@ -130,6 +141,9 @@ class GeoStationOrientationDock : public QgsDockWidget, private Ui::GeoStationOr
     QString mGreyImageId;
     std::unique_ptr<GeoStationControlPointOverlay> mOverlay;
     GeoStationLayerInPhoto *mLayerInPhoto = nullptr;
+    GeoStationBackgroundTask *mIdentification = nullptr;
+    std::shared_ptr<geostation::PhotoIdentificationSummary> mIdentificationResult; //!< what the running (or last) search writes
+    QString mIdentifyingImageId; //!< the photo the running (or last) identification searches
 };
 
 #endif // GEOSTATIONORIENTATIONDOCK_H

@@ -140,6 +140,12 @@ namespace geostation
     {
       DetectedFiducial &d = result[k];
       d.corner = static_cast<Corner>( k );
+      if ( !options.progress.report( k / 4.0, "corner " + std::to_string( k + 1 ) + " of 4" ) )
+      {
+        d.status = DetectedFiducial::Status::Cancelled;
+        d.message = "not looked for: cancelled";
+        continue;
+      }
       const cv::Mat window = readWindow( ds.get(), windows[k], factor );
       if ( window.cols < smallTemplate.cols || window.rows < smallTemplate.rows )
       {

@@ -18,6 +18,7 @@
 #include <opencv2/core.hpp>
 
 #include "camera/camera.h"
+#include "progress/progress.h"
 
 namespace geostation
 {
@@ -29,6 +30,7 @@ namespace geostation
     double markDiameterPx = 30.0;  //!< generic disc, at full resolution
     bool brightMark = true;        //!< generic disc: bright on dark (false: dark on bright)
     double minScore = 0.5;         //!< normalised correlation below this: not found
+    Progress progress;             //!< told before each corner and asked whether to stop (the corners left: Status::Cancelled)
   };
 
   enum class Corner
@@ -47,6 +49,7 @@ namespace geostation
       WindowTooSmall, //!< the corner window is smaller than the mark
       NoMark,         //!< the best correlation in the window is below the threshold
       NoContrast,     //!< the mark has no contrast against its background (no centre of gravity)
+      Cancelled,      //!< not looked for: the caller asked to stop (FiducialDetectionOptions::progress)
     };
     Corner corner = Corner::TopLeft;
     Status status = Status::NoMark;

@@ -132,6 +132,26 @@ TEST( FiducialDetection, AUserTemplateFindsCrossMarks )
   std::filesystem::remove( path );
 }
 
+TEST( FiducialDetection, AStopLeavesTheCornersNotLookedForCancelled )
+{
+  // the orientation dock's Cancel: told before each corner; once asked to stop, the corners left are not read
+  std::mt19937 rng( 1 );
+  const std::string path = renderScan( "geostation-discs-stop-", []( double x, double y ) { return std::hypot( x, y ) <= 12.0 ? 1.0 : 0.0; }, 16, rng );
+  FiducialDetectionOptions options;
+  options.scanPixelMm = kScanMm;
+  options.markDiameterPx = 24.0;
+  int told = 0;
+  std::vector<std::string> stages;
+  options.progress = Progress( [&]( double, const std::string &stage ) { ++told; stages.push_back( stage ); }, [&] { return told >= 3; } ); // asked to stop when told of the third corner
+  const std::array<DetectedFiducial, 4> found = detectCornerFiducials( path, options );
+  EXPECT_TRUE( found[0].found() );
+  EXPECT_TRUE( found[1].found() );
+  EXPECT_EQ( found[2].status, DetectedFiducial::Status::Cancelled );
+  EXPECT_EQ( found[3].status, DetectedFiducial::Status::Cancelled );
+  EXPECT_EQ( stages.front(), "corner 1 of 4" );
+  std::filesystem::remove( path );
+}
+
 TEST( FiducialDetection, BadInputThrows )
 {
   FiducialDetectionOptions options;

@@ -67,8 +67,13 @@ def run():
         result["photo_choice"] = dock.findChild(QComboBox, "mImageCombo").currentText()
 
         checkpoint(result, RESULT, "fiducials")
-        dock.findChild(QToolButton, "mDetectButton").click()
-        wait(0.5)
+        detect = dock.findChild(QToolButton, "mDetectButton")
+        detect.click()
+        # the detection runs in the background: the button reads "Cancel Detection" until it ends
+        for _ in range(120):
+            wait(0.25)
+            if detect.text() == "Detect Fiducials":
+                break
         result["fiducials"] = dock.findChild(QLabel, "mResultLabel").text()
 
         checkpoint(result, RESULT, "control layer")

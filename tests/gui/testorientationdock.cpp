@@ -54,6 +54,25 @@
 #include "simulation/surveysimulator.h"
 #include "simulationtruth.h"
 
+namespace
+{
+  //! Identify Automatically as the operator starts it (its button); waits for the background search; how many it offers.
+  int identified( GeoStationOrientationDock &dock )
+  {
+    QToolButton *button = dock.findChild<QToolButton *>( QStringLiteral( "mIdentifyButton" ) );
+    QSignalSpy finished( &dock, &GeoStationOrientationDock::identificationFinished );
+    button->click();
+    if ( finished.isEmpty() )
+    {
+      if ( button->text() != QStringLiteral( "Cancel Identification" ) ) // while it runs, the button stops it
+        return -1;
+      if ( !finished.wait( 120000 ) )
+        return -1;
+    }
+    return button->text() == QStringLiteral( "Identify Automatically" ) ? finished.at( 0 ).at( 0 ).toInt() : -1;
+  }
+} // namespace
+
 class TestOrientationDock : public QObject
 {
     Q_OBJECT
@@ -407,7 +426,16 @@ void TestOrientationDock::addPhotoStartsABlockAndOpensThePhotoUnoriented()
   // the fiducials: detected in the four corners, the affine and its decomposition live, against the simulator's truth
   GeoStationFiducialPanel *panel = dock.fiducialPanel();
   QCOMPARE( panel->model()->rowCount(), static_cast<int>( film.fiducials.size() ) );
-  QCOMPARE( panel->detect(), 4 );
+  {
+    // in the background: the button reads Cancel Detection until the corners are read
+    QSignalSpy detected( panel, &GeoStationFiducialPanel::detectionFinished );
+    QVERIFY( panel->detect() );
+    QVERIFY( !panel->detect() ); // one at a time
+    QCOMPARE( panel->findChild<QToolButton *>( QStringLiteral( "mDetectButton" ) )->text(), QStringLiteral( "Cancel Detection" ) );
+    QVERIFY( detected.wait( 60000 ) );
+    QCOMPARE( detected.at( 0 ).at( 0 ).toInt(), 4 );
+    QCOMPARE( panel->findChild<QToolButton *>( QStringLiteral( "mDetectButton" ) )->text(), QStringLiteral( "Detect Fiducials" ) );
+  }
   QVERIFY2( panel->resultText().contains( QStringLiteral( "affinity" ) ), qPrintable( panel->resultText() ) );
   QVERIFY( dock.model()->nominalFromFile().has_value() );
   const geostation::ImageInnerOrientation &trueInner = *truthImage.innerOrientation;
@@ -430,7 +458,7 @@ void TestOrientationDock::addPhotoStartsABlockAndOpensThePhotoUnoriented()
   QgsVectorLayer control( mDir.filePath( QStringLiteral( "photo/truth.gpkg|layername=control" ) ), QStringLiteral( "control" ), QStringLiteral( "ogr" ) );
   QCOMPARE( dock.loadControlLayer( &control ), static_cast<int>( mTruth.control.size() ) );
   // unoriented, this photo shows too few clear targets for the search to rule chance out: it says so and offers nothing
-  const int unguided = dock.identifyAutomatically();
+  const int unguided = identified( dock );
   qInfo() << "identified with no orientation:" << dock.message();
   if ( unguided == 0 )
   {
@@ -462,7 +490,22 @@ void TestOrientationDock::addPhotoStartsABlockAndOpensThePhotoUnoriented()
   qInfo() << "camera" << ( dock.model()->summary().resection.exterior.projectionCentre - truthImage.exterior->projectionCentre ).norm() << "m from the truth:" << dock.model()->summary().message.c_str();
   QVERIFY( ( dock.model()->summary().resection.exterior.projectionCentre - truthImage.exterior->projectionCentre ).norm() < 1.0 );
   // oriented, the identification searches near each prediction and pairs the marks
-  const int guided = dock.identifyAutomatically();
+  // the search runs in the background: the button stops it, nothing new is offered and the dock says so
+  {
+    QToolButton *button = dock.findChild<QToolButton *>( QStringLiteral( "mIdentifyButton" ) );
+    QSignalSpy finished( &dock, &GeoStationOrientationDock::identificationFinished );
+    const size_t offersBefore = dock.model()->offers().size();
+    QVERIFY( dock.identifyAutomatically() );
+    QCOMPARE( button->text(), QStringLiteral( "Cancel Identification" ) );
+    QVERIFY( !dock.identifyAutomatically() ); // one at a time
+    button->click();
+    QVERIFY( finished.wait( 60000 ) );
+    QCOMPARE( finished.at( 0 ).at( 0 ).toInt(), 0 );
+    QVERIFY2( dock.message().contains( QStringLiteral( "cancelled" ) ), qPrintable( dock.message() ) );
+    QCOMPARE( dock.model()->offers().size(), offersBefore ); // nothing new offered
+    QCOMPARE( button->text(), QStringLiteral( "Identify Automatically" ) );
+  }
+  const int guided = identified( dock );
   qInfo() << "identified with the orientation:" << dock.message();
   QVERIFY2( guided >= 6, qPrintable( dock.message() ) );
 
