@@ -7,6 +7,8 @@
 #include "reviewtool.h"
 
 #include <QAction>
+#include <QJsonDocument>
+#include <QJsonObject>
 #include <QDesktopServices>
 #include <QUrl>
 #include <QFileDialog>
@@ -20,6 +22,9 @@
 #include <qgisinterface.h>
 #include <qgsmapcanvas.h>
 #include <qgsmessagebar.h>
+#include <qgsapplication.h>
+#include <qgsprocessingalgorithm.h>
+#include <qgsprocessingregistry.h>
 #include <qgsproject.h>
 #include <qgspythonrunner.h>
 #include <qgssettings.h>
@@ -369,10 +374,38 @@ void GeoStationPlugin::showBlockInfo()
   dialog.exec();
 }
 
+QVariantMap GeoStationPlugin::dialogDefaults( const QString &algorithmId ) const
+{
+  QVariantMap defaults;
+  const QgsProcessingAlgorithm *algorithm = QgsApplication::processingRegistry()->algorithmById( algorithmId );
+  if ( !algorithm || !mSession->hasBlock() )
+    return defaults;
+  const auto has = [algorithm]( const char *name ) { return algorithm->parameterDefinition( QLatin1String( name ) ) != nullptr; };
+  if ( has( "BLOCK" ) )
+    defaults.insert( QStringLiteral( "BLOCK" ), mSession->blockPath() );
+  // the images of the Multiview's views: the first for an algorithm of one image, the first two for a pair
+  QStringList shown;
+  for ( const QString &image : mSession->viewImages() )
+    if ( !image.isEmpty() )
+      shown << image;
+  if ( has( "IMAGE" ) && !shown.isEmpty() )
+    defaults.insert( QStringLiteral( "IMAGE" ), shown.at( 0 ) );
+  if ( has( "LEFT" ) && has( "RIGHT" ) && shown.size() >= 2 )
+  {
+    defaults.insert( QStringLiteral( "LEFT" ), shown.at( 0 ) );
+    defaults.insert( QStringLiteral( "RIGHT" ), shown.at( 1 ) );
+  }
+  return defaults;
+}
+
 void GeoStationPlugin::showAlgorithmDialog( const QString &algorithmId )
 {
-  // The algorithm dialog of QGIS 3.22 lives in the Python processing plugin.
-  if ( QgsPythonRunner::isValid() && QgsPythonRunner::run( QStringLiteral( "import processing\nprocessing.execAlgorithmDialog('%1')" ).arg( algorithmId ) ) )
+  // The algorithm dialog of QGIS 3.22 lives in the Python processing plugin. It starts with the open block
+  // and the Multiview's images filled in (as JSON, hex-encoded: a path may hold any character).
+  const QByteArray defaults = QJsonDocument( QJsonObject::fromVariantMap( dialogDefaults( algorithmId ) ) ).toJson( QJsonDocument::Compact ).toHex();
+  if ( QgsPythonRunner::isValid() &&
+       QgsPythonRunner::run( QStringLiteral( "import json, processing\nprocessing.execAlgorithmDialog('%1', json.loads(bytes.fromhex('%2').decode('utf-8')))" )
+                             .arg( algorithmId, QString::fromLatin1( defaults ) ) ) )
     return;
   mIface->messageBar()->pushMessage( tr( "GeoStation" ), tr( "Open %1 from the Processing Toolbox (GeoStation)." ).arg( algorithmId ), Qgis::MessageLevel::Info );
 }

@@ -11,6 +11,7 @@
 #include <memory>
 
 #include <QObject>
+#include <QVariantMap>
 #include <QPointer>
 
 #include <qgisplugin.h>
@@ -69,6 +70,8 @@ class GeoStationPlugin : public QObject, public QgisPlugin
 
     //! Opens the Processing dialog of an algorithm (e.g. "geostation:resection").
     void showAlgorithmDialog( const QString &algorithmId );
+    //! What an algorithm's dialog starts with: the open block (BLOCK), the first view's image (IMAGE), the first two views' (LEFT, RIGHT).
+    QVariantMap dialogDefaults( const QString &algorithmId ) const;
 
     //! Shows the Multiview dock (created on first use).
     void showMultiview();

@@ -70,6 +70,13 @@ def open_algorithm_dialog(window, action_name):
             # QGIS shows the Help button only for an algorithm with a help URL
             boxes = [b for b in dialog.findChildren(QDialogButtonBox) if b.button(QDialogButtonBox.Help)]
             seen["help_button"] = bool(boxes) and boxes[0].button(QDialogButtonBox.Help).isVisibleTo(dialog)
+            # the dialog starts with the open block and the first view's image filled in
+            try:
+                wrappers = dialog.mainWidget().wrappers
+                seen["block"] = str(wrappers["BLOCK"].parameterValue()) if "BLOCK" in wrappers else None
+                seen["image"] = str(wrappers["IMAGE"].parameterValue()) if "IMAGE" in wrappers else None
+            except Exception as e:  # reported: the test compares
+                seen["block"] = "could not read the dialog: %s" % e
             dialog.reject()
         elif seen["tries"] < 40:
             QTimer.singleShot(250, inspect)

@@ -130,6 +130,11 @@ class DesktopSmokeTest(unittest.TestCase):
         self.assertTrue(self.result.get("resection_dialog", {}).get("help_button"), self.result.get("resection_dialog"))
         self.assertTrue(self.result.get("user_guide_action"))
 
+    def test_the_dialog_starts_with_the_open_block_and_image(self):
+        dialog = self.result.get("resection_dialog", {})
+        self.assertEqual(os.path.realpath(dialog.get("block") or ""), os.path.realpath(self.demo_block), dialog)
+        self.assertTrue(dialog.get("image"), dialog)
+
     def test_import_block_opens_a_colmap_rig_run_station_by_station(self):
         seen = self.result.get("import_dialog", {})
         self.assertEqual(seen.get("title"), "Import block (COLMAP, Metashape, calibration + trajectory)", seen)
