@@ -18,8 +18,10 @@
 #include "matching/matchimage.h"
 #include "paintedroads.h"
 #include "revision/maprevision.h"
+#include "revisionlengths.h"
 
 using namespace geostation;
+using geostation::testing::lengthOf;
 using namespace geostation::paintedroads;
 
 namespace
@@ -54,20 +56,6 @@ namespace
       return out;
     }();
     return r;
-  }
-
-  //! The length (XY) of road `road`'s pieces with `status`, and of all its pieces that are not outside.
-  std::pair<double, double> lengthOf( const MapRevisionSummary &s, size_t road, RevisionStatus status )
-  {
-    double with = 0.0, seen = 0.0;
-    for ( const RevisedPiece &p : s.pieces )
-      if ( p.road == road && p.status != RevisionStatus::Outside )
-      {
-        seen += p.lengthM();
-        if ( p.status == status )
-          with += p.lengthM();
-      }
-    return { with, seen };
   }
 
   //! Points every metre along a polyline (XY) that both photos see.

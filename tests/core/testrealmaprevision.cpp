@@ -26,8 +26,10 @@
 #include "matching/matchimage.h"
 #include "orthophotopair.h"
 #include "revision/maprevision.h"
+#include "revisionlengths.h"
 
 using namespace geostation;
+using geostation::testing::lengthOf;
 using namespace geostation::chicagoimage;
 using namespace geostation::orthophotopair;
 
@@ -87,19 +89,6 @@ namespace
     return out;
   }
 
-  //! Length (XY) of the map road's pieces with `status`, and of all its pieces not outside.
-  std::pair<double, double> lengthOf( const MapRevisionSummary &s, size_t road, RevisionStatus status )
-  {
-    double with = 0.0, seen = 0.0;
-    for ( const RevisedPiece &p : s.pieces )
-      if ( p.road == road && p.status != RevisionStatus::Outside )
-      {
-        seen += p.lengthM();
-        if ( p.status == status )
-          with += p.lengthM();
-      }
-    return { with, seen };
-  }
   struct RevisionFigures
   {
     double confirmed = 0.0, unchangedSeen = 0.0;
