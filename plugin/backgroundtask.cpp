@@ -5,7 +5,6 @@
 
 #include <exception>
 
-#include <QPointer>
 #include <QtConcurrent/QtConcurrentRun>
 
 GeoStationBackgroundTask::GeoStationBackgroundTask( QObject *parent )
@@ -14,6 +13,11 @@ GeoStationBackgroundTask::GeoStationBackgroundTask( QObject *parent )
   connect( &mWatcher, &QFutureWatcher<QString>::finished, this, [this]
   {
     mRunning = false;
+    if ( mButton )
+    {
+      mButton->setText( mIdleText );
+      mButton->setToolTip( mIdleTip );
+    }
     emit finished( mWatcher.result() );
   } );
 }
@@ -36,6 +40,11 @@ bool GeoStationBackgroundTask::start( Work work )
     QMetaObject::invokeMethod( self, [self, fraction, what] { if ( self ) emit self->progressChanged( fraction, what ); }, Qt::QueuedConnection );
   }, [cancel = mCancel] { return cancel->load(); } );
   mRunning = true;
+  if ( mButton )
+  {
+    mButton->setText( mRunningText );
+    mButton->setToolTip( mRunningTip );
+  }
   mWatcher.setFuture( QtConcurrent::run( [work = std::move( work ), progress]() -> QString
   {
     try
@@ -54,4 +63,20 @@ bool GeoStationBackgroundTask::start( Work work )
 void GeoStationBackgroundTask::cancel()
 {
   mCancel->store( true );
+}
+
+void GeoStationBackgroundTask::attachButton( QAbstractButton *button, const std::function<void()> &start, const QString &runningText, const QString &runningTip )
+{
+  mButton = button;
+  mIdleText = button->text();
+  mIdleTip = button->toolTip();
+  mRunningText = runningText;
+  mRunningTip = runningTip;
+  connect( button, &QAbstractButton::clicked, this, [this, start]
+  {
+    if ( mRunning )
+      cancel();
+    else
+      start();
+  } );
 }

@@ -16,7 +16,9 @@
 #include <memory>
 
 #include <QFutureWatcher>
+#include <QAbstractButton>
 #include <QObject>
+#include <QPointer>
 #include <QString>
 
 #include "progress/progress.h"
@@ -39,6 +41,13 @@ class GeoStationBackgroundTask : public QObject
     //! Asks the running work to stop (its Progress says so); it ends soon after.
     void cancel();
 
+    /**
+     * The dock's button for the work: a click calls `start` when idle and
+     * cancel() while the work runs; meanwhile the button reads `runningText`
+     * (with `runningTip`), and its own text and tooltip again once it ends.
+     */
+    void attachButton( QAbstractButton *button, const std::function<void()> &start, const QString &runningText, const QString &runningTip );
+
   signals:
     void progressChanged( double fraction, const QString &text );
     //! The work has ended: `error` is the sentence of what it threw, else empty.
@@ -48,6 +57,8 @@ class GeoStationBackgroundTask : public QObject
     QFutureWatcher<QString> mWatcher;
     std::shared_ptr<std::atomic<bool>> mCancel = std::make_shared<std::atomic<bool>>( false );
     bool mRunning = false;
+    QPointer<QAbstractButton> mButton;
+    QString mIdleText, mIdleTip, mRunningText, mRunningTip;
 };
 
 #endif // GEOSTATIONBACKGROUNDTASK_H

@@ -20,13 +20,7 @@ GeoStationFiducialPanel::GeoStationFiducialPanel( QWidget *parent )
   connect( mModel, &GeoStationFiducialModel::innerOrientationChanged, this, &GeoStationFiducialPanel::updateResult );
   // one button: Detect Fiducials, and while the detection runs (in the background) Cancel Detection
   mDetection = new GeoStationBackgroundTask( this );
-  connect( mDetectButton, &QToolButton::clicked, this, [this]
-  {
-    if ( mDetection->isRunning() )
-      mDetection->cancel();
-    else
-      detect();
-  } );
+  mDetection->attachButton( mDetectButton, [this] { detect(); }, tr( "Cancel Detection" ), tr( "Stops the detection; nothing is measured" ) );
   connect( mDetection, &GeoStationBackgroundTask::progressChanged, this, [this]( double fraction, const QString &text )
   {
     emit message( tr( "Detecting fiducials: %1 %%2" ).arg( static_cast<int>( 100.0 * fraction ) ).arg( text.isEmpty() ? QString() : QStringLiteral( " (" ) + text + ')' ), false );
@@ -87,14 +81,12 @@ bool GeoStationFiducialPanel::detect()
     run.progress = progress;
     *detected = geostation::detectCornerFiducials( path, run );
   } );
-  mDetectButton->setText( tr( "Cancel Detection" ) );
   emit message( tr( "Detecting fiducials in the scan's corners…" ), false );
   return true;
 }
 
 void GeoStationFiducialPanel::takeDetection( const QString &error )
 {
-  mDetectButton->setText( tr( "Detect Fiducials" ) );
   int count = 0;
   if ( mDetectingPath != mImagePath )
     emit message( tr( "The fiducials detected in %1 were dropped: another photo was chosen meanwhile." ).arg( mDetectingPath ), true );

@@ -73,13 +73,7 @@ GeoStationOrientationDock::GeoStationOrientationDock( GeoStationMultiviewSession
   connect( mPredictButton, &QToolButton::clicked, this, &GeoStationOrientationDock::predictAndFind );
   // one button: Identify Automatically, and while the search runs (in the background) Cancel Identification
   mIdentification = new GeoStationBackgroundTask( this );
-  connect( mIdentifyButton, &QToolButton::clicked, this, [this]
-  {
-    if ( mIdentification->isRunning() )
-      mIdentification->cancel();
-    else
-      identifyAutomatically();
-  } );
+  mIdentification->attachButton( mIdentifyButton, [this] { identifyAutomatically(); }, tr( "Cancel Identification" ), tr( "Stops the search; nothing is offered" ) );
   connect( mIdentification, &GeoStationBackgroundTask::progressChanged, this, [this]( double fraction, const QString &text )
   {
     showMessage( tr( "Identifying control: %1 %%2" ).arg( static_cast<int>( 100.0 * fraction ) ).arg( text.isEmpty() ? QString() : QStringLiteral( " (" ) + text + ')' ) );
@@ -443,17 +437,12 @@ bool GeoStationOrientationDock::identifyAutomatically()
     *result = geostation::identifyControlInPhoto( grey, camera, nominal, control, run );
   } );
   mIdentifyingImageId = mImageId;
-  mIdentifyButton->setText( tr( "Cancel Identification" ) );
-  mIdentifyButton->setToolTip( tr( "Stops the search; nothing is offered" ) );
   showMessage( tr( "Identifying control among the photo's marks…" ) );
   return true;
 }
 
 void GeoStationOrientationDock::takeIdentification( const QString &error )
 {
-  mIdentifyButton->setText( tr( "Identify Automatically" ) );
-  mIdentifyButton->setToolTip( tr( "Finds the control points among the marks of the photo with no point measured (distance lists and P3P, the a-contrario test, "
-                                   "verified by resection) and offers them" ) );
   const geostation::PhotoIdentificationSummary &result = *mIdentificationResult;
   int identified = 0;
   if ( mIdentifyingImageId != mImageId )

@@ -29,13 +29,7 @@
 
 namespace geostation::chicagoimage
 {
-  struct TruthRoad
-  {
-    std::string name;
-    double halfWidthPx;
-    PixelPolyline centre; //!< pixelInImage of SP27GTIF.TIF
-  };
-
+  //! Centre lines in pixelInImage of SP27GTIF.TIF.
   inline std::vector<TruthRoad> chicagoMainRoads()
   {
     return { { "Kennedy expressway", 6.0, { { 4, 14 }, { 27, 62 }, { 50, 110 }, { 62, 160 }, { 70, 195 }, { 95, 232 }, { 120, 268 }, { 145, 293 }, { 170, 315 }, { 187, 328 } } },
@@ -64,9 +58,6 @@ namespace geostation::chicagoimage
   {
     return orthophotopair::orthophotoPair( cv::imread( chicagoImagePath(), cv::IMREAD_GRAYSCALE ), kGroundPixelM, 0.2 );
   }
-
-  //! An orthophoto pixel position on the ground of the pair (x east, y north, metres).
-  inline Eigen::Vector2d groundOf( const orthophotopair::OrthophotoPair &pair, const Eigen::Vector2d &pixel ) { return pair.orthoToGround( pixel ).head<2>(); }
 
   //! The image is fetched by scripts/setup-debian.sh; without it a local run skips, CI fails.
   inline bool haveChicagoImage()

@@ -9,6 +9,8 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <string>
+#include <utility>
 #include <vector>
 
 #include <Eigen/Core>
@@ -50,11 +52,32 @@ namespace geostation
       }
   }
 
+  //! A road of a hand-digitised truth: its centre line and half width.
+  struct TruthRoad
+  {
+    std::string name;
+    double halfWidthPx = 0.0;
+    PixelPolyline centre;
+  };
+
   inline double totalLength( const std::vector<PixelPolyline> &lines )
   {
     double total = 0.0;
     alongLines( lines, [&]( const Eigen::Vector2d &, double length ) { total += length; } );
     return total;
+  }
+
+  //! The length of `roads` within their half width + `tolerancePx` of `lines`, and their whole length.
+  inline std::pair<double, double> lengthFound( const std::vector<TruthRoad> &roads, const std::vector<PixelPolyline> &lines, double tolerancePx )
+  {
+    double total = 0.0, found = 0.0;
+    for ( const TruthRoad &road : roads )
+      alongLines( { road.centre }, [&]( const Eigen::Vector2d &p, double length ) {
+        total += length;
+        if ( distanceToLines( p, lines ) <= road.halfWidthPx + tolerancePx )
+          found += length;
+      } );
+    return { found, total };
   }
 
   struct ImageBufferScore

@@ -46,6 +46,27 @@ namespace geostation::orthophotopair
     {
       return Eigen::Vector3d( ( p.x() - 0.5 * ortho.width ) * gsdM, ( 0.5 * ortho.height - p.y() ) * gsdM, groundM );
     }
+    //! The orthophoto pixelInImage position of a ground point.
+    Eigen::Vector2d groundToOrtho( const Eigen::Vector3d &g ) const { return Eigen::Vector2d( g.x() / gsdM + 0.5 * ortho.width, 0.5 * ortho.height - g.y() / gsdM ); }
+    OrientedImage photo( int k ) const { return OrientedImage( camera, exterior[static_cast<size_t>( k )] ); }
+    //! Where the ray of photo k's pixel meets the ground.
+    Eigen::Vector3d groundSeen( const OrientedImage &image, const Eigen::Vector2d &pixelInImage ) const
+    {
+      const std::optional<Ray> ray = image.worldRayFromPixel( pixelInImage );
+      return ray->origin + ( groundM - ray->origin.z() ) / ray->direction.z() * ray->direction;
+    }
+    //! Whether both photos see the ground point more than `marginPx` inside their frames.
+    bool bothSee( const Eigen::Vector3d &g, double marginPx ) const
+    {
+      for ( int k = 0; k < 2; ++k )
+      {
+        const GroundProjection q = photo( k ).projectGroundToPixel( g );
+        if ( !q.ok() || q.pixelInImage.x() <= marginPx || q.pixelInImage.y() <= marginPx || q.pixelInImage.x() >= camera.width - marginPx ||
+             q.pixelInImage.y() >= camera.height - marginPx )
+          return false;
+      }
+      return true;
+    }
   };
 
   /**
@@ -79,16 +100,15 @@ namespace geostation::orthophotopair
     std::normal_distribution<double> noise( 0.0, 2.0 );
     for ( int k = 0; k < 2; ++k )
     {
-      const OrientedImage image( camera, pair.exterior[k] );
+      const OrientedImage image = pair.photo( k );
       cv::Mat mapX( camera.height, camera.width, CV_32F ), mapY( camera.height, camera.width, CV_32F );
       for ( int r = 0; r < camera.height; ++r )
         for ( int c = 0; c < camera.width; ++c )
         {
-          const std::optional<Ray> ray = image.worldRayFromPixel( Eigen::Vector2d( c + 0.5, r + 0.5 ) );
-          const Eigen::Vector3d g = ray->origin + ( pair.groundM - ray->origin.z() ) / ray->direction.z() * ray->direction;
           // the orthophoto's pixel indices (OpenCV: centres at i)
-          mapX.at<float>( r, c ) = static_cast<float>( g.x() / gsdM + 0.5 * ortho.cols - 0.5 );
-          mapY.at<float>( r, c ) = static_cast<float>( 0.5 * ortho.rows - g.y() / gsdM - 0.5 );
+          const Eigen::Vector2d at = pair.groundToOrtho( pair.groundSeen( image, Eigen::Vector2d( c + 0.5, r + 0.5 ) ) ) - Eigen::Vector2d( 0.5, 0.5 );
+          mapX.at<float>( r, c ) = static_cast<float>( at.x() );
+          mapY.at<float>( r, c ) = static_cast<float>( at.y() );
         }
       cv::Mat sampled;
       cv::remap( ortho, sampled, mapX, mapY, cv::INTER_CUBIC, cv::BORDER_CONSTANT, cv::Scalar( 0 ) );
@@ -110,12 +130,7 @@ namespace geostation::orthophotopair
    */
   inline std::vector<PixelPolyline> inPhoto( const OrthophotoPair &pair, int k, const std::vector<PixelPolyline> &orthoLines, double marginPx )
   {
-    const OrientedImage a( pair.camera, pair.exterior[0] ), b( pair.camera, pair.exterior[1] );
-    const OrientedImage &self = k == 0 ? a : b;
-    const auto inside = [&]( const OrientedImage &image, const Eigen::Vector3d &g ) {
-      const Eigen::Vector2d q = image.projectGroundToPixel( g ).pixelInImage;
-      return q.x() > marginPx && q.y() > marginPx && q.x() < pair.camera.width - marginPx && q.y() < pair.camera.height - marginPx;
-    };
+    const OrientedImage self = pair.photo( k );
     std::vector<PixelPolyline> out;
     for ( const PixelPolyline &line : orthoLines )
     {
@@ -128,7 +143,7 @@ namespace geostation::orthophotopair
           if ( s == n && i + 2 < line.size() )
             break; // the next segment starts here
           const Eigen::Vector3d g = pair.orthoToGround( line[i] + ( line[i + 1] - line[i] ) * s / n );
-          if ( inside( a, g ) && inside( b, g ) )
+          if ( pair.bothSee( g, marginPx ) )
             current.push_back( self.projectGroundToPixel( g ).pixelInImage );
           else
           {

@@ -34,13 +34,7 @@ namespace
 {
   using Polyline = PixelPolyline;
 
-  struct TruthRoad
-  {
-    std::string name;
-    double halfWidthPx;
-    Polyline centre; // pixelInImage of aero3.jpg
-  };
-
+  //! Centre lines in pixelInImage of aero3.jpg.
   std::vector<TruthRoad> mainRoads()
   {
     return { { "highway", 14.0, { { 345, 220 }, { 328, 260 }, { 306, 300 }, { 282, 340 }, { 267, 370 }, { 252, 400 }, { 237, 430 }, { 222, 460 }, { 213, 478 } } },
@@ -72,13 +66,7 @@ namespace
   //! Completeness of `roads`: their length within half-width + tolerance of the result.
   double completenessOf( const std::vector<TruthRoad> &roads, const std::vector<Polyline> &result, double tolerancePx )
   {
-    double total = 0.0, found = 0.0;
-    for ( const TruthRoad &road : roads )
-      alongLines( { road.centre }, [&]( const Eigen::Vector2d &p, double length ) {
-        total += length;
-        if ( distanceToLines( p, result ) <= road.halfWidthPx + tolerancePx )
-          found += length;
-      } );
+    const auto [found, total] = lengthFound( roads, result, tolerancePx );
     return found / total;
   }
 

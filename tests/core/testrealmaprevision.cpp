@@ -46,7 +46,7 @@ namespace
   {
     std::vector<Eigen::Vector2d> out;
     for ( const Eigen::Vector2d &p : orthoLine )
-      out.push_back( groundOf( pair, p ) + Eigen::Vector2d( 0.0, northM ) );
+      out.push_back( pair.orthoToGround( p ).head<2>() + Eigen::Vector2d( 0.0, northM ) );
     return out;
   }
 
@@ -58,22 +58,9 @@ namespace
     return road;
   }
 
-  double distanceXY( const Eigen::Vector2d &p, const std::vector<Eigen::Vector2d> &line )
-  {
-    double best = 1e300;
-    for ( size_t i = 0; i + 1 < line.size(); ++i )
-      best = std::min( best, distanceToSegment( p, line[i], line[i + 1] ) );
-    return best;
-  }
-
   //! Points every 10 m along a ground line that both photos see (30 px from their edges).
   std::vector<Eigen::Vector2d> seenPoints( const OrthophotoPair &pair, const std::vector<Eigen::Vector2d> &line )
   {
-    const OrientedImage a( pair.camera, pair.exterior[0] ), b( pair.camera, pair.exterior[1] );
-    const auto inside = [&]( const OrientedImage &image, const Eigen::Vector3d &g ) {
-      const GroundProjection q = image.projectGroundToPixel( g );
-      return q.ok() && q.pixelInImage.x() > 30 && q.pixelInImage.y() > 30 && q.pixelInImage.x() < pair.camera.width - 30 && q.pixelInImage.y() < pair.camera.height - 30;
-    };
     std::vector<Eigen::Vector2d> out;
     for ( size_t i = 0; i + 1 < line.size(); ++i )
     {
@@ -81,8 +68,7 @@ namespace
       for ( int k = 0; k < n; ++k )
       {
         const Eigen::Vector2d xy = line[i] + ( line[i + 1] - line[i] ) * ( static_cast<double>( k ) / n );
-        const Eigen::Vector3d g( xy.x(), xy.y(), pair.groundM );
-        if ( inside( a, g ) && inside( b, g ) )
+        if ( pair.bothSee( Eigen::Vector3d( xy.x(), xy.y(), pair.groundM ), 30.0 ) )
           out.push_back( xy );
       }
     }
@@ -110,7 +96,7 @@ namespace
     map.push_back( mapRoad( groundCourse( pair, { { 30, 372 }, { 170, 428 } } ) ) ); // across the blocks between row 307 and the Eisenhower
     const size_t shifted = unchanged.size(), notThere = shifted + 1;
 
-    const OrientedImage a( pair.camera, pair.exterior[0] ), b( pair.camera, pair.exterior[1] );
+    const OrientedImage a = pair.photo( 0 ), b = pair.photo( 1 );
     const MapRevisionSummary s = reviseRoads( MatchImage( pair.grey[0] ), MatchImage( pair.grey[1] ), a, b, map, options );
 
     RevisionFigures f;
@@ -135,7 +121,7 @@ namespace
       if ( p.road == shifted && p.status == RevisionStatus::Moved )
         for ( const Eigen::Vector3d &v : p.course )
         {
-          sum2 += std::pow( distanceXY( v.head<2>(), roosevelt ), 2 );
+          sum2 += std::pow( distanceToLines( v.head<2>(), { roosevelt } ), 2 );
           ++vertices;
         }
     f.rmsM = vertices ? std::sqrt( sum2 / vertices ) : 0.0;
@@ -144,18 +130,15 @@ namespace
     const std::vector<Eigen::Vector2d> leftOut = seenPoints( pair, groundCourse( pair, roadNamed( "Eisenhower expressway" ).centre ) );
     const double widthM = 2.0 * roadNamed( "Eisenhower expressway" ).halfWidthPx * kGroundPixelM;
     f.leftOut = leftOut.size();
-    for ( const Eigen::Vector2d &p : leftOut )
+    std::vector<PixelPolyline> newRoads; // on the ground (x, y)
+    for ( const NetworkLine &l : s.newRoads )
     {
-      double best = 1e300;
-      for ( const NetworkLine &l : s.newRoads )
-      {
-        std::vector<Eigen::Vector2d> line;
-        for ( const NetworkVertex &v : l.vertices )
-          line.push_back( v.point.head<2>() );
-        best = std::min( best, distanceXY( p, line ) );
-      }
-      f.covered += best <= widthM;
+      newRoads.emplace_back();
+      for ( const NetworkVertex &v : l.vertices )
+        newRoads.back().push_back( v.point.head<2>() );
     }
+    for ( const Eigen::Vector2d &p : leftOut )
+      f.covered += distanceToLines( p, newRoads ) <= widthM;
     const auto share = []( double part, double whole ) { return whole > 0 ? part / whole : 0.0; };
     std::printf( "  unchanged confirmed %.2f; shifted moved %.2f (new course %.1f m RMS); not there not found %.2f; left out in NEW %.2f (%zu new lines)\n",
                  share( f.confirmed, f.unchangedSeen ), share( f.moved, f.shiftedSeen ), f.rmsM, share( f.notFound, f.notThereSeen ),

@@ -38,7 +38,7 @@ namespace
   {
     ChicagoResult r;
     r.pair = chicagoPair();
-    const OrientedImage a( r.pair.camera, r.pair.exterior[0] ), b( r.pair.camera, r.pair.exterior[1] );
+    const OrientedImage a = r.pair.photo( 0 ), b = r.pair.photo( 1 );
     r.summary = extractRoadNetwork( MatchImage( r.pair.grey[0] ), MatchImage( r.pair.grey[1] ), &a, &b, options );
     for ( const CompiledPolygon &p : r.summary.extraction.linesA )
       r.lines.push_back( p.pixels );
@@ -48,28 +48,14 @@ namespace
     return r;
   }
 
-  //! The length of `roads` within half-width + `tolerancePx` of `lines`, and their whole length.
-  std::pair<double, double> foundOf( const std::vector<TruthRoad> &roads, const std::vector<PixelPolyline> &lines, double tolerancePx )
-  {
-    double total = 0.0, found = 0.0;
-    for ( const TruthRoad &road : roads )
-      alongLines( { road.centre }, [&]( const Eigen::Vector2d &p, double length ) {
-        total += length;
-        if ( distanceToLines( p, lines ) <= road.halfWidthPx + tolerancePx )
-          found += length;
-      } );
-    return { found, total };
-  }
-
   //! Length of `lines` (photo A) whose ground lies in the lake.
   double lengthInLake( const OrthophotoPair &pair, const std::vector<PixelPolyline> &lines )
   {
-    const OrientedImage a( pair.camera, pair.exterior[0] );
+    const OrientedImage a = pair.photo( 0 );
     double inside = 0.0;
     alongLines( lines, [&]( const Eigen::Vector2d &p, double length ) {
-      const std::optional<Ray> ray = a.worldRayFromPixel( p );
-      const Eigen::Vector3d g = ray->origin + ( pair.groundM - ray->origin.z() ) / ray->direction.z() * ray->direction;
-      const cv::Point2f inOrtho( static_cast<float>( g.x() / pair.gsdM + 0.5 * pair.ortho.width ), static_cast<float>( 0.5 * pair.ortho.height - g.y() / pair.gsdM ) );
+      const Eigen::Vector2d q = pair.groundToOrtho( pair.groundSeen( a, p ) );
+      const cv::Point2f inOrtho( static_cast<float>( q.x() ), static_cast<float>( q.y() ) );
       for ( const std::vector<cv::Point2f> &area : chicagoLake() )
         if ( cv::pointPolygonTest( area, inOrtho, false ) >= 0 )
           inside += length;
@@ -86,7 +72,7 @@ namespace
 
   ChicagoScore scoreAndReport( const std::string &label, const ChicagoResult &r )
   {
-    const auto [found, total] = foundOf( r.truth, r.lines, 2.0 );
+    const auto [found, total] = lengthFound( r.truth, r.lines, 2.0 );
     ChicagoScore score{ found / total, lengthInLake( r.pair, r.lines ), totalLength( r.lines ) };
     std::printf( "Chicago, %s: main roads %.2f found (%.0f of %.0f px); %.0f px of line, %.0f px in the lake; height %.1f m (truth 200), "
                  "widths %.1f-%.1f px, contrast %.0f (texture %.1f), %.1f s\n",
@@ -98,7 +84,7 @@ namespace
       for ( const TruthRoad &t : r.truth )
         if ( t.name == road.name )
           pieces.push_back( t );
-      const auto [f, t] = foundOf( pieces, r.lines, 2.0 );
+      const auto [f, t] = lengthFound( pieces, r.lines, 2.0 );
       std::printf( "  %s: %.2f found\n", road.name.c_str(), t > 0 ? f / t : 0.0 );
     }
     std::vector<PixelPolyline> truthLines;
