@@ -13,6 +13,7 @@
 
 #include "adjustment/bundleadjustment.h"
 #include "bundleadjustreport.h"
+#include "orientationreports.h"
 #include "processingblock.h"
 #include "processingtables.h"
 #include "io/featureschema.h"
@@ -60,7 +61,8 @@ QString BundleAdjustAlgorithm::helpText() const
                       "OUTPUT_BLOCK is the adjusted block with standard deviations; OUTPUT_POINTS a PointZ layer of all points "
                       "with point_id, role, n_images, sigma_x/y/z, rms_px and, for control and check points, err_x/y/z; REPORT "
                       "a JSON file with sigma0, per-image residuals and shifts, interior parameters, ground-point errors and "
-                      "the RMSE on control and check points." );
+                      "the RMSE on control and check points; REPORT_HTML the same for reading, with the largest residuals, "
+                      "residual vectors over the images with the largest RMS and a histogram of all residuals." );
 }
 
 BundleAdjustAlgorithm *BundleAdjustAlgorithm::createInstance() const
@@ -80,6 +82,7 @@ void BundleAdjustAlgorithm::initAlgorithm( const QVariantMap & )
   addParameter( new QgsProcessingParameterFileDestination( QStringLiteral( "OUTPUT_BLOCK" ), QObject::tr( "Adjusted block" ), QObject::tr( "GeoStation block (*.geostation.json)" ) ) );
   addParameter( new QgsProcessingParameterFeatureSink( QStringLiteral( "OUTPUT_POINTS" ), QObject::tr( "Adjusted points" ), QgsProcessing::TypeVectorPoint, QVariant(), true, false ) );
   addParameter( new QgsProcessingParameterFileDestination( QStringLiteral( "REPORT" ), QObject::tr( "Report" ), QObject::tr( "JSON (*.json)" ), QVariant(), true, false ) );
+  addParameter( GeoStationProcessing::htmlReportParameter() );
   addOutput( new QgsProcessingOutputNumber( QStringLiteral( "SIGMA0" ), QObject::tr( "sigma0 (px)" ) ) );
   addOutput( new QgsProcessingOutputNumber( QStringLiteral( "RMSE_CHECK_M" ), QObject::tr( "RMSE on check points (m, 3D)" ) ) );
 }
@@ -169,8 +172,10 @@ QVariantMap BundleAdjustAlgorithm::processGeoStation( const QVariantMap &paramet
   }
 
   const QString reportPath = parameterAsFileOutput( parameters, QStringLiteral( "REPORT" ), context );
+  const QString htmlPath = parameterAsFileOutput( parameters, QStringLiteral( "REPORT_HTML" ), context );
   const QString blockPath = parameterAsFileOutput( parameters, QStringLiteral( "OUTPUT_BLOCK" ), context );
-  GeoStationProcessing::writeBlockAndReport( block, blockPath, GeoStationProcessing::bundleAdjustReport( summary ), reportPath );
+  GeoStationProcessing::writeBlockAndReports( block, blockPath, { { reportPath, GeoStationProcessing::jsonReport( GeoStationProcessing::bundleAdjustReport( summary ) ) },
+                                                                  { htmlPath, htmlPath.isEmpty() ? QByteArray() : GeoStationProcessing::bundleAdjustHtml( summary, block ) } } );
 
   QString pointsDestination;
   if ( outputRequested( parameters, QStringLiteral( "OUTPUT_POINTS" ) ) )
@@ -194,6 +199,7 @@ QVariantMap BundleAdjustAlgorithm::processGeoStation( const QVariantMap &paramet
   outputs.insert( QStringLiteral( "OUTPUT_BLOCK" ), blockPath );
   outputs.insert( QStringLiteral( "OUTPUT_POINTS" ), pointsDestination );
   outputs.insert( QStringLiteral( "REPORT" ), reportPath );
+  outputs.insert( QStringLiteral( "REPORT_HTML" ), htmlPath );
   outputs.insert( QStringLiteral( "SIGMA0" ), summary.sigma0 );
   outputs.insert( QStringLiteral( "RMSE_CHECK_M" ), summary.checkCount ? QVariant( summary.rmseCheckM.norm() ) : QVariant() );
   return outputs;

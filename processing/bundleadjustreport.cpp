@@ -78,6 +78,11 @@ namespace GeoStationProcessing
         { "rms_px", p.rmsPx }, { "error_m", xyz( p.errorM ) }, { "sigma_m", xyz( p.sigmaM ) } } );
     }
     report.insert( "ground_points", points );
+    QJsonArray residuals;
+    for ( const geostation::BundleObservationResult &o : s.observations )
+      residuals.append( QJsonObject { { "point_id", QString::fromStdString( o.pointId ) }, { "image_id", QString::fromStdString( o.imageId ) }, { "col", o.pixelInImage.x() },
+        { "row", o.pixelInImage.y() }, { "col_resid_px", o.residualPx.x() }, { "row_resid_px", o.residualPx.y() } } );
+    report.insert( "residuals", residuals );
     report.insert( "rmse_control_m", s.controlCount ? QJsonValue( xyz( s.rmseControlM ) ) : QJsonValue() );
     QJsonObject check = xyz( s.rmseCheckM );
     check.insert( "planimetric", s.rmseCheckM.head<2>().norm() );

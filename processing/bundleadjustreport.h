@@ -17,7 +17,8 @@ namespace GeoStationProcessing
   /**
    * sigma0, redundancy, iterations; per image the adjusted orientation with
    * sigmas and its shift; the freed interior parameters with sigmas; control
-   * and check points with their errors; the RMSEs (docs/conventions.md §9).
+   * and check points with their errors; every observation's residual
+   * (projected - measured, px); the RMSEs (docs/conventions.md §9).
    */
   QJsonObject bundleAdjustReport( const geostation::BundleSummary &s );
 }

@@ -96,7 +96,7 @@ QString ExtractRoadsAlgorithm::helpText() const
                       "sought on sample lines START_SPACING_PX apart: closer lines find more of the short roads of a small image.\n\n"
                       "OUTPUT: 3-D lines in the block CRS (line_id, accepted_in, length_m, sigma_max); OUTPUT_LEFT and "
                       "OUTPUT_RIGHT: the lines in each image (x = col, y = -row); DEAD_ENDS: open ends in the left image "
-                      "(kind); REPORT: JSON with the rounds, counts, registration and times per stage. Each output is written only "
+                      "(kind); REPORT: JSON with the rounds, counts, registration and times per stage; REPORT_HTML: the same for reading, with the lines drawn over the left image's frame and histograms of the lines' lengths and sigmas. Each output is written only "
                       "when asked for; at least one of OUTPUT, OUTPUT_LEFT and OUTPUT_RIGHT is needed.\n\n"
                       "POLARITY and MAPPING take their option's name (dark, bright, auto; multiquadric, projective) or its index (0, 1, 2; 0, 1)." );
 }
@@ -127,6 +127,7 @@ void ExtractRoadsAlgorithm::initAlgorithm( const QVariantMap & )
   addParameter( new QgsProcessingParameterFeatureSink( QStringLiteral( "OUTPUT_RIGHT" ), QObject::tr( "Roads in the right image" ), QgsProcessing::TypeVectorLine, QVariant(), true, false ) );
   addParameter( new QgsProcessingParameterFeatureSink( QStringLiteral( "DEAD_ENDS" ), QObject::tr( "Open ends (left image)" ), QgsProcessing::TypeVectorPoint, QVariant(), true, false ) );
   addParameter( new QgsProcessingParameterFileDestination( QStringLiteral( "REPORT" ), QObject::tr( "Report" ), QObject::tr( "JSON (*.json)" ), QVariant(), true, false ) );
+  addParameter( GeoStationProcessing::htmlReportParameter() );
   addOutput( new QgsProcessingOutputNumber( QStringLiteral( "LINE_COUNT" ), QObject::tr( "Lines in the left image" ) ) );
 }
 
@@ -191,7 +192,8 @@ QVariantMap ExtractRoadsAlgorithm::processGeoStation( const QVariantMap &paramet
   const geostation::Progress progress = GeoStationProcessing::progressOf( feedback );
   const geostation::OrientedImage *a = orientedLeft ? &*orientedLeft : nullptr, *b = orientedRight ? &*orientedRight : nullptr;
   // read a window at a time: memory does not grow with the images (beyond a byte a pixel for the result matrices)
-  s = geostation::extractRoadNetwork( GeoStationProcessing::openImageFile( block, left ), GeoStationProcessing::openImageFile( block, right ), a, b, options, progress );
+  const std::shared_ptr<const geostation::RasterReader> leftFile = GeoStationProcessing::openImageFile( block, left );
+  s = geostation::extractRoadNetwork( leftFile, GeoStationProcessing::openImageFile( block, right ), a, b, options, progress );
   if ( s.extraction.cancelled )
     throw QgsProcessingException( QObject::tr( "Cancelled: nothing was written." ) );
   if ( s.extraction.linesA.empty() )
@@ -265,11 +267,14 @@ QVariantMap ExtractRoadsAlgorithm::processGeoStation( const QVariantMap &paramet
   }
 
   const QString reportPath = parameterAsFileOutput( parameters, QStringLiteral( "REPORT" ), context );
+  const QString htmlPath = parameterAsFileOutput( parameters, QStringLiteral( "REPORT_HTML" ), context );
+  const QString leftId = QString::fromStdString( left.id ), rightId = QString::fromStdString( right.id );
+  GeoStationProcessing::writeReports( { { reportPath, reportPath.isEmpty() ? QByteArray() : GeoStationProcessing::jsonReport( GeoStationProcessing::extractRoadsReport( s, leftId, rightId, options.control ) ) },
+                                        { htmlPath, htmlPath.isEmpty() ? QByteArray() : GeoStationProcessing::extractRoadsHtml( s, leftId, rightId, options.control, leftFile->size().width, leftFile->size().height ) } } );
   if ( !reportPath.isEmpty() )
-  {
-    GeoStationProcessing::writeReport( GeoStationProcessing::extractRoadsReport( s, QString::fromStdString( left.id ), QString::fromStdString( right.id ), options.control ), reportPath );
     outputs.insert( QStringLiteral( "REPORT" ), reportPath );
-  }
+  if ( !htmlPath.isEmpty() )
+    outputs.insert( QStringLiteral( "REPORT_HTML" ), htmlPath );
   outputs.insert( QStringLiteral( "LINE_COUNT" ), static_cast<int>( s.extraction.linesA.size() ) );
   feedback->pushInfo( QObject::tr( "%1 lines in the left image, %2 in the right, %3 rounds, %4 s (mapping: %5)." ).arg( s.extraction.linesA.size() )
                       .arg( s.extraction.linesB.size() ).arg( s.extraction.rounds.size() ).arg( s.seconds, 0, 'f', 2 ).arg( QString::fromStdString( s.mapping ) ) );

@@ -6,6 +6,9 @@
 #include <cmath>
 
 #include <QJsonArray>
+#include <QObject>
+
+#include "htmlreport.h"
 
 namespace GeoStationProcessing
 {
@@ -50,5 +53,93 @@ namespace GeoStationProcessing
         { "points", residuals } } );
     }
     return report;
+  }
+
+  QByteArray extractRoadsHtml( const geostation::RoadNetworkSummary &s, const QString &leftId, const QString &rightId,
+                               const std::vector<geostation::ControlPair> &control, int leftWidth, int leftHeight )
+  {
+    HtmlReport page( QObject::tr( "Roads extracted from %1 and %2" ).arg( leftId, rightId ) );
+    double lengthPx = 0.0, lengthM = 0.0;
+    for ( const geostation::CompiledPolygon &line : s.extraction.linesA )
+      for ( size_t k = 1; k < line.pixels.size(); ++k )
+        lengthPx += ( line.pixels[k] - line.pixels[k - 1] ).norm();
+    for ( const geostation::NetworkLine &line : s.network.lines )
+      lengthM += line.lengthM();
+    QVector<QPair<QString, QString>> summary { { QObject::tr( "pair" ), QStringLiteral( "%1, %2" ).arg( leftId, rightId ) },
+      { QObject::tr( "mapping between the images" ), QString::fromStdString( s.mapping ) },
+      { QObject::tr( "lines in the left image" ), QObject::tr( "%1 (%2 px)" ).arg( s.extraction.linesA.size() ).arg( number( lengthPx, 0 ) ) },
+      { QObject::tr( "lines in the right image" ), QString::number( s.extraction.linesB.size() ) },
+      { QObject::tr( "junctions in the left image" ), QString::number( s.extraction.intersectionsA.size() ) },
+      { QObject::tr( "minimum contrast (grey levels)" ), number( s.minContrast, 1 ) + ( s.textureGrey > 0.0 ? QObject::tr( " (from the texture, %1)" ).arg( number( s.textureGrey, 1 ) ) : QString() ) },
+      { QObject::tr( "time (s)" ), number( s.seconds, 1 ) } };
+    if ( s.oriented )
+    {
+      summary << qMakePair( QObject::tr( "3-D lines" ), QObject::tr( "%1 (%2 m)" ).arg( s.network.lines.size() ).arg( number( lengthM, 0 ) ) );
+      summary << qMakePair( QObject::tr( "mean terrain height (m)" ), number( s.meanHeightM, 2 ) +
+                            ( s.terrainEstimate ? QObject::tr( " (matched, %1 points, spread %2 m)" ).arg( s.terrainEstimate->points ).arg( number( s.terrainEstimate->spreadM, 2 ) ) : QString() ) );
+      if ( s.widthsFromMetres )
+        summary << qMakePair( QObject::tr( "road widths (px)" ), QObject::tr( "%1 to %2 (ground pixel %3 m)" ).arg( number( s.widthsFromMetres->minPx, 1 ), number( s.widthsFromMetres->maxPx, 1 ),
+                                                                                                            number( s.widthsFromMetres->groundPixelM, 3 ) ) );
+    }
+    page.keyValues( summary );
+    if ( s.extraction.linesA.empty() )
+      page.paragraph( QObject::tr( "No road was found in the pair." ) );
+
+    page.heading( QObject::tr( "Rounds" ) );
+    QVector<QStringList> rounds;
+    for ( const geostation::RoundReport &r : s.extraction.rounds )
+      rounds << QStringList { QString::number( r.round ), r.image == "A" ? QObject::tr( "left" ) : QObject::tr( "right" ), QString::number( r.startingPoints ), QString::number( r.linesStarted ),
+                              QString::number( r.continued ), QString::number( r.polygons ), QString::number( r.wholly ), QString::number( r.partly ), QString::number( r.rejected ),
+                              number( r.extractedPx, 0 ), number( r.acceptedPx, 0 ), number( r.seconds, 1 ) };
+    page.table( { QObject::tr( "round" ), QObject::tr( "extracted in" ), QObject::tr( "starting points" ), QObject::tr( "lines started" ), QObject::tr( "continued" ), QObject::tr( "polygons" ),
+                  QObject::tr( "accepted wholly" ), QObject::tr( "partly" ), QObject::tr( "rejected" ), QObject::tr( "extracted (px)" ), QObject::tr( "accepted (px)" ), QObject::tr( "time (s)" ) }, rounds );
+    QVector<QStringList> stages;
+    const auto stage = [&]( const QString &name, const geostation::StageCounts &c ) { stages << QStringList { name, number( c.seconds, 2 ), number( c.linePx, 0 ) }; };
+    stage( QObject::tr( "starting points" ), s.extraction.startStage );
+    stage( QObject::tr( "local extraction" ), s.extraction.lemStage );
+    stage( QObject::tr( "regional extraction" ), s.extraction.remStage );
+    stage( QObject::tr( "verification" ), s.extraction.verificationStage );
+    stage( QObject::tr( "compilation" ), s.extraction.compilationStage );
+    page.table( { QObject::tr( "stage" ), QObject::tr( "time (s)" ), QObject::tr( "line produced (px)" ) }, stages );
+
+    page.heading( QObject::tr( "Lines" ) );
+    QVector<QPolygonF> lines;
+    for ( const geostation::CompiledPolygon &line : s.extraction.linesA )
+    {
+      QPolygonF polyline;
+      for ( const Eigen::Vector2d &p : line.pixels )
+        polyline << QPointF( p.x(), p.y() );
+      lines << polyline;
+    }
+    page.linesPlot( QObject::tr( "The lines found in %1 (%2 x %3 px)." ).arg( leftId ).arg( leftWidth ).arg( leftHeight ), QSizeF( leftWidth, leftHeight ), lines );
+    if ( s.oriented && !s.network.lines.empty() )
+    {
+      QVector<double> lengths, sigmas;
+      for ( const geostation::NetworkLine &line : s.network.lines )
+      {
+        lengths << line.lengthM();
+        for ( const geostation::NetworkVertex &v : line.vertices )
+          sigmas << v.sigmaM.maxCoeff();
+      }
+      page.histogram( QObject::tr( "Lengths of the 3-D lines (m)." ), lengths, QStringLiteral( "m" ) );
+      page.histogram( QObject::tr( "The 3-D vertices' largest coordinate sigma (m)." ), sigmas, QStringLiteral( "m" ) );
+    }
+
+    if ( s.registration )
+    {
+      page.heading( QObject::tr( "Registration by the control pairs" ) );
+      page.keyValues( { { QObject::tr( "method" ), QString::fromStdString( s.registration->method ) }, { QObject::tr( "RMS (px)" ), number( s.registration->rmsPx, 2 ) },
+                        { QObject::tr( "largest (px)" ), number( s.registration->maxPx, 2 ) }, { QObject::tr( "expected away from the points (px)" ), number( s.registration->expectedPx, 2 ) } } );
+      QVector<QStringList> rows;
+      QVector<double> residuals;
+      for ( size_t i = 0; i < s.registration->residualsPx.size() && i < control.size(); ++i )
+      {
+        rows << QStringList { QString::fromStdString( control[i].id ), number( control[i].inA.x(), 1 ), number( control[i].inA.y(), 1 ), number( s.registration->residualsPx[i], 2 ) };
+        residuals << s.registration->residualsPx[i];
+      }
+      page.table( { QObject::tr( "point" ), QObject::tr( "col (left)" ), QObject::tr( "row (left)" ), QObject::tr( "misregistration (px)" ) }, rows );
+      page.histogram( QObject::tr( "Misregistration at the control pairs (pixels)." ), residuals, QStringLiteral( "px" ) );
+    }
+    return page.toUtf8();
   }
 }

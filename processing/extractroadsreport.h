@@ -6,6 +6,7 @@
 
 #include <vector>
 
+#include <QByteArray>
 #include <QJsonObject>
 #include <QString>
 
@@ -22,6 +23,15 @@ namespace GeoStationProcessing
    */
   QJsonObject extractRoadsReport( const geostation::RoadNetworkSummary &s, const QString &leftId, const QString &rightId,
                                   const std::vector<geostation::ControlPair> &control );
+
+  /**
+   * The same for reading: the summary, the rounds and stages, the lines
+   * drawn over the left image's frame, a histogram of the 3-D lines'
+   * lengths and of their vertices' largest sigma, and the registration's
+   * misregistration per control pair.
+   */
+  QByteArray extractRoadsHtml( const geostation::RoadNetworkSummary &s, const QString &leftId, const QString &rightId,
+                               const std::vector<geostation::ControlPair> &control, int leftWidth, int leftHeight );
 }
 
 #endif // EXTRACTROADSREPORT_H

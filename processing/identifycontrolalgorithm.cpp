@@ -17,6 +17,7 @@
 #include "dem/demintersection.h"
 #include "identification/photoidentification.h"
 #include "io/rasterfile.h"
+#include "orientationreports.h"
 #include "processingblock.h"
 #include "processingtables.h"
 #include "io/featureschema.h"
@@ -96,7 +97,7 @@ QString IdentifyControlAlgorithm::helpText() const
                       "observations table (point_id, image_id, col, row, sigma_px, status) ready for geostation:resection: status "
                       "identified, flagged (a mark there, but further from its prediction than the others allow: for the operator "
                       "to look at, not a measurement) or not_found (the control point falls in the photo where no mark was found; "
-                      "pred_col and pred_row give where). REPORT lists the pairs with residuals, the resection, and the search's counts.\n\n"
+                      "pred_col and pred_row give where). REPORT lists the pairs with residuals, the resection, and the search's counts; REPORT_HTML the same for reading, with the residual vectors over the photo.\n\n"
                       "Marks from MARK_MIN_PX to a tenth of the photo across are found (MARK_MAX_PX 0; give a size to look for less). "
                       "Once the pairs give the pose, every control point is measured again at its prediction, at the size the "
                       "marks have on the ground there, and the centre of a disc seen obliquely is taken for the disc's centre, "
@@ -129,6 +130,7 @@ void IdentifyControlAlgorithm::initAlgorithm( const QVariantMap & )
   advanced( new QgsProcessingParameterNumber( QStringLiteral( "TOLERANCE_PX" ), QObject::tr( "Matching tolerance after the resection (px)" ), QgsProcessingParameterNumber::Double, 2.5, false, 0.1 ) );
   addParameter( new QgsProcessingParameterFeatureSink( QStringLiteral( "OUTPUT" ), QObject::tr( "Identified control (observations)" ), QgsProcessing::TypeVector ) );
   addParameter( new QgsProcessingParameterFileDestination( QStringLiteral( "REPORT" ), QObject::tr( "Report" ), QObject::tr( "JSON (*.json)" ), QVariant(), true, false ) );
+  addParameter( GeoStationProcessing::htmlReportParameter() );
   addOutput( new QgsProcessingOutputNumber( QStringLiteral( "PAIRS_FOUND" ), QObject::tr( "Control points identified" ) ) );
 }
 
@@ -210,8 +212,9 @@ QVariantMap IdentifyControlAlgorithm::processGeoStation( const QVariantMap &para
     write( pointId, QVariant(), QVariant(), QVariant(), QStringLiteral( "not_found" ), predicted, QVariant() );
 
   const QString reportPath = parameterAsFileOutput( parameters, QStringLiteral( "REPORT" ), context );
-  if ( !reportPath.isEmpty() )
-    GeoStationProcessing::writeReport( reportJson( result, imageId, options.approximate.has_value() ), reportPath );
+  const QString htmlPath = parameterAsFileOutput( parameters, QStringLiteral( "REPORT_HTML" ), context );
+  GeoStationProcessing::writeReports( { { reportPath, GeoStationProcessing::jsonReport( reportJson( result, imageId, options.approximate.has_value() ) ) },
+                                        { htmlPath, htmlPath.isEmpty() ? QByteArray() : GeoStationProcessing::identifyControlHtml( result, imageId, grey.cols, grey.rows ) } } );
   feedback->pushInfo( QObject::tr( "%1 control points identified in %2 from %3 poses in %4 s (%5 measured at their predictions, %6 of them found only there); "
                                    "%7 flagged further than %8 px from their prediction; %9 more fall in the photo unfound." )
                       .arg( result.identified.size() ).arg( imageId ).arg( summary.poses ).arg( summary.seconds, 0, 'f', 1 ).arg( result.relocated )
@@ -222,6 +225,7 @@ QVariantMap IdentifyControlAlgorithm::processGeoStation( const QVariantMap &para
   QVariantMap outputs;
   outputs.insert( QStringLiteral( "OUTPUT" ), sink.destination() );
   outputs.insert( QStringLiteral( "REPORT" ), reportPath );
+  outputs.insert( QStringLiteral( "REPORT_HTML" ), htmlPath );
   outputs.insert( QStringLiteral( "PAIRS_FOUND" ), static_cast<int>( result.identified.size() ) );
   return outputs;
 }

@@ -16,6 +16,7 @@
 
 #include "adjustment/innerorientation.h"
 #include "imageproc/fiducialdetection.h"
+#include "orientationreports.h"
 #include "processingblock.h"
 #include "processingtables.h"
 
@@ -61,9 +62,10 @@ QString InnerOrientationAlgorithm::helpText() const
                       "when the table has image_id), or, with AUTO or without FIDUCIALS, are found automatically: one mark in each corner "
                       "window, matched on a subsampled copy against TEMPLATE (or a generic disc of MARK_DIAMETER_PX) "
                       "and refined by a centre of gravity at full resolution.\n\n"
-                      "The report gives the scale factors A and B (mm per pixel) with their directions alpha_A and "
+                      "REPORT gives the scale factors A and B (mm per pixel) with their directions alpha_A and "
                       "alpha_B, the affinity in per cent (100 (A/B - 1)), the rotation beta, the fiducial residuals "
-                      "and sigma0. OUTPUT_BLOCK stores the affine with the image (inner_orientation)." );
+                      "and sigma0; REPORT_HTML the same for reading, with the residual vectors at the fiducials. "
+                      "OUTPUT_BLOCK stores the affine with the image (inner_orientation)." );
 }
 
 InnerOrientationAlgorithm *InnerOrientationAlgorithm::createInstance() const
@@ -84,6 +86,7 @@ void InnerOrientationAlgorithm::initAlgorithm( const QVariantMap & )
   addParameter( new QgsProcessingParameterNumber( QStringLiteral( "SCAN_PIXEL_MM" ), QObject::tr( "Scan pixel size (mm; default: the camera's)" ), QgsProcessingParameterNumber::Double, QVariant(), true, 1e-5 ) );
   addParameter( new QgsProcessingParameterFileDestination( QStringLiteral( "OUTPUT_BLOCK" ), QObject::tr( "Block with inner orientation" ), QObject::tr( "GeoStation block (*.geostation.json)" ) ) );
   addParameter( new QgsProcessingParameterFileDestination( QStringLiteral( "REPORT" ), QObject::tr( "Report" ), QObject::tr( "JSON (*.json)" ), QVariant(), true, false ) );
+  addParameter( GeoStationProcessing::htmlReportParameter() );
   addOutput( new QgsProcessingOutputNumber( QStringLiteral( "SIGMA0_MM" ), QObject::tr( "sigma0 (mm)" ) ) );
   addOutput( new QgsProcessingOutputNumber( QStringLiteral( "AFFINITY_PCT" ), QObject::tr( "Affinity (%)" ) ) );
 }
@@ -164,8 +167,10 @@ QVariantMap InnerOrientationAlgorithm::processGeoStation( const QVariantMap &par
     report.insert( "detections", detections );
 
   const QString reportPath = parameterAsFileOutput( parameters, QStringLiteral( "REPORT" ), context );
+  const QString htmlPath = parameterAsFileOutput( parameters, QStringLiteral( "REPORT_HTML" ), context );
   const QString blockPath = parameterAsFileOutput( parameters, QStringLiteral( "OUTPUT_BLOCK" ), context );
-  GeoStationProcessing::writeBlockAndReport( block, blockPath, report, reportPath );
+  GeoStationProcessing::writeBlockAndReports( block, blockPath, { { reportPath, GeoStationProcessing::jsonReport( report ) },
+    { htmlPath, htmlPath.isEmpty() ? QByteArray() : GeoStationProcessing::innerOrientationHtml( s, imageId, QString::fromStdString( camera.id ), measured ) } } );
   feedback->setProgress( 100 );
   feedback->pushInfo( QObject::tr( "%1: %2 fiducials, A = %3 mm/px, B = %4 mm/px, affinity %5 %, beta = %6 deg, sigma0 = %7 um." )
                       .arg( imageId ).arg( measured.size() ).arg( s.decomposition.scaleA, 0, 'f', 6 ).arg( s.decomposition.scaleB, 0, 'f', 6 )
@@ -174,6 +179,7 @@ QVariantMap InnerOrientationAlgorithm::processGeoStation( const QVariantMap &par
   QVariantMap outputs;
   outputs.insert( QStringLiteral( "OUTPUT_BLOCK" ), blockPath );
   outputs.insert( QStringLiteral( "REPORT" ), reportPath );
+  outputs.insert( QStringLiteral( "REPORT_HTML" ), htmlPath );
   outputs.insert( QStringLiteral( "SIGMA0_MM" ), s.sigma0Mm );
   outputs.insert( QStringLiteral( "AFFINITY_PCT" ), s.decomposition.affinityPct );
   return outputs;

@@ -156,45 +156,71 @@ namespace GeoStationProcessing
                                            QString(), QVariant(), false, QObject::tr( "GeoStation block (*.geostation.json *.json)" ) );
   }
 
-  void writeBlockAndReport( const geostation::Block &block, const QString &blockPath, const QJsonObject &report, const QString &reportPath )
+  QgsProcessingParameterFileDestination *htmlReportParameter()
   {
-    if ( reportPath.isEmpty() )
+    return new QgsProcessingParameterFileDestination( QStringLiteral( "REPORT_HTML" ), QObject::tr( "Readable report (HTML)" ), QObject::tr( "HTML files (*.html)" ), QVariant(), true, false );
+  }
+
+  QByteArray jsonReport( const QJsonObject &report )
+  {
+    return QJsonDocument( report ).toJson( QJsonDocument::Indented );
+  }
+
+  namespace
+  {
+    //! The reports asked for, open and written but not yet committed.
+    std::vector<std::unique_ptr<QSaveFile>> stageReports( const QVector<ReportFile> &reports )
     {
-      try
+      std::vector<std::unique_ptr<QSaveFile>> staged;
+      for ( const ReportFile &r : reports )
       {
-        block.save( blockPath.toStdString() );
+        if ( r.path.isEmpty() )
+          continue;
+        auto file = std::make_unique<QSaveFile>( r.path );
+        if ( !file->open( QIODevice::WriteOnly ) || file->write( r.contents ) != r.contents.size() )
+        {
+          for ( std::unique_ptr<QSaveFile> &f : staged )
+            f->cancelWriting();
+          throw QgsProcessingException( QObject::tr( "Cannot write the report %1." ).arg( r.path ) );
+        }
+        staged.push_back( std::move( file ) );
       }
-      catch ( const std::exception &e )
-      {
-        throw QgsProcessingException( QString::fromStdString( e.what() ) );
-      }
-      return;
+      return staged;
     }
-    QSaveFile reportFile( reportPath );
-    if ( !reportFile.open( QIODevice::WriteOnly ) )
-      throw QgsProcessingException( QObject::tr( "Cannot write the report %1." ).arg( reportPath ) );
-    reportFile.write( QJsonDocument( report ).toJson( QJsonDocument::Indented ) );
+
+    void commitReports( std::vector<std::unique_ptr<QSaveFile>> &staged )
+    {
+      for ( std::unique_ptr<QSaveFile> &f : staged )
+        if ( !f->commit() )
+          throw QgsProcessingException( QObject::tr( "Cannot write the report %1." ).arg( f->fileName() ) );
+    }
+  } // namespace
+
+  void writeBlockAndReports( const geostation::Block &block, const QString &blockPath, const QVector<ReportFile> &reports )
+  {
+    std::vector<std::unique_ptr<QSaveFile>> staged = stageReports( reports );
     try
     {
       block.save( blockPath.toStdString() );
     }
     catch ( const std::exception &e )
     {
-      reportFile.cancelWriting();
+      for ( std::unique_ptr<QSaveFile> &f : staged )
+        f->cancelWriting();
       throw QgsProcessingException( QString::fromStdString( e.what() ) );
     }
-    if ( !reportFile.commit() )
-      throw QgsProcessingException( QObject::tr( "Cannot write the report %1." ).arg( reportPath ) );
+    commitReports( staged );
+  }
+
+  void writeReports( const QVector<ReportFile> &reports )
+  {
+    std::vector<std::unique_ptr<QSaveFile>> staged = stageReports( reports );
+    commitReports( staged );
   }
 
   void writeReport( const QJsonObject &report, const QString &reportPath )
   {
-    QSaveFile file( reportPath );
-    if ( !file.open( QIODevice::WriteOnly ) )
-      throw QgsProcessingException( QObject::tr( "Cannot write the report %1." ).arg( reportPath ) );
-    file.write( QJsonDocument( report ).toJson( QJsonDocument::Indented ) );
-    if ( !file.commit() )
-      throw QgsProcessingException( QObject::tr( "Cannot write the report %1." ).arg( reportPath ) );
+    writeReports( { { reportPath, jsonReport( report ) } } );
   }
 
   LoadedDem loadDem( const QString &path, const geostation::Block &block, const geostation::DemOptions &options )

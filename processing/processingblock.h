@@ -9,6 +9,7 @@
 
 #include <QJsonObject>
 #include <QVariantMap>
+#include <QVector>
 #include <QString>
 
 #include <qgscoordinatereferencesystem.h>
@@ -24,6 +25,7 @@
 
 class QgsProcessingFeedback;
 class QgsProcessingParameterFile;
+class QgsProcessingParameterFileDestination;
 
 namespace GeoStationProcessing
 {
@@ -72,12 +74,27 @@ namespace GeoStationProcessing
   //! The BLOCK parameter every algorithm takes.
   QgsProcessingParameterFile *blockParameter();
 
+  //! REPORT_HTML, the optional report a person reads (htmlreport.h), shown in the Results Viewer.
+  QgsProcessingParameterFileDestination *htmlReportParameter();
+
+  //! A report file to write: its path (empty: not asked for) and its contents.
+  struct ReportFile
+  {
+    QString path;
+    QByteArray contents;
+  };
+
+  //! A JSON report as written (indented UTF-8).
+  QByteArray jsonReport( const QJsonObject &report );
+
   /**
-   * Writes a JSON report and a block, both or neither: the report is staged
-   * and committed only once the block has been saved (atomically). An
-   * empty `reportPath` (the optional report not asked for): the block alone.
+   * Writes a block and its reports, all or none: the reports are staged and
+   * committed only once the block has been saved (atomically). Reports with
+   * an empty path (the optional reports not asked for) are left out.
    */
-  void writeBlockAndReport( const geostation::Block &block, const QString &blockPath, const QJsonObject &report, const QString &reportPath );
+  void writeBlockAndReports( const geostation::Block &block, const QString &blockPath, const QVector<ReportFile> &reports );
+  //! Writes reports, all or none (staged, then renamed); throws QgsProcessingException with one sentence.
+  void writeReports( const QVector<ReportFile> &reports );
   //! Writes a JSON report atomically (a temporary file renamed); throws QgsProcessingException with one sentence.
   void writeReport( const QJsonObject &report, const QString &reportPath );
   //! Removes an output a failed run had begun to write (nothing for an empty path).

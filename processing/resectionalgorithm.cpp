@@ -13,6 +13,7 @@
 
 #include "adjustment/resection.h"
 #include "processingblock.h"
+#include "orientationreports.h"
 #include "processingtables.h"
 
 namespace GeoStationProcessing
@@ -113,7 +114,8 @@ QString ResectionAlgorithm::helpText() const
                       "A control point whose normalised residual exceeds BLUNDER_W is removed and the resection repeated; "
                       "it is named in the log and the report. OUTPUT_BLOCK is the block with the image oriented (with "
                       "standard deviations); REPORT is a JSON file with sigma0, the parameters with standard deviations, "
-                      "their correlation matrix, per-point residuals and the RMSE on control and check points." );
+                      "their correlation matrix, per-point residuals and the RMSE on control and check points; REPORT_HTML the "
+                      "same for reading, with the residual vectors drawn over the image and their histogram." );
 }
 
 ResectionAlgorithm *ResectionAlgorithm::createInstance() const
@@ -133,6 +135,7 @@ void ResectionAlgorithm::initAlgorithm( const QVariantMap & )
   addParameter( new QgsProcessingParameterNumber( QStringLiteral( "BLUNDER_W" ), QObject::tr( "Blunder threshold (normalised residual)" ), QgsProcessingParameterNumber::Double, 4.0, false, 1.0 ) );
   addParameter( new QgsProcessingParameterFileDestination( QStringLiteral( "OUTPUT_BLOCK" ), QObject::tr( "Oriented block" ), QObject::tr( "GeoStation block (*.geostation.json)" ) ) );
   addParameter( new QgsProcessingParameterFileDestination( QStringLiteral( "REPORT" ), QObject::tr( "Report" ), QObject::tr( "JSON (*.json)" ), QVariant(), true, false ) );
+  addParameter( GeoStationProcessing::htmlReportParameter() );
   addOutput( new QgsProcessingOutputNumber( QStringLiteral( "SIGMA0" ), QObject::tr( "sigma0 (px)" ) ) );
   addOutput( new QgsProcessingOutputNumber( QStringLiteral( "RMSE_CHECK_M" ), QObject::tr( "RMSE on check points (m)" ) ) );
   addOutput( new QgsProcessingOutputString( QStringLiteral( "BLUNDERS" ), QObject::tr( "Control points removed as blunders" ) ) );
@@ -218,8 +221,17 @@ QVariantMap ResectionAlgorithm::processGeoStation( const QVariantMap &parameters
     }
 
   const QString reportPath = parameterAsFileOutput( parameters, QStringLiteral( "REPORT" ), context );
+  const QString htmlPath = parameterAsFileOutput( parameters, QStringLiteral( "REPORT_HTML" ), context );
   const QString blockPath = parameterAsFileOutput( parameters, QStringLiteral( "OUTPUT_BLOCK" ), context );
-  GeoStationProcessing::writeBlockAndReport( block, blockPath, reportJson( summary, imageId, cameraId ), reportPath );
+  QByteArray html;
+  if ( !htmlPath.isEmpty() )
+  {
+    std::map<std::string, Eigen::Vector2d> measured;
+    for ( const geostation::ImagePoint &o : observations )
+      measured[o.pointId] = o.pixelInImage;
+    html = GeoStationProcessing::resectionHtml( summary, imageId, camera, measured );
+  }
+  GeoStationProcessing::writeBlockAndReports( block, blockPath, { { reportPath, GeoStationProcessing::jsonReport( reportJson( summary, imageId, cameraId ) ) }, { htmlPath, html } } );
   feedback->setProgress( 100 );
 
   feedback->pushInfo( QObject::tr( "%1 oriented from %2 control points: sigma0 = %3 px, RMSE control %4 px." )
@@ -238,6 +250,7 @@ QVariantMap ResectionAlgorithm::processGeoStation( const QVariantMap &parameters
   QVariantMap outputs;
   outputs.insert( QStringLiteral( "OUTPUT_BLOCK" ), blockPath );
   outputs.insert( QStringLiteral( "REPORT" ), reportPath );
+  outputs.insert( QStringLiteral( "REPORT_HTML" ), htmlPath );
   outputs.insert( QStringLiteral( "SIGMA0" ), summary.sigma0 );
   outputs.insert( QStringLiteral( "RMSE_CHECK_M" ), summary.checkCount ? QVariant( summary.rmseCheckM ) : QVariant() );
   outputs.insert( QStringLiteral( "BLUNDERS" ), blunders.join( ',' ) );

@@ -96,6 +96,7 @@ namespace geostation
         bool computeCovariances();
         Eigen::VectorXd sigmaOf( const double *block, int size ) const;
         void collectResiduals();
+        ExteriorOrientation adjustedExterior( size_t i ) const;
         void collectImages();
         void collectCameras();
         void collectPoints();
@@ -420,27 +421,43 @@ namespace geostation
       return sigma;
     }
 
-    //! Residuals in pixels: sums per image, RMS per point and overall.
+    //! Residuals in pixels: each observation's (the adjusted point projected through the adjusted image, minus the measurement), sums per image, RMS per point and overall.
     void BundleAdjuster::collectResiduals()
     {
       mImageSumPx2.assign( mImages.size(), 0.0 );
       mImageCount.assign( mImages.size(), 0 );
       mPointRmsPx.assign( mPoints.size(), 0.0 );
+      std::vector<Camera> cameras = mCameras;
+      for ( size_t c = 0; c < cameras.size(); ++c )
+        cameraFromInteriorBlock( mInteriors[c].data(), &cameras[c] );
+      std::vector<std::unique_ptr<OrientedImage>> adjusted( mImages.size() );
+      for ( size_t i = 0; i < mImages.size(); ++i )
+        if ( mImageUsed[i] )
+          adjusted[i] = std::make_unique<OrientedImage>( cameras[mCameraIndex[mImages[i].cameraId]], adjustedExterior( i ) );
       double totalSum = 0.0;
       long totalCount = 0;
       for ( size_t j = 0; j < mPoints.size(); ++j )
       {
         double pointSum = 0.0;
+        const Eigen::Vector3d world = Eigen::Vector3d( mPoints[j].local[0], mPoints[j].local[1], mPoints[j].local[2] ) + mOrigin;
         for ( size_t k : mPoints[j].observations )
         {
           const BundleObservation &o = mObservations[k];
           const size_t i = mImageIndex[o.imageId];
-          const size_t c = mCameraIndex[mImages[i].cameraId];
-          std::unique_ptr<ceres::CostFunction> costFunction( CollinearityError::create( mCameras[c], o.pixelInImage.x(), o.pixelInImage.y(), o.sigmaPx ) );
-          const double *parameters[3] = { mPoses[i].data(), mInteriors[c].data(), mPoints[j].local.data() };
-          double r[2];
-          costFunction->Evaluate( parameters, r, nullptr );
-          const double squaredPx = ( r[0] * r[0] + r[1] * r[1] ) * o.sigmaPx * o.sigmaPx;
+          const GroundProjection g = adjusted[i]->projectGroundToPixel( world );
+          Eigen::Vector2d residual = g.pixelInImage - o.pixelInImage;
+          if ( !g.ok() )
+          {
+            // a point behind its image after the adjustment: the residual of the collinearity equations
+            const size_t c = mCameraIndex[mImages[i].cameraId];
+            std::unique_ptr<ceres::CostFunction> costFunction( CollinearityError::create( mCameras[c], o.pixelInImage.x(), o.pixelInImage.y(), o.sigmaPx ) );
+            const double *parameters[3] = { mPoses[i].data(), mInteriors[c].data(), mPoints[j].local.data() };
+            double r[2];
+            costFunction->Evaluate( parameters, r, nullptr );
+            residual = Eigen::Vector2d( r[0], r[1] ) * o.sigmaPx;
+          }
+          mSummary.observations.push_back( { mPoints[j].id, o.imageId, o.pixelInImage, residual } );
+          const double squaredPx = residual.squaredNorm();
           mImageSumPx2[i] += squaredPx;
           mImageCount[i] += 1;
           pointSum += squaredPx;
@@ -452,16 +469,23 @@ namespace geostation
       mSummary.rmsPx = totalCount ? std::sqrt( totalSum / ( 2.0 * totalCount ) ) : 0.0;
     }
 
+    ExteriorOrientation BundleAdjuster::adjustedExterior( size_t i ) const
+    {
+      ExteriorOrientation e;
+      e.projectionCentre = Eigen::Vector3d( mPoses[i][0], mPoses[i][1], mPoses[i][2] ) + mOrigin;
+      e.omegaDeg = radToDeg( mPoses[i][3] );
+      e.phiDeg = radToDeg( mPoses[i][4] );
+      e.kappaDeg = radToDeg( mPoses[i][5] );
+      return e;
+    }
+
     void BundleAdjuster::collectImages()
     {
       for ( size_t i = 0; i < mImages.size(); ++i )
       {
         BundleImageResult r;
         r.id = mImages[i].id;
-        r.exterior.projectionCentre = Eigen::Vector3d( mPoses[i][0], mPoses[i][1], mPoses[i][2] ) + mOrigin;
-        r.exterior.omegaDeg = radToDeg( mPoses[i][3] );
-        r.exterior.phiDeg = radToDeg( mPoses[i][4] );
-        r.exterior.kappaDeg = radToDeg( mPoses[i][5] );
+        r.exterior = adjustedExterior( i );
         if ( mImageUsed[i] )
         {
           const Eigen::VectorXd s = sigmaOf( mPoses[i].data(), 6 );

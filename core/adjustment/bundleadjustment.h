@@ -98,6 +98,15 @@ namespace geostation
     Eigen::Vector3d shiftM = Eigen::Vector3d::Zero(); //!< adjusted - start projection centre
   };
 
+  //! One image observation after the adjustment.
+  struct BundleObservationResult
+  {
+    std::string pointId;
+    std::string imageId;
+    Eigen::Vector2d pixelInImage = Eigen::Vector2d::Zero(); //!< as measured
+    Eigen::Vector2d residualPx = Eigen::Vector2d::Zero();   //!< the adjusted point projected through the adjusted image - measured, pixels
+  };
+
   struct BundleCameraResult
   {
     Camera camera; //!< adjusted interior
@@ -122,6 +131,7 @@ namespace geostation
     std::vector<BundleImageResult> images;
     std::vector<BundleCameraResult> cameras;
     std::vector<BundlePointResult> points;
+    std::vector<BundleObservationResult> observations; //!< of the points adjusted, point by point
     std::vector<std::string> skippedPoints; //!< tie or check points seen in fewer than two images
     double sigma0 = 0.0;
     long redundancy = 0;

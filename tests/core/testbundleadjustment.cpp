@@ -206,6 +206,29 @@ TEST( BundleAdjustment, ReportedSigmasMatchTheScatter )
   }
 }
 
+TEST( BundleAdjustment, EachObservationsResidualIsItsPointProjectedMinusTheMeasurement )
+{
+  std::mt19937 rng( 3 );
+  const SurveyRun run = highwayRun( 3, 50, rng );
+  const std::vector<BundleObservation> observations = observe( run, rng, 0.5 );
+  const BundleSummary s = bundleAdjust( run.cameras, perturbed( run, rng, 0.10, 0.03 ), groundPoints( run, { 0, 1, 2 }, { 20 } ), observations );
+  ASSERT_TRUE( s.ok() ) << s.message;
+  ASSERT_EQ( s.observations.size(), observations.size() );
+  double sumSquares = 0.0;
+  for ( const BundleObservationResult &o : s.observations )
+  {
+    const BundleImageResult &image = *std::find_if( s.images.begin(), s.images.end(), [&]( const BundleImageResult &i ) { return i.id == o.imageId; } );
+    const std::string cameraId = std::find_if( run.truth.begin(), run.truth.end(), [&]( const BundleImage &i ) { return i.id == o.imageId; } )->cameraId;
+    const Camera &camera = std::find_if( s.cameras.begin(), s.cameras.end(), [&]( const BundleCameraResult &c ) { return c.camera.id == cameraId; } )->camera;
+    const GroundProjection g = OrientedImage( camera, image.exterior ).projectGroundToPixel( pointResult( s, o.pointId ).world );
+    ASSERT_TRUE( g.ok() );
+    EXPECT_LT( ( o.residualPx - ( g.pixelInImage - o.pixelInImage ) ).norm(), 1e-6 ) << o.pointId << " in " << o.imageId;
+    sumSquares += o.residualPx.squaredNorm();
+  }
+  EXPECT_NEAR( std::sqrt( sumSquares / ( 2.0 * s.observations.size() ) ), s.rmsPx, 1e-9 );
+  EXPECT_GT( s.rmsPx, 0.2 );
+}
+
 TEST( BundleAdjustment, DatumAndInputProblemsAreReported )
 {
   std::mt19937 rng( 8 );

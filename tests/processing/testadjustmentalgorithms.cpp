@@ -271,10 +271,25 @@ void TestAdjustmentAlgorithms::resectionNamesABlunder()
   bool ok = false;
   RecordingFeedback feedback;
   const QVariantMap result = run( "resection", { { "BLOCK", mBlockPath }, { "IMAGE", "C" }, { "GCPS", gcps }, { "OBSERVATIONS", observations },
-    { "OUTPUT_BLOCK", mDir.filePath( "b.geostation.json" ) }, { "REPORT", mDir.filePath( "b.json" ) } }, &ok, &feedback );
+    { "OUTPUT_BLOCK", mDir.filePath( "b.geostation.json" ) }, { "REPORT", mDir.filePath( "b.json" ) }, { "REPORT_HTML", mDir.filePath( "b.html" ) } }, &ok, &feedback );
   QVERIFY2( ok, qPrintable( feedback.errors.join( '\n' ) ) );
   QCOMPARE( result.value( "BLUNDERS" ).toString(), QStringLiteral( "P5" ) );
   QVERIFY( feedback.warnings.join( ' ' ).contains( "P5" ) );
+
+  // the page names the blunder, draws it in red over the frame, and its residual (about the 8, -5 px put in) in the table
+  const HtmlReportShape page = readHtmlReport( mDir.filePath( "b.html" ) );
+  QVERIFY2( page.error.isEmpty(), qPrintable( page.error ) );
+  QCOMPARE( page.title, QStringLiteral( "Space resection of C" ) );
+  const QStringList blunder = page.row( QStringLiteral( "P5" ) );
+  QCOMPARE( blunder.size(), 8 );
+  QCOMPARE( blunder.at( 1 ), QStringLiteral( "blunder" ) );
+  QVERIFY2( std::abs( blunder.at( 4 ).toDouble() - std::hypot( 8.0, 5.0 ) ) < 0.5, qPrintable( blunder.join( ' ' ) ) );
+  QCOMPARE( page.row( QStringLiteral( "P4" ) ).value( 1 ), QStringLiteral( "control" ) );
+  QCOMPARE( page.points, 12 );
+  QCOMPARE( page.arrows, 1 ); // the other residuals are too small to draw beside it
+  QCOMPARE( page.redArrows, 1 );
+  QCOMPARE( page.histogramCount, 12 );
+  QCOMPARE( page.row( QStringLiteral( "X0" ) ).size(), 4 );
 }
 
 void TestAdjustmentAlgorithms::resectionBadInput_data()
@@ -335,10 +350,11 @@ void TestAdjustmentAlgorithms::bundleAdjustRecoversThePerturbedBlock()
   const QString observations = write( QStringLiteral( "obs-ba.csv" ), observationCsv( { "A", "B" }, 16 ) );
   const QString outBlock = mDir.filePath( QStringLiteral( "adjusted.geostation.json" ) );
   const QString report = mDir.filePath( QStringLiteral( "adjusted.json" ) );
+  const QString html = mDir.filePath( QStringLiteral( "adjusted.html" ) );
   bool ok = false;
   RecordingFeedback feedback;
   const QVariantMap result = run( "bundle_adjust", { { "BLOCK", block }, { "OBSERVATIONS", observations }, { "GCPS", gcps }, { "SIGMA_PX", 0.05 },
-    { "OUTPUT_BLOCK", outBlock }, { "OUTPUT_POINTS", QgsProcessing::TEMPORARY_OUTPUT }, { "REPORT", report } }, &ok, &feedback );
+    { "OUTPUT_BLOCK", outBlock }, { "OUTPUT_POINTS", QgsProcessing::TEMPORARY_OUTPUT }, { "REPORT", report }, { "REPORT_HTML", html } }, &ok, &feedback );
   QVERIFY2( ok, qPrintable( feedback.errors.join( '\n' ) ) );
   QGSCOMPARENEAR( result.value( "RMSE_CHECK_M" ).toDouble(), 0.0, 0.01 );
 
@@ -381,6 +397,29 @@ void TestAdjustmentAlgorithms::bundleAdjustRecoversThePerturbedBlock()
   QCOMPARE( json.value( "check_count" ).toInt(), 4 );
   QVERIFY( json.value( "rmse_check_m" ).toObject().contains( "planimetric" ) );
   QVERIFY( json.value( "images" ).toArray().at( 0 ).toObject().value( "shift_m" ).toObject().value( "x" ).toDouble() < -0.3 );
+  QCOMPARE( json.value( "residuals" ).toArray().size(), 32 );
+
+  // the page a person reads: each image with its RMS, each check point, every residual drawn and counted
+  QCOMPARE( result.value( "REPORT_HTML" ).toString(), html );
+  const HtmlReportShape page = readHtmlReport( html );
+  QVERIFY2( page.error.isEmpty(), qPrintable( page.error ) );
+  QCOMPARE( page.title, QStringLiteral( "Bundle adjustment" ) );
+  for ( const QString &image : { QStringLiteral( "A" ), QStringLiteral( "B" ) } )
+  {
+    const QStringList row = page.row( image );
+    QVERIFY2( row.size() == 10, qPrintable( image ) );
+    QCOMPARE( row.at( 1 ), QStringLiteral( "16" ) );
+    QCOMPARE( row.at( 2 ), QString::number( json.value( "images" ).toArray().at( image == "A" ? 0 : 1 ).toObject().value( "rms_px" ).toDouble(), 'f', 3 ) );
+  }
+  int checkRows = 0;
+  for ( const QStringList &row : page.rows )
+    checkRows += row.size() == 10 && row.at( 1 ) == QLatin1String( "check" );
+  QCOMPARE( checkRows, 4 );
+  QCOMPARE( page.points, 32 );
+  QVERIFY( page.arrows >= 1 );
+  QCOMPARE( page.redArrows, 0 );
+  QCOMPARE( page.histogramCount, 32 );
+  QCOMPARE( page.svgs, 3 ); // the histogram and one plot per image
 }
 
 void TestAdjustmentAlgorithms::bundleAdjustBadInput_data()
@@ -408,8 +447,9 @@ void TestAdjustmentAlgorithms::bundleAdjustBadInput()
   const QString outBlock = mDir.filePath( QStringLiteral( "ba-never.geostation.json" ) );
   const QString report = mDir.filePath( QStringLiteral( "ba-never.json" ) );
   const QString points = mDir.filePath( QStringLiteral( "ba-never.gpkg" ) );
+  const QString html = mDir.filePath( QStringLiteral( "ba-never.html" ) );
   QVariantMap parameters { { "BLOCK", block }, { "OBSERVATIONS", observations }, { "USE_POSE_PRIORS", priors },
-    { "OUTPUT_BLOCK", outBlock }, { "OUTPUT_POINTS", points }, { "REPORT", report } };
+    { "OUTPUT_BLOCK", outBlock }, { "OUTPUT_POINTS", points }, { "REPORT", report }, { "REPORT_HTML", html } };
   if ( control > 0 )
     parameters.insert( "GCPS", write( QStringLiteral( "ba-bad-gcps-%1.csv" ).arg( tag ), groundCsv( control, 0 ) ) );
   if ( !selfCalibration.isEmpty() )
@@ -421,6 +461,7 @@ void TestAdjustmentAlgorithms::bundleAdjustBadInput()
   QVERIFY2( feedback.errors.join( ' ' ).contains( expected ), qPrintable( feedback.errors.join( '\n' ) ) );
   QVERIFY( !QFile::exists( outBlock ) );
   QVERIFY( !QFile::exists( report ) );
+  QVERIFY( !QFile::exists( html ) );
   QVERIFY( !QFile::exists( points ) );
 }
 

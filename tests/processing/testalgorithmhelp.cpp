@@ -10,6 +10,7 @@
 #include <qgsapplication.h>
 #include <qgsprocessingalgorithm.h>
 #include <qgsprocessingoutputs.h>
+#include <qgsprocessingparameters.h>
 #include <qgsprocessingprovider.h>
 #include <qgsprocessingregistry.h>
 
@@ -26,6 +27,7 @@ class TestAlgorithmHelp : public QObject
     void parametersAreNamedByTheirLabels();
     void theHelpButtonOpensTheAlgorithmsPage();
     void aPageThatIsNotThereHasNoUrl();
+    void theReadableReportsAreHtmlOutputs();
 
   private:
     static QList<const QgsProcessingAlgorithm *> algorithms()
@@ -73,6 +75,22 @@ void TestAlgorithmHelp::theHelpButtonOpensTheAlgorithmsPage()
     QVERIFY2( QString::fromUtf8( page.readAll() ).contains( algorithm->id() ), qPrintable( url.toLocalFile() + QStringLiteral( " does not name " ) + algorithm->id() ) );
   }
   QVERIFY( QUrl( GeoStationProcessing::userGuidePage( QStringLiteral( "getting-started.html" ) ) ).isLocalFile() );
+}
+
+void TestAlgorithmHelp::theReadableReportsAreHtmlOutputs()
+{
+  // an HTML output is what QGIS lists in its Results Viewer
+  const QStringList expected { "bundle_adjust", "extract_roads", "identify_control", "inner_orientation", "resection" };
+  QStringList found;
+  for ( const QgsProcessingAlgorithm *algorithm : algorithms() )
+    if ( const QgsProcessingOutputDefinition *output = algorithm->outputDefinition( QStringLiteral( "REPORT_HTML" ) ) )
+    {
+      found << algorithm->name();
+      QCOMPARE( output->type(), QgsProcessingOutputHtml::typeName() );
+      QVERIFY( algorithm->parameterDefinition( QStringLiteral( "REPORT_HTML" ) )->flags() & QgsProcessingParameterDefinition::FlagOptional );
+    }
+  found.sort();
+  QCOMPARE( found, expected );
 }
 
 void TestAlgorithmHelp::aPageThatIsNotThereHasNoUrl()

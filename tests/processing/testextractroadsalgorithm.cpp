@@ -70,10 +70,16 @@ void TestExtractRoadsAlgorithm::extractsTheVerifiedNetwork()
   // the simulator's roads as they are: dark asphalt between bright shoulders, 12-16 px (the defaults, general, are
   // measured on this pair in docs/validation.md; here the parameters that say what the roads look like are checked to count)
   const QVariantMap result = run( { { "BLOCK", mRun + "/block.geostation.json" }, { "LEFT", "S0001" }, { "RIGHT", "S0002" }, { "OUTPUT", out }, { "OUTPUT_LEFT", left },
-    { "OUTPUT_RIGHT", right }, { "DEAD_ENDS", ends }, { "REPORT", json }, { "POLARITY", "dark" }, { "ROAD_WIDTH_MIN_PX", 6.0 }, { "ROAD_WIDTH_MAX_PX", 20.0 },
-    { "MIN_CONTRAST", 25.0 } }, &ok, &feedback );
+    { "OUTPUT_RIGHT", right }, { "DEAD_ENDS", ends }, { "REPORT", json }, { "REPORT_HTML", mDir.filePath( "report.html" ) }, { "POLARITY", "dark" },
+    { "ROAD_WIDTH_MIN_PX", 6.0 }, { "ROAD_WIDTH_MAX_PX", 20.0 }, { "MIN_CONTRAST", 25.0 } }, &ok, &feedback );
   QVERIFY2( ok, qPrintable( feedback.errors.join( '\n' ) ) );
   QVERIFY( result.value( "LINE_COUNT" ).toInt() >= 3 );
+  // the page: every line drawn, every 3-D line in the lengths' histogram
+  const HtmlReportShape page = readHtmlReport( mDir.filePath( "report.html" ) );
+  QVERIFY2( page.error.isEmpty(), qPrintable( page.error ) );
+  QCOMPARE( page.polylines, result.value( "LINE_COUNT" ).toInt() );
+  QCOMPARE( page.row( QStringLiteral( "lines in the left image" ) ).value( 1 ).section( ' ', 0, 0 ).toInt(), result.value( "LINE_COUNT" ).toInt() );
+  QVERIFY( page.histogramCount > 0 );
 
   // 3-D lines in the block CRS, near the truth centre lines
   QgsVectorLayer network( out, "network", "ogr" );

@@ -143,7 +143,8 @@ void TestIdentifyControlAlgorithm::identifiesTheTargetsWithoutOrientation()
   RecordingFeedback feedback;
   bool ok = false;
   const QVariantMap result = run( QStringLiteral( "identify_control" ), { { "BLOCK", mRun + "/block.geostation.json" }, { "IMAGE", imageId },
-    { "CONTROL", controlCsv( QStringLiteral( "control.csv" ), true ) }, { "USE_ORIENTATION", false }, { "OUTPUT", out }, { "REPORT", json } }, &ok, &feedback );
+    { "CONTROL", controlCsv( QStringLiteral( "control.csv" ), true ) }, { "USE_ORIENTATION", false }, { "OUTPUT", out }, { "REPORT", json },
+    { "REPORT_HTML", mDir.filePath( "identified.html" ) } }, &ok, &feedback );
   QVERIFY2( ok, qPrintable( feedback.errors.join( '\n' ) ) );
   const int identified = checkAgainstTruth( out );
   QVERIFY2( identified >= 7, qPrintable( QStringLiteral( "%1 identified" ).arg( identified ) ) );
@@ -154,6 +155,18 @@ void TestIdentifyControlAlgorithm::identifiesTheTargetsWithoutOrientation()
   QCOMPARE( report.value( "pairs_found" ).toInt(), identified );
   QVERIFY( report.value( "false_alarms" ).toDouble() < 0.1 );
   QVERIFY( !report.value( "approximate_orientation_used" ).toBool() );
+  // the page: a row and a point per control point found, each with its residual as the JSON has it
+  const HtmlReportShape page = readHtmlReport( mDir.filePath( "identified.html" ) );
+  QVERIFY2( page.error.isEmpty(), qPrintable( page.error ) );
+  int identifiedRows = 0, flaggedRows = 0;
+  for ( const QStringList &row : page.rows )
+  {
+    identifiedRows += row.size() == 7 && row.at( 1 ) == QLatin1String( "identified" );
+    flaggedRows += row.size() == 7 && row.at( 1 ) == QLatin1String( "flagged" );
+  }
+  QCOMPARE( identifiedRows, result.value( "PAIRS_FOUND" ).toInt() );
+  QCOMPARE( page.points, identifiedRows + flaggedRows );
+  QCOMPARE( page.histogramCount, page.points );
   qInfo() << identified << "targets identified," << report.value( "poses" ).toDouble() << "poses," << report.value( "seconds" ).toDouble() << "s";
 
   // the table orients the photo through geostation:resection, to the truth's projection centre

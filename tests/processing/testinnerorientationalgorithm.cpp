@@ -114,8 +114,9 @@ void TestInnerOrientationAlgorithm::automaticDetectionOrientsTheScan()
   bool ok = false;
   RecordingFeedback feedback;
   const QString outBlock = mDir.filePath( "auto.geostation.json" ), report = mDir.filePath( "auto.json" );
+  const QString html = mDir.filePath( "auto.html" );
   const QVariantMap result = run( { { "BLOCK", mBlock }, { "IMAGE", "scan17" }, { "AUTO", true }, { "MARK_DIAMETER_PX", 20.0 },
-    { "OUTPUT_BLOCK", outBlock }, { "REPORT", report } }, &ok, &feedback );
+    { "OUTPUT_BLOCK", outBlock }, { "REPORT", report }, { "REPORT_HTML", html } }, &ok, &feedback );
   QVERIFY2( ok, qPrintable( feedback.errors.join( '\n' ) ) );
   QGSCOMPARENEAR( result.value( "AFFINITY_PCT" ).toDouble(), 0.2, 0.005 );
 
@@ -128,6 +129,19 @@ void TestInnerOrientationAlgorithm::automaticDetectionOrientsTheScan()
   QCOMPARE( json.value( "method" ).toString(), QStringLiteral( "auto" ) );
   QCOMPARE( json.value( "detections" ).toArray().size(), 4 );
   QCOMPARE( json.value( "residuals" ).toArray().size(), 4 );
+
+  // the page: the affinity as the JSON has it, a row and a point per fiducial
+  const HtmlReportShape page = readHtmlReport( html );
+  QVERIFY2( page.error.isEmpty(), qPrintable( page.error ) );
+  QCOMPARE( page.row( QStringLiteral( "affinity (%)" ) ).value( 1 ), QString::number( json.value( "affinity_pct" ).toDouble(), 'f', 4 ) );
+  for ( const QJsonValue &r : json.value( "residuals" ).toArray() )
+  {
+    const QStringList row = page.row( r.toObject().value( "fiducial_id" ).toString() );
+    QCOMPARE( row.size(), 6 );
+    QGSCOMPARENEAR( row.at( 1 ).toDouble(), 1000.0 * r.toObject().value( "dx_mm" ).toDouble(), 0.01 );
+  }
+  QCOMPARE( page.points, 4 );
+  QCOMPARE( page.histogramCount, 4 );
 
   const geostation::Block block = geostation::Block::load( outBlock.toStdString() );
   const geostation::BlockImage &image = block.image( "scan17" );
