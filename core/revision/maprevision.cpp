@@ -48,8 +48,8 @@ namespace geostation
     network.coincident.check();
     if ( shiftMaxM && !( *shiftMaxM > 0.0 ) )
       throw std::invalid_argument( "the largest shift of a road must be positive (metres)" );
-    if ( !( toleranceM >= 0.0 ) || !( sampleSpacingPx >= 0.0 ) || !( newGapM >= 0.0 ) || majorityHalfWindow < 0 || !( occlusionClearanceM >= 0.0 ) )
-      throw std::invalid_argument( "the map's tolerance, the sample spacing, the new roads' gap, the majority window and the occlusion clearance must not be negative" );
+    if ( !( toleranceM >= 0.0 ) || !( sampleSpacingPx >= 0.0 ) || !( newGapM >= 0.0 ) || majorityHalfWindow < 0 || !( occlusionClearanceM >= 0.0 ) || !( longProfileM >= 0.0 ) )
+      throw std::invalid_argument( "the map's tolerance, the sample spacing, the new roads' gap, the majority window, the occlusion clearance and the long profiles' length must not be negative" );
   }
 
   double RevisedPiece::lengthM() const
@@ -350,6 +350,7 @@ namespace geostation
     summary.toleranceM = options.toleranceM;
     pair.tolerancePx = std::max( 2.0, options.toleranceM / pair.groundPixelM );
     pair.shiftMaxPx = summary.shiftMaxM / pair.groundPixelM;
+    pair.longAlongPx = options.longProfileM / pair.groundPixelM;
     const double spacingPx = options.sampleSpacingPx > 0.0 ? options.sampleSpacingPx : std::max( 4.0, pair.object.minWidthPx );
 
     // 2. each map road checked along its course, split where its status changes

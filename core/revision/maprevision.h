@@ -66,6 +66,9 @@ namespace geostation
     double toleranceM = 2.0;          //!< the map's own accuracy: a band within this (and 2 px) of the mapped course confirms it
     double sampleSpacingPx = 0.0;     //!< along the map roads in the first image; 0: the narrowest road's width, at least 4 px
     int majorityHalfWindow = 3;       //!< a sample's status: the majority within this many samples either side
+    //! Where a sample's short profiles (1.5 px along the course) show no road, profiles averaged over this many
+    //! metres either side along it are looked at too (past a car, a marking's dash, a tree's shadow); 0: short ones only.
+    double longProfileM = 8.0;
     bool findNewRoads = true;         //!< false: the pair is not extracted (faster); its set-up only (RoadNetworkOptions::extract), no new roads
     double newGapM = 0.0;             //!< an extracted line farther than this from every map road and revised course is new; 0: 3 x the tolerance, at least 10 px
     /**

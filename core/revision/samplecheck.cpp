@@ -29,11 +29,14 @@ namespace geostation::revision
     return hit && hit->z() > ground.z() + clearanceM;
   }
 
-  std::vector<CrossSection> bandsNear( const GreyTiles &grey, const Eigen::Vector2d &at, const Eigen::Vector2d &along, const LineObjectOptions &object, double searchPx )
+  std::vector<CrossSection> bandsNear( const GreyTiles &grey, const Eigen::Vector2d &at, const Eigen::Vector2d &along, const LineObjectOptions &object, double searchPx,
+                                       double alongHalfPx )
   {
     const int half = static_cast<int>( std::ceil( searchPx + object.maxWidthPx ) ) + 6;
-    const GreyWindow window = grey.around( at, half + 4 );
-    const std::vector<double> profile = sampleCrossProfile( window.pixels, window.toWindow( at ), along, half, object.polarity, 1.5, 3 );
+    const GreyWindow window = grey.around( at, static_cast<int>( std::ceil( std::max<double>( half, alongHalfPx ) ) ) + 4 );
+    // samples along about 2 px apart, at least three
+    const int alongSamples = std::max( 3, 2 * static_cast<int>( std::ceil( 0.5 * alongHalfPx ) ) + 1 );
+    const std::vector<double> profile = sampleCrossProfile( window.pixels, window.toWindow( at ), along, half, object.polarity, alongHalfPx, alongSamples );
     std::vector<CrossSection> bands;
     for ( const CrossSection &s : findCrossSections( profile, object.minWidthPx, object.maxWidthPx, object.minContrast, object.maxVariation, false, object.polarity ) )
       if ( std::abs( s.offsetPx ) <= searchPx )
@@ -49,40 +52,73 @@ namespace geostation::revision
     return d.norm() > 1e-9 ? Eigen::Vector2d( d.normalized() ) : Eigen::Vector2d::UnitX();
   }
 
-  /**
-   * One sample's status: a band on the mapped course in both images
-   * (confirmed); else the nearest band within the shift allowed in A whose
-   * ground point shows a band in B (moved); else not found.
-   */
-  void check( Sample &s, const Eigen::Vector2d &alongA, const Eigen::Vector2d &alongB, const PairView &pair )
+  namespace
   {
-    const std::vector<CrossSection> atA = bandsNear( pair.greyA, s.inA, alongA, pair.object, pair.tolerancePx );
-    const std::vector<CrossSection> atB = bandsNear( pair.greyB, s.inB, alongB, pair.object, pair.tolerancePx );
-    if ( !atA.empty() && !atB.empty() )
+    //! A band on the mapped course in both images, the profiles averaged over `alongHalfPx` along it: the sample confirmed.
+    bool confirmOnCourse( Sample &s, const Eigen::Vector2d &alongA, const Eigen::Vector2d &alongB, const PairView &pair, double alongHalfPx )
     {
+      const std::vector<CrossSection> atA = bandsNear( pair.greyA, s.inA, alongA, pair.object, pair.tolerancePx, alongHalfPx );
+      if ( atA.empty() )
+        return false;
+      const std::vector<CrossSection> atB = bandsNear( pair.greyB, s.inB, alongB, pair.object, pair.tolerancePx, alongHalfPx );
+      if ( atB.empty() )
+        return false;
       s.status = RevisionStatus::Confirmed;
       s.widthPx = atA.front().widthPx;
       s.offsetPx = atA.front().offsetPx;
       s.foundA = s.inA + atA.front().offsetPx * normalOf( alongA );
       s.foundB = s.inB + atB.front().offsetPx * normalOf( alongB );
-      return;
+      return true;
     }
-    s.status = RevisionStatus::NotFound;
-    for ( const CrossSection &band : bandsNear( pair.greyA, s.inA, alongA, pair.object, pair.shiftMaxPx ) )
+
+    //! The bands off the course within the shift allowed in A whose ground point shows a band in B.
+    std::vector<Sample::Candidate> candidatesOffCourse( const Sample &s, const Eigen::Vector2d &alongA, const Eigen::Vector2d &alongB, const PairView &pair, double alongHalfPx )
     {
-      if ( std::abs( band.offsetPx ) - 0.5 * band.widthPx <= pair.tolerancePx )
-        continue; // touching the course: the road itself, its kerb or shoulder (seen in A only), not a road moved
-      const Eigen::Vector2d inA = s.inA + band.offsetPx * normalOf( alongA );
-      const std::optional<Eigen::Vector3d> ground = pair.mapping.groundPoint( pair.mapping.imageA(), inA );
-      if ( !ground )
-        continue;
-      Eigen::Vector2d inB;
-      if ( !inFrame( pair.mapping.imageB(), *ground, inB, 2.0 ) )
-        continue;
-      const std::vector<CrossSection> there = bandsNear( pair.greyB, inB, alongB, pair.object, pair.tolerancePx );
-      if ( !there.empty() )
-        s.candidates.push_back( { band.offsetPx, band.widthPx, inA, inB + there.front().offsetPx * normalOf( alongB ), ( *ground - s.ground ).head<2>().norm() } );
+      std::vector<Sample::Candidate> candidates;
+      for ( const CrossSection &band : bandsNear( pair.greyA, s.inA, alongA, pair.object, pair.shiftMaxPx, alongHalfPx ) )
+      {
+        if ( std::abs( band.offsetPx ) - 0.5 * band.widthPx <= pair.tolerancePx )
+          continue; // touching the course: the road itself, its kerb or shoulder (seen in A only), not a road moved
+        const Eigen::Vector2d inA = s.inA + band.offsetPx * normalOf( alongA );
+        const std::optional<Eigen::Vector3d> ground = pair.mapping.groundPoint( pair.mapping.imageA(), inA );
+        if ( !ground )
+          continue;
+        Eigen::Vector2d inB;
+        if ( !inFrame( pair.mapping.imageB(), *ground, inB, 2.0 ) )
+          continue;
+        const std::vector<CrossSection> there = bandsNear( pair.greyB, inB, alongB, pair.object, pair.tolerancePx, alongHalfPx );
+        if ( !there.empty() )
+          candidates.push_back( { band.offsetPx, band.widthPx, inA, inB + there.front().offsetPx * normalOf( alongB ), ( *ground - s.ground ).head<2>().norm() } );
+      }
+      return candidates;
     }
+  } // namespace
+
+  /**
+   * One sample's status: a band on the mapped course in both images
+   * (confirmed); else the nearest band within the shift allowed in A whose
+   * ground point shows a band in B (moved); else not found. The course is
+   * looked at on profiles averaged over 1.5 px along it and, where they show
+   * no band, over PairView::longAlongPx (markings, cars and a tree's shadow
+   * on a road hide its band from the short profiles; a long one crossing
+   * another road or a field's edge obliquely can make a band of them, so it
+   * confirms only where the short ones find nothing). The bands off the
+   * course are taken from both, nearest first.
+   */
+  void check( Sample &s, const Eigen::Vector2d &alongA, const Eigen::Vector2d &alongB, const PairView &pair )
+  {
+    constexpr double kShortPx = 1.5;
+    const bool longer = pair.longAlongPx > kShortPx;
+    if ( confirmOnCourse( s, alongA, alongB, pair, kShortPx ) || ( longer && confirmOnCourse( s, alongA, alongB, pair, pair.longAlongPx ) ) )
+      return;
+    s.status = RevisionStatus::NotFound;
+    // off the course both: which band a moved stretch runs along is settled on the offsets its samples share
+    s.candidates = candidatesOffCourse( s, alongA, alongB, pair, kShortPx );
+    if ( longer )
+      for ( const Sample::Candidate &c : candidatesOffCourse( s, alongA, alongB, pair, pair.longAlongPx ) )
+        if ( std::none_of( s.candidates.begin(), s.candidates.end(), [&]( const Sample::Candidate &d ) { return std::abs( d.offsetPx - c.offsetPx ) <= 1.5; } ) )
+          s.candidates.push_back( c );
+    std::sort( s.candidates.begin(), s.candidates.end(), []( const Sample::Candidate &x, const Sample::Candidate &y ) { return std::abs( x.offsetPx ) < std::abs( y.offsetPx ); } );
     if ( s.candidates.empty() )
       return;
     // the nearest for now; a moved stretch settles on the offset its samples share (settleShifts)
@@ -110,7 +146,7 @@ namespace geostation::revision
       if ( samples[k].status != RevisionStatus::Moved )
         continue;
       // support from 5 samples either side; ties go to the support from 15 either side (a band along the
-      // road for a few samples, a strip of field beside it, loses there), then to the band nearer the course
+      // road for a few samples, a strip of field beside it, loses there), then to the wider band (the road, not its kerb)
       const auto supportOf = [&]( const Sample::Candidate &c, size_t reach ) {
         int support = 0;
         for ( size_t j = k > reach ? k - reach : 0; j < std::min( samples.size(), k + reach + 1 ); ++j )
@@ -127,7 +163,7 @@ namespace geostation::revision
       for ( const Sample::Candidate &c : samples[k].candidates )
       {
         const int support = supportOf( c, 5 ), wide = supportOf( c, 15 );
-        if ( support > bestSupport || ( support == bestSupport && ( wide > bestWide || ( wide == bestWide && chosen[k] && std::abs( c.offsetPx ) < std::abs( chosen[k]->offsetPx ) ) ) ) )
+        if ( support > bestSupport || ( support == bestSupport && ( wide > bestWide || ( wide == bestWide && chosen[k] && c.widthPx > chosen[k]->widthPx ) ) ) )
         {
           bestSupport = support;
           bestWide = wide;

@@ -53,6 +53,7 @@ namespace geostation::revision
     LineObjectOptions object;
     double groundPixelM = 0.0, tolerancePx = 0.0, shiftMaxPx = 0.0;
     double terrainSigmaM = 0.0; //!< of a height taken from the terrain
+    double longAlongPx = 0.0;   //!< the long profiles' averaging along the course, either side (check()); up to 1.5: none
   };
 
   //! The pixel of `ground` in `image`, and whether it lies more than `marginPx` inside the frame.
@@ -66,8 +67,13 @@ namespace geostation::revision
   bool hiddenFrom( const OrientedImage &image, const Eigen::Vector3d &ground,
                    const std::function<std::optional<Eigen::Vector3d>( const Ray & )> &surface, double clearanceM );
 
-  //! The bands across `along` at `at` within `searchPx` of it, nearest first (offsets along the normal of `along`).
-  std::vector<CrossSection> bandsNear( const GreyTiles &grey, const Eigen::Vector2d &at, const Eigen::Vector2d &along, const LineObjectOptions &object, double searchPx );
+  /**
+   * The bands across `along` at `at` within `searchPx` of it, nearest
+   * first (offsets along the normal of `along`), on the profile averaged
+   * over `alongHalfPx` either side along `along`.
+   */
+  std::vector<CrossSection> bandsNear( const GreyTiles &grey, const Eigen::Vector2d &at, const Eigen::Vector2d &along, const LineObjectOptions &object, double searchPx,
+                                       double alongHalfPx = 1.5 );
 
   //! The course's direction at sample `i` in the first image (`inA`) or the second, from its neighbours.
   Eigen::Vector2d directionAt( const std::vector<Sample> &samples, size_t i, bool inA );

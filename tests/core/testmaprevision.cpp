@@ -18,6 +18,7 @@
 #include "matching/matchimage.h"
 #include "paintedroads.h"
 #include "revision/maprevision.h"
+#include "revision/samplecheck.h"
 #include "revisionlengths.h"
 
 using namespace geostation;
@@ -170,6 +171,9 @@ TEST( MapRevision, ShiftedRoadIsMovedToWhereItRuns )
   ASSERT_GT( seen, 100.0 );
   EXPECT_GE( moved, 0.9 * seen );
   EXPECT_LT( rms, 1.0 );
+  const double confirmed = lengthOf( r.summary, 1, RevisionStatus::Confirmed ).first;
+  std::printf( "  of the rest %.0f m confirmed where it no longer runs\n", confirmed );
+  EXPECT_LE( confirmed, 0.05 * seen );
 }
 
 TEST( MapRevision, RoadNotThereIsNotFound )
@@ -286,4 +290,25 @@ TEST( MapRevision, AMovedStretchIsSplicedIntoTheMapLine )
   for ( size_t i = 0; i < expected.size(); ++i )
     EXPECT_TRUE( spliced[i].isApprox( expected[i] ) ) << i;
   EXPECT_THROW( spliceCourse( { { 0, 0, 0 } }, course ), std::invalid_argument );
+}
+
+TEST( MapRevision, ALongProfileSeesTheRoadPastACar )
+{
+  // a dark road 12 px wide on a bright field, a bright car 10 px long across the whole of it
+  cv::Mat grey( 200, 200, CV_8U, cv::Scalar( 170 ) );
+  cv::rectangle( grey, cv::Rect( 0, 94, 200, 12 ), cv::Scalar( 80 ), cv::FILLED );
+  cv::rectangle( grey, cv::Rect( 95, 93, 10, 14 ), cv::Scalar( 175 ), cv::FILLED );
+  const GreyTiles tiles( grey );
+  LineObjectOptions object;
+  object.polarity = 0;
+  object.minWidthPx = 6.0;
+  object.maxWidthPx = 30.0;
+  object.minContrast = 20.0;
+  const Eigen::Vector2d onTheCar( 100.0, 100.0 ), along( 1.0, 0.0 );
+  EXPECT_TRUE( revision::bandsNear( tiles, onTheCar, along, object, 4.0 ).empty() ); // across the car: no road
+  const std::vector<CrossSection> past = revision::bandsNear( tiles, onTheCar, along, object, 4.0, 16.0 );
+  ASSERT_FALSE( past.empty() );
+  EXPECT_NEAR( past.front().offsetPx, 0.0, 1.0 );
+  EXPECT_NEAR( past.front().widthPx, 12.0, 2.0 );
+  EXPECT_FALSE( revision::bandsNear( tiles, Eigen::Vector2d( 30.0, 100.0 ), along, object, 4.0 ).empty() ); // away from the car the short one does
 }

@@ -21,7 +21,9 @@
 #include <qgsproject.h>
 #include <qgsvectorlayer.h>
 
+#include "geometry/projection.h"
 #include "geostationprovider.h"
+#include "io/block.h"
 #include "processingtestutils.h"
 #include "simulation/surveysimulator.h"
 
@@ -47,6 +49,8 @@ class TestReviseRoadsAlgorithm : public QObject
     QString mMapId;
     //! The truth's centre line `id`, shifted by (dx, dy) metres.
     QgsGeometry centre( const QString &id, double dx = 0.0, double dy = 0.0 ) const;
+    //! Whether both photos of the pair see the ground point (block CRS, with its height).
+    bool bothSee( const QgsPoint &ground ) const;
     QTemporaryDir mDir;
     QString mRun;
     QgsProcessingContext mContext;
@@ -84,6 +88,20 @@ QgsGeometry TestReviseRoadsAlgorithm::centre( const QString &id, double dx, doub
   return QgsGeometry();
 }
 
+bool TestReviseRoadsAlgorithm::bothSee( const QgsPoint &ground ) const
+{
+  const geostation::Block block = geostation::Block::load( ( mRun + "/block.geostation.json" ).toStdString() );
+  for ( const char *id : { "S0001", "S0002" } )
+  {
+    const geostation::BlockImage &image = block.image( id );
+    const geostation::OrientedImage oriented( block.cameraOf( image ), *image.exterior );
+    const geostation::GroundProjection p = oriented.projectGroundToPixel( Eigen::Vector3d( ground.x(), ground.y(), ground.z() ) );
+    if ( !p.ok() || !p.inFrame )
+      return false;
+  }
+  return true;
+}
+
 void TestReviseRoadsAlgorithm::revisesAChangedMap()
 {
   // the map, in WGS 84: kept, shifted, and one road that is not there (80 m east of the side road); the side road left out
@@ -119,10 +137,20 @@ void TestReviseRoadsAlgorithm::revisesAChangedMap()
   QCOMPARE( revised.wkbType(), QgsWkbTypes::LineStringZ );
   QCOMPARE( revised.crs().authid(), mBlockCrs.authid() );
   QMap<QString, QMap<QString, double>> length; // name -> revision -> m
+  const QgsGeometry movedTruth = centre( "R3-centre-001" );
+  double movedSquares = 0.0;
+  int movedVertices = 0;
   QgsFeature f;
   QgsFeatureIterator it = revised.getFeatures();
   while ( it.nextFeature( f ) )
   {
+    if ( f.attribute( "name" ).toString() == "third, moved" && f.attribute( "revision" ).toString() == "moved" )
+      for ( auto v = f.geometry().vertices_begin(); v != f.geometry().vertices_end(); ++v )
+      {
+        const double d = movedTruth.distance( QgsGeometry( new QgsPoint( ( *v ).x(), ( *v ).y() ) ) );
+        movedSquares += d * d;
+        ++movedVertices;
+      }
     const QString revision = f.attribute( "revision" ).toString();
     QVERIFY( QStringList( { "confirmed", "moved", "not_found", "outside" } ).contains( revision ) );
     QVERIFY( f.attribute( "evidence" ).toDouble() >= 0.0 && f.attribute( "evidence" ).toDouble() <= 1.0 );
@@ -140,17 +168,15 @@ void TestReviseRoadsAlgorithm::revisesAChangedMap()
     return all > 50.0 ? length[name][revision] / all : 0.0;
   };
   const double confirmed = share( "main", "confirmed" ), moved = share( "third, moved", "moved" ), notFound = share( "not there", "not_found" );
-  // Known failing (the aims are 0.95 and 0.9): measured 0.90 and 0.81. The simulator's grass holds bands
-  // 15-23 grey levels brighter or darker than their sides everywhere (docs/validation.md, road extraction),
-  // so a road's own samples are told from them only where they run on at one offset and width; along the
-  // main road's junctions and shadows too few do.
-  QEXPECT_FAIL( "", "the main road confirmed along 0.90 of its length on the simulator's grass", Continue );
+  QVERIFY( movedVertices > 10 );
+  const double movedRms = std::sqrt( movedSquares / movedVertices );
+  qInfo( "the moved road's new course: %.2f m RMS from where it runs (%d vertices)", movedRms, movedVertices );
+  // the aims (issue: confirmed >= 0.95, moved >= 0.9 within 1 m RMS, not there >= 0.9)
   QVERIFY( confirmed >= 0.95 );
-  QEXPECT_FAIL( "", "the moved road found along 0.81 of its length on the simulator's grass", Continue );
   QVERIFY( moved >= 0.9 );
-  QVERIFY( confirmed >= 0.85 );
-  QVERIFY( moved >= 0.75 );
   QVERIFY( notFound >= 0.9 );
+  QEXPECT_FAIL( "", "the moved road's new course runs along its kerb over some stretches (1.5 m RMS)", Continue );
+  QVERIFY( movedRms <= 1.0 );
 
   // every measured vertex with its sigmas
   QgsVectorLayer vertexTable( vertices, "vertices", "ogr" );
@@ -179,6 +205,28 @@ void TestReviseRoadsAlgorithm::revisesAChangedMap()
   }
   qInfo( "new roads: %.0f m, %.0f m of it on the side road left out of the map", total, near );
   QVERIFY( near > 100.0 );
+  // the side road where both photos see it, metre by metre: in NEW within 3 m (the aim: 0.9 of it)
+  QgsGeometry allNew;
+  it = newRoads.getFeatures();
+  QVector<QgsGeometry> newLines;
+  while ( it.nextFeature( f ) )
+    newLines << f.geometry();
+  allNew = QgsGeometry::collectGeometry( newLines );
+  int seen = 0, covered = 0;
+  for ( double at = 0.0; at <= side.length(); at += 1.0 )
+  {
+    const QgsGeometry p = side.interpolate( at );
+    const QgsPoint ground = *p.constGet()->vertices_begin();
+    if ( !bothSee( ground ) )
+      continue;
+    ++seen;
+    covered += allNew.distance( QgsGeometry( new QgsPoint( ground.x(), ground.y() ) ) ) <= 3.0;
+  }
+  qInfo( "the side road left out: %d of %d m seen in NEW", covered, seen );
+  QVERIFY( seen > 100 );
+  QEXPECT_FAIL( "", "the extraction finds 0.79 of the side road left out of the map", Continue );
+  QVERIFY( covered >= 0.9 * seen );
+  QVERIFY( covered >= 0.7 * seen );
 
   QFile file( json );
   QVERIFY( file.open( QIODevice::ReadOnly ) );
