@@ -1,8 +1,8 @@
 #!/usr/bin/env bash
 # Regenerates the user guide's pictures (docs/images/) from the screenshots
 # the desktop tests take of QGIS with GeoStation under xvfb-run, so the
-# pictures show the GUI as it is, and a readable report page as the
-# resection test writes it. Needs a build with its tests (scripts/build.sh);
+# pictures show the GUI as it is; a readable report page as the resection
+# test writes it and the lines the extraction test finds over its photo. Needs a build with its tests (scripts/build.sh);
 # runs the three desktop tests and the resection test (about 2 minutes).
 #
 #   scripts/screenshots.sh
@@ -12,7 +12,7 @@ build_dir="${GEOSTATION_BUILD_DIR:-$source_dir/build}"
 [ -f "$build_dir/CTestTestfile.cmake" ] || { echo "screenshots.sh: no build with tests in $build_dir (scripts/build.sh first)" >&2; exit 1; }
 (cd "$build_dir" && ctest -R '^e2e_desktop_(smoke|multiview|orientation)$' --output-on-failure)
 # a readable report, as the resection test writes it (a blunder among twelve control points)
-(cd "$build_dir" && GEOSTATION_TEST_ARTIFACTS="$build_dir/test-artifacts" ctest -R '^processing_intersect_resection$' --output-on-failure)
+(cd "$build_dir" && GEOSTATION_TEST_ARTIFACTS="$build_dir/test-artifacts" ctest -R '^processing_(intersect_resection|extract_roads)$' --output-on-failure)
 # the test's picture -> the guide's (the pages name these)
 /usr/bin/python3 - "$build_dir/test-artifacts" "$source_dir/docs/images" <<'PY'
 import os
@@ -26,6 +26,7 @@ pictures = {
     "overview.png": "overview.png",                            # the map: trajectory, stations, view cones
     "orientation-clicked.png": "orientation-clicked.png",      # control points clicked, residuals
     "orientation-accepted.png": "orientation-accepted.png",    # the fiducials and the control found, accepted
+    "extraction-left.jpg": "extraction-left.jpg",              # extract_roads' OUTPUT_LEFT drawn over the left photo (a photo: JPEG)
 }
 os.makedirs(images, exist_ok=True)
 try:
@@ -37,7 +38,7 @@ for source, target in pictures.items():
     if not os.path.isfile(path):
         sys.exit("screenshots.sh: the desktop tests did not save " + source)
     out = os.path.join(images, target)
-    if Image:
+    if Image and target.endswith(".png"):
         Image.open(path).convert("RGB").quantize(colors=256, method=Image.Quantize.FASTOCTREE).save(out, optimize=True)
     else:
         shutil.copyfile(path, out)
