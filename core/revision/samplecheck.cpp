@@ -33,7 +33,8 @@ namespace geostation::revision
                                        double alongHalfPx )
   {
     const int half = static_cast<int>( std::ceil( searchPx + object.maxWidthPx ) ) + 6;
-    const GreyWindow window = grey.around( at, static_cast<int>( std::ceil( std::max<double>( half, alongHalfPx ) ) ) + 4 );
+    // the profile's corners: half across, alongHalfPx along
+    const GreyWindow window = grey.around( at, static_cast<int>( std::ceil( std::hypot( half, alongHalfPx ) ) ) + 4 );
     // samples along about 2 px apart, at least three
     const int alongSamples = std::max( 3, 2 * static_cast<int>( std::ceil( 0.5 * alongHalfPx ) ) + 1 );
     const std::vector<double> profile = sampleCrossProfile( window.pixels, window.toWindow( at ), along, half, object.polarity, alongHalfPx, alongSamples );
