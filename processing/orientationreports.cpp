@@ -137,6 +137,22 @@ namespace GeoStationProcessing
                     QObject::tr( "error Z (m)" ), QObject::tr( "sigma X (m)" ), QObject::tr( "sigma Y (m)" ), QObject::tr( "sigma Z (m)" ) }, pointRows );
     }
 
+    // every point, tie points too, by its RMS: the worst first
+    std::vector<const geostation::BundlePointResult *> byRms;
+    for ( const geostation::BundlePointResult &p : s.points )
+      byRms.push_back( &p );
+    std::stable_sort( byRms.begin(), byRms.end(), []( const auto *a, const auto *b ) { return a->rmsPx > b->rmsPx; } );
+    QVector<QStringList> worstPoints;
+    for ( size_t k = 0; k < byRms.size() && k < static_cast<size_t>( kMostResidualRows ); ++k )
+      worstPoints << QStringList { text( byRms[k]->id ), byRms[k]->role == geostation::BundlePointResult::Role::Tie ? QObject::tr( "tie" )
+                                   : byRms[k]->role == geostation::BundlePointResult::Role::Control ? QObject::tr( "control" ) : QObject::tr( "check" ),
+                                   QString::number( byRms[k]->imageCount ), number( byRms[k]->rmsPx, 3 ), number( byRms[k]->sigmaM.x(), 3 ), number( byRms[k]->sigmaM.y(), 3 ),
+                                   number( byRms[k]->sigmaM.z(), 3 ) };
+    page.heading( QObject::tr( "Points" ) );
+    page.paragraph( QObject::tr( "The %1 of %2 points with the largest residual RMS:" ).arg( worstPoints.size() ).arg( s.points.size() ) );
+    page.table( { QObject::tr( "point" ), QObject::tr( "role" ), QObject::tr( "images" ), QObject::tr( "RMS (px)" ), QObject::tr( "sigma X (m)" ), QObject::tr( "sigma Y (m)" ),
+                  QObject::tr( "sigma Z (m)" ) }, worstPoints );
+
     page.heading( QObject::tr( "Residuals" ) );
     std::vector<const geostation::BundleObservationResult *> worst;
     for ( const geostation::BundleObservationResult &o : s.observations )

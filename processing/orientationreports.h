@@ -29,7 +29,8 @@ namespace GeoStationProcessing
   /**
    * Bundle adjustment: summary, images (RMS, orientation with sigmas,
    * shift), freed interior parameters, control and check points, the
-   * largest residuals, a residual plot for each of the images with the
+   * points with the largest RMS (tie points too) and the largest
+   * residuals, a residual plot for each of the images with the
    * largest RMS (at most 12) and the histogram of all residuals.
    */
   QByteArray bundleAdjustHtml( const geostation::BundleSummary &s, const geostation::Block &block );

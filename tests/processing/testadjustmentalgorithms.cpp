@@ -417,10 +417,14 @@ void TestAdjustmentAlgorithms::bundleAdjustRecoversThePerturbedBlock()
     QCOMPARE( row.at( 1 ), QStringLiteral( "16" ) );
     QCOMPARE( row.at( 2 ), QString::number( json.value( "images" ).toArray().at( image == "A" ? 0 : 1 ).toObject().value( "rms_px" ).toDouble(), 'f', 3 ) );
   }
-  int checkRows = 0;
+  int checkRows = 0, pointRows = 0;
   for ( const QStringList &row : page.rows )
+  {
     checkRows += row.size() == 10 && row.at( 1 ) == QLatin1String( "check" );
+    pointRows += row.size() == 7 && QStringList( { "tie", "control", "check" } ).contains( row.at( 1 ) );
+  }
   QCOMPARE( checkRows, 4 );
+  QCOMPARE( pointRows, 16 ); // the points by their RMS: all 16 of this block (at most 20 are listed)
   QCOMPARE( page.points, 32 );
   QVERIFY( page.arrows >= 1 );
   QCOMPARE( page.redArrows, 0 );
