@@ -8,6 +8,7 @@
 #include <QJsonArray>
 #include <QObject>
 
+#include "extraction/resultmatrix.h"
 #include "htmlreport.h"
 
 namespace GeoStationProcessing
@@ -61,8 +62,7 @@ namespace GeoStationProcessing
     HtmlReport page( QObject::tr( "Roads extracted from %1 and %2" ).arg( leftId, rightId ) );
     double lengthPx = 0.0, lengthM = 0.0;
     for ( const geostation::CompiledPolygon &line : s.extraction.linesA )
-      for ( size_t k = 1; k < line.pixels.size(); ++k )
-        lengthPx += ( line.pixels[k] - line.pixels[k - 1] ).norm();
+      lengthPx += geostation::polylineLength( line.pixels );
     for ( const geostation::NetworkLine &line : s.network.lines )
       lengthM += line.lengthM();
     QVector<QPair<QString, QString>> summary { { QObject::tr( "pair" ), QStringLiteral( "%1, %2" ).arg( leftId, rightId ) },

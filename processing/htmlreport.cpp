@@ -6,8 +6,6 @@
 #include <algorithm>
 #include <cmath>
 
-#include <QRegularExpression>
-
 namespace GeoStationProcessing
 {
   namespace
@@ -24,6 +22,15 @@ namespace GeoStationProcessing
     {
       return QString::number( v, 'f', 1 );
     }
+
+    //! An SVG of kPlotWidth and `height` opened, with `frame` drawn scaled by `toSvg` inside the margin.
+    QString framedSvg( const QSizeF &frame, double toSvg, double height )
+    {
+      return QStringLiteral( "<figure><svg xmlns=\"http://www.w3.org/2000/svg\" width=\"%1\" height=\"%2\" viewBox=\"0 0 %1 %2\">\n" )
+               .arg( svgNumber( kPlotWidth ), svgNumber( height ) ) +
+             QStringLiteral( "<rect x=\"%1\" y=\"%1\" width=\"%2\" height=\"%3\" fill=\"#f6f6f6\" stroke=\"#888\"/>\n" )
+               .arg( svgNumber( kMargin ), svgNumber( frame.width() * toSvg ), svgNumber( frame.height() * toSvg ) );
+    }
   } // namespace
 
   QString number( double value, int decimals )
@@ -32,7 +39,7 @@ namespace GeoStationProcessing
       return QStringLiteral( "-" );
     const QString text = QString::number( value, 'f', decimals );
     // -0.000: a value that rounds to zero is shown without a sign
-    return text.startsWith( '-' ) && text.count( QRegularExpression( QStringLiteral( "[1-9]" ) ) ) == 0 ? text.mid( 1 ) : text;
+    return text.startsWith( '-' ) && text.toDouble() == 0.0 ? text.mid( 1 ) : text;
   }
 
   double roundDown125( double value )
@@ -97,13 +104,10 @@ namespace GeoStationProcessing
     const double height = frame.height() * toSvg + 2.0 * kMargin + 28.0;
     ++mPlots;
     const QString arrowId = QStringLiteral( "arrow%1" ).arg( mPlots ), flaggedId = QStringLiteral( "flagged%1" ).arg( mPlots );
-    QString svg = QStringLiteral( "<figure><svg xmlns=\"http://www.w3.org/2000/svg\" width=\"%1\" height=\"%2\" viewBox=\"0 0 %1 %2\">\n" )
-                    .arg( svgNumber( kPlotWidth ), svgNumber( height ) );
+    QString svg = framedSvg( frame, toSvg, height );
     svg += QStringLiteral( "<defs><marker id=\"%1\" markerWidth=\"8\" markerHeight=\"8\" refX=\"7\" refY=\"4\" orient=\"auto\"><path d=\"M0,0 L8,4 L0,8 z\" fill=\"#1f5fa8\"/></marker>"
                            "<marker id=\"%2\" markerWidth=\"8\" markerHeight=\"8\" refX=\"7\" refY=\"4\" orient=\"auto\"><path d=\"M0,0 L8,4 L0,8 z\" fill=\"#c0392b\"/></marker></defs>\n" )
              .arg( arrowId, flaggedId );
-    svg += QStringLiteral( "<rect x=\"%1\" y=\"%1\" width=\"%2\" height=\"%3\" fill=\"#f6f6f6\" stroke=\"#888\"/>\n" )
-             .arg( svgNumber( kMargin ), svgNumber( frame.width() * toSvg ), svgNumber( frame.height() * toSvg ) );
     for ( const ResidualArrow &a : arrows )
     {
       const double x0 = kMargin + a.at.x() * toSvg, y0 = kMargin + a.at.y() * toSvg;
@@ -133,11 +137,7 @@ namespace GeoStationProcessing
     if ( !( frame.width() > 0.0 ) || !( frame.height() > 0.0 ) )
       return;
     const double toSvg = ( kPlotWidth - 2.0 * kMargin ) / frame.width();
-    const double height = frame.height() * toSvg + 2.0 * kMargin;
-    QString svg = QStringLiteral( "<figure><svg xmlns=\"http://www.w3.org/2000/svg\" width=\"%1\" height=\"%2\" viewBox=\"0 0 %1 %2\">\n" )
-                    .arg( svgNumber( kPlotWidth ), svgNumber( height ) );
-    svg += QStringLiteral( "<rect x=\"%1\" y=\"%1\" width=\"%2\" height=\"%3\" fill=\"#f6f6f6\" stroke=\"#888\"/>\n" )
-             .arg( svgNumber( kMargin ), svgNumber( frame.width() * toSvg ), svgNumber( frame.height() * toSvg ) );
+    QString svg = framedSvg( frame, toSvg, frame.height() * toSvg + 2.0 * kMargin );
     for ( const QPolygonF &line : lines )
     {
       QStringList points;

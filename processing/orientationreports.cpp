@@ -10,6 +10,7 @@
 
 #include <Eigen/LU>
 
+#include "bundleadjustreport.h"
 #include "htmlreport.h"
 
 namespace GeoStationProcessing
@@ -126,7 +127,7 @@ namespace GeoStationProcessing
     QVector<QStringList> pointRows;
     for ( const geostation::BundlePointResult &p : s.points )
       if ( p.role != geostation::BundlePointResult::Role::Tie )
-        pointRows << QStringList { text( p.id ), p.role == geostation::BundlePointResult::Role::Control ? QObject::tr( "control" ) : QObject::tr( "check" ), QString::number( p.imageCount ),
+        pointRows << QStringList { text( p.id ), bundlePointRoleName( p.role ), QString::number( p.imageCount ),
                                    number( p.rmsPx, 3 ), number( p.errorM.x(), 3 ), number( p.errorM.y(), 3 ), number( p.errorM.z(), 3 ),
                                    number( p.sigmaM.x(), 3 ), number( p.sigmaM.y(), 3 ), number( p.sigmaM.z(), 3 ) };
     if ( !pointRows.isEmpty() )
@@ -144,8 +145,7 @@ namespace GeoStationProcessing
     std::stable_sort( byRms.begin(), byRms.end(), []( const auto *a, const auto *b ) { return a->rmsPx > b->rmsPx; } );
     QVector<QStringList> worstPoints;
     for ( size_t k = 0; k < byRms.size() && k < static_cast<size_t>( kMostResidualRows ); ++k )
-      worstPoints << QStringList { text( byRms[k]->id ), byRms[k]->role == geostation::BundlePointResult::Role::Tie ? QObject::tr( "tie" )
-                                   : byRms[k]->role == geostation::BundlePointResult::Role::Control ? QObject::tr( "control" ) : QObject::tr( "check" ),
+      worstPoints << QStringList { text( byRms[k]->id ), bundlePointRoleName( byRms[k]->role ),
                                    QString::number( byRms[k]->imageCount ), number( byRms[k]->rmsPx, 3 ), number( byRms[k]->sigmaM.x(), 3 ), number( byRms[k]->sigmaM.y(), 3 ),
                                    number( byRms[k]->sigmaM.z(), 3 ) };
     page.heading( QObject::tr( "Points" ) );

@@ -168,7 +168,7 @@ namespace GeoStationProcessing
 
   namespace
   {
-    //! The reports asked for, open and written but not yet committed.
+    //! The reports asked for, open and written but not yet committed (a QSaveFile destroyed uncommitted leaves nothing).
     std::vector<std::unique_ptr<QSaveFile>> stageReports( const QVector<ReportFile> &reports )
     {
       std::vector<std::unique_ptr<QSaveFile>> staged;
@@ -178,11 +178,7 @@ namespace GeoStationProcessing
           continue;
         auto file = std::make_unique<QSaveFile>( r.path );
         if ( !file->open( QIODevice::WriteOnly ) || file->write( r.contents ) != r.contents.size() )
-        {
-          for ( std::unique_ptr<QSaveFile> &f : staged )
-            f->cancelWriting();
           throw QgsProcessingException( QObject::tr( "Cannot write the report %1." ).arg( r.path ) );
-        }
         staged.push_back( std::move( file ) );
       }
       return staged;
@@ -205,8 +201,6 @@ namespace GeoStationProcessing
     }
     catch ( const std::exception &e )
     {
-      for ( std::unique_ptr<QSaveFile> &f : staged )
-        f->cancelWriting();
       throw QgsProcessingException( QString::fromStdString( e.what() ) );
     }
     commitReports( staged );

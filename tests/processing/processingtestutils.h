@@ -3,6 +3,9 @@
 #ifndef GEOSTATION_PROCESSINGTESTUTILS_H
 #define GEOSTATION_PROCESSINGTESTUTILS_H
 
+#include <optional>
+
+#include <QDir>
 #include <QFile>
 #include <QStringList>
 #include <QXmlStreamReader>
@@ -46,6 +49,16 @@ inline void simulateAerialRoadPair( const QString &dir )
   options.seed = 3;
   options.degradation.noiseSigma = 4.0;
   geostation::simulateSurvey( options );
+}
+
+//! The folder GEOSTATION_TEST_ARTIFACTS names (made), where tests leave the user guide's pictures (scripts/screenshots.sh); none when unset.
+inline std::optional<QDir> testArtifacts()
+{
+  if ( !qEnvironmentVariableIsSet( "GEOSTATION_TEST_ARTIFACTS" ) )
+    return std::nullopt;
+  const QDir dir( qEnvironmentVariable( "GEOSTATION_TEST_ARTIFACTS" ) );
+  QDir().mkpath( dir.path() );
+  return dir;
 }
 
 //! What a REPORT_HTML page holds, read as XML (the page is written well-formed: unescaped text would break it).

@@ -277,11 +277,10 @@ void TestAdjustmentAlgorithms::resectionNamesABlunder()
   QVERIFY( feedback.warnings.join( ' ' ).contains( "P5" ) );
 
   // the page names the blunder, draws it in red over the frame, and its residual (about the 8, -5 px put in) in the table
-  if ( qEnvironmentVariableIsSet( "GEOSTATION_TEST_ARTIFACTS" ) ) // the user guide's picture of a report (scripts/screenshots.sh)
+  if ( const std::optional<QDir> artifacts = testArtifacts() ) // the user guide's picture of a report
   {
-    const QString artifact = QDir( qEnvironmentVariable( "GEOSTATION_TEST_ARTIFACTS" ) ).filePath( "report-resection.html" );
-    QFile::remove( artifact );
-    QVERIFY( QDir().mkpath( QFileInfo( artifact ).path() ) && QFile::copy( mDir.filePath( "b.html" ), artifact ) );
+    QFile::remove( artifacts->filePath( "report-resection.html" ) );
+    QVERIFY( QFile::copy( mDir.filePath( "b.html" ), artifacts->filePath( "report-resection.html" ) ) );
   }
   const HtmlReportShape page = readHtmlReport( mDir.filePath( "b.html" ) );
   QVERIFY2( page.error.isEmpty(), qPrintable( page.error ) );

@@ -124,7 +124,7 @@ void TestExtractRoadsAlgorithm::extractsTheVerifiedNetwork()
   QVERIFY( leftLines.extent().yMaximum() <= 0.0 && leftLines.extent().yMinimum() >= -1024.0 && leftLines.extent().xMinimum() >= 0.0 );
   QgsVectorLayer rightLines( right, "right", "ogr" );
   QVERIFY( rightLines.featureCount() >= 3 );
-  if ( qEnvironmentVariableIsSet( "GEOSTATION_TEST_ARTIFACTS" ) ) // the user guide's picture (scripts/screenshots.sh): OUTPUT_LEFT over the left photo
+  if ( const std::optional<QDir> artifacts = testArtifacts() ) // the user guide's picture: OUTPUT_LEFT over the left photo
   {
     cv::Mat photo = cv::imread( ( mRun + "/images/S0001.tif" ).toStdString(), cv::IMREAD_COLOR );
     QVERIFY( !photo.empty() );
@@ -136,11 +136,9 @@ void TestExtractRoadsAlgorithm::extractsTheVerifiedNetwork()
         points.emplace_back( cvRound( ( *v ).x() ), cvRound( -( *v ).y() ) );
       cv::polylines( photo, points, false, cv::Scalar( 40, 40, 230 ), 3, cv::LINE_AA );
     }
-    const QDir artifacts( qEnvironmentVariable( "GEOSTATION_TEST_ARTIFACTS" ) );
-    QVERIFY( QDir().mkpath( artifacts.path() ) );
     cv::Mat small;
     cv::resize( photo, small, cv::Size( 640, 640 ), 0.0, 0.0, cv::INTER_AREA );
-    QVERIFY( cv::imwrite( artifacts.filePath( "extraction-left.jpg" ).toStdString(), small, { cv::IMWRITE_JPEG_QUALITY, 85 } ) );
+    QVERIFY( cv::imwrite( artifacts->filePath( "extraction-left.jpg" ).toStdString(), small, { cv::IMWRITE_JPEG_QUALITY, 85 } ) );
   }
 
   const QJsonObject rep = report( json );
