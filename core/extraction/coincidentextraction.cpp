@@ -25,12 +25,38 @@ namespace geostation
       throw std::invalid_argument( "the number of extraction rounds must be 1 to 20" );
     if ( !( minRoundGain >= 0.0 && minRoundGain < 1.0 ) )
       throw std::invalid_argument( "the minimum gain of a round must be a fraction in [0, 1)" );
+    if ( !( minBandSupport >= 0.0 && minBandSupport <= 1.0 ) )
+      throw std::invalid_argument( "the band support a final line needs must be a fraction in [0, 1]" );
     if ( kiteLengthPx < 0.0 || kiteWidthPx < 0.0 )
       throw std::invalid_argument( "the intersection search area must not have a negative size (0: automatic)" );
   }
 
   namespace
   {
+    /**
+     * `lines` without those the band does not carry (bandSupport() below `minSupport`): a chain through the
+     * grain of a field or a row of trees shows a band only here and there. A link between two junctions stays
+     * (the profiles near a junction see its mouth, not the band; removing one breaks the network), and so does
+     * every line where the roads are lines, at most 4 px wide (one profile across a 2 px street among blocks
+     * tells little). `removed` counts the others.
+     */
+    std::vector<CompiledPolygon> bandSupportedLines( const GreyTiles &grey, const std::vector<CompiledPolygon> &lines, const LineObjectOptions &object,
+                                                     double minSupport, int &removed )
+    {
+      if ( minSupport <= 0.0 || object.maxWidthPx <= 4.0 )
+        return lines;
+      std::vector<CompiledPolygon> kept;
+      for ( const CompiledPolygon &line : lines )
+      {
+        const bool link = line.startEnd == PolygonEnd::Intersection && line.endEnd == PolygonEnd::Intersection;
+        if ( link || bandSupport( grey, line.pixels, object ) >= minSupport )
+          kept.push_back( line );
+        else
+          ++removed;
+      }
+      return kept;
+    }
+
     double distanceToPolyline( const std::vector<Eigen::Vector2d> &line, const Eigen::Vector2d &p )
     {
       double best = std::numeric_limits<double>::infinity();
@@ -391,8 +417,9 @@ namespace geostation
     const CompanionLineSummary keptA = removeCompanionLines( *grey[0], refinedA.lines, options.extraction.object, options.companions );
     const CompanionLineSummary keptB = removeCompanionLines( *grey[1], refinedB.lines, options.extraction.object, options.companions );
     summary.companionsRemoved = keptA.removed + keptB.removed;
-    summary.linesA = keptA.lines;
-    summary.linesB = keptB.lines;
+    // a line the band does not carry along most of its course goes (a chain through the grain of a field)
+    summary.linesA = bandSupportedLines( *grey[0], keptA.lines, options.extraction.object, options.minBandSupport, summary.unsupportedRemoved );
+    summary.linesB = bandSupportedLines( *grey[1], keptB.lines, options.extraction.object, options.minBandSupport, summary.unsupportedRemoved );
     summary.compilationStage.seconds += t0.seconds();
     summary.intersectionsA = refinedA.movedIntersections( finalA.intersections );
     summary.intersectionsB = refinedB.movedIntersections( finalB.intersections );

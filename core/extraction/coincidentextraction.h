@@ -42,6 +42,7 @@ namespace geostation
     double kiteWidthPx = 0.0;     //!< and its smaller axis (12); 0: the widest road, at least 12 px
     bool verify = true;           //!< false: one extraction in A, nothing verified (for comparison)
     CompanionLineOptions companions; //!< markings, kerbs and shoulders along a road, removed from the final lines
+    double minBandSupport = 0.5;  //!< a final line with a dead end goes where its band support (bandSupport(), verification.h) is below this (0: none goes; roads up to 4 px wide: none)
 
     //! Throws std::invalid_argument naming the first bad value.
     void check() const;
@@ -67,6 +68,7 @@ namespace geostation
     int bridged = 0;                                   //!< gaps and intersections closed by the final processing
     int pruned = 0;                                    //!< spurs removed by the final processing
     int companionsRemoved = 0;                         //!< lines beside a wider one (markings, kerbs, shoulders), both images
+    int unsupportedRemoved = 0;                        //!< lines whose band support was below CoincidentExtractionOptions::minBandSupport, both images
     int subImages = 0;                                 //!< sub-images processed, all rounds and runs
     int temporaryDeadEnds = 0;                         //!< lines continued across sub-image borders
     bool cancelled = false;

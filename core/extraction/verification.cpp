@@ -53,6 +53,21 @@ namespace geostation
     return best;
   }
 
+  double bandSupport( const GreyTiles &grey, const std::vector<Eigen::Vector2d> &line, const LineObjectOptions &object )
+  {
+    const std::vector<Eigen::Vector2d> samples = densifyPolyline( line, 2.0 );
+    if ( samples.size() < 3 )
+      return 1.0;
+    int found = 0, looked = 0;
+    for ( size_t i = 0; i + 1 < samples.size(); ++i )
+      if ( const Eigen::Vector2d along = samples[i + 1] - samples[i]; along.norm() > 1e-9 )
+      {
+        ++looked;
+        found += bandAt( grey, samples[i], along.normalized(), object ).has_value();
+      }
+    return looked > 0 ? static_cast<double>( found ) / looked : 1.0;
+  }
+
   std::pair<double, double> measureBand( const GreyTiles &grey, const std::vector<Eigen::Vector2d> &line, const LineObjectOptions &object )
   {
     std::vector<double> widths, contrasts;

@@ -87,6 +87,15 @@ namespace geostation
   std::optional<CrossSection> bandAt( const GreyTiles &grey, const Eigen::Vector2d &pixelInImage, const Eigen::Vector2d &direction, const LineObjectOptions &object );
 
   /**
+   * How much of `line` (pixelInImage) the band of `object` carries: the
+   * fraction of its samples, every 2 px, where bandAt() finds a band. A road
+   * shows its band nearly everywhere but where a car, a shadow or a junction
+   * interrupts it; a chain through the grain of a field or a row of trees
+   * finds one only here and there. 1 for a line shorter than 4 px.
+   */
+  double bandSupport( const GreyTiles &grey, const std::vector<Eigen::Vector2d> &line, const LineObjectOptions &object );
+
+  /**
    * The band's width and contrast along a line of `grey` (medians of up to
    * 7 profiles, bandAt() the line); where none is found, the middle of the
    * object's widths and 1.5 x its minimum contrast.

@@ -1,0 +1,100 @@
+// How much of a line its band carries (bandSupport(), verification.h): the
+// extraction's final lines with a dead end go where it is low. A road shows
+// its band along nearly all its length, past a car and across a shadow; a
+// chain through a field's grain and its scattered trees finds one only here
+// and there; a straight line across a plain field finds none.
+#include <gtest/gtest.h>
+
+#include <random>
+#include <stdexcept>
+
+#include <opencv2/imgproc.hpp>
+
+#include "extraction/coincidentextraction.h"
+#include "extraction/verification.h"
+
+using namespace geostation;
+
+namespace
+{
+  /**
+   * 400 x 300: a grass field (grain of 20 grey levels over blobs of about 6 px, and 60 dark trees of 5 px with
+   * their shadows), a dark road 10 px wide along row 150 with a bright car on it and a shadow across half of it.
+   */
+  cv::Mat fieldWithARoad()
+  {
+    std::mt19937 random( 11 );
+    cv::Mat coarse( 50, 67, CV_32F );
+    cv::randn( coarse, 0.0, 20.0 );
+    cv::Mat grain;
+    cv::resize( coarse, grain, cv::Size( 400, 300 ), 0, 0, cv::INTER_CUBIC );
+    cv::Mat grey( 300, 400, CV_8U );
+    for ( int r = 0; r < 300; ++r )
+      for ( int c = 0; c < 400; ++c )
+        grey.at<uint8_t>( r, c ) = cv::saturate_cast<uint8_t>( 120.0 + grain.at<float>( r, c ) );
+    std::uniform_int_distribution<int> col( 0, 399 ), row( 0, 299 );
+    for ( int k = 0; k < 60; ++k )
+    {
+      const cv::Point at( col( random ), row( random ) );
+      if ( std::abs( at.y - 150 ) < 14 )
+        continue;
+      cv::ellipse( grey, at + cv::Point( 3, 2 ), cv::Size( 5, 3 ), 30.0, 0.0, 360.0, cv::Scalar( 70 ), cv::FILLED );
+      cv::circle( grey, at, 3, cv::Scalar( 85 ), cv::FILLED );
+    }
+    grey( cv::Rect( 0, 145, 400, 10 ) ).setTo( 60 );
+    grey( cv::Rect( 180, 147, 12, 5 ) ).setTo( 200 ); // a car
+    grey( cv::Rect( 260, 140, 18, 10 ) ).setTo( 40 ); // a shadow across the road's northern half
+    cv::Mat noise( grey.size(), CV_8S );
+    cv::randn( noise, 0.0, 3.0 );
+    cv::Mat out;
+    grey.convertTo( out, CV_16S );
+    cv::Mat n16;
+    noise.convertTo( n16, CV_16S );
+    out += n16;
+    out.convertTo( grey, CV_8U );
+    return grey;
+  }
+
+  LineObjectOptions roads()
+  {
+    LineObjectOptions object;
+    object.polarity = 0;
+    object.minContrast = 18.0;
+    object.minWidthPx = 6.0;
+    object.maxWidthPx = 30.0;
+    return object;
+  }
+} // namespace
+
+TEST( BandSupport, ARoadCarriesItsLineAndAFieldDoesNot )
+{
+  const GreyTiles grey( fieldWithARoad() );
+  const double road = bandSupport( grey, { Eigen::Vector2d( 10.0, 150.0 ), Eigen::Vector2d( 390.0, 150.0 ) }, roads() );
+  // a chain through the grain, wandering across the field as REM's chains do
+  std::vector<Eigen::Vector2d> chain;
+  for ( int i = 0; i <= 40; ++i )
+    chain.emplace_back( 20.0 + 9.0 * i, 60.0 + 6.0 * std::sin( 0.7 * i ) + 0.3 * i );
+  const double field = bandSupport( grey, chain, roads() );
+  std::printf( "band support: the road %.2f, a chain through the field %.2f\n", road, field );
+  EXPECT_GE( road, 0.9 );
+  EXPECT_LT( field, 0.5 );
+  // the default keeps the road and not the chain
+  const double minimum = CoincidentExtractionOptions().minBandSupport;
+  EXPECT_GE( road, minimum );
+  EXPECT_LT( field, minimum );
+}
+
+TEST( BandSupport, AShortLineCountsAsCarriedAndBadOptionsThrow )
+{
+  const GreyTiles grey( fieldWithARoad() );
+  EXPECT_DOUBLE_EQ( bandSupport( grey, { Eigen::Vector2d( 50.0, 60.0 ), Eigen::Vector2d( 52.0, 60.0 ) }, roads() ), 1.0 );
+  EXPECT_DOUBLE_EQ( bandSupport( grey, {}, roads() ), 1.0 );
+  // repeated vertices do not make a direction of nothing
+  const double repeated = bandSupport( grey, { Eigen::Vector2d( 10.0, 150.0 ), Eigen::Vector2d( 10.0, 150.0 ), Eigen::Vector2d( 100.0, 150.0 ) }, roads() );
+  EXPECT_GE( repeated, 0.9 );
+  CoincidentExtractionOptions options;
+  options.minBandSupport = 1.5;
+  EXPECT_THROW( options.check(), std::invalid_argument );
+  options.minBandSupport = -0.1;
+  EXPECT_THROW( options.check(), std::invalid_argument );
+}
