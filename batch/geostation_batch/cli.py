@@ -79,7 +79,7 @@ def algorithm_options(parser, command, help_json):
         parser.add_argument("--seeds", required=True, metavar="TABLE",
                             help="seed_id, image_id, col, row [, direction_deg] [, line_id: seeds of one line, traced in pieces]")
         parser.add_argument("--max-stations", "--max_stations", type=int, default=0, help="stations the last seed of a line traces (0: to the end of the run)")
-        parser.add_argument("--overlap-stations", type=int, default=20, help="stations a piece traces past the next seed's station (default %(default)s)")
+        parser.add_argument("--overlap-stations", type=int, default=100, help="stations a piece traces past the next seed's station (default %(default)s)")
     return names
 
 

@@ -62,31 +62,30 @@ namespace geostation
       // the last vertex kept: the one before the next piece's start (a vertex at its start gives way to it)
       const size_t at = start.t >= 1.0 ? start.segment + 1 : start.segment;
       const size_t keep = ( start.t <= 0.0 || start.t >= 1.0 ) && at > 0 ? at - 1 : at;
-      // where the two run together (the later one has settled onto the earlier: the longest such run in the
-      // overlap, at least agreeVertices long; a trace's last stations are its least settled), the earlier piece
-      // is kept up to where that run begins
-      size_t bestStart = 0, bestLength = 0, runStart = 0, runLength = 0;
+      // where the two run together (the later one has settled onto the earlier) for at least agreeVertices in a row,
+      // the earlier piece is kept up to the last vertex of the last such run and the later one goes on from there:
+      // the earlier piece has had more stations to settle, and each trace's first stations (the later one's) and
+      // last stations (the earlier one's) are its least settled, which is where such runs end
+      size_t lastEnd = 0, runLength = 0;
+      bool agreed = false;
       for ( size_t i = keep + 1; i < line.points.size(); ++i )
       {
-        if ( nearestOn( next.points, line.points[i] ).distance > options.agreeM )
+        runLength = nearestOn( next.points, line.points[i] ).distance <= options.agreeM ? runLength + 1 : 0;
+        if ( runLength >= static_cast<size_t>( options.agreeVertices ) )
         {
-          runLength = 0;
-          continue;
-        }
-        if ( runLength++ == 0 )
-          runStart = i;
-        if ( runLength > bestLength )
-        {
-          bestStart = runStart;
-          bestLength = runLength;
+          lastEnd = i;
+          agreed = true;
         }
       }
-      if ( bestLength >= static_cast<size_t>( options.agreeVertices ) )
+      if ( agreed )
       {
         // from the next piece's first vertex beyond the earlier piece's vertex at the switch
-        const Nearest on = nearestOn( next.points, line.points[bestStart] );
-        line.points.resize( bestStart + 1 );
-        line.points.insert( line.points.end(), next.points.begin() + static_cast<long>( on.segment ) + 1, next.points.end() );
+        // (a switch onto the next piece's vertex itself: from the one after it)
+        const Nearest on = nearestOn( next.points, line.points[lastEnd] );
+        const size_t from = on.segment + ( on.t >= 1.0 ? 2 : 1 );
+        line.points.resize( lastEnd + 1 );
+        if ( from < next.points.size() )
+          line.points.insert( line.points.end(), next.points.begin() + static_cast<long>( from ), next.points.end() );
         return;
       }
       // they never run together: the next piece from its start, and how far the earlier one was from it

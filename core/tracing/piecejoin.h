@@ -2,14 +2,17 @@
   piecejoin.h - one line from the pieces traced from several seeds
   -------------------------------------------------------------------------
   A long run is traced in pieces: seeds of one line at different stations,
-  each traced up to the next seed's station and a few stations beyond. The
-  pieces of a line, in the order of their seeds, are joined into one: each
-  piece runs up to the point nearest where the next one starts, and the
-  next one goes on from there. Where two pieces overlap, each vertex of the
-  earlier one is compared with the later piece; one farther off than
-  `sigmaFactor` times their combined sigma is reported (the two traces
-  disagree: one of them has left the line). A piece that ends before the
-  next one starts leaves a gap, joined straight and reported.
+  each traced up to the next seed's station and some stations beyond. The
+  pieces of a line, in the order of their seeds, are joined into one. A
+  trace needs some stations to settle, and its last stations are its least
+  settled: where the two pieces run together in their overlap (within
+  `agreeM` for `agreeVertices` vertices or more), the earlier piece is kept
+  up to the last place they do and the later one goes on from there. Where
+  they never do, the later one goes on from its start, and a vertex of the
+  earlier one beyond it farther off than `sigmaFactor` times their combined
+  sigma is reported (the two traces disagree: one of them has left the
+  line). A piece that ends before the next one starts leaves a gap, joined
+  straight and reported.
  ***************************************************************************/
 #ifndef GEOSTATION_TRACING_PIECEJOIN_H
 #define GEOSTATION_TRACING_PIECEJOIN_H

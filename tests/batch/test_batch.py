@@ -281,7 +281,7 @@ class BatchOnALoopbackCluster(unittest.TestCase):
         apart, _ = bs.distances(pieces, [one])
         print("kerb traced in 4 pieces: %d vertices, %.1f %% within 1 cm of one trace through the run, at most %.3f m from it" %
               (len(pieces), 100 * (apart <= 0.01).mean(), apart.max()))
-        self.assertGreaterEqual((apart <= 0.01).mean(), 0.7)
+        self.assertGreaterEqual((apart <= 0.01).mean(), 0.95)
         # and as close to the truth
         ds = ogr.Open(os.path.join(run, "truth.gpkg"))
         truth = []
@@ -297,8 +297,10 @@ class BatchOnALoopbackCluster(unittest.TestCase):
 
     @unittest.expectedFailure
     def test_8_a_run_traced_in_pieces_equals_one_trace_within_a_centimetre(self):
-        """Not yet: a trace depends on the stations before it, and the piece from station 101 settles onto the trace that came
-        through only after more stations than its predecessor overlaps it by (here about 60 stations, up to 0.58 m apart)."""
+        """Not yet: a trace depends on the stations before it. With the default overlap (100 stations) and the join at the last
+        place two pieces agree, 99.6 % of the vertices are within 1 cm of one trace through the run, but a piece started from
+        a later seed still strays from it by a few centimetres at scattered vertices long after it has settled (at most
+        0.087 m here): the pieces never run as one trace everywhere."""
         run, whole, out = self.trace_fixture()
         one, (pieces, _) = self.kerb_lines(whole, out)
         self.assertLessEqual(bs.distances(pieces, [one])[0].max(), 0.01)

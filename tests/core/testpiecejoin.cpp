@@ -63,6 +63,27 @@ TEST( PieceJoin, ThePieceThatCameThroughIsKeptUntilTheNextHasSettled )
   EXPECT_TRUE( s.disagreements.empty() );
 }
 
+TEST( PieceJoin, TheEarlierPieceIsKeptToTheLastPlaceTheyAgree )
+{
+  // the first piece's last 10 m have not settled (0.2 m off); the second, settled by x = 105, still strays 5 cm at
+  // x = 150 once: the earlier piece, with more stations behind it, is kept up to x = 190, where they last agree
+  TracedPiece first = piece( "L", 1, 0, 200 );
+  for ( Eigen::Vector3d &p : first.points )
+    if ( p.x() > 190.0 )
+      p.y() = 0.2;
+  TracedPiece second = piece( "L", 2, 100, 300 );
+  for ( Eigen::Vector3d &p : second.points )
+    if ( p.x() < 105.0 || std::abs( p.x() - 150.0 ) < 1.0 )
+      p.y() = p.x() < 105.0 ? 0.3 : 0.05;
+  const PieceJoinSummary s = joinTracedPieces( { first, second } );
+  ASSERT_EQ( s.lines.size(), 1u );
+  for ( const Eigen::Vector3d &p : s.lines[0].points )
+    EXPECT_DOUBLE_EQ( p.y(), 0.0 ) << "at x = " << p.x();
+  EXPECT_DOUBLE_EQ( s.lines[0].points.back().x(), 300.0 );
+  for ( size_t i = 1; i < s.lines[0].points.size(); ++i )
+    EXPECT_GT( s.lines[0].points[i].x(), s.lines[0].points[i - 1].x() ) << "no vertex twice, none going back";
+}
+
 TEST( PieceJoin, PiecesThatDisagreeOrDoNotMeetAreReported )
 {
   // the second piece 0.2 m off the first where they overlap (sigmas 1 cm: 4 cm allowed); the third starts 20 m after the second ends
