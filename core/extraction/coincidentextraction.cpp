@@ -35,10 +35,10 @@ namespace geostation
   {
     /**
      * `lines` without those the band does not carry (bandSupport() below `minSupport`): a chain through the
-     * grain of a field or a row of trees shows a band only here and there. A link between two junctions stays
-     * (the profiles near a junction see its mouth, not the band; removing one breaks the network), and so does
-     * every line where the roads are lines, at most 4 px wide (one profile across a 2 px street among blocks
-     * tells little). `removed` counts the others.
+     * grain of a field or a row of trees shows a band only here and there. An end at a junction is judged
+     * beyond the junction's mouth (its profiles cross the other road). Every line stays where the roads are
+     * lines, at most 4 px wide (one profile across a 2 px street among blocks tells little). `removed` counts
+     * the others.
      */
     std::vector<CompiledPolygon> bandSupportedLines( const GreyTiles &grey, const std::vector<CompiledPolygon> &lines, const LineObjectOptions &object,
                                                      double minSupport, int &removed )
@@ -48,8 +48,7 @@ namespace geostation
       std::vector<CompiledPolygon> kept;
       for ( const CompiledPolygon &line : lines )
       {
-        const bool link = line.startEnd == PolygonEnd::Intersection && line.endEnd == PolygonEnd::Intersection;
-        if ( link || bandSupport( grey, line.pixels, object ) >= minSupport )
+        if ( bandSupport( grey, line.pixels, object, line.startEnd == PolygonEnd::Intersection, line.endEnd == PolygonEnd::Intersection ) >= minSupport )
           kept.push_back( line );
         else
           ++removed;

@@ -42,7 +42,7 @@ namespace geostation
     double kiteWidthPx = 0.0;     //!< and its smaller axis (12); 0: the widest road, at least 12 px
     bool verify = true;           //!< false: one extraction in A, nothing verified (for comparison)
     CompanionLineOptions companions; //!< markings, kerbs and shoulders along a road, removed from the final lines
-    double minBandSupport = 0.5;  //!< a final line with a dead end goes where its band support (bandSupport(), verification.h) is below this (0: none goes; roads up to 4 px wide: none)
+    double minBandSupport = 0.5;  //!< a final line goes where its band support (bandSupport(), verification.h; beyond the mouths of its junctions) is below this (0: none goes; roads up to 4 px wide: none)
 
     //! Throws std::invalid_argument naming the first bad value.
     void check() const;

@@ -53,19 +53,41 @@ namespace geostation
     return best;
   }
 
-  double bandSupport( const GreyTiles &grey, const std::vector<Eigen::Vector2d> &line, const LineObjectOptions &object )
+  double bandSupport( const GreyTiles &grey, const std::vector<Eigen::Vector2d> &line, const LineObjectOptions &object, bool trimStart, bool trimEnd )
   {
     const std::vector<Eigen::Vector2d> samples = densifyPolyline( line, 2.0 );
     if ( samples.size() < 3 )
       return 1.0;
-    int found = 0, looked = 0;
+    std::vector<double> along( samples.size(), 0.0 );
+    for ( size_t i = 1; i < samples.size(); ++i )
+      along[i] = along[i - 1] + ( samples[i] - samples[i - 1] ).norm();
+    std::vector<std::optional<CrossSection>> sections( samples.size() - 1 );
+    std::vector<bool> looked( samples.size() - 1, false );
+    std::vector<double> widths;
     for ( size_t i = 0; i + 1 < samples.size(); ++i )
-      if ( const Eigen::Vector2d along = samples[i + 1] - samples[i]; along.norm() > 1e-9 )
+      if ( const Eigen::Vector2d step = samples[i + 1] - samples[i]; step.norm() > 1e-9 )
       {
-        ++looked;
-        found += bandAt( grey, samples[i], along.normalized(), object ).has_value();
+        looked[i] = true;
+        sections[i] = bandAt( grey, samples[i], step.normalized(), object );
+        if ( sections[i] )
+          widths.push_back( sections[i]->widthPx );
       }
-    return looked > 0 ? static_cast<double>( found ) / looked : 1.0;
+    // a junction's mouth: within twice the band's width of the junction the profiles cross the other road
+    double trim = 0.0;
+    if ( ( trimStart || trimEnd ) && !widths.empty() )
+    {
+      std::nth_element( widths.begin(), widths.begin() + widths.size() / 2, widths.end() );
+      trim = 2.0 * widths[widths.size() / 2];
+    }
+    int found = 0, counted = 0;
+    for ( size_t i = 0; i + 1 < samples.size(); ++i )
+    {
+      if ( !looked[i] || ( trimStart && along[i] < trim ) || ( trimEnd && along[i] > along.back() - trim ) )
+        continue;
+      ++counted;
+      found += sections[i].has_value();
+    }
+    return counted > 0 ? static_cast<double>( found ) / counted : 1.0;
   }
 
   std::pair<double, double> measureBand( const GreyTiles &grey, const std::vector<Eigen::Vector2d> &line, const LineObjectOptions &object )

@@ -91,9 +91,13 @@ namespace geostation
    * fraction of its samples, every 2 px, where bandAt() finds a band. A road
    * shows its band nearly everywhere but where a car, a shadow or a junction
    * interrupts it; a chain through the grain of a field or a row of trees
-   * finds one only here and there. 1 for a line shorter than 4 px.
+   * finds one only here and there. `trimStart` / `trimEnd`: the line ends
+   * there at a junction, and the samples within twice the band's width of
+   * it (the median width found), whose profiles cross the other road, do
+   * not count. 1 for a line shorter than 4 px or trimmed away.
    */
-  double bandSupport( const GreyTiles &grey, const std::vector<Eigen::Vector2d> &line, const LineObjectOptions &object );
+  double bandSupport( const GreyTiles &grey, const std::vector<Eigen::Vector2d> &line, const LineObjectOptions &object, bool trimStart = false,
+                      bool trimEnd = false );
 
   /**
    * The band's width and contrast along a line of `grey` (medians of up to

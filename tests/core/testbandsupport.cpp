@@ -98,3 +98,18 @@ TEST( BandSupport, AShortLineCountsAsCarriedAndBadOptionsThrow )
   options.minBandSupport = -0.1;
   EXPECT_THROW( options.check(), std::invalid_argument );
 }
+
+TEST( BandSupport, AJunctionsMouthDoesNotCount )
+{
+  // a road along row 150 ending at a road 30 px wide across it (columns 290-319): the last profiles of the first
+  // road lie inside the second, a band of no width; trimmed at that end they do not count
+  cv::Mat grey( 300, 400, CV_8U, cv::Scalar( 130 ) );
+  grey( cv::Rect( 0, 145, 305, 10 ) ).setTo( 60 );
+  grey( cv::Rect( 290, 0, 30, 300 ) ).setTo( 60 );
+  const GreyTiles tiles( grey );
+  const std::vector<Eigen::Vector2d> line = { Eigen::Vector2d( 200.0, 150.0 ), Eigen::Vector2d( 305.0, 150.0 ) };
+  const double untrimmed = bandSupport( tiles, line, roads() ), trimmed = bandSupport( tiles, line, roads(), false, true );
+  std::printf( "band support up to a junction: %.2f, beyond its mouth %.2f\n", untrimmed, trimmed );
+  EXPECT_LT( untrimmed, 0.95 );
+  EXPECT_GE( trimmed, 0.99 );
+}
