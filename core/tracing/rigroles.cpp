@@ -21,6 +21,8 @@ namespace geostation
     constexpr double kOtherCameraCost = 0.3;
     //! the turn of the axis from the last station's image over this angle counts as a cost of 1
     constexpr double kAxisTurnScale = 30.0 * kDegree;
+    //! the seed station's partner must see the line this far inside its frame
+    constexpr double kPartnerMarginPx = 20.0;
 
     double angleBetween( const Eigen::Matrix3d &a, const Eigen::Matrix3d &b )
     {
@@ -148,6 +150,34 @@ namespace geostation
       if ( cost < bestCost )
       {
         bestCost = cost;
+        best = image;
+      }
+    }
+    return best;
+  }
+
+  const BlockImage *stereoPartnerSeeing( const Block &block, const SequenceStation &station, const BlockImage &reference, const Eigen::Vector3d &ground )
+  {
+    if ( !reference.exterior )
+      return nullptr;
+    const BlockImage *best = nullptr;
+    double bestCos = -2.0;
+    const Eigen::Vector3d axis = block.orientedImage( reference ).cameraFromWorldRotation().row( 2 ).transpose();
+    for ( const std::string &id : station.imageIds )
+    {
+      const BlockImage *image = block.findImage( id );
+      if ( !image || image->id == reference.id || !image->exterior )
+        continue;
+      const OrientedImage candidate = block.orientedImage( *image );
+      const GroundProjection p = candidate.projectGroundToPixel( ground );
+      const Camera &camera = candidate.camera();
+      if ( !p.ok() || p.pixelInImage.x() < kPartnerMarginPx || p.pixelInImage.y() < kPartnerMarginPx || p.pixelInImage.x() > camera.width - kPartnerMarginPx ||
+           p.pixelInImage.y() > camera.height - kPartnerMarginPx )
+        continue;
+      const double c = axis.dot( candidate.cameraFromWorldRotation().row( 2 ).transpose() );
+      if ( c > bestCos )
+      {
+        bestCos = c;
         best = image;
       }
     }

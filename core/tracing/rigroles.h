@@ -59,6 +59,14 @@ namespace geostation
   const BlockImage *imageInRelation( const Block &block, const SequenceStation &station, const BlockImage &reference, const RigRelation &relation,
                                      const std::string &preferredCameraId );
 
+  /**
+   * The seed station's stereo partner: the oriented image of `station`,
+   * other than `reference`, that sees the ground point at least 20 px
+   * inside its frame, its optical axis closest to the reference's; nullptr
+   * if none does.
+   */
+  const BlockImage *stereoPartnerSeeing( const Block &block, const SequenceStation &station, const BlockImage &reference, const Eigen::Vector3d &ground );
+
 } // namespace geostation
 
 #endif // GEOSTATION_TRACING_RIGROLES_H

@@ -1,8 +1,10 @@
 /***************************************************************************
   roadtracerun.cpp - a road line traced through a run: set-up, the loop
-  over the stations, a station's images, and the finish (roadtracerun.h)
+  over the stations, a station's images, the steps of its tracing, and
+  the finish (roadtracerun.h)
  ***************************************************************************/
 #include "tracing/roadtracerun.h"
+#include "tracing/stationhandover.h"
 #include "tracing/trackgeometry.h"
 
 #include <algorithm>
@@ -15,31 +17,13 @@ namespace geostation
 {
   namespace
   {
-    //! The station's other oriented image that sees the ground point, its optical axis closest to the reference's.
-    const BlockImage *partnerSeeing( const Block &block, const SequenceStation &station, const BlockImage &reference, const OrientedImage &referenceImage,
-                                     const Eigen::Vector3d &ground )
+    //! The pixel polyline's length on the ground, or 0.
+    double groundLength( const OrientedImage &image, const std::vector<Eigen::Vector2d> &points, const GroundOfPixel &ground )
     {
-      const BlockImage *best = nullptr;
-      double bestCos = -2.0;
-      const Eigen::Vector3d axis = referenceImage.cameraFromWorldRotation().row( 2 ).transpose();
-      for ( const std::string &id : station.imageIds )
-      {
-        const BlockImage *image = block.findImage( id );
-        if ( !image || image->id == reference.id || !image->exterior )
-          continue;
-        const OrientedImage candidate = block.orientedImage( *image );
-        const GroundProjection p = candidate.projectGroundToPixel( ground );
-        const Camera &camera = candidate.camera();
-        if ( !p.ok() || p.pixelInImage.x() < 20 || p.pixelInImage.y() < 20 || p.pixelInImage.x() > camera.width - 20 || p.pixelInImage.y() > camera.height - 20 )
-          continue;
-        const double c = axis.dot( candidate.cameraFromWorldRotation().row( 2 ).transpose() );
-        if ( c > bestCos )
-        {
-          bestCos = c;
-          best = image;
-        }
-      }
-      return best;
+      if ( points.size() < 2 )
+        return 0.0;
+      const std::optional<Eigen::Vector3d> a = ground( image, points.front() ), b = ground( image, points.back() );
+      return a && b ? ( *a - *b ).norm() : 0.0;
     }
   } // namespace
 
@@ -187,7 +171,7 @@ namespace geostation
       if ( const std::optional<Eigen::Vector3d> ground = single( *at.reference, mStart + s * mDirection ) )
       {
         anyGround = true;
-        partner = partnerSeeing( mBlock, *at.station, *at.referenceImage, *at.reference, *ground );
+        partner = stereoPartnerSeeing( mBlock, *at.station, *at.referenceImage, *ground );
       }
     if ( !anyGround )
     {
@@ -245,6 +229,226 @@ namespace geostation
     at.request.direction = mDirection;
     at.request.profile = mProfile;
     at.request.withinLimit = at.withinLimitOf( *at.reference, at.rangeLimitM );
+  }
+
+  //! A road line runs with the road: what leaves the corridor through the start is cut off.
+  LineFollowResult RoadTraceRun::keepInCourse( const StationAt &at, LineFollowResult result ) const
+  {
+    if ( !at.startGround || mOptions.courseHalfWidthM <= 0 )
+      return result;
+    std::vector<std::optional<Eigen::Vector3d>> onGround;
+    for ( const Eigen::Vector2d &p : result.line.points )
+      onGround.push_back( at.ground( *at.reference, p ) );
+    const size_t n = pointsInCourse( mTrack.trajectory(), *at.startGround, onGround, mOptions.courseHalfWidthM, mOptions.courseSlope );
+    if ( n < result.line.points.size() )
+    {
+      result.line.points.resize( n );
+      result.line.sigmaPx.resize( std::min( n, result.line.sigmaPx.size() ) );
+      result.line.bridged.resize( std::min( n, result.line.bridged.size() ) );
+      result.line.stop = TraceStop::DirectionChange;
+      if ( n >= 2 )
+        result.line.direction = ( result.line.points[n - 1] - result.line.points[n - 2] ).normalized();
+    }
+    return result;
+  }
+
+  /**
+   * The line in the reference image: the method asked for, or auto's
+   * choice (autoMethodOrder(): for paint the polynomial strips, for edges
+   * and dark bands least squares), the next methods in auto's order tried
+   * while the line covers less than half the way.
+   */
+  ReferenceLine RoadTraceRun::followInReference( const StationAt &at ) const
+  {
+    const bool automatic = mOptions.method == TraceMethod::Auto;
+    ReferenceLine line;
+    const std::vector<TraceMethod> order = autoMethodOrder( mProfile );
+    line.method = automatic ? order.front() : mOptions.method;
+    line.followed = keepInCourse( at, followLine( *mReferenceGrey, at.request, line.method, at.follow ) );
+    const OrientedImage &reference = *at.reference;
+    if ( automatic && at.startGround )
+    {
+      // while the line covers less than half the way, the other methods are tried in turn; the longest is kept
+      const double wanted = at.rangeLimitM - horizontalDistance( *at.startGround, at.centre );
+      const std::vector<TraceMethod> others( order.begin() + 1, order.end() );
+      double length = groundLength( reference, line.followed.line.points, at.ground );
+      for ( const TraceMethod other : others )
+      {
+        if ( length >= 0.5 * wanted || line.followed.line.stop == TraceStop::LeftImage )
+          break;
+        LineFollowResult next = keepInCourse( at, followLine( *mReferenceGrey, at.request, other, at.follow ) );
+        const double nextLength = groundLength( reference, next.line.points, at.ground );
+        if ( nextLength > length )
+        {
+          line.followed = std::move( next );
+          line.method = other;
+          length = nextLength;
+        }
+      }
+    }
+    // a gap between the line so far and this station's start (the last station lost the line early): followed
+    // back from the start too, towards the camera, where this station sees the line best
+    if ( at.startGround && mKeep > 0 && mKeep <= mOut.vertices.size() && line.followed.line.points.size() >= 2 &&
+         horizontalDistance( *at.startGround, mOut.vertices[mKeep - 1].point ) > mOptions.backfillGapM )
+    {
+      FollowRequest backwardRequest = at.request;
+      backwardRequest.direction = -at.request.direction;
+      if ( mProfile.kind == LineKind::Edge )
+        backwardRequest.profile.polarity = -mProfile.polarity;
+      // (auto: polynomial strips, the most precise; the skeleton's end pixels stray)
+      const LineFollowResult backward = keepInCourse( at, followLine( *mReferenceGrey, backwardRequest, automatic ? TraceMethod::Polynomial : line.method, at.follow ) );
+      line.followed.line.pixelsFollowed += backward.line.pixelsFollowed;
+      joinBackward( backward.line, line.followed.line );
+    }
+    return line;
+  }
+
+  //! The partner's start by correlation along the epipolar curve, then the same method; the station's 3-D vertices.
+  StationStereo RoadTraceRun::matchInPartner( const StationAt &at, const ReferenceLine &line, TracedStation &record )
+  {
+    StationStereoInput input;
+    input.stationId = at.station->id;
+    input.reference = { at.referenceImage->id, &*at.reference, mReferenceGrey.get() };
+    input.partner = { at.partnerImage->id, &*at.partner, at.partnerGrey.get() };
+    input.ground = at.ground;
+    input.referenceLine = line.followed.line;
+    input.request = at.request;
+    input.method = line.method;
+    input.follow = at.follow;
+    input.partnerWithinLimit = at.withinLimitOf( *at.partner, at.rangeLimitM + 3.0 );
+    input.profile = mProfile;
+    input.widthTimesRange = mWidthTimesRange;
+    input.lineDirection = mLineDirection;
+    for ( const StationBehind &b : mBehind )
+      input.behind.push_back( b.view() );
+    StationStereo stereo = traceStationStereo( input, mOptions );
+    MultiStationSummary &all = mOut.multiStation;
+    all.vertices += stereo.multiStation.vertices;
+    all.observations += stereo.multiStation.observations;
+    all.rejected += stereo.multiStation.rejected;
+    all.dropped += stereo.multiStation.dropped;
+    all.unconfirmed += stereo.multiStation.unconfirmed;
+    all.weightedSquares += stereo.multiStation.weightedSquares;
+    all.redundancy += stereo.multiStation.redundancy;
+    if ( !stereo.partnerStart.ok() )
+    {
+      record.partnerMessage = stereo.partnerStart.message;
+      return stereo;
+    }
+    record.partnerScore = stereo.partnerStart.score;
+    if ( mOptions.stationsBehind > 0 )
+    {
+      mBehind.push_front( { at.station->id, { at.referenceImage->id, at.partnerImage->id }, { *at.reference, *at.partner }, { mReferenceGrey, at.partnerGrey } } );
+      if ( mBehind.size() > static_cast<size_t>( mOptions.stationsBehind ) )
+        mBehind.pop_back();
+    }
+    return stereo;
+  }
+
+  //! The station's vertices into the run's line (runline.h).
+  StationPartSummary RoadTraceRun::appendToRun( const StationAt &at, const std::vector<LineVertex3d> &vertices )
+  {
+    StationPart part;
+    part.stationId = at.station->id;
+    part.referenceImageId = at.referenceImage->id;
+    part.partnerImageId = at.partnerImage->id;
+    part.runAlong = mPreviousCentre ? Eigen::Vector3d( at.centre - *mPreviousCentre ) : Eigen::Vector3d( at.reference->cameraFromWorldRotation().row( 2 ).transpose() * -1.0 );
+    part.keep = mKeep;
+    part.trajectory = &mTrack.trajectory();
+    if ( !mOptions.groundOfPixel )
+      part.surfaceHeight = [this, &at]( const Eigen::Vector3d &p ) { return mTrack.surfaceHeight( p.head<2>(), at.centre.z(), at.centre.head<2>() ); };
+    const StationPartSummary joined = appendStationPart( mOut.vertices, vertices, part, mOptions );
+    mOut.heightOutliers += joined.heightOutliers;
+    mOut.lateralOutliers += joined.lateralOutliers;
+    return joined;
+  }
+
+  //! The line on the ground so far: the run's vertices, or (before any) the reference line on the road surface.
+  std::vector<Eigen::Vector3d> RoadTraceRun::lineOnGround( const StationAt &at, const FollowResult &followed ) const
+  {
+    std::vector<Eigen::Vector3d> groundLine;
+    for ( const TracedVertex &v : mOut.vertices )
+      groundLine.push_back( v.point );
+    if ( groundLine.size() >= 2 )
+      return groundLine;
+    // (a lone vertex is not mixed with the line on the road surface: their difference is no direction)
+    groundLine.clear();
+    for ( const Eigen::Vector2d &p : followed.points )
+      if ( const std::optional<Eigen::Vector3d> g = at.ground( *at.reference, p ) )
+        groundLine.push_back( *g );
+    return groundLine;
+  }
+
+  //! The line's direction over its last 20 m on the ground (kept where that is shorter than 0.2 m).
+  void RoadTraceRun::updateLineDirection( const std::vector<Eigen::Vector3d> &groundLine )
+  {
+    if ( groundLine.size() < 2 )
+      return;
+    size_t from = groundLine.size() - 1;
+    while ( from > 0 && ( groundLine.back() - groundLine[from - 1] ).head<2>().norm() < 20.0 )
+      --from;
+    if ( ( groundLine.back() - groundLine[from] ).norm() > 0.2 )
+      mLineDirection = ( groundLine.back() - groundLine[from] ).normalized();
+  }
+
+  //! Progress and cancel, the station limit, and a line to go on with; false (stopped) otherwise.
+  bool RoadTraceRun::mayGoOn( const StationAt &at, int stationsDone, const std::vector<Eigen::Vector3d> &groundLine, const StartMatch &partnerStart )
+  {
+    const std::string &id = at.station->id;
+    if ( !mOptions.progress.report( mSequence.size() > 1 ? static_cast<double>( stationsDone + 1 ) / mSequence.size() : 1.0, "station " + id ) )
+    {
+      stopWith( TraceStop::Cancelled, "tracing was cancelled after station " + id );
+      return false;
+    }
+    if ( mOptions.maxStations > 0 && stationsDone + 1 >= mOptions.maxStations )
+    {
+      stopWith( TraceStop::MaxStations, std::to_string( mOptions.maxStations ) + " stations traced, as asked" );
+      return false;
+    }
+    if ( groundLine.size() < 2 || mLineDirection.isZero() )
+    {
+      stopWith( TraceStop::NoEdge, "no vertex of " + at.referenceImage->id + " could be matched in " + at.partnerImage->id +
+                ( partnerStart.ok() ? std::string() : " (" + partnerStart.message + ")" ) );
+      return false;
+    }
+    return true;
+  }
+
+  //! The line handed over to the next station ahead along it (stationhandover.h); false (stopped) at the end of the run or of the line.
+  bool RoadTraceRun::linkToNext( const StationAt &at, const FollowResult &followed, const std::vector<Eigen::Vector3d> &groundLine, size_t firstOfStation )
+  {
+    HandoverInput in;
+    in.block = &mBlock;
+    in.track = &mTrack;
+    in.images = &mImages;
+    in.seedImageId = mSeedImage.id;
+    in.station = mK;
+    in.step = mStep;
+    in.reference = &*at.reference;
+    in.referenceGrey = mReferenceGrey.get();
+    in.previousCentre = mPreviousCentre;
+    in.followed = &followed;
+    in.vertices = &mOut.vertices;
+    in.firstOfStation = firstOfStation;
+    in.groundLine = &groundLine;
+    in.lineDirection = mLineDirection;
+    in.profile = mProfile;
+    in.widthTimesRange = mWidthTimesRange;
+    const Handover handover = handOverToNextStation( in, mOptions );
+    if ( !handover.ok() )
+    {
+      stopWith( *handover.stop, handover.message );
+      return false;
+    }
+    mOut.stationsPassedOver += handover.passedOver;
+    mStart = handover.link.start;
+    mDirection = handover.link.direction;
+    mKeep = handover.link.keep;
+    mStep = handover.step;
+    mPreviousCentre = at.centre;
+    mK = handover.station;
+    mReferenceGrey = handover.grey;
+    return true;
   }
 
   //! The sigmas scaled by the a posteriori variance factor of the multi-station adjustments (within a factor 4 either way); length and largest sigma.

@@ -6,11 +6,11 @@
   named steps: open its images (openStation), follow the line in the
   reference image (followInReference), find it in the partner and
   intersect (matchInPartner), append the station's vertices to the run's
-  line (appendToRun), and link to the next station (linkToNext). finish()
-  scales the sigmas by the run's sigma0. The run itself - its stations, the
-  image playing the seed's part at each, their track and the road under it
-  - is a RunTrack (runtrack.h). roadtracerun.cpp holds the set-up, the loop
-  and the opening of a station; roadtracesteps.cpp the steps.
+  line (appendToRun), and hand the line over to the next station
+  (linkToNext, by stationhandover.h). finish() scales the sigmas by the
+  run's sigma0. The run itself - its stations, the image playing the
+  seed's part at each, their track and the road under it - is a RunTrack
+  (runtrack.h).
  ***************************************************************************/
 #ifndef GEOSTATION_TRACING_ROADTRACERUN_H
 #define GEOSTATION_TRACING_ROADTRACERUN_H
@@ -21,7 +21,6 @@
 #include <string>
 #include <vector>
 
-#include "tracing/dynamiclink.h"
 #include "tracing/rigroles.h"
 #include "tracing/roadtracer.h"
 #include "tracing/runline.h"
@@ -111,10 +110,7 @@ namespace geostation
       std::vector<Eigen::Vector3d> lineOnGround( const StationAt &at, const FollowResult &followed ) const;
       void updateLineDirection( const std::vector<Eigen::Vector3d> &groundLine );
       bool mayGoOn( const StationAt &at, int stationsDone, const std::vector<Eigen::Vector3d> &groundLine, const StartMatch &partnerStart );
-      int stepAlongLine( const Eigen::Vector3d &centre ) const;
       bool linkToNext( const StationAt &at, const FollowResult &followed, const std::vector<Eigen::Vector3d> &groundLine, size_t firstOfStation );
-      std::optional<DynamicLink> linkTo( const StationAt &at, const BlockImage &nextImage, const cv::Mat &nextGrey, const std::vector<Eigen::Vector3d> &groundLine,
-                                         size_t firstOfStation ) const;
       void finish();
       void stopWith( TraceStop stop, const std::string &message );
 
