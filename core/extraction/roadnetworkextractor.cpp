@@ -131,10 +131,11 @@ namespace geostation
         summary.meanHeightM = *options.meanHeightM;
       else
       {
-        std::string whyNot;
-        summary.terrainEstimate = estimateTerrainHeight( *a, *b, matching, &whyNot );
-        if ( !summary.terrainEstimate && !options.terrain )
-          throw std::invalid_argument( "the terrain height could not be estimated by matching: " + whyNot + "; give a DEM or a mean terrain height" );
+        const TerrainHeightEstimate estimate = estimateTerrainHeight( *a, *b, matching );
+        if ( estimate.ok() )
+          summary.terrainEstimate = estimate;
+        else if ( !options.terrain )
+          throw std::invalid_argument( "the terrain height could not be estimated by matching: " + estimate.message + "; give a DEM or a mean terrain height" );
         summary.meanHeightM = summary.terrainEstimate ? summary.terrainEstimate->heightM : 0.0;
       }
     }

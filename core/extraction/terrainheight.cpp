@@ -171,23 +171,24 @@ namespace geostation
     }
   } // namespace
 
-  std::optional<TerrainHeightEstimate> estimateTerrainHeight( const OrientedImage &a, const OrientedImage &b, const MatchImage &imageA, const MatchImage &imageB,
-      std::string *whyNot )
+  TerrainHeightEstimate estimateTerrainHeight( const OrientedImage &a, const OrientedImage &b, const MatchImage &imageA, const MatchImage &imageB )
   {
     PairMatchWindows images( imageA, imageB );
-    return estimateTerrainHeight( a, b, images, whyNot );
+    return estimateTerrainHeight( a, b, images );
   }
 
-  std::optional<TerrainHeightEstimate> estimateTerrainHeight( const OrientedImage &a, const OrientedImage &b, PairMatchWindows &images, std::string *whyNot )
+  TerrainHeightEstimate estimateTerrainHeight( const OrientedImage &a, const OrientedImage &b, PairMatchWindows &images )
   {
-    const auto fail = [&]( const std::string &why ) -> std::optional<TerrainHeightEstimate>
+    using Status = TerrainHeightEstimate::Status;
+    const auto fail = []( Status status, const std::string &why )
     {
-      if ( whyNot )
-        *whyNot = why;
-      return std::nullopt;
+      TerrainHeightEstimate none;
+      none.status = status;
+      none.message = why;
+      return none;
     };
     if ( !images.available() )
-      return fail( "the images cannot be read for matching" );
+      return fail( Status::Unreadable, "the images cannot be read for matching" );
     std::vector<Eigen::Vector2d> grid;
     for ( int r = 1; r <= kGrid; ++r )
       for ( int c = 1; c <= kGrid; ++c )
@@ -204,12 +205,12 @@ namespace geostation
     const Vote *band = best.centre;
     const int shared = best.points;
     if ( !band || shared < kMinPoints )
-      return fail( std::to_string( voting.size() ) + " of the " + std::to_string( grid.size() ) + " grid points found a correlation peak above " +
+      return fail( Status::NoSharedHeight, std::to_string( voting.size() ) + " of the " + std::to_string( grid.size() ) + " grid points found a correlation peak above " +
                    std::to_string( kVoteScore ).substr( 0, 3 ) + " along their epipolar curves, and no terrain height is shared by " + std::to_string( kMinPoints ) +
                    " of them (the images do not overlap, or have too little texture)" );
 
     if ( runnerUp.centre && runnerUp.points >= kRunnerUpShare * shared )
-      return fail( "the texture repeats: terrain heights of about " + std::to_string( static_cast<int>( std::lround( band->heightM ) ) ) + " m and " +
+      return fail( Status::RepeatingTexture, "the texture repeats: terrain heights of about " + std::to_string( static_cast<int>( std::lround( band->heightM ) ) ) + " m and " +
                    std::to_string( static_cast<int>( std::lround( runnerUp.centre->heightM ) ) ) + " m are shared by " + std::to_string( shared ) + " and " +
                    std::to_string( runnerUp.points ) + " grid points" );
 
@@ -228,7 +229,7 @@ namespace geostation
       // within the band, but their correlation peaks agree on it; each point's best peak in the band is its height
       heights = votedHeights( votes, *band );
       if ( static_cast<int>( heights.size() ) < kMinPoints )
-        return fail( std::to_string( shared ) + " grid points agree on a terrain height of about " + std::to_string( static_cast<int>( std::lround( band->heightM ) ) ) +
+        return fail( Status::NoUniqueMatch, std::to_string( shared ) + " grid points agree on a terrain height of about " + std::to_string( static_cast<int>( std::lround( band->heightM ) ) ) +
                      " m, but only " + std::to_string( heights.size() ) + " of them match by least squares without a second peak there" );
     }
     std::sort( heights.begin(), heights.end() );

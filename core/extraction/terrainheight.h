@@ -19,12 +19,12 @@
        the band comes close; the estimate is their median with its spread.
 
   Expected failures (no overlap, no texture, no band shared by 5 points)
-  come back as nothing, with a sentence saying what was tried.
+  come back as a status other than Estimated, with a sentence saying what
+  was tried.
  ***************************************************************************/
 #ifndef GEOSTATION_EXTRACTION_TERRAINHEIGHT_H
 #define GEOSTATION_EXTRACTION_TERRAINHEIGHT_H
 
-#include <optional>
 #include <string>
 
 #include "extraction/pairmatchwindows.h"
@@ -35,21 +35,29 @@ namespace geostation
 
   struct TerrainHeightEstimate
   {
+    enum class Status
+    {
+      Estimated,
+      Unreadable,       //!< the images cannot be read for matching
+      NoSharedHeight,   //!< no height shared by enough grid points (no overlap, too little texture)
+      RepeatingTexture, //!< two heights shared nearly as widely: the texture's aliases
+      NoUniqueMatch,    //!< a height shared, but too few points match there without a second peak
+    };
+    Status status = Status::Estimated;
+    std::string message; //!< one sentence, what was tried, when not Estimated
     double heightM = 0.0;
     int points = 0;       //!< grid points matched by least squares within the band the median is taken from
     double spreadM = 0.0; //!< median absolute deviation of their heights
     int votingPoints = 0; //!< grid points whose correlation peaks voted for the band
     bool byLeastSquares = true; //!< the points matched by least squares (else their correlation peaks in the band)
+
+    bool ok() const { return status == Status::Estimated; }
   };
 
-  /**
-   * The mean terrain height of the pair (A, B) from a 9 x 9 grid of A;
-   * nothing when it cannot be told, with the reason in `whyNot`.
-   */
-  std::optional<TerrainHeightEstimate> estimateTerrainHeight( const OrientedImage &a, const OrientedImage &b, PairMatchWindows &images, std::string *whyNot = nullptr );
+  //! The mean terrain height of the pair (A, B) from a 9 x 9 grid of A, or the status saying why it cannot be told.
+  TerrainHeightEstimate estimateTerrainHeight( const OrientedImage &a, const OrientedImage &b, PairMatchWindows &images );
   //! The same over two whole images.
-  std::optional<TerrainHeightEstimate> estimateTerrainHeight( const OrientedImage &a, const OrientedImage &b, const MatchImage &imageA, const MatchImage &imageB,
-      std::string *whyNot = nullptr );
+  TerrainHeightEstimate estimateTerrainHeight( const OrientedImage &a, const OrientedImage &b, const MatchImage &imageA, const MatchImage &imageB );
 
 } // namespace geostation
 

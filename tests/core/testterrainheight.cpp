@@ -21,11 +21,11 @@ using namespace geostation::paintedpair;
 
 namespace
 {
-  std::optional<TerrainHeightEstimate> estimate( const PaintedPair &pair, std::string *whyNot )
+  TerrainHeightEstimate estimate( const PaintedPair &pair )
   {
     const OrientedImage a( pair.camera, pair.exterior[0] ), b( pair.camera, pair.exterior[1] );
     const MatchImage imageA( pair.grey[0] ), imageB( pair.grey[1] );
-    return estimateTerrainHeight( a, b, imageA, imageB, whyNot );
+    return estimateTerrainHeight( a, b, imageA, imageB );
   }
 }
 
@@ -35,14 +35,13 @@ TEST( TerrainHeight, FieldsInRowsAtTwoImageSizes )
   {
     SCOPED_TRACE( width );
     const PaintedPair pair = paintedPair( width, Texture::Rows );
-    std::string whyNot;
-    const std::optional<TerrainHeightEstimate> e = estimate( pair, &whyNot );
-    ASSERT_TRUE( e ) << whyNot;
-    std::printf( "rows, %d px: %.2f m (truth %.2f), %d points matched, %d voting, spread %.2f m\n", width, e->heightM, pair.terrainM, e->points, e->votingPoints,
-                 e->spreadM );
-    EXPECT_NEAR( e->heightM, pair.terrainM, 0.5 );
-    EXPECT_GE( e->points, 20 );
-    EXPECT_LE( e->spreadM, 1.0 );
+    const TerrainHeightEstimate e = estimate( pair );
+    ASSERT_TRUE( e.ok() ) << e.message;
+    std::printf( "rows, %d px: %.2f m (truth %.2f), %d points matched, %d voting, spread %.2f m\n", width, e.heightM, pair.terrainM, e.points, e.votingPoints,
+                 e.spreadM );
+    EXPECT_NEAR( e.heightM, pair.terrainM, 0.5 );
+    EXPECT_GE( e.points, 20 );
+    EXPECT_LE( e.spreadM, 1.0 );
   }
 }
 
@@ -50,14 +49,16 @@ TEST( TerrainHeight, ATextureThatRepeatsEverywhereIsSaidTo )
 {
   // at 2000 px the curve is short enough for the right place to win; at 4000 px its aliases are shared as widely
   const PaintedPair small = paintedPair( 2000, Texture::Repeating );
-  std::string whyNot;
-  const std::optional<TerrainHeightEstimate> e = estimate( small, &whyNot );
-  ASSERT_TRUE( e ) << whyNot;
-  EXPECT_NEAR( e->heightM, small.terrainM, 0.5 );
-  const std::optional<TerrainHeightEstimate> large = estimate( paintedPair( 4000, Texture::Repeating ), &whyNot );
-  if ( large )
-    EXPECT_NEAR( large->heightM, small.terrainM, 0.5 ) << "a height claimed must be the terrain's";
+  const TerrainHeightEstimate e = estimate( small );
+  ASSERT_TRUE( e.ok() ) << e.message;
+  EXPECT_NEAR( e.heightM, small.terrainM, 0.5 );
+  const TerrainHeightEstimate large = estimate( paintedPair( 4000, Texture::Repeating ) );
+  if ( large.ok() )
+    EXPECT_NEAR( large.heightM, small.terrainM, 0.5 ) << "a height claimed must be the terrain's";
   else
-    EXPECT_NE( whyNot.find( "the texture repeats" ), std::string::npos ) << whyNot;
-  std::printf( "repeating, 4000 px: %s\n", large ? std::to_string( large->heightM ).c_str() : whyNot.c_str() );
+  {
+    EXPECT_EQ( large.status, TerrainHeightEstimate::Status::RepeatingTexture ) << large.message;
+    EXPECT_NE( large.message.find( "the texture repeats" ), std::string::npos ) << large.message;
+  }
+  std::printf( "repeating, 4000 px: %s\n", large.ok() ? std::to_string( large.heightM ).c_str() : large.message.c_str() );
 }
