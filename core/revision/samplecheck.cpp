@@ -9,6 +9,32 @@
 
 namespace geostation::revision
 {
+  namespace
+  {
+    //! a band this much wider than the one a moved sample settled on, touching it, is the road it borders
+    constexpr double kRoadOverVerge = 1.3;
+    //! bands whose edges lie this close count as touching
+    constexpr double kTouchingPx = 2.0;
+    //! neighbours of a moved sample where a car or a shadow hides the road's band but not its verge
+    constexpr int kSupportLostToCars = 2;
+    //! the verges either side of a road: widths within this share of each other
+    constexpr double kTwinWidthShare = 0.4;
+
+    bool touching( const Sample::Candidate &a, const Sample::Candidate &b )
+    {
+      return std::abs( a.offsetPx - b.offsetPx ) <= 0.5 * ( a.widthPx + b.widthPx ) + kTouchingPx;
+    }
+
+    //! A band like `verge` touching `road` on its other side.
+    bool hasTwinBeyond( const std::vector<Sample::Candidate> &candidates, const Sample::Candidate &road, const Sample::Candidate &verge )
+    {
+      const double side = verge.offsetPx < road.offsetPx ? -1.0 : 1.0;
+      return std::any_of( candidates.begin(), candidates.end(), [&]( const Sample::Candidate &t ) {
+        return ( t.offsetPx - road.offsetPx ) * side < 0.0 && touching( t, road ) &&
+               std::abs( t.widthPx - verge.widthPx ) <= kTwinWidthShare * std::max( t.widthPx, verge.widthPx );
+      } );
+    }
+  } // namespace
 
   bool inFrame( const OrientedImage &image, const Eigen::Vector3d &ground, Eigen::Vector2d &pixel, double marginPx )
   {
@@ -131,13 +157,52 @@ namespace geostation::revision
     s.widthPx = s.candidates.front().widthPx;
   }
 
+  namespace
+  {
+    /**
+     * On a bend the moved road's offset from the mapped course drifts from
+     * sample to sample, and a band beside it (a verge, a strip of field)
+     * can gather the most support at one sample: a sample whose band lies
+     * more than kOffCoursePx from the median of its moved neighbours' (3
+     * either side, at least 4 of them) takes its band nearest that median
+     * where one lies within kOnCoursePx.
+     */
+    void keepToNeighboursCourse( const std::vector<Sample> &samples, std::vector<const Sample::Candidate *> &chosen )
+    {
+      constexpr size_t kReach = 3;
+      constexpr double kOffCoursePx = 3.0, kOnCoursePx = 2.0;
+      const std::vector<const Sample::Candidate *> settled = chosen;
+      for ( size_t k = 0; k < samples.size(); ++k )
+      {
+        if ( !settled[k] )
+          continue;
+        std::vector<double> around;
+        for ( size_t j = k > kReach ? k - kReach : 0; j < std::min( samples.size(), k + kReach + 1 ); ++j )
+          if ( j != k && settled[j] )
+            around.push_back( settled[j]->offsetPx );
+        if ( around.size() < 4 )
+          continue;
+        std::nth_element( around.begin(), around.begin() + around.size() / 2, around.end() );
+        const double median = around[around.size() / 2];
+        if ( std::abs( settled[k]->offsetPx - median ) <= kOffCoursePx )
+          continue;
+        for ( const Sample::Candidate &c : samples[k].candidates )
+          if ( std::abs( c.offsetPx - median ) <= kOnCoursePx && ( chosen[k] == settled[k] || std::abs( c.offsetPx - median ) < std::abs( chosen[k]->offsetPx - median ) ) )
+            chosen[k] = &c;
+      }
+    }
+  } // namespace
+
   /**
    * A road moved as a whole: of a moved sample's bands (those in A that B
    * confirms), the one whose offset from the course the bands of the
    * neighbouring samples (5 either side) share most, within 1.5 px, and
    * at least 3 of them; a sample without such a band is not moved. The
    * moved road is found at about the same offset sample after sample; a
-   * band of grass at any offset.
+   * band of grass at any offset. Its shoulders are too, on either side:
+   * a band so chosen that borders a wider one with its twin beyond is the
+   * shoulder, and the road between them is taken. Then each sample is
+   * held to its neighbours' course (keepToNeighboursCourse()).
    */
   void settleShifts( std::vector<Sample> &samples )
   {
@@ -172,8 +237,24 @@ namespace geostation::revision
         }
       }
       if ( bestSupport < 3 )
+      {
         chosen[k] = nullptr;
+        continue;
+      }
+      // the road, not its shoulder: a wider band that the settled one touches on one side and a band like it on the
+      // other is a road between its shoulders (the three run along the road at the same offsets, and a car or a shadow
+      // hides the road's band from a sample or two); a wide strip of field beside a road has no such twin
+      const Sample::Candidate *verge = chosen[k];
+      int roadSupport = std::max( 3, bestSupport - kSupportLostToCars ) - 1;
+      for ( const Sample::Candidate &c : samples[k].candidates )
+        if ( c.widthPx > kRoadOverVerge * verge->widthPx && touching( c, *verge ) && hasTwinBeyond( samples[k].candidates, c, *verge ) )
+          if ( const int support = supportOf( c, 5 ); support > roadSupport )
+          {
+            roadSupport = support;
+            chosen[k] = &c;
+          }
     }
+    keepToNeighboursCourse( samples, chosen );
     for ( size_t k = 0; k < samples.size(); ++k )
     {
       Sample &s = samples[k];

@@ -175,7 +175,6 @@ void TestReviseRoadsAlgorithm::revisesAChangedMap()
   QVERIFY( confirmed >= 0.95 );
   QVERIFY( moved >= 0.9 );
   QVERIFY( notFound >= 0.9 );
-  QEXPECT_FAIL( "", "the moved road's new course runs along its kerb over some stretches (1.5 m RMS)", Continue );
   QVERIFY( movedRms <= 1.0 );
 
   // every measured vertex with its sigmas
