@@ -35,15 +35,14 @@ namespace geostation
     std::map<std::string, std::uint32_t> colmapCameraId;
     for ( const Camera &camera : block.cameras )
     {
-      std::string whyNot;
-      std::optional<ColmapCamera> c = colmapCameraFromCamera( camera, static_cast<std::uint32_t>( model.cameras.size() + 1 ), &whyNot );
-      if ( !c )
+      const CameraToColmap c = colmapCameraFromCamera( camera, static_cast<std::uint32_t>( model.cameras.size() + 1 ) );
+      if ( !c.ok() )
       {
-        s.dropped.push_back( whyNot + "; its images were left out" );
+        s.dropped.push_back( c.message + "; its images were left out" );
         continue;
       }
-      colmapCameraId[camera.id] = c->id;
-      model.cameras.push_back( *c );
+      colmapCameraId[camera.id] = c.camera.id;
+      model.cameras.push_back( c.camera );
     }
 
     std::map<std::string, size_t> imageIndex;

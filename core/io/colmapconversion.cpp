@@ -37,21 +37,23 @@ namespace geostation
     }
   }
 
-  std::optional<Camera> cameraFromColmap( const ColmapCamera &colmapCamera, const std::string &cameraId, std::string *whyNot )
+  CameraFromColmap cameraFromColmap( const ColmapCamera &colmapCamera, const std::string &cameraId )
   {
     const std::vector<double> &p = colmapCamera.params;
-    auto refuse = [&]( const std::string &why ) -> std::optional<Camera> {
-      if ( whyNot )
-        *whyNot = describe( colmapCamera ) + " " + why;
-      return std::nullopt;
+    using Status = CameraConversionStatus;
+    auto refuse = [&]( Status status, const std::string &why ) {
+      CameraFromColmap refused;
+      refused.status = status;
+      refused.message = describe( colmapCamera ) + " " + why;
+      return refused;
     };
     if ( colmapCameraModelParameterCount( colmapCamera.model ) != static_cast<int>( p.size() ) )
-      return refuse( "has " + std::to_string( p.size() ) + " parameters, not the model's " + std::to_string( colmapCameraModelParameterCount( colmapCamera.model ) ) );
+      return refuse( Status::Malformed, "has " + std::to_string( p.size() ) + " parameters, not the model's " + std::to_string( colmapCameraModelParameterCount( colmapCamera.model ) ) );
     for ( double v : p )
       if ( !std::isfinite( v ) )
-        return refuse( "has a parameter that is not a number" );
+        return refuse( Status::Malformed, "has a parameter that is not a number" );
     if ( colmapCamera.width == 0 || colmapCamera.height == 0 || colmapCamera.width > 1000000 || colmapCamera.height > 1000000 )
-      return refuse( "has the impossible size " + std::to_string( colmapCamera.width ) + " x " + std::to_string( colmapCamera.height ) + " pixels" );
+      return refuse( Status::Malformed, "has the impossible size " + std::to_string( colmapCamera.width ) + " x " + std::to_string( colmapCamera.height ) + " pixels" );
 
     Camera camera;
     camera.id = cameraId;
@@ -79,25 +81,28 @@ namespace geostation
       if ( m != "PINHOLE" )
         k = { p[4], p[5], p[6], p[7], m == "FULL_OPENCV" ? p[8] : 0.0 };
       if ( m == "FULL_OPENCV" && ( p[9] != 0.0 || p[10] != 0.0 || p[11] != 0.0 ) )
-        return refuse( "has the rational distortion terms k4, k5, k6 (" + std::to_string( p[9] ) + ", " + std::to_string( p[10] ) + ", " + std::to_string( p[11] )
+        return refuse( Status::NotRepresentable, "has the rational distortion terms k4, k5, k6 (" + std::to_string( p[9] ) + ", " + std::to_string( p[10] ) + ", " + std::to_string( p[11] )
                        + "), which GeoStation's lens models cannot represent exactly" );
     }
     else
-      return refuse( "uses a lens model GeoStation cannot represent exactly (supported: SIMPLE_PINHOLE, PINHOLE, SIMPLE_RADIAL, RADIAL, OPENCV, FULL_OPENCV without k4-k6)" );
+      return refuse( Status::NotRepresentable, "uses a lens model GeoStation cannot represent exactly (supported: SIMPLE_PINHOLE, PINHOLE, SIMPLE_RADIAL, RADIAL, OPENCV, FULL_OPENCV without k4-k6)" );
     if ( !( fx > 0.0 ) || !( fy > 0.0 ) )
-      return refuse( "has a focal length that is not positive" );
+      return refuse( Status::Malformed, "has a focal length that is not positive" );
     camera.f = fx;
     camera.aspect = fy / fx;
     const bool anyDistortion = k[0] != 0.0 || k[1] != 0.0 || k[2] != 0.0 || k[3] != 0.0 || k[4] != 0.0;
     const bool modelHasDistortion = m != "SIMPLE_PINHOLE" && m != "PINHOLE";
     camera.distortion.model = modelHasDistortion || anyDistortion ? DistortionModel::OpenCV : DistortionModel::None;
     camera.distortion.coeffs = k;
-    return camera;
+    CameraFromColmap converted;
+    converted.camera = camera;
+    return converted;
   }
 
-  std::optional<ColmapCamera> colmapCameraFromCamera( const Camera &camera, std::uint32_t colmapId, std::string *whyNot )
+  CameraToColmap colmapCameraFromCamera( const Camera &camera, std::uint32_t colmapId )
   {
-    ColmapCamera c;
+    CameraToColmap out;
+    ColmapCamera &c = out.camera;
     c.id = colmapId;
     c.width = static_cast<std::uint64_t>( camera.width );
     c.height = static_cast<std::uint64_t>( camera.height );
@@ -115,7 +120,7 @@ namespace geostation
           c.model = "PINHOLE";
           c.params = { camera.fx(), camera.fy(), camera.cx, camera.cy };
         }
-        return c;
+        return out;
       case DistortionModel::OpenCV:
         if ( d.k3() == 0.0 )
         {
@@ -127,13 +132,13 @@ namespace geostation
           c.model = "FULL_OPENCV";
           c.params = { camera.fx(), camera.fy(), camera.cx, camera.cy, d.k1(), d.k2(), d.p1(), d.p2(), d.k3(), 0.0, 0.0, 0.0 };
         }
-        return c;
+        return out;
       case DistortionModel::BrownPhoto:
         break;
     }
-    if ( whyNot )
-      *whyNot = "camera \"" + camera.id + "\" uses the lens model brown_photo (a correction of measured photo coordinates), which no COLMAP camera model represents exactly";
-    return std::nullopt;
+    out.status = CameraConversionStatus::NotRepresentable;
+    out.message = "camera \"" + camera.id + "\" uses the lens model brown_photo (a correction of measured photo coordinates), which no COLMAP camera model represents exactly";
+    return out;
   }
 
   ExteriorOrientation exteriorFromColmapPose( const Eigen::Vector4d &qvec, const Eigen::Vector3d &tvec )

@@ -22,7 +22,6 @@
 #ifndef GEOSTATION_IO_COLMAPCONVERSION_H
 #define GEOSTATION_IO_COLMAPCONVERSION_H
 
-#include <optional>
 #include <string>
 
 #include <Eigen/Core>
@@ -34,20 +33,44 @@
 namespace geostation
 {
 
-  /**
-   * The GeoStation camera of a COLMAP camera, or nothing with `*whyNot` set
-   * to a sentence naming the model and what it has that GeoStation's lens
-   * models do not.
-   */
-  std::optional<Camera> cameraFromColmap( const ColmapCamera &colmapCamera, const std::string &cameraId, std::string *whyNot );
+  //! Why a camera cannot be carried between COLMAP and GeoStation.
+  enum class CameraConversionStatus
+  {
+    Converted,
+    Malformed,        //!< the camera is not well formed: its parameter count, a parameter not a number, its size, its focal length
+    NotRepresentable, //!< the other side has no lens model that represents it exactly
+  };
+
+  //! A COLMAP camera as GeoStation's, or the sentence why not.
+  struct CameraFromColmap
+  {
+    CameraConversionStatus status = CameraConversionStatus::Converted;
+    std::string message; //!< one sentence naming the camera and what it has that GeoStation's lens models do not
+    Camera camera;       //!< when Converted
+
+    bool ok() const { return status == CameraConversionStatus::Converted; }
+  };
+
+  //! A GeoStation camera as COLMAP's, or the sentence why not.
+  struct CameraToColmap
+  {
+    CameraConversionStatus status = CameraConversionStatus::Converted;
+    std::string message; //!< one sentence naming the camera and its lens model
+    ColmapCamera camera; //!< when Converted
+
+    bool ok() const { return status == CameraConversionStatus::Converted; }
+  };
+
+  //! The GeoStation camera (id `cameraId`) of a COLMAP camera.
+  CameraFromColmap cameraFromColmap( const ColmapCamera &colmapCamera, const std::string &cameraId );
 
   /**
    * The COLMAP camera of a GeoStation camera: SIMPLE_PINHOLE or PINHOLE for
-   * "none", OPENCV (FULL_OPENCV when k3 is not 0) for "opencv"; nothing for
-   * "brown_photo", whose correction runs the other way round, and for film
-   * cameras with a scan affine, with `*whyNot` set.
+   * "none", OPENCV (FULL_OPENCV when k3 is not 0) for "opencv";
+   * NotRepresentable for "brown_photo", whose correction runs the other way
+   * round.
    */
-  std::optional<ColmapCamera> colmapCameraFromCamera( const Camera &camera, std::uint32_t colmapId, std::string *whyNot );
+  CameraToColmap colmapCameraFromCamera( const Camera &camera, std::uint32_t colmapId );
 
   //! The exterior orientation of a COLMAP pose; throws std::invalid_argument for a zero or non-finite quaternion.
   ExteriorOrientation exteriorFromColmapPose( const Eigen::Vector4d &qvec, const Eigen::Vector3d &tvec );

@@ -191,17 +191,17 @@ namespace geostation
         ++imagesPerCamera[im.cameraId];
       for ( const ColmapCamera &c : model.cameras )
       {
-        std::string whyNot;
-        std::optional<Camera> camera = cameraFromColmap( c, "camera" + std::to_string( c.id ), &whyNot );
-        if ( !camera )
+        const CameraFromColmap converted = cameraFromColmap( c, "camera" + std::to_string( c.id ) );
+        if ( !converted.ok() )
         {
-          import.dropped.push_back( whyNot + "; its " + std::to_string( imagesPerCamera[c.id] ) + " image(s) were dropped" );
+          import.dropped.push_back( converted.message + "; its " + std::to_string( imagesPerCamera[c.id] ) + " image(s) were dropped" );
           continue;
         }
-        cameraIdOf[c.id] = camera->id;
-        import.converted.push_back( "COLMAP camera " + std::to_string( c.id ) + " (" + c.model + ") became camera \"" + camera->id + "\" with lens model "
-                                    + distortionModelName( camera->distortion.model ) );
-        import.block.cameras.push_back( *camera );
+        const Camera &camera = converted.camera;
+        cameraIdOf[c.id] = camera.id;
+        import.converted.push_back( "COLMAP camera " + std::to_string( c.id ) + " (" + c.model + ") became camera \"" + camera.id + "\" with lens model "
+                                    + distortionModelName( camera.distortion.model ) );
+        import.block.cameras.push_back( camera );
       }
       return cameraIdOf;
     }

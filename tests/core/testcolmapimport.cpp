@@ -212,6 +212,37 @@ TEST( ColmapConversion, ImportedBlockProjectsLikeColmap )
   EXPECT_EQ( import.block.images.front().path, "frames/img_100.jpg" );
 }
 
+TEST( ColmapConversion, ACameraThatCannotBeCarriedSaysWhy )
+{
+  using Status = CameraConversionStatus;
+  const ColmapCamera opencv { 3, "OPENCV", 4000, 3000, { 3000, 3010, 2000, 1500, -0.1, 0.01, 0.001, -0.002 } };
+  const CameraFromColmap in = cameraFromColmap( opencv, "cam" );
+  ASSERT_TRUE( in.ok() ) << in.message;
+  EXPECT_EQ( in.camera.id, "cam" );
+  EXPECT_EQ( in.camera.distortion.model, DistortionModel::OpenCV );
+  const CameraToColmap back = colmapCameraFromCamera( in.camera, 7 );
+  ASSERT_TRUE( back.ok() ) << back.message;
+  EXPECT_EQ( back.camera.model, "OPENCV" );
+  EXPECT_EQ( back.camera.id, 7u );
+  for ( size_t i = 0; i < opencv.params.size(); ++i )
+    EXPECT_NEAR( back.camera.params[i], opencv.params[i], 1e-9 * std::abs( opencv.params[i] ) + 1e-15 ) << i;
+
+  const CameraFromColmap fisheye = cameraFromColmap( { 4, "OPENCV_FISHEYE", 4000, 3000, { 3000, 3000, 2000, 1500, 0.1, 0, 0, 0 } }, "cam" );
+  EXPECT_EQ( fisheye.status, Status::NotRepresentable );
+  EXPECT_NE( fisheye.message.find( "COLMAP camera 4 (OPENCV_FISHEYE)" ), std::string::npos ) << fisheye.message;
+  const CameraFromColmap tooFew = cameraFromColmap( { 5, "PINHOLE", 4000, 3000, { 3000, 3000, 2000 } }, "cam" );
+  EXPECT_EQ( tooFew.status, Status::Malformed );
+  EXPECT_NE( tooFew.message.find( "parameters" ), std::string::npos ) << tooFew.message;
+  const CameraFromColmap notANumber = cameraFromColmap( { 6, "SIMPLE_PINHOLE", 4000, 3000, { std::nan( "" ), 2000, 1500 } }, "cam" );
+  EXPECT_EQ( notANumber.status, Status::Malformed );
+
+  Camera brown = in.camera;
+  brown.distortion.model = DistortionModel::BrownPhoto;
+  const CameraToColmap refused = colmapCameraFromCamera( brown, 8 );
+  EXPECT_EQ( refused.status, Status::NotRepresentable );
+  EXPECT_NE( refused.message.find( "brown_photo" ), std::string::npos ) << refused.message;
+}
+
 TEST( ColmapConversion, PoseRoundTripAndAxes )
 {
   // a COLMAP camera looking straight down with image right = +x: omega = phi = kappa = 0
