@@ -20,7 +20,6 @@ namespace geostation
   {
     extraction.check();
     verification.check();
-    borders.check();
     companions.check();
     if ( maxRounds < 1 || maxRounds > 20 )
       throw std::invalid_argument( "the number of extraction rounds must be 1 to 20" );
@@ -413,13 +412,9 @@ namespace geostation
     // (and the intersections to where their branches, moved, cross)
     const CentreRefinementSummary refinedA = refineLineCentres( *grey[0], finalA.polygons, options.extraction.object );
     const CentreRefinementSummary refinedB = refineLineCentres( *grey[1], finalB.polygons, options.extraction.object );
-    // a line along a road's border (a shoulder, a kerb) where the road itself was not found goes onto the road
-    const RoadBorderSummary onRoadA = moveBordersOntoRoads( *grey[0], refinedA.lines, options.extraction.object, options.borders );
-    const RoadBorderSummary onRoadB = moveBordersOntoRoads( *grey[1], refinedB.lines, options.extraction.object, options.borders );
-    summary.bordersMoved = onRoadA.moved + onRoadB.moved;
     // a road is one band: the markings, kerbs and shoulders found beside it go
-    const CompanionLineSummary keptA = removeCompanionLines( *grey[0], onRoadA.lines, options.extraction.object, options.companions );
-    const CompanionLineSummary keptB = removeCompanionLines( *grey[1], onRoadB.lines, options.extraction.object, options.companions );
+    const CompanionLineSummary keptA = removeCompanionLines( *grey[0], refinedA.lines, options.extraction.object, options.companions );
+    const CompanionLineSummary keptB = removeCompanionLines( *grey[1], refinedB.lines, options.extraction.object, options.companions );
     summary.companionsRemoved = keptA.removed + keptB.removed;
     // a line the band does not carry along most of its course goes (a chain through the grain of a field)
     summary.linesA = bandSupportedLines( *grey[0], keptA.lines, options.extraction.object, options.minBandSupport, summary.unsupportedRemoved );
