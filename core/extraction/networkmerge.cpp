@@ -256,6 +256,16 @@ namespace geostation
       for ( size_t i = 0; i < samples.size(); ++i )
         cover[i] = covering( samples[i], line.sigmaM, pairIndex );
       const double minPiece = mOptions.minPieceM > 0.0 ? mOptions.minPieceM : 2.0 * toleranceFor( line.sigmaM, 0.0 );
+      // a repeat is not broken by a sample or two that wander off its direction (a line wavering along a kerb)
+      for ( size_t i = 1; i < samples.size(); )
+      {
+        size_t j = i;
+        while ( j < samples.size() && cover[j] < 0 )
+          ++j;
+        if ( j > i && cover[i - 1] >= 0 && j < samples.size() && samples[j].along - samples[i - 1].along <= 3.0 * mOptions.sampleM + 1e-9 )
+          std::fill( cover.begin() + static_cast<long>( i ), cover.begin() + static_cast<long>( j ), cover[i - 1] );
+        i = j + 1;
+      }
       // a short repeat (a road crossing at a small angle) is no duplicate
       for ( size_t i = 0; i < samples.size(); )
       {

@@ -5,8 +5,9 @@
   pairs, and a road crossing a pair's border ends there in one pair and
   starts in the next. Merging makes one network of them:
     - a stretch of a line that runs along a line already merged (within the
-      tolerance, about parallel) is a duplicate: it is dropped and its pair
-      is added to the line it repeats;
+      tolerance, about parallel; a sample or two off its direction, where
+      the line wavers, do not break it) is a duplicate: it is dropped and
+      its pair is added to the line it repeats;
     - what is left of it is a piece of its own; a piece that leaves the end
       of a merged line in its direction continues that line (a border
       joined), one that leaves its side ends on it (a junction, the node

@@ -7,6 +7,7 @@
 #define GEOSTATION_TESTS_LINESCORING_H
 
 #include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <limits>
 #include <map>
@@ -149,6 +150,50 @@ namespace geostation
       }
     }
     return inside;
+  }
+
+  /**
+   * The share of the lines' length lying within `tolerance` of another of them and about parallel (within
+   * `parallelDeg`): a road found twice, which the buffer scores do not see. Within `nodeLength` of a line's
+   * ends it is a node (a junction, a line continued), not a repeat: left out on both sides. Units as the lines'.
+   */
+  inline double doubledShare( const std::vector<std::vector<Eigen::Vector3d>> &lines, double tolerance, double nodeLength, double parallelDeg = 30.0, double step = 0.5 )
+  {
+    std::vector<std::vector<Eigen::Vector3d>> inner;
+    double total = 0.0, doubled = 0.0;
+    for ( const auto &l : lines )
+    {
+      const double len = polylineLength( l );
+      total += len;
+      inner.push_back( len > 2 * nodeLength ? polylineBetween( l, nodeLength, len - nodeLength ) : std::vector<Eigen::Vector3d>() );
+    }
+    const double minCos = std::cos( parallelDeg * 3.14159265358979323846 / 180.0 );
+    for ( size_t i = 0; i < inner.size(); ++i )
+      for ( size_t k = 0; k + 1 < inner[i].size(); ++k )
+      {
+        const Eigen::Vector3d a = inner[i][k], b = inner[i][k + 1];
+        const double len = ( b - a ).head<2>().norm();
+        if ( !( len > 0 ) )
+          continue;
+        const Eigen::Vector3d dir = ( b - a ).normalized();
+        const int n = std::max( 1, static_cast<int>( std::ceil( len / step ) ) );
+        for ( int m = 0; m < n; ++m )
+        {
+          const Eigen::Vector3d p = a + ( m + 0.5 ) / n * ( b - a );
+          for ( size_t j = 0; j < inner.size(); ++j )
+          {
+            if ( j == i || inner[j].size() < 2 )
+              continue;
+            const PolylineProjection q = projectOnto( inner[j], p, true );
+            if ( q.distance <= tolerance && std::abs( q.tangent.head<2>().dot( dir.head<2>() ) ) >= minCos )
+            {
+              doubled += len / n;
+              break;
+            }
+          }
+        }
+      }
+    return total > 0 ? doubled / total : 0.0;
   }
 
   struct BufferScore

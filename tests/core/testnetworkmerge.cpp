@@ -147,3 +147,25 @@ TEST( NetworkMerge, BadOptionsAndTwoPairsOfOneName )
   EXPECT_TRUE( s.lines.empty() );
   EXPECT_EQ( s.linesIn, 1 );
 }
+
+// A road found by two pairs, the second's line wavering along it (a kink of 45 degrees every 5 m between 0.3 and
+// 1.3 m off, as a line following a kerb does): the kinks do not break the repeat into pieces too short to be one,
+// and the road is one line.
+TEST( NetworkMerge, ARepeatThatWaversIsStillARepeat )
+{
+  PairNetwork first { "S0001-S0002", { straight( { 0, 0 }, { 300, 0 }, 0.0, 1.0 ) } }, second { "S0002-S0003", {} };
+  PairNetworkLine wavering;
+  wavering.sigmaM = 1.0;
+  for ( int k = 0; k < 60; ++k )
+  {
+    const double y = k % 2 ? 1.3 : 0.3;
+    wavering.points.emplace_back( 5.0 * k, y, 300.0 );
+    wavering.points.emplace_back( 5.0 * k + 4.0, y, 300.0 );
+  }
+  second.lines.push_back( wavering );
+  const NetworkMergeSummary s = mergeNetworks( { first, second } );
+  ASSERT_EQ( s.lines.size(), 1u );
+  EXPECT_NEAR( totalLength( s ), 300.0, 5.0 );
+  EXPECT_EQ( s.lines[0].pairs, ( std::vector<std::string> { "S0001-S0002", "S0002-S0003" } ) );
+  EXPECT_GT( s.duplicateLengthM, 280.0 );
+}

@@ -298,12 +298,15 @@ TEST( RoadExtraction, DISABLED_DefaultsOnTheSimulatorsPairs )
     const std::vector<std::vector<Eigen::Vector3d>> lines = asLines( s.extraction.linesA ), truth = truthCentreLinesInImage( *pair, 0, true );
     const BufferScore near = scoreInImage( lines, truth, 3.0 ), wide = scoreInImage( lines, truth, 7.0 );
     const BufferScore whole = scoreInImage( lines, truthCentreLinesInImage( *pair, 0 ), 3.0 );
+    // a road found twice: lines within 2 m of each other and about parallel, away from their ends (5 m)
+    const double doubled = doubledShare( lines, 4.0, 10.0 );
     std::printf( "%s pair with the defaults, where both photos see: completeness %.2f, correctness %.2f (within 3.5 m: %.2f, %.2f; over the whole left "
-                 "image %.2f, %.2f; contrast %.0f)\n",
-                 name, near.completeness, near.correctness, wide.completeness, wide.correctness, whole.completeness, whole.correctness, s.minContrast );
+                 "image %.2f, %.2f; contrast %.0f); %.1f %% of the lines' length doubled\n",
+                 name, near.completeness, near.correctness, wide.completeness, wide.correctness, whole.completeness, whole.correctness, s.minContrast, 100 * doubled );
     drawDebug( std::string( "defaults_" ) + name, pair->left, s.extraction.linesA, truth );
     EXPECT_GE( near.completeness, 0.85 ) << name;
     EXPECT_GE( near.correctness, 0.90 ) << name;
+    EXPECT_LT( doubled, 0.02 ) << name;
   }
 }
 
