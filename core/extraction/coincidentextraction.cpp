@@ -20,6 +20,7 @@ namespace geostation
   {
     extraction.check();
     verification.check();
+    borders.check();
     companions.check();
     if ( maxRounds < 1 || maxRounds > 20 )
       throw std::invalid_argument( "the number of extraction rounds must be 1 to 20" );
@@ -416,9 +417,13 @@ namespace geostation
     const CompanionLineSummary keptA = removeCompanionLines( *grey[0], refinedA.lines, options.extraction.object, options.companions );
     const CompanionLineSummary keptB = removeCompanionLines( *grey[1], refinedB.lines, options.extraction.object, options.companions );
     summary.companionsRemoved = keptA.removed + keptB.removed;
+    // a line along a road's border (a shoulder, a kerb) where the road itself was not found goes onto the road
+    const RoadBorderSummary onRoadA = moveBordersOntoRoads( *grey[0], keptA.lines, options.extraction.object, options.borders );
+    const RoadBorderSummary onRoadB = moveBordersOntoRoads( *grey[1], keptB.lines, options.extraction.object, options.borders );
+    summary.bordersMoved = onRoadA.moved + onRoadB.moved;
     // a line the band does not carry along most of its course goes (a chain through the grain of a field)
-    summary.linesA = bandSupportedLines( *grey[0], keptA.lines, options.extraction.object, options.minBandSupport, summary.unsupportedRemoved );
-    summary.linesB = bandSupportedLines( *grey[1], keptB.lines, options.extraction.object, options.minBandSupport, summary.unsupportedRemoved );
+    summary.linesA = bandSupportedLines( *grey[0], onRoadA.lines, options.extraction.object, options.minBandSupport, summary.unsupportedRemoved );
+    summary.linesB = bandSupportedLines( *grey[1], onRoadB.lines, options.extraction.object, options.minBandSupport, summary.unsupportedRemoved );
     summary.compilationStage.seconds += t0.seconds();
     summary.intersectionsA = refinedA.movedIntersections( finalA.intersections );
     summary.intersectionsB = refinedB.movedIntersections( finalB.intersections );

@@ -27,6 +27,7 @@
 #include "extraction/companionlines.h"
 #include "extraction/lineextractor.h"
 #include "extraction/pairmapping.h"
+#include "extraction/roadborders.h"
 #include "extraction/verification.h"
 
 namespace geostation
@@ -41,6 +42,7 @@ namespace geostation
     double kiteLengthPx = 0.0;    //!< the intersection search's main axis (§4.4.3: 20); 0: twice the widest road, at least 20 px
     double kiteWidthPx = 0.0;     //!< and its smaller axis (12); 0: the widest road, at least 12 px
     bool verify = true;           //!< false: one extraction in A, nothing verified (for comparison)
+    RoadBorderOptions borders;       //!< a final line along a road's border (shoulder, kerb) moved onto the road
     CompanionLineOptions companions; //!< markings, kerbs and shoulders along a road, removed from the final lines
     double minBandSupport = 0.5;  //!< a final line goes where its band support (bandSupport(), verification.h; beyond the mouths of its junctions) is below this (0: none goes; roads up to 4 px wide: none)
 
@@ -68,6 +70,7 @@ namespace geostation
     int bridged = 0;                                   //!< gaps and intersections closed by the final processing
     int pruned = 0;                                    //!< spurs removed by the final processing
     int companionsRemoved = 0;                         //!< lines beside a wider one (markings, kerbs, shoulders), both images
+    int bordersMoved = 0;                              //!< final lines moved from a road's border onto the road, both images
     int unsupportedRemoved = 0;                        //!< lines whose band support was below CoincidentExtractionOptions::minBandSupport, both images
     int subImages = 0;                                 //!< sub-images processed, all rounds and runs
     int temporaryDeadEnds = 0;                         //!< lines continued across sub-image borders
