@@ -11,6 +11,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 
 namespace geostation
@@ -28,6 +29,8 @@ namespace geostation
       throw std::invalid_argument( "the minimum gain of a round must be a fraction in [0, 1)" );
     if ( !( minBandSupport >= 0.0 && minBandSupport <= 1.0 ) )
       throw std::invalid_argument( "the band support a final line needs must be a fraction in [0, 1]" );
+    if ( !( maxBandWidening == 0.0 || maxBandWidening > 1.0 ) )
+      throw std::invalid_argument( "the widening of a final line's band must be 0 (any) or more than 1" );
     if ( kiteLengthPx < 0.0 || kiteWidthPx < 0.0 )
       throw std::invalid_argument( "the intersection search area must not have a negative size (0: automatic)" );
   }
@@ -36,20 +39,24 @@ namespace geostation
   {
     /**
      * `lines` without those the band does not carry (bandSupport() below `minSupport`): a chain through the
-     * grain of a field or a row of trees shows a band only here and there. An end at a junction is judged
-     * beyond the junction's mouth (its profiles cross the other road). Every line stays where the roads are
-     * lines, at most 4 px wide (one profile across a 2 px street among blocks tells little). `removed` counts
-     * the others.
+     * grain of a field or a row of trees shows a band only here and there; nor those along which the band
+     * widens steadily by `maxWidening` or more (a strip of field converging on a road). An end at a junction
+     * is judged beyond the junction's mouth (its profiles cross the other road). Every line stays where the
+     * roads are lines, at most 4 px wide (one profile across a 2 px street among blocks tells little).
+     * `removed` counts the others.
      */
     std::vector<CompiledPolygon> bandSupportedLines( const GreyTiles &grey, const std::vector<CompiledPolygon> &lines, const LineObjectOptions &object,
-                                                     double minSupport, int &removed )
+                                                     double minSupport, double maxWidening, int &removed )
     {
-      if ( minSupport <= 0.0 || object.maxWidthPx <= 4.0 )
+      if ( ( minSupport <= 0.0 && maxWidening <= 0.0 ) || object.maxWidthPx <= 4.0 )
         return lines;
+      if ( maxWidening <= 0.0 )
+        maxWidening = std::numeric_limits<double>::infinity();
       std::vector<CompiledPolygon> kept;
       for ( const CompiledPolygon &line : lines )
       {
-        if ( bandSupport( grey, line.pixels, object, line.startEnd == PolygonEnd::Intersection, line.endEnd == PolygonEnd::Intersection ) >= minSupport )
+        const BandSupport band = bandSupport( grey, line.pixels, object, line.startEnd == PolygonEnd::Intersection, line.endEnd == PolygonEnd::Intersection );
+        if ( band.share >= minSupport && band.widening < maxWidening )
           kept.push_back( line );
         else
           ++removed;
@@ -422,8 +429,8 @@ namespace geostation
     const RoadBorderSummary onRoadB = moveBordersOntoRoads( *grey[1], keptB.lines, options.extraction.object, options.borders );
     summary.bordersMoved = onRoadA.moved + onRoadB.moved;
     // a line the band does not carry along most of its course goes (a chain through the grain of a field)
-    summary.linesA = bandSupportedLines( *grey[0], onRoadA.lines, options.extraction.object, options.minBandSupport, summary.unsupportedRemoved );
-    summary.linesB = bandSupportedLines( *grey[1], onRoadB.lines, options.extraction.object, options.minBandSupport, summary.unsupportedRemoved );
+    summary.linesA = bandSupportedLines( *grey[0], onRoadA.lines, options.extraction.object, options.minBandSupport, options.maxBandWidening, summary.unsupportedRemoved );
+    summary.linesB = bandSupportedLines( *grey[1], onRoadB.lines, options.extraction.object, options.minBandSupport, options.maxBandWidening, summary.unsupportedRemoved );
     summary.compilationStage.seconds += t0.seconds();
     summary.intersectionsA = refinedA.movedIntersections( finalA.intersections );
     summary.intersectionsB = refinedB.movedIntersections( finalB.intersections );

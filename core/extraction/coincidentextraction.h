@@ -45,6 +45,7 @@ namespace geostation
     RoadBorderOptions borders;       //!< a final line along a road's border (shoulder, kerb) moved onto the road
     CompanionLineOptions companions; //!< markings, kerbs and shoulders along a road, removed from the final lines
     double minBandSupport = 0.5;  //!< a final line goes where its band support (bandSupport(), verification.h; beyond the mouths of its junctions) is below this (0: none goes; roads up to 4 px wide: none)
+    double maxBandWidening = 1.6; //!< and where its band widens steadily by this factor or more from one end to the other (bandSupport()'s widening; 0: none goes for it)
 
     //! Throws std::invalid_argument naming the first bad value.
     void check() const;
@@ -71,7 +72,7 @@ namespace geostation
     int pruned = 0;                                    //!< spurs removed by the final processing
     int companionsRemoved = 0;                         //!< lines beside a wider one (markings, kerbs, shoulders), both images
     int bordersMoved = 0;                              //!< final lines moved from a road's border onto the road, both images
-    int unsupportedRemoved = 0;                        //!< lines whose band support was below CoincidentExtractionOptions::minBandSupport, both images
+    int unsupportedRemoved = 0;                        //!< lines whose band support was below CoincidentExtractionOptions::minBandSupport or whose band widened by maxBandWidening, both images
     int subImages = 0;                                 //!< sub-images processed, all rounds and runs
     int temporaryDeadEnds = 0;                         //!< lines continued across sub-image borders
     bool cancelled = false;

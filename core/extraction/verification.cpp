@@ -53,11 +53,48 @@ namespace geostation
     return best;
   }
 
-  double bandSupport( const GreyTiles &grey, const std::vector<Eigen::Vector2d> &line, const LineObjectOptions &object, bool trimStart, bool trimEnd )
+  namespace
+  {
+    /**
+     * The band's width at the wider end of the stretch where it was found
+     * over that at the narrower end, by a straight line fitted to the widths
+     * against the distance along; 1 where the widths do not follow a straight
+     * line (within 15 % of their mean, RMS) or the stretch is shorter than 4
+     * widths.
+     */
+    double steadyWidening( const std::vector<std::pair<double, double>> &alongWidth )
+    {
+      const double n = static_cast<double>( alongWidth.size() );
+      if ( alongWidth.size() < 10 )
+        return 1.0;
+      double sa = 0.0, sw = 0.0, saa = 0.0, saw = 0.0;
+      for ( const auto &[a, w] : alongWidth )
+      {
+        sa += a;
+        sw += w;
+        saa += a * a;
+        saw += a * w;
+      }
+      const double denominator = n * saa - sa * sa, mean = sw / n;
+      const double first = alongWidth.front().first, last = alongWidth.back().first;
+      if ( !( denominator > 0.0 ) || last - first < 4.0 * mean )
+        return 1.0;
+      const double slope = ( n * saw - sa * sw ) / denominator, intercept = ( sw - slope * sa ) / n;
+      double squares = 0.0;
+      for ( const auto &[a, w] : alongWidth )
+        squares += ( w - intercept - slope * a ) * ( w - intercept - slope * a );
+      if ( std::sqrt( squares / n ) > 0.15 * mean )
+        return 1.0;
+      const double atFirst = intercept + slope * first, atLast = intercept + slope * last;
+      return std::max( atFirst, atLast ) / std::max( 1.0, std::min( atFirst, atLast ) );
+    }
+  } // namespace
+
+  BandSupport bandSupport( const GreyTiles &grey, const std::vector<Eigen::Vector2d> &line, const LineObjectOptions &object, bool trimStart, bool trimEnd )
   {
     const std::vector<Eigen::Vector2d> samples = densifyPolyline( line, 2.0 );
     if ( samples.size() < 3 )
-      return 1.0;
+      return {};
     std::vector<double> along( samples.size(), 0.0 );
     for ( size_t i = 1; i < samples.size(); ++i )
       along[i] = along[i - 1] + ( samples[i] - samples[i - 1] ).norm();
@@ -80,14 +117,22 @@ namespace geostation
       trim = 2.0 * widths[widths.size() / 2];
     }
     int found = 0, counted = 0;
+    std::vector<std::pair<double, double>> alongWidth;
     for ( size_t i = 0; i + 1 < samples.size(); ++i )
     {
       if ( !looked[i] || ( trimStart && along[i] < trim ) || ( trimEnd && along[i] > along.back() - trim ) )
         continue;
       ++counted;
-      found += sections[i].has_value();
+      if ( sections[i] )
+      {
+        ++found;
+        alongWidth.emplace_back( along[i], sections[i]->widthPx );
+      }
     }
-    return counted > 0 ? static_cast<double>( found ) / counted : 1.0;
+    BandSupport support;
+    support.share = counted > 0 ? static_cast<double>( found ) / counted : 1.0;
+    support.widening = steadyWidening( alongWidth );
+    return support;
   }
 
   std::pair<double, double> measureBand( const GreyTiles &grey, const std::vector<Eigen::Vector2d> &line, const LineObjectOptions &object )

@@ -86,6 +86,13 @@ namespace geostation
    */
   std::optional<CrossSection> bandAt( const GreyTiles &grey, const Eigen::Vector2d &pixelInImage, const Eigen::Vector2d &direction, const LineObjectOptions &object );
 
+  //! How much of a line its band carries, and whether the band keeps its width along it (bandSupport()).
+  struct BandSupport
+  {
+    double share = 1.0;    //!< of the line's samples, every 2 px (beyond the trimmed mouths), where bandAt() finds a band
+    double widening = 1.0; //!< the band's width at one end of the stretch found over that at the other, where it changes steadily (else 1)
+  };
+
   /**
    * How much of `line` (pixelInImage) the band of `object` carries: the
    * fraction of its samples, every 2 px, where bandAt() finds a band. A road
@@ -94,10 +101,17 @@ namespace geostation
    * finds one only here and there. `trimStart` / `trimEnd`: the line ends
    * there at a junction, and the samples within twice the band's width of
    * it (the median width found), whose profiles cross the other road, do
-   * not count. 1 for a line shorter than 4 px or trimmed away.
+   * not count. Share 1 for a line shorter than 4 px or trimmed away.
+   *
+   * And how its width changes: a road keeps its width, or changes it at a
+   * junction, a lane added, a car; a strip of field converging on a road
+   * (between the road and a field's border) widens steadily along the line
+   * - `widening` is the ratio of the widths at the ends of a straight line
+   * fitted to them, where they follow one (RMS within 15 % of their mean)
+   * over at least 4 widths.
    */
-  double bandSupport( const GreyTiles &grey, const std::vector<Eigen::Vector2d> &line, const LineObjectOptions &object, bool trimStart = false,
-                      bool trimEnd = false );
+  BandSupport bandSupport( const GreyTiles &grey, const std::vector<Eigen::Vector2d> &line, const LineObjectOptions &object, bool trimStart = false,
+                           bool trimEnd = false );
 
   /**
    * The band's width and contrast along a line of `grey` (medians of up to

@@ -2,7 +2,9 @@
 // extraction's final lines with a dead end go where it is low. A road shows
 // its band along nearly all its length, past a car and across a shadow; a
 // chain through a field's grain and its scattered trees finds one only here
-// and there; a straight line across a plain field finds none.
+// and there; a straight line across a plain field finds none. And whether
+// the band keeps its width: a strip of field converging on a road widens
+// steadily along its line.
 #include <gtest/gtest.h>
 
 #include <random>
@@ -69,12 +71,12 @@ namespace
 TEST( BandSupport, ARoadCarriesItsLineAndAFieldDoesNot )
 {
   const GreyTiles grey( fieldWithARoad() );
-  const double road = bandSupport( grey, { Eigen::Vector2d( 10.0, 150.0 ), Eigen::Vector2d( 390.0, 150.0 ) }, roads() );
+  const double road = bandSupport( grey, { Eigen::Vector2d( 10.0, 150.0 ), Eigen::Vector2d( 390.0, 150.0 ) }, roads() ).share;
   // a chain through the grain, wandering across the field as REM's chains do
   std::vector<Eigen::Vector2d> chain;
   for ( int i = 0; i <= 40; ++i )
     chain.emplace_back( 20.0 + 9.0 * i, 60.0 + 6.0 * std::sin( 0.7 * i ) + 0.3 * i );
-  const double field = bandSupport( grey, chain, roads() );
+  const double field = bandSupport( grey, chain, roads() ).share;
   std::printf( "band support: the road %.2f, a chain through the field %.2f\n", road, field );
   EXPECT_GE( road, 0.9 );
   EXPECT_LT( field, 0.5 );
@@ -87,15 +89,18 @@ TEST( BandSupport, ARoadCarriesItsLineAndAFieldDoesNot )
 TEST( BandSupport, AShortLineCountsAsCarriedAndBadOptionsThrow )
 {
   const GreyTiles grey( fieldWithARoad() );
-  EXPECT_DOUBLE_EQ( bandSupport( grey, { Eigen::Vector2d( 50.0, 60.0 ), Eigen::Vector2d( 52.0, 60.0 ) }, roads() ), 1.0 );
-  EXPECT_DOUBLE_EQ( bandSupport( grey, {}, roads() ), 1.0 );
+  EXPECT_DOUBLE_EQ( bandSupport( grey, { Eigen::Vector2d( 50.0, 60.0 ), Eigen::Vector2d( 52.0, 60.0 ) }, roads() ).share, 1.0 );
+  EXPECT_DOUBLE_EQ( bandSupport( grey, {}, roads() ).share, 1.0 );
   // repeated vertices do not make a direction of nothing
-  const double repeated = bandSupport( grey, { Eigen::Vector2d( 10.0, 150.0 ), Eigen::Vector2d( 10.0, 150.0 ), Eigen::Vector2d( 100.0, 150.0 ) }, roads() );
+  const double repeated = bandSupport( grey, { Eigen::Vector2d( 10.0, 150.0 ), Eigen::Vector2d( 10.0, 150.0 ), Eigen::Vector2d( 100.0, 150.0 ) }, roads() ).share;
   EXPECT_GE( repeated, 0.9 );
   CoincidentExtractionOptions options;
   options.minBandSupport = 1.5;
   EXPECT_THROW( options.check(), std::invalid_argument );
   options.minBandSupport = -0.1;
+  EXPECT_THROW( options.check(), std::invalid_argument );
+  options = CoincidentExtractionOptions();
+  options.maxBandWidening = 0.9;
   EXPECT_THROW( options.check(), std::invalid_argument );
 }
 
@@ -108,8 +113,33 @@ TEST( BandSupport, AJunctionsMouthDoesNotCount )
   grey( cv::Rect( 290, 0, 30, 300 ) ).setTo( 60 );
   const GreyTiles tiles( grey );
   const std::vector<Eigen::Vector2d> line = { Eigen::Vector2d( 200.0, 150.0 ), Eigen::Vector2d( 305.0, 150.0 ) };
-  const double untrimmed = bandSupport( tiles, line, roads() ), trimmed = bandSupport( tiles, line, roads(), false, true );
+  const double untrimmed = bandSupport( tiles, line, roads() ).share, trimmed = bandSupport( tiles, line, roads(), false, true ).share;
   std::printf( "band support up to a junction: %.2f, beyond its mouth %.2f\n", untrimmed, trimmed );
   EXPECT_LT( untrimmed, 0.95 );
   EXPECT_GE( trimmed, 0.99 );
+}
+
+TEST( BandSupport, AStripWideningAlongTheLineIsNoRoad )
+{
+  // a bright strip of field between a darker field and a road (rows 150-159), from 8 px wide at column 20 to
+  // 28 px at column 380, its upper border straight and slanting; and a road 20 px wide all along for comparison
+  cv::Mat grey( 300, 400, CV_8U, cv::Scalar( 100 ) );
+  grey( cv::Rect( 0, 150, 400, 10 ) ).setTo( 60 );
+  for ( int c = 0; c < 400; ++c )
+  {
+    const int top = static_cast<int>( std::lround( 142.0 - 20.0 * ( c - 20 ) / 360.0 ) );
+    grey( cv::Rect( c, top, 1, 150 - top ) ).setTo( 190 );
+  }
+  grey( cv::Rect( 0, 230, 400, 20 ) ).setTo( 190 );
+  const GreyTiles tiles( grey );
+  std::vector<Eigen::Vector2d> strip;
+  for ( int c = 20; c <= 380; c += 20 )
+    strip.emplace_back( c, 0.5 * ( 142.0 - 20.0 * ( c - 20 ) / 360.0 + 150.0 ) - 0.5 );
+  const BandSupport wedge = bandSupport( tiles, strip, roads() ), road = bandSupport( tiles, { Eigen::Vector2d( 10.0, 239.5 ), Eigen::Vector2d( 390.0, 239.5 ) }, roads() );
+  std::printf( "the strip: band support %.2f, widening %.2f; the road: %.2f, %.2f\n", wedge.share, wedge.widening, road.share, road.widening );
+  EXPECT_GE( wedge.share, 0.9 ) << "a band all along";
+  EXPECT_NEAR( wedge.widening, 3.5, 0.7 );
+  EXPECT_GE( wedge.widening, CoincidentExtractionOptions().maxBandWidening );
+  EXPECT_GE( road.share, 0.95 );
+  EXPECT_NEAR( road.widening, 1.0, 0.05 );
 }
