@@ -6,12 +6,11 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
-#include <functional>
-#include <random>
 
 #include <opencv2/imgproc.hpp>
 
 #include "extraction/centrerefinement.h"
+#include "supersampledimage.h"
 
 using namespace geostation;
 
@@ -27,27 +26,6 @@ namespace
     for ( double x = 0.0; x <= 300.0; x += 0.05 )
       best = std::min( best, ( p - Eigen::Vector2d( x, trueCentreY( x ) ) ).norm() );
     return best;
-  }
-
-  /**
-   * A 300 x 200 image of `value`( x, y ) (pixelInImage: pixel (col, row) covers [col, col + 1), its centre is
-   * col + 0.5), averaged over 4 x 4 sub-samples for the edges, with noise of 3 grey levels.
-   */
-  cv::Mat supersampled( unsigned seed, const std::function<double( double, double )> &value )
-  {
-    cv::Mat grey( 200, 300, CV_8U );
-    std::mt19937 random( seed );
-    std::normal_distribution<double> noise( 0.0, 3.0 );
-    for ( int row = 0; row < grey.rows; ++row )
-      for ( int col = 0; col < grey.cols; ++col )
-      {
-        double sum = 0.0;
-        for ( int i = 0; i < 4; ++i )
-          for ( int j = 0; j < 4; ++j )
-            sum += value( col + ( i + 0.5 ) / 4.0, row + ( j + 0.5 ) / 4.0 );
-        grey.at<uint8_t>( row, col ) = cv::saturate_cast<uint8_t>( sum / 16.0 + noise( random ) );
-      }
-    return grey;
   }
 
   //! A 10 px dark road between 4 px bright shoulders on a textured field, noise 3 grey levels; a car and a shadow on it.

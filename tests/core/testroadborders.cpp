@@ -6,11 +6,10 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
-#include <functional>
-#include <random>
 #include <stdexcept>
 
 #include "extraction/roadborders.h"
+#include "supersampledimage.h"
 
 using namespace geostation;
 
@@ -20,24 +19,6 @@ namespace
   double centreY( double x ) { return 100.3 + 0.08 * ( x - 150.0 ); }
   //! Across the road from its centre (px, positive below), perpendicular to it.
   double across( double x, double y ) { return ( y - centreY( x ) ) / std::sqrt( 1.0 + 0.08 * 0.08 ); }
-
-  //! A 300 x 200 image of `value`( x, y ), averaged over 4 x 4 sub-samples, with noise of 3 grey levels.
-  cv::Mat supersampled( unsigned seed, const std::function<double( double, double )> &value )
-  {
-    cv::Mat grey( 200, 300, CV_8U );
-    std::mt19937 random( seed );
-    std::normal_distribution<double> noise( 0.0, 3.0 );
-    for ( int row = 0; row < grey.rows; ++row )
-      for ( int col = 0; col < grey.cols; ++col )
-      {
-        double sum = 0.0;
-        for ( int i = 0; i < 4; ++i )
-          for ( int j = 0; j < 4; ++j )
-            sum += value( col + ( i + 0.5 ) / 4.0, row + ( j + 0.5 ) / 4.0 );
-        grey.at<uint8_t>( row, col ) = cv::saturate_cast<uint8_t>( sum / 16.0 + noise( random ) );
-      }
-    return grey;
-  }
 
   double field( double x, double y ) { return 115.0 + 8.0 * std::sin( x / 7.0 ) * std::cos( y / 5.0 ); }
 
