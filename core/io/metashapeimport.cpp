@@ -7,7 +7,6 @@
 #include <functional>
 #include <map>
 #include <memory>
-#include <optional>
 #include <set>
 #include <sstream>
 #include <stdexcept>
@@ -17,6 +16,7 @@
 #include <Eigen/SVD>
 
 #include "geometry/crs.h"
+#include "io/colmapconversion.h"
 #include "geometry/rotation.h"
 
 namespace fs = std::filesystem;
@@ -182,55 +182,57 @@ namespace geostation
         import.warnings.push_back( "the markers are in " + crs + ", but the cameras in the chunk's internal frame (the chunk has no transform): orient the block on the markers before using both" );
     }
 
-    //! The camera of a frame sensor, or nothing with `*whyNot`.
-    std::optional<Camera> cameraFromSensor( const CPLXMLNode *sensor, const std::string &id, const fs::path &file, std::string *whyNot )
+    //! A Metashape sensor as GeoStation's camera, or the sentence why not.
+    struct CameraFromSensor
     {
+      CameraConversionStatus status = CameraConversionStatus::Converted;
+      std::string message; //!< one sentence naming the sensor and what it lacks, or has that GeoStation's cameras do not
+      Camera camera;       //!< when Converted
+
+      bool ok() const { return status == CameraConversionStatus::Converted; }
+    };
+
+    /**
+     * The camera of a frame sensor: Malformed without a calibration, an
+     * image size or a positive focal length; NotRepresentable for another
+     * type of sensor, k4, p3, p4 or the skew b2.
+     */
+    CameraFromSensor cameraFromSensor( const CPLXMLNode *sensor, const std::string &id, const fs::path &file )
+    {
+      CameraFromSensor result;
+      const auto fail = [&result]( CameraConversionStatus status, std::string message ) {
+        result.status = status;
+        result.message = std::move( message );
+        return result;
+      };
       const std::string label = CPLGetXMLValue( sensor, "label", id.c_str() );
       const std::string type = CPLGetXMLValue( sensor, "type", "frame" );
       const std::string name = "Metashape sensor " + id + " (" + label + ")";
       if ( !EQUAL( type.c_str(), "frame" ) )
-      {
-        *whyNot = name + " is a " + type + " sensor, which GeoStation's frame cameras cannot represent";
-        return std::nullopt;
-      }
+        return fail( CameraConversionStatus::NotRepresentable, name + " is a " + type + " sensor, which GeoStation's frame cameras cannot represent" );
       const CPLXMLNode *calibration = nullptr;
       forEachElement( sensor, "calibration", [&]( const CPLXMLNode *c ) {
         if ( !calibration || EQUAL( CPLGetXMLValue( c, "class", "" ), "adjusted" ) )
           calibration = c;
       } );
       if ( !calibration )
-      {
-        *whyNot = name + " has no calibration";
-        return std::nullopt;
-      }
+        return fail( CameraConversionStatus::Malformed, name + " has no calibration" );
       const CPLXMLNode *resolution = CPLGetXMLNode( const_cast<CPLXMLNode *>( calibration ), "resolution" );
       if ( !resolution )
         resolution = CPLGetXMLNode( const_cast<CPLXMLNode *>( sensor ), "resolution" );
       const int width = resolution ? std::atoi( CPLGetXMLValue( resolution, "width", "0" ) ) : 0;
       const int height = resolution ? std::atoi( CPLGetXMLValue( resolution, "height", "0" ) ) : 0;
       if ( width <= 0 || height <= 0 )
-      {
-        *whyNot = name + " has no image size (<resolution width height>)";
-        return std::nullopt;
-      }
+        return fail( CameraConversionStatus::Malformed, name + " has no image size (<resolution width height>)" );
       const double f = value( calibration, "f", file ), b1 = value( calibration, "b1", file ), b2 = value( calibration, "b2", file );
       for ( const char *term : { "k4", "p3", "p4" } )
         if ( value( calibration, term, file ) != 0.0 )
-        {
-          *whyNot = name + " uses " + term + ", which GeoStation's lens models cannot represent exactly";
-          return std::nullopt;
-        }
+          return fail( CameraConversionStatus::NotRepresentable, name + " uses " + term + ", which GeoStation's lens models cannot represent exactly" );
       if ( b2 != 0.0 )
-      {
-        *whyNot = name + " has the skew b2, which GeoStation's cameras cannot represent";
-        return std::nullopt;
-      }
+        return fail( CameraConversionStatus::NotRepresentable, name + " has the skew b2, which GeoStation's cameras cannot represent" );
       if ( !( f > 0.0 ) || !( f + b1 > 0.0 ) )
-      {
-        *whyNot = name + " has a focal length that is not positive";
-        return std::nullopt;
-      }
-      Camera camera;
+        return fail( CameraConversionStatus::Malformed, name + " has a focal length that is not positive" );
+      Camera &camera = result.camera;
       camera.id = label.empty() ? "sensor" + id : label;
       camera.width = width;
       camera.height = height;
@@ -242,7 +244,7 @@ namespace geostation
       camera.distortion.coeffs = { value( calibration, "k1", file ), value( calibration, "k2", file ), value( calibration, "p2", file ),
                                    value( calibration, "p1", file ), value( calibration, "k3", file ) };
       camera.distortion.model = DistortionModel::OpenCV;
-      return camera;
+      return result;
     }
 
     //! The rotation part of the block CRS's derivative with respect to geocentric coordinates at a point.
@@ -308,19 +310,19 @@ namespace geostation
     std::map<std::string, std::string> cameraIdOfSensor, droppedSensor;
     forEachElement( CPLGetXMLNode( chunk, "sensors" ), "sensor", [&]( const CPLXMLNode *sensor ) {
       const std::string id = CPLGetXMLValue( sensor, "id", "" );
-      std::string whyNot;
-      std::optional<Camera> camera = cameraFromSensor( sensor, id, xmlFile, &whyNot );
-      if ( !camera )
+      CameraFromSensor converted = cameraFromSensor( sensor, id, xmlFile );
+      if ( !converted.ok() )
       {
-        droppedSensor[id] = whyNot;
-        import.dropped.push_back( whyNot + "; its images were dropped" );
+        droppedSensor[id] = converted.message;
+        import.dropped.push_back( converted.message + "; its images were dropped" );
         return;
       }
-      if ( block.findCamera( camera->id ) )
-        camera->id += "_" + id;
-      cameraIdOfSensor[id] = camera->id;
-      import.converted.push_back( "Metashape sensor " + id + " became camera \"" + camera->id + "\" (lens model opencv; Metashape's P1, P2 are OpenCV's p2, p1)" );
-      block.cameras.push_back( *camera );
+      Camera &camera = converted.camera;
+      if ( block.findCamera( camera.id ) )
+        camera.id += "_" + id;
+      cameraIdOfSensor[id] = camera.id;
+      import.converted.push_back( "Metashape sensor " + id + " became camera \"" + camera.id + "\" (lens model opencv; Metashape's P1, P2 are OpenCV's p2, p1)" );
+      block.cameras.push_back( camera );
     } );
 
     // the chunk's frame: internal -> geocentric (referenced) or -> local
