@@ -4,6 +4,7 @@
  ***************************************************************************/
 #include "extraction/coincidentextraction.h"
 #include "extraction/stopwatch.h"
+#include "geometry/polyline.h"
 #include "geometry/rotation.h"
 
 #include "extraction/centrerefinement.h"
@@ -62,20 +63,6 @@ namespace geostation
           ++removed;
       }
       return kept;
-    }
-
-    double distanceToPolyline( const std::vector<Eigen::Vector2d> &line, const Eigen::Vector2d &p )
-    {
-      double best = std::numeric_limits<double>::infinity();
-      for ( size_t i = 0; i + 1 < line.size(); ++i )
-      {
-        const Eigen::Vector2d ab = line[i + 1] - line[i];
-        const double t = ab.squaredNorm() > 0 ? std::clamp( ( p - line[i] ).dot( ab ) / ab.squaredNorm(), 0.0, 1.0 ) : 0.0;
-        best = std::min( best, ( line[i] + t * ab - p ).norm() );
-      }
-      if ( line.size() == 1 )
-        best = ( line[0] - p ).norm();
-      return best;
     }
 
     void add( StageCounts &to, const StageCounts &from )
@@ -148,7 +135,7 @@ namespace geostation
               continue;
             // the search favours the main axis (§4.4.3): a line is continued along its course, not to the nearest pixel aside
             const double distance = t + 3.0 * s;
-            if ( distance >= bestDistance || distanceToPolyline( polygon.pixels, cell ) < 2.0 )
+            if ( distance >= bestDistance || nearestOnPolyline( polygon.pixels, cell ).distance < 2.0 )
               continue;
             bestDistance = distance;
             best = cell;

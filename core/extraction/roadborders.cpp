@@ -5,11 +5,11 @@
 
 #include <algorithm>
 #include <cmath>
-#include <limits>
 #include <optional>
 #include <stdexcept>
 
 #include "extraction/verification.h"
+#include "geometry/polyline.h"
 #include "imageproc/edgeprimitives.h"
 
 namespace geostation
@@ -21,8 +21,8 @@ namespace geostation
       throw std::invalid_argument( "the road borders' profile step must be 0.5-20 px" );
     if ( !( roadOverBorder >= 1.0 && roadOverBorder <= 10.0 ) )
       throw std::invalid_argument( "a road must be 1-10 times as wide as its border" );
-    if ( !( touchingPx >= 0.0 && touchingPx <= 10.0 ) || !( twinWidthShare >= 0.0 && twinWidthShare <= 1.0 ) )
-      throw std::invalid_argument( "the road borders' touching distance must be 0-10 px and the twins' width share 0-1" );
+    if ( !( touchingPx >= 0.0 && touchingPx <= 10.0 ) )
+      throw std::invalid_argument( "the road borders' touching distance must be 0-10 px" );
     if ( !( minShare > 0.0 && minShare <= 1.0 ) || !( duplicateShare > 0.0 && duplicateShare <= 1.0 ) )
       throw std::invalid_argument( "the road borders' shares must be fractions in (0, 1]" );
     if ( smoothHalfWindow < 0 || !( toleranceDp > 0.0 && toleranceDp <= 2.0 ) )
@@ -197,31 +197,6 @@ namespace geostation
       return moved;
     }
 
-    //! The nearest point of a polyline to `q`: its distance and the direction of the segment it lies on (zero for a single point).
-    struct Nearest
-    {
-      double distance = std::numeric_limits<double>::max();
-      Eigen::Vector2d direction = Eigen::Vector2d::Zero();
-    };
-
-    Nearest nearestOn( const Eigen::Vector2d &q, const std::vector<Eigen::Vector2d> &line )
-    {
-      Nearest best;
-      if ( line.size() == 1 )
-        best.distance = ( line[0] - q ).norm();
-      for ( size_t k = 0; k + 1 < line.size(); ++k )
-      {
-        const Eigen::Vector2d ab = line[k + 1] - line[k];
-        if ( ab.squaredNorm() <= 0.0 )
-          continue;
-        const double t = std::clamp( ( q - line[k] ).dot( ab ) / ab.squaredNorm(), 0.0, 1.0 );
-        const double d = ( line[k] + t * ab - q ).norm();
-        if ( d < best.distance )
-          best = { d, ab.normalized() };
-      }
-      return best;
-    }
-
     //! For each point of `moved`: whether it runs within `reachPx` of one of the others' lines (their pieces), within 30 degrees of its direction.
     std::vector<bool> onOthers( const std::vector<Eigen::Vector2d> &moved, const std::vector<std::vector<CompiledPolygon>> &pieces, size_t self, double reachPx )
     {
@@ -235,7 +210,7 @@ namespace geostation
         for ( size_t j = 0; j < pieces.size() && !on[i]; ++j )
           for ( const CompiledPolygon &other : pieces[j] )
           {
-            const Nearest n = j == self ? Nearest() : nearestOn( moved[i], other.pixels );
+            const PolylineNearest n = j == self ? PolylineNearest() : nearestOnPolyline( other.pixels, moved[i] );
             if ( n.distance <= reachPx && std::abs( n.direction.dot( course.normalized() ) ) >= minCos )
             {
               on[i] = true;

@@ -47,7 +47,6 @@ namespace geostation
     double stepPx = 2.0;          //!< profiles along the line, this far apart
     double roadOverBorder = 1.3;  //!< the road at least this many times as wide as the border the line runs on
     double touchingPx = 2.0;      //!< bands whose edges lie this close touch
-    double twinWidthShare = 0.4;  //!< the borders either side of a road: widths within this share of each other
     double minShare = 0.5;        //!< of a line's profiles that show it on a road's border (the road on one side), at least, to move it
     int smoothHalfWindow = 5;     //!< a profile's shift: the median of those found within this many profiles either side
     double duplicateShare = 0.7;  //!< a moved line within reach of others along at least this share of its length goes; a shorter stretch on another is cut out
