@@ -387,6 +387,7 @@ namespace geostation
           check( samples[i], directionAt( samples, i, true ), directionAt( samples, i, false ), pair );
       settleShifts( samples );
       requireContinuity( samples );
+      confirmThroughJunctions( samples, pair );
       for ( Sample &s : samples )
         if ( s.status == RevisionStatus::NotFound && s.occluded )
           s.status = RevisionStatus::Occluded; // hidden, not gone

@@ -56,7 +56,7 @@ namespace geostation::revision
   }
 
   std::vector<CrossSection> bandsNear( const GreyTiles &grey, const Eigen::Vector2d &at, const Eigen::Vector2d &along, const LineObjectOptions &object, double searchPx,
-                                       double alongHalfPx )
+                                       double alongHalfPx, bool oneSided )
   {
     const int half = static_cast<int>( std::ceil( searchPx + object.maxWidthPx ) ) + 6;
     // the profile's corners: half across, alongHalfPx along
@@ -65,7 +65,7 @@ namespace geostation::revision
     const int alongSamples = std::max( 3, 2 * static_cast<int>( std::ceil( 0.5 * alongHalfPx ) ) + 1 );
     const std::vector<double> profile = sampleCrossProfile( window.pixels, window.toWindow( at ), along, half, object.polarity, alongHalfPx, alongSamples );
     std::vector<CrossSection> bands;
-    for ( const CrossSection &s : findCrossSections( profile, object.minWidthPx, object.maxWidthPx, object.minContrast, object.maxVariation, false, object.polarity ) )
+    for ( const CrossSection &s : findCrossSections( profile, object.minWidthPx, object.maxWidthPx, object.minContrast, object.maxVariation, oneSided, object.polarity ) )
       if ( std::abs( s.offsetPx ) <= searchPx )
         bands.push_back( s );
     std::sort( bands.begin(), bands.end(), []( const CrossSection &x, const CrossSection &y ) { return std::abs( x.offsetPx ) < std::abs( y.offsetPx ); } );
@@ -300,6 +300,106 @@ namespace geostation::revision
       }
     for ( const size_t k : isolated )
       samples[k].status = RevisionStatus::NotFound;
+  }
+
+  namespace
+  {
+    /**
+     * Whether the band `widthPx` wide at `offsetPx` across `along` at `at`
+     * is one a junction opens: uniform inside (robust spread), one side at
+     * least the minimum contrast from it, either sign.
+     */
+    bool openBandAt( const GreyTiles &grey, const Eigen::Vector2d &at, const Eigen::Vector2d &along, double offsetPx, double widthPx, const LineObjectOptions &object )
+    {
+      constexpr int kFlankPx = 3, kBlurPx = 1;
+      const int half = static_cast<int>( std::ceil( std::abs( offsetPx ) + 0.5 * widthPx ) ) + kBlurPx + kFlankPx + 1;
+      const GreyWindow window = grey.around( at, half + 4 );
+      const std::vector<double> profile = sampleCrossProfile( window.pixels, window.toWindow( at ), along, half, 1 );
+      const double centre = half + offsetPx;
+      std::vector<double> inside, left, right;
+      for ( int t = 0; t < static_cast<int>( profile.size() ); ++t )
+      {
+        const double d = t - centre;
+        if ( !std::isfinite( profile[t] ) )
+          continue;
+        if ( std::abs( d ) <= 0.5 * widthPx - kBlurPx )
+          inside.push_back( profile[t] );
+        else if ( d < 0.0 && std::abs( d ) >= 0.5 * widthPx + kBlurPx && std::abs( d ) < 0.5 * widthPx + kBlurPx + kFlankPx )
+          left.push_back( profile[t] );
+        else if ( d > 0.0 && d >= 0.5 * widthPx + kBlurPx && d < 0.5 * widthPx + kBlurPx + kFlankPx )
+          right.push_back( profile[t] );
+      }
+      if ( inside.size() < 2 || left.empty() || right.empty() )
+        return false;
+      const auto median = []( std::vector<double> v ) {
+        std::nth_element( v.begin(), v.begin() + v.size() / 2, v.end() );
+        return v[v.size() / 2];
+      };
+      const double level = median( inside );
+      std::vector<double> deviations;
+      for ( const double g : inside )
+        deviations.push_back( std::abs( g - level ) );
+      if ( 1.4826 * median( deviations ) > object.maxVariation )
+        return false;
+      return std::max( std::abs( level - median( left ) ), std::abs( level - median( right ) ) ) >= object.minContrast;
+    }
+  } // namespace
+
+  void confirmThroughJunctions( std::vector<Sample> &samples, const PairView &pair )
+  {
+    constexpr double kOffsetPx = 2.0, kWidthShare = 0.4;
+    const auto inGap = [&]( size_t k ) { return samples[k].status == RevisionStatus::NotFound || samples[k].status == RevisionStatus::Moved; };
+    const auto confirmed = [&]( size_t k ) { return samples[k].status == RevisionStatus::Confirmed; };
+    // a confirmed sample's band offset across the course in B
+    const auto offsetInB = [&]( size_t k ) { return ( samples[k].foundB - samples[k].inB ).dot( normalOf( directionAt( samples, k, false ) ) ); };
+    for ( size_t first = 0; first < samples.size(); )
+    {
+      if ( !inGap( first ) )
+      {
+        ++first;
+        continue;
+      }
+      size_t end = first;
+      while ( end < samples.size() && inGap( end ) )
+        ++end;
+      // the confirmed samples either side; at the road's first or last sample the one there is
+      std::vector<size_t> ends;
+      if ( first > 0 && confirmed( first - 1 ) )
+        ends.push_back( first - 1 );
+      if ( end < samples.size() && confirmed( end ) )
+        ends.push_back( end );
+      const bool bounded = ( first > 0 ? confirmed( first - 1 ) : true ) && ( end < samples.size() ? confirmed( end ) : true );
+      const Eigen::Vector2d from = samples[first > 0 ? first - 1 : first].inA, to = samples[end < samples.size() ? end : end - 1].inA;
+      if ( ends.empty() || !bounded || ( to - from ).norm() > 2.0 * pair.object.maxWidthPx ||
+           ( ends.size() == 2 && ( std::abs( samples[ends[0]].offsetPx - samples[ends[1]].offsetPx ) > kOffsetPx ||
+                                   std::abs( samples[ends[0]].widthPx - samples[ends[1]].widthPx ) > kWidthShare * std::max( samples[ends[0]].widthPx, samples[ends[1]].widthPx ) ) ) )
+      {
+        first = end;
+        continue;
+      }
+      double offsetA = 0.0, offsetB = 0.0, width = 0.0;
+      for ( const size_t k : ends )
+      {
+        offsetA += samples[k].offsetPx / ends.size();
+        offsetB += offsetInB( k ) / ends.size();
+        width += samples[k].widthPx / ends.size();
+      }
+      for ( size_t k = first; k < end; ++k )
+      {
+        Sample &s = samples[k];
+        const Eigen::Vector2d alongA = directionAt( samples, k, true ), alongB = directionAt( samples, k, false );
+        if ( !openBandAt( pair.greyA, s.inA, alongA, offsetA, width, pair.object ) || !openBandAt( pair.greyB, s.inB, alongB, offsetB, width, pair.object ) )
+          continue;
+        s.status = RevisionStatus::Confirmed;
+        s.candidates.clear();
+        s.shiftM = 0.0;
+        s.offsetPx = offsetA;
+        s.widthPx = width;
+        s.foundA = s.inA + offsetA * normalOf( alongA );
+        s.foundB = s.inB + offsetB * normalOf( alongB );
+      }
+      first = end;
+    }
   }
 
   //! Each sample's status replaced by the majority within `half` samples either side (ties keep their own).

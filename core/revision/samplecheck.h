@@ -4,8 +4,9 @@
   The decisions maprevision.h makes sample by sample: a band on the
   mapped course in both images (confirmed), the bands off it in the first
   image that the second confirms (moved candidates), which of them a moved
-  stretch settles on, which samples a neighbour continues, and each
-  sample's status as the majority of its neighbours'.
+  stretch settles on, which samples a neighbour continues, which gaps a
+  road runs on through (a junction), and each sample's status as the
+  majority of its neighbours'.
  ***************************************************************************/
 #ifndef GEOSTATION_REVISION_SAMPLECHECK_H
 #define GEOSTATION_REVISION_SAMPLECHECK_H
@@ -73,7 +74,7 @@ namespace geostation::revision
    * over `alongHalfPx` either side along `along`.
    */
   std::vector<CrossSection> bandsNear( const GreyTiles &grey, const Eigen::Vector2d &at, const Eigen::Vector2d &along, const LineObjectOptions &object, double searchPx,
-                                       double alongHalfPx = 1.5 );
+                                       double alongHalfPx = 1.5, bool oneSided = false );
 
   //! The course's direction at sample `i` in the first image (`inA`) or the second, from its neighbours.
   Eigen::Vector2d directionAt( const std::vector<Sample> &samples, size_t i, bool inA );
@@ -90,6 +91,19 @@ namespace geostation::revision
 
   //! Confirmed and moved samples not continued by a neighbour become not found (see samplecheck.cpp).
   void requireContinuity( std::vector<Sample> &samples );
+
+  /**
+   * A road runs on through a junction: where another road joins, its band
+   * opens on that side and the profiles across the course show none (nor
+   * a moved road: a band beside it, a verge or a strip of field, may stand
+   * out). A gap between two confirmed samples whose bands agree (offsets
+   * within 2 px, widths within 40 %), or between a confirmed sample and
+   * the road's end (map roads end at junctions), no longer in the first
+   * image than twice the widest road, is confirmed at each sample where
+   * both images show a band open on one side at that offset and width:
+   * uniform inside, one side standing out by the minimum contrast.
+   */
+  void confirmThroughJunctions( std::vector<Sample> &samples, const PairView &pair );
 
   //! Each sample's status replaced by the majority within `half` samples either side (ties keep their own).
   std::vector<RevisionStatus> majorityStatus( const std::vector<Sample> &samples, int half );

@@ -71,7 +71,8 @@ namespace geostation::orthophotopair
 
   /**
    * The pair over `ortho` (8-bit grey). `baseFraction`: the second photo's
-   * displacement north as a fraction of the footprint's height.
+   * displacement north as a fraction of the footprint's height (negative:
+   * south).
    */
   inline OrthophotoPair orthophotoPair( const cv::Mat &ortho, double gsdM, double baseFraction = 0.3, uint32_t seed = 11 )
   {

@@ -312,3 +312,68 @@ TEST( MapRevision, ALongProfileSeesTheRoadPastACar )
   EXPECT_NEAR( past.front().widthPx, 12.0, 2.0 );
   EXPECT_FALSE( revision::bandsNear( tiles, Eigen::Vector2d( 30.0, 100.0 ), along, object, 4.0 ).empty() ); // away from the car the short one does
 }
+
+TEST( MapRevision, ARoadRunsOnThroughAJunction )
+{
+  // a dark road 16 px wide along row 48, a side road joining it from below (columns 140-160), a darker strip of
+  // field 10 px wide above it, 8 px of field between them; in the second image the road breaks off for 34 px
+  cv::Mat junction( 160, 300, CV_8U, cv::Scalar( 190 ) );
+  cv::rectangle( junction, cv::Rect( 0, 40, 300, 16 ), cv::Scalar( 90 ), cv::FILLED );
+  cv::rectangle( junction, cv::Rect( 140, 56, 20, 104 ), cv::Scalar( 90 ), cv::FILLED );
+  cv::rectangle( junction, cv::Rect( 0, 22, 300, 10 ), cv::Scalar( 50 ), cv::FILLED );
+  cv::Mat broken = junction.clone();
+  cv::rectangle( broken, cv::Rect( 198, 40, 34, 16 ), cv::Scalar( 190 ), cv::FILLED );
+  Camera camera;
+  camera.id = "one";
+  camera.width = 300;
+  camera.height = 160;
+  camera.f = 300;
+  camera.cx = 150;
+  camera.cy = 80;
+  const OrientedImage a( camera, ExteriorOrientation() ), b( camera, ExteriorOrientation() );
+  const OrientedPairMapping mapping( a, b, -100.0 );
+  LineObjectOptions object;
+  object.polarity = 0;
+  object.minWidthPx = 3.0;
+  object.maxWidthPx = 30.0;
+  object.minContrast = 20.0;
+  for ( const bool isBroken : { false, true } )
+  {
+    const GreyTiles tiles( isBroken ? broken : junction );
+    revision::PairView pair { tiles, tiles, mapping, object };
+    pair.tolerancePx = 2.0;
+    // as checked: the road confirmed, except across the side road's mouth (taken for the strip moved 16 px) or the break
+    std::vector<revision::Sample> samples;
+    for ( int x = 4; x <= 296; x += 4 )
+    {
+      revision::Sample s;
+      s.inA = s.inB = s.foundA = s.foundB = Eigen::Vector2d( x, 48.0 );
+      s.status = RevisionStatus::Confirmed;
+      s.widthPx = 16.0;
+      if ( x >= 136 && x <= 164 )
+      {
+        s.status = RevisionStatus::Moved;
+        s.offsetPx = -21.0;
+        s.widthPx = 10.0;
+        s.shiftM = 21.0;
+        s.foundA = s.foundB = Eigen::Vector2d( x, 27.0 );
+      }
+      if ( isBroken && x >= 200 && x <= 228 )
+        s.status = RevisionStatus::NotFound;
+      samples.push_back( s );
+    }
+    revision::confirmThroughJunctions( samples, pair );
+    for ( const revision::Sample &s : samples )
+    {
+      const double x = s.inA.x();
+      if ( isBroken && x >= 200 && x <= 228 )
+        EXPECT_EQ( s.status, RevisionStatus::NotFound ) << "no road where it breaks off, at " << x;
+      else
+      {
+        EXPECT_EQ( s.status, RevisionStatus::Confirmed ) << ( isBroken ? "broken" : "junction" ) << ", at " << x;
+        EXPECT_NEAR( s.offsetPx, 0.0, 1e-9 ) << x;
+        EXPECT_NEAR( s.foundA.y(), 48.0, 1e-9 ) << x;
+      }
+    }
+  }
+}

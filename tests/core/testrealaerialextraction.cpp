@@ -22,6 +22,7 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include "aero3image.h"
 #include "debugdrawing.h"
 #include "extraction/polygoncompilation.h"
 #include "imagelinescoring.h"
@@ -34,20 +35,8 @@ namespace
 {
   using Polyline = PixelPolyline;
 
-  //! Centre lines in pixelInImage of aero3.jpg.
-  std::vector<TruthRoad> mainRoads()
-  {
-    return { { "highway", 14.0, { { 345, 220 }, { 328, 260 }, { 306, 300 }, { 282, 340 }, { 267, 370 }, { 252, 400 }, { 237, 430 }, { 222, 460 }, { 213, 478 } } },
-             { "road beside the highway", 5.0, { { 360, 250 }, { 350, 275 }, { 340, 300 }, { 320, 330 }, { 300, 362 }, { 285, 390 }, { 265, 417 }, { 242, 475 } } },
-             { "cross road", 5.0, { { 405, 219.5 }, { 500, 219.5 }, { 560, 220 }, { 632, 220 } } } };
-  }
-
-  //! Areas without roads: the sea above the coast, the forest in the lower left.
-  std::vector<std::vector<cv::Point2f>> roadlessAreas()
-  {
-    return { { { 0, 0 }, { 640, 0 }, { 640, 8 }, { 0, 78 } },
-             { { 0, 345 }, { 40, 332 }, { 120, 335 }, { 200, 360 }, { 235, 378 }, { 222, 400 }, { 200, 440 }, { 185, 480 }, { 0, 480 } } };
-  }
+  std::vector<TruthRoad> mainRoads() { return aero3image::aero3MainRoads(); }
+  std::vector<std::vector<cv::Point2f>> roadlessAreas() { return aero3image::aero3RoadlessAreas(); }
 
   //! The partner's homography on pixel indices (OpenCV): scale 0.92, 8 degrees, a perspective change.
   cv::Matx33d partnerFromPhoto()
@@ -135,7 +124,7 @@ namespace
   RealPair realPair( const std::string &file = "aero3.jpg" )
   {
     RealPair pair;
-    pair.photo = cv::imread( "/usr/share/doc/opencv-doc/examples/data/" + file, cv::IMREAD_GRAYSCALE );
+    pair.photo = cv::imread( aero3image::sampleImagePath( file ), cv::IMREAD_GRAYSCALE );
     if ( pair.photo.empty() )
       return pair;
     cv::Mat warped;
