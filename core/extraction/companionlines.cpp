@@ -9,6 +9,7 @@
 #include <stdexcept>
 
 #include "extraction/verification.h"
+#include "geometry/polyline.h"
 
 namespace geostation
 {
@@ -55,13 +56,6 @@ namespace geostation
       }
       dense.widths.assign( dense.points.size(), std::numeric_limits<double>::quiet_NaN() );
       return dense;
-    }
-
-    double distanceToSegment( const Eigen::Vector2d &p, const Eigen::Vector2d &a, const Eigen::Vector2d &b )
-    {
-      const Eigen::Vector2d ab = b - a;
-      const double t = ab.squaredNorm() > 0.0 ? std::clamp( ( p - a ).dot( ab ) / ab.squaredNorm(), 0.0, 1.0 ) : 0.0;
-      return ( a + t * ab - p ).norm();
     }
 
     bool withinBounds( const Eigen::Vector2d &p, const DenseLine &line, double reachPx )

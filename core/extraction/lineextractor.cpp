@@ -10,6 +10,8 @@
 #include <optional>
 #include <stdexcept>
 
+#include "geometry/polyline.h"
+
 namespace geostation
 {
 
@@ -97,13 +99,6 @@ namespace geostation
       line.end.state.pixelInImage = window.toImage( line.end.state.pixelInImage );
       if ( line.remFrom )
         line.remFrom->pixelInImage = window.toImage( line.remFrom->pixelInImage );
-    }
-
-    double distanceToSegment( const Eigen::Vector2d &p, const Eigen::Vector2d &a, const Eigen::Vector2d &b )
-    {
-      const Eigen::Vector2d ab = b - a;
-      const double t = ab.squaredNorm() > 0.0 ? std::clamp( ( p - a ).dot( ab ) / ab.squaredNorm(), 0.0, 1.0 ) : 0.0;
-      return ( a + t * ab - p ).norm();
     }
 
     void draw( ResultMatrix &matrix, const FollowResult &line, LineExtractionSummary &summary )

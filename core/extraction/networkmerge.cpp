@@ -57,23 +57,17 @@ namespace geostation
     Nearest nearestOn( const std::vector<Eigen::Vector3d> &line, const Eigen::Vector2d &p )
     {
       Nearest best;
-      double along = 0.0;
-      for ( size_t i = 0; i + 1 < line.size(); ++i )
-      {
-        const Eigen::Vector2d a = line[i].head<2>(), ab = line[i + 1].head<2>() - a;
-        const double length = ab.norm();
-        const double t = length > 0.0 ? std::clamp( ( p - a ).dot( ab ) / ( length * length ), 0.0, 1.0 ) : 0.0;
-        const double d = ( a + t * ab - p ).norm();
-        if ( d < best.distance )
-        {
-          best.distance = d;
-          best.along = along + t * length;
-          best.segment = i;
-          best.point = line[i] + t * ( line[i + 1] - line[i] );
-          best.direction = length > 0.0 ? Eigen::Vector2d( ab / length ) : Eigen::Vector2d::UnitX();
-        }
-        along += length;
-      }
+      if ( line.size() < 2 )
+        return best;
+      const NearestOnPolyline<Eigen::Vector2d> n = nearestOnPolylineXY( line, p );
+      const Eigen::Vector3d &a = line[n.segment], &b = line[n.segment + 1];
+      best.distance = n.distance;
+      best.along = n.t * ( b - a ).head<2>().norm();
+      for ( size_t i = 0; i < n.segment; ++i )
+        best.along += ( line[i + 1] - line[i] ).head<2>().norm();
+      best.segment = n.segment;
+      best.point = a + n.t * ( b - a );
+      best.direction = n.direction.isZero() ? Eigen::Vector2d::UnitX() : n.direction;
       return best;
     }
 

@@ -7,6 +7,8 @@
 #include <limits>
 #include <stdexcept>
 
+#include "geometry/polyline.h"
+
 namespace geostation
 {
 
@@ -49,9 +51,8 @@ namespace geostation
       {
         const Eigen::Vector2d a = piece[i].pixelInImage;
         const Eigen::Vector2d b = i + 1 < piece.size() ? piece[i + 1].pixelInImage : a;
-        const Eigen::Vector2d ab = b - a;
-        const double t = ab.squaredNorm() > 0.0 ? std::clamp( ( pixel - a ).dot( ab ) / ab.squaredNorm(), 0.0, 1.0 ) : 0.0;
-        const double d = ( a + t * ab - pixel ).norm();
+        const double t = nearestOnSegment( a, b, pixel );
+        const double d = ( a + t * ( b - a ) - pixel ).norm();
         if ( d < best )
         {
           best = d;

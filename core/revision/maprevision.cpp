@@ -206,18 +206,6 @@ namespace geostation
       }
     }
 
-    double distanceXY( const Eigen::Vector3d &p, const std::vector<Eigen::Vector3d> &line )
-    {
-      double best = std::numeric_limits<double>::infinity();
-      for ( size_t i = 0; i + 1 < line.size(); ++i )
-      {
-        const Eigen::Vector2d a = line[i].head<2>(), ab = line[i + 1].head<2>() - a;
-        const double t = ab.squaredNorm() > 0.0 ? std::clamp( ( p.head<2>() - a ).dot( ab ) / ab.squaredNorm(), 0.0, 1.0 ) : 0.0;
-        best = std::min( best, ( a + t * ab - p.head<2>() ).norm() );
-      }
-      return best;
-    }
-
     //! The stretches of the extracted lines (at least 3 vertices) farther than `gapM` from every map road and every revised course.
     std::vector<NetworkLine> newRoads( const NetworkIntersectionSummary &network, const std::vector<MapRoad> &map, const std::vector<RevisedPiece> &pieces, double gapM )
     {
@@ -240,7 +228,7 @@ namespace geostation
         {
           bool explained = false;
           for ( const std::vector<Eigen::Vector3d> *course : known )
-            explained = explained || distanceXY( v.point, *course ) <= gapM;
+            explained = explained || nearestOnPolylineXY( *course, v.point.head<2>() ).distance <= gapM;
           if ( explained )
             flush();
           else
@@ -266,22 +254,11 @@ namespace geostation
       throw std::invalid_argument( "a line and a course of at least two points are needed to splice" );
     // the arc position along `line` of the point nearest p (XY), and the segment it lies on
     const auto project = [&]( const Eigen::Vector3d &p ) {
-      double best = std::numeric_limits<double>::infinity(), at = 0.0, walked = 0.0;
-      size_t segment = 0;
-      for ( size_t i = 0; i + 1 < line.size(); ++i )
-      {
-        const Eigen::Vector2d a = line[i].head<2>(), ab = line[i + 1].head<2>() - a;
-        const double t = ab.squaredNorm() > 0.0 ? std::clamp( ( p.head<2>() - a ).dot( ab ) / ab.squaredNorm(), 0.0, 1.0 ) : 0.0;
-        const double d = ( a + t * ab - p.head<2>() ).norm();
-        if ( d < best )
-        {
-          best = d;
-          at = walked + t * ab.norm();
-          segment = i;
-        }
-        walked += ab.norm();
-      }
-      return std::make_pair( at, segment );
+      const NearestOnPolyline<Eigen::Vector2d> n = nearestOnPolylineXY( line, p.head<2>() );
+      double at = n.t * ( line[n.segment + 1] - line[n.segment] ).head<2>().norm(); // the arc position along `line`
+      for ( size_t i = 0; i < n.segment; ++i )
+        at += ( line[i + 1] - line[i] ).head<2>().norm();
+      return std::make_pair( at, n.segment );
     };
     std::vector<Eigen::Vector3d> stretch = course;
     auto first = project( stretch.front() ), last = project( stretch.back() );

@@ -22,34 +22,12 @@ namespace geostation
 
   namespace
   {
-    struct Nearest
-    {
-      double distance = std::numeric_limits<double>::infinity();
-      size_t segment = 0;
-      double t = 0.0; //!< along the segment, 0..1
-    };
-
-    //! The point of a polyline nearest `p` (3-D).
-    Nearest nearestOn( const std::vector<Eigen::Vector3d> &line, const Eigen::Vector3d &p )
-    {
-      Nearest best;
-      for ( size_t i = 0; i + 1 < line.size(); ++i )
-      {
-        const Eigen::Vector3d ab = line[i + 1] - line[i];
-        const double t = ab.squaredNorm() > 0.0 ? std::clamp( ( p - line[i] ).dot( ab ) / ab.squaredNorm(), 0.0, 1.0 ) : 0.0;
-        const double d = ( line[i] + t * ab - p ).norm();
-        if ( d < best.distance )
-          best = { d, i, t };
-      }
-      return best;
-    }
-
     //! Appends `next` to `line` (a's vertices up to where `next` starts), reporting how they agree.
     void joinNext( JoinedLine &line, double previousSigmaM, const std::string &previousName, const TracedPiece &next, const PieceJoinOptions &options,
                    std::vector<PieceDisagreement> &disagreements )
     {
       const double allowed = std::max( options.minToleranceM, options.sigmaFactor * std::hypot( previousSigmaM, next.sigmaM ) );
-      const Nearest start = nearestOn( line.points, next.points.front() );
+      const NearestOnPolyline<Eigen::Vector3d> start = nearestOnPolyline( line.points, next.points.front() );
       const bool atEnd = start.segment + 2 == line.points.size() && start.t >= 1.0;
       if ( atEnd && start.distance > allowed )
       {
@@ -70,7 +48,7 @@ namespace geostation
       bool agreed = false;
       for ( size_t i = keep + 1; i < line.points.size(); ++i )
       {
-        runLength = nearestOn( next.points, line.points[i] ).distance <= options.agreeM ? runLength + 1 : 0;
+        runLength = nearestOnPolyline( next.points, line.points[i] ).distance <= options.agreeM ? runLength + 1 : 0;
         if ( runLength >= static_cast<size_t>( options.agreeVertices ) )
         {
           lastEnd = i;
@@ -81,7 +59,7 @@ namespace geostation
       {
         // from the next piece's first vertex beyond the earlier piece's vertex at the switch
         // (a switch onto the next piece's vertex itself: from the one after it)
-        const Nearest on = nearestOn( next.points, line.points[lastEnd] );
+        const NearestOnPolyline<Eigen::Vector3d> on = nearestOnPolyline( next.points, line.points[lastEnd] );
         const size_t from = on.segment + ( on.t >= 1.0 ? 2 : 1 );
         line.points.resize( lastEnd + 1 );
         if ( from < next.points.size() )
@@ -91,7 +69,7 @@ namespace geostation
       // they never run together: the next piece from its start, and how far the earlier one was from it
       double worst = start.distance;
       for ( size_t i = keep + 1; i < line.points.size(); ++i )
-        worst = std::max( worst, nearestOn( next.points, line.points[i] ).distance );
+        worst = std::max( worst, nearestOnPolyline( next.points, line.points[i] ).distance );
       if ( worst > allowed )
         disagreements.push_back( { line.lineId, previousName, next.name, worst, allowed, polylineLengthXY( line.points, keep ), false } );
       line.points.resize( keep + 1 );

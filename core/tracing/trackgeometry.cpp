@@ -9,6 +9,8 @@
 
 #include <Eigen/Dense>
 
+#include "geometry/polyline.h"
+
 namespace geostation
 {
 
@@ -223,19 +225,8 @@ namespace geostation
       return std::nullopt;
     if ( trajectory.size() == 1 )
       return trajectory.front().z() - cameraHeightM;
-    double best = std::numeric_limits<double>::infinity(), z = 0.0;
-    for ( size_t i = 0; i + 1 < trajectory.size(); ++i )
-    {
-      const Eigen::Vector2d a = trajectory[i].head<2>(), ab = trajectory[i + 1].head<2>() - a;
-      const double len2 = ab.squaredNorm();
-      const double t = len2 > 0 ? std::clamp( ( xy - a ).dot( ab ) / len2, 0.0, 1.0 ) : 0.0;
-      const double d = ( a + t * ab - xy ).squaredNorm();
-      if ( d < best )
-      {
-        best = d;
-        z = trajectory[i].z() + t * ( trajectory[i + 1].z() - trajectory[i].z() );
-      }
-    }
+    const NearestOnPolyline<Eigen::Vector2d> n = nearestOnPolylineXY( trajectory, xy );
+    const double z = trajectory[n.segment].z() + n.t * ( trajectory[n.segment + 1].z() - trajectory[n.segment].z() );
     return z - cameraHeightM;
   }
 
