@@ -1,12 +1,13 @@
 /***************************************************************************
-  orthophotopair.h - a vertical stereo pair resampled from a real
-  orthophoto, for tests on real imagery at a known ground pixel
+  orthophotopair.h - a vertical stereo pair (or a strip of them) resampled
+  from a real orthophoto, for tests on real imagery at a known ground pixel
   -------------------------------------------------------------------------
   A real grey orthophoto (north up, square ground pixels of `gsdM`) is laid
   on level ground at `groundM`; two vertical photos of one camera model
   (the orthophoto's size, principal distance = its width) look at it from
   `groundM + f * gsdM`, the second displaced north by a fraction of the
-  footprint and both tilted a little, so neither is the orthophoto itself.
+  footprint and both tilted a little, so neither is the orthophoto itself
+  (a strip: each photo displaced so from the one before).
   Each photo pixel is the orthophoto's grey where its ray meets the ground
   (bicubic), blurred by 0.5 px and given noise of 2 grey levels; pixels
   whose ray falls beyond the orthophoto are 0.
@@ -32,11 +33,12 @@
 
 namespace geostation::orthophotopair
 {
+  //! The photos over an orthophoto: a pair, or a strip of them (orthophotoStrip()).
   struct OrthophotoPair
   {
     Camera camera;
-    std::vector<ExteriorOrientation> exterior; //!< A, B
-    std::vector<cv::Mat> grey;                 //!< A, B
+    std::vector<ExteriorOrientation> exterior; //!< A, B (a strip: each photo in order)
+    std::vector<cv::Mat> grey;                 //!< the same photos' grey levels
     cv::Size ortho;
     double gsdM = 1.0;
     double groundM = 200.0;
@@ -55,10 +57,10 @@ namespace geostation::orthophotopair
       const std::optional<Ray> ray = image.worldRayFromPixel( pixelInImage );
       return ray->origin + ( groundM - ray->origin.z() ) / ray->direction.z() * ray->direction;
     }
-    //! Whether both photos see the ground point more than `marginPx` inside their frames.
-    bool bothSee( const Eigen::Vector3d &g, double marginPx ) const
+    //! Whether both photos of the pair (photos `first` and `first` + 1 of a strip) see the ground point more than `marginPx` inside their frames.
+    bool bothSee( const Eigen::Vector3d &g, double marginPx, int first = 0 ) const
     {
-      for ( int k = 0; k < 2; ++k )
+      for ( int k = first; k < first + 2; ++k )
       {
         const GroundProjection q = photo( k ).projectGroundToPixel( g );
         if ( !q.ok() || q.pixelInImage.x() <= marginPx || q.pixelInImage.y() <= marginPx || q.pixelInImage.x() >= camera.width - marginPx ||
@@ -70,11 +72,12 @@ namespace geostation::orthophotopair
   };
 
   /**
-   * The pair over `ortho` (8-bit grey). `baseFraction`: the second photo's
-   * displacement north as a fraction of the footprint's height (negative:
-   * south).
+   * A strip of `photos` vertical photos over `ortho` (8-bit grey), photo k
+   * displaced north by k x `baseFraction` of the footprint's height
+   * (negative: south), tilted a little, alternately one way and the
+   * other; consecutive photos are the strip's pairs.
    */
-  inline OrthophotoPair orthophotoPair( const cv::Mat &ortho, double gsdM, double baseFraction = 0.3, uint32_t seed = 11 )
+  inline OrthophotoPair orthophotoStrip( const cv::Mat &ortho, double gsdM, double baseFraction, int photos, uint32_t seed = 11 )
   {
     OrthophotoPair pair;
     pair.ortho = ortho.size();
@@ -88,18 +91,18 @@ namespace geostation::orthophotopair
     camera.cy = ortho.rows / 2.0;
     camera.pixelSizeMm = 0.006;
     const double flyingM = pair.groundM + camera.f * gsdM;
-    for ( int k = 0; k < 2; ++k )
+    for ( int k = 0; k < photos; ++k )
     {
       ExteriorOrientation e;
       e.projectionCentre = Eigen::Vector3d( 0.0, k * baseFraction * ortho.rows * gsdM, flyingM );
-      e.omegaDeg = k == 0 ? 0.2 : -0.3;
-      e.phiDeg = k == 0 ? -0.15 : 0.25;
-      e.kappaDeg = k == 0 ? 0.3 : -0.5;
+      e.omegaDeg = k % 2 == 0 ? 0.2 : -0.3;
+      e.phiDeg = k % 2 == 0 ? -0.15 : 0.25;
+      e.kappaDeg = k % 2 == 0 ? 0.3 : -0.5;
       pair.exterior.push_back( e );
     }
     std::mt19937 random( seed );
     std::normal_distribution<double> noise( 0.0, 2.0 );
-    for ( int k = 0; k < 2; ++k )
+    for ( int k = 0; k < photos; ++k )
     {
       const OrientedImage image = pair.photo( k );
       cv::Mat mapX( camera.height, camera.width, CV_32F ), mapY( camera.height, camera.width, CV_32F );
@@ -123,6 +126,16 @@ namespace geostation::orthophotopair
       pair.grey.push_back( grey );
     }
     return pair;
+  }
+
+  /**
+   * The pair over `ortho` (8-bit grey). `baseFraction`: the second photo's
+   * displacement north as a fraction of the footprint's height (negative:
+   * south).
+   */
+  inline OrthophotoPair orthophotoPair( const cv::Mat &ortho, double gsdM, double baseFraction = 0.3, uint32_t seed = 11 )
+  {
+    return orthophotoStrip( ortho, gsdM, baseFraction, 2, seed );
   }
 
   /**
