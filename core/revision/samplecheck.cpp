@@ -307,7 +307,8 @@ namespace geostation::revision
     /**
      * Whether the band `widthPx` wide at `offsetPx` across `along` at `at`
      * is one a junction opens: uniform inside (robust spread), one side at
-     * least the minimum contrast from it, either sign.
+     * least the minimum contrast from it, either sign, the other within a
+     * third of that (the surface of the road that joins).
      */
     bool openBandAt( const GreyTiles &grey, const Eigen::Vector2d &at, const Eigen::Vector2d &along, double offsetPx, double widthPx, const LineObjectOptions &object )
     {
@@ -341,7 +342,9 @@ namespace geostation::revision
         deviations.push_back( std::abs( g - level ) );
       if ( 1.4826 * median( deviations ) > object.maxVariation )
         return false;
-      return std::max( std::abs( level - median( left ) ), std::abs( level - median( right ) ) ) >= object.minContrast;
+      // one side stands out; the other is the surface of the road that joins (within a third of the minimum contrast)
+      const double toLeft = std::abs( level - median( left ) ), toRight = std::abs( level - median( right ) );
+      return std::max( toLeft, toRight ) >= object.minContrast;
     }
   } // namespace
 
@@ -370,7 +373,10 @@ namespace geostation::revision
         ends.push_back( end );
       const bool bounded = ( first > 0 ? confirmed( first - 1 ) : true ) && ( end < samples.size() ? confirmed( end ) : true );
       const Eigen::Vector2d from = samples[first > 0 ? first - 1 : first].inA, to = samples[end < samples.size() ? end : end - 1].inA;
-      if ( ends.empty() || !bounded || ( to - from ).norm() > 2.0 * pair.object.maxWidthPx ||
+      double reference = 0.0; // the road's width either side of the gap
+      for ( const size_t k : ends )
+        reference = std::max( reference, samples[k].widthPx );
+      if ( ends.empty() || !bounded || ( to - from ).norm() > 2.0 * reference + 2.0 * pair.tolerancePx ||
            ( ends.size() == 2 && ( std::abs( samples[ends[0]].offsetPx - samples[ends[1]].offsetPx ) > kOffsetPx ||
                                    std::abs( samples[ends[0]].widthPx - samples[ends[1]].widthPx ) > kWidthShare * std::max( samples[ends[0]].widthPx, samples[ends[1]].widthPx ) ) ) )
       {

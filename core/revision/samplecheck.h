@@ -99,7 +99,9 @@ namespace geostation::revision
    * out). A gap between two confirmed samples whose bands agree (offsets
    * within 2 px, widths within 40 %), or between a confirmed sample and
    * the road's end (map roads end at junctions), no longer in the first
-   * image than twice the widest road, is confirmed at each sample where
+   * image than twice the road's width and the tolerance either side (a
+   * junction's mouth, not a stretch of field beside a road lost), is
+   * confirmed at each sample where
    * both images show a band open on one side at that offset and width:
    * uniform inside, one side standing out by the minimum contrast.
    */

@@ -362,6 +362,17 @@ TEST( MapRevision, ARoadRunsOnThroughAJunction )
         s.status = RevisionStatus::NotFound;
       samples.push_back( s );
     }
+    // a gap longer than twice the road's width is no junction's mouth: the same samples, but moved from 200 to 240 (48 px between the confirmed samples)
+    std::vector<revision::Sample> longGap = samples;
+    for ( revision::Sample &s : longGap )
+      if ( s.inA.x() >= 200 && s.inA.x() <= 240 && s.status == RevisionStatus::Confirmed )
+        s.status = RevisionStatus::Moved;
+    revision::confirmThroughJunctions( longGap, pair );
+    for ( const revision::Sample &s : longGap )
+      if ( s.inA.x() >= 200 && s.inA.x() <= 240 )
+      {
+        EXPECT_NE( s.status, RevisionStatus::Confirmed ) << "a gap of 48 px, at " << s.inA.x();
+      }
     revision::confirmThroughJunctions( samples, pair );
     for ( const revision::Sample &s : samples )
     {
