@@ -14,6 +14,7 @@
 #include <vector>
 
 #include <Eigen/Core>
+#include <opencv2/imgproc.hpp>
 
 namespace geostation
 {
@@ -50,6 +51,18 @@ namespace geostation
         for ( int k = 0; k < n; ++k )
           f( Eigen::Vector2d( l[i] + ( k + 0.5 ) / n * ( l[i + 1] - l[i] ) ), length / n );
       }
+  }
+
+  //! The lines' length inside the polygons `areas` (areas where no road is, say).
+  inline double lengthInAreas( const std::vector<PixelPolyline> &lines, const std::vector<std::vector<cv::Point2f>> &areas )
+  {
+    double inside = 0.0;
+    alongLines( lines, [&]( const Eigen::Vector2d &p, double length ) {
+      for ( const std::vector<cv::Point2f> &area : areas )
+        if ( cv::pointPolygonTest( area, cv::Point2f( static_cast<float>( p.x() ), static_cast<float>( p.y() ) ), false ) >= 0 )
+          inside += length;
+    } );
+    return inside;
   }
 
   //! A road of a hand-digitised truth: its centre line and half width.

@@ -102,17 +102,6 @@ namespace
     return out;
   }
 
-  double lengthInAreas( const std::vector<Polyline> &lines, const std::vector<std::vector<cv::Point2f>> &areas )
-  {
-    double inside = 0.0;
-    alongLines( lines, [&]( const Eigen::Vector2d &p, double length ) {
-      for ( const std::vector<cv::Point2f> &area : areas )
-        if ( cv::pointPolygonTest( area, cv::Point2f( static_cast<float>( p.x() ), static_cast<float>( p.y() ) ), false ) >= 0 )
-          inside += length;
-    } );
-    return inside;
-  }
-
   double lengthInRoadlessAreas( const std::vector<Polyline> &lines ) { return lengthInAreas( lines, roadlessAreas() ); }
 
   struct RealPair

@@ -136,13 +136,7 @@ namespace
         areas.back().emplace_back( static_cast<float>( g.x() ), static_cast<float>( g.y() ) );
       }
     }
-    double inside = 0.0;
-    alongLines( lines, [&]( const Eigen::Vector2d &p, double length ) {
-      for ( const std::vector<cv::Point2f> &area : areas )
-        if ( cv::pointPolygonTest( area, cv::Point2f( static_cast<float>( p.x() ), static_cast<float>( p.y() ) ), false ) >= 0 )
-          inside += length;
-    } );
-    return inside;
+    return lengthInAreas( lines, areas );
   }
 } // namespace
 
