@@ -4,8 +4,10 @@
   -------------------------------------------------------------------------
   An oblique view over a town by the sea, 640 x 480 px, roads 4 to 28 px
   wide among buildings, trees and fields. The centre lines of three main
-  roads were digitised by hand on the photograph to about 2 px, each with
-  its half-width; two areas certainly hold no road (the sea, the forest).
+  roads were digitised by hand on the photograph, each with a half-width
+  generous enough to hold the road (they lie up to 6 px off the centres
+  measured on profiles, aero3MeasuredRoads()); two areas certainly hold no
+  road (the sea, the forest).
  ***************************************************************************/
 #ifndef GEOSTATION_TESTS_AERO3IMAGE_H
 #define GEOSTATION_TESTS_AERO3IMAGE_H

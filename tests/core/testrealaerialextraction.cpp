@@ -5,8 +5,8 @@
 // pair of extract_roads is. Ground truth:
 // - the known homography: the lines of the two images must coincide through it;
 // - the centre lines of three main roads (the highway, the road beside it,
-//   the cross road), digitised by hand on the photograph to about 2 px, each
-//   with its half-width;
+//   the cross road), digitised by hand on the photograph, each with a
+//   half-width that holds the road (aero3image.h);
 // - two areas certainly without roads (the sea, the forest), where no line
 //   may be found.
 #include <algorithm>
