@@ -16,7 +16,9 @@ debug="${GEOSTATION_DEBUG_INFO:-$([ "${CI:-}" = true ] && echo -g1 || echo -g)}"
 # demo configured gets its tests back)
 demo=0
 [ "${1:-}" = "--demo" ] && demo=1
-parts=(-DGEOSTATION_BUILD_TESTS=ON -DGEOSTATION_BUILD_BENCH=ON)
+# GEOSTATION_CORE_TESTS=optimised (scripts/test.sh, beside its sanitizer build): of the core tests only the groups
+# the main stage runs (tests/core/CMakeLists.txt); otherwise all
+parts=(-DGEOSTATION_BUILD_TESTS=ON -DGEOSTATION_BUILD_BENCH=ON -DGEOSTATION_CORE_TESTS="${GEOSTATION_CORE_TESTS:-all}")
 [ "$demo" = 1 ] && parts=(-DGEOSTATION_BUILD_TESTS=OFF -DGEOSTATION_BUILD_BENCH=OFF)
 source "$source_dir/scripts/lib/generator.sh"
 # shellcheck disable=SC2046 # the generator option is one word pair or nothing

@@ -4,9 +4,10 @@
 # QGIS desktop under xvfb-run). Test artifacts (screenshots) go to
 # build/test-artifacts/. The core tests run once, built with AddressSanitizer
 # and UndefinedBehaviorSanitizer (scripts/sanitize.sh): any finding fails the
-# run; the main stage runs only those the sanitizer stage leaves out or runs
-# on a shorter scene (label core-optimised; --no-sanitize: every test here). The sanitizer build runs at the lowest priority while the main tests
-# run, on the processor time they leave (qgis_process and QGIS desktop
+# run; the main stage builds and runs only those the sanitizer stage leaves
+# out or runs on a shorter scene (label core-optimised; --no-sanitize: every
+# test here). The sanitizer build runs at the lowest priority while the main
+# tests run, on the processor time they leave (qgis_process and QGIS desktop
 # starting, the X server, Dask's scheduler waiting), and its tests after them.
 #
 #   scripts/test.sh [--no-sanitize] [ctest options]
@@ -21,7 +22,12 @@ fi
 
 "$source_dir/scripts/setup-debian.sh"
 mkdir -p "$build_dir"
-"$source_dir/scripts/build.sh"
+# with the sanitizer stage the main build compiles only the core tests it runs (label core-optimised)
+if [ "$sanitize" = 1 ]; then
+  GEOSTATION_CORE_TESTS=optimised "$source_dir/scripts/build.sh"
+else
+  GEOSTATION_CORE_TESTS=all "$source_dir/scripts/build.sh"
+fi
 if [ "$sanitize" = 1 ]; then
   sanitize_log="${GEOSTATION_SANITIZE_BUILD_DIR:-$source_dir/build-sanitize}.build.log"
   nice -n 19 "$source_dir/scripts/sanitize.sh" --build-only > "$sanitize_log" 2>&1 &
