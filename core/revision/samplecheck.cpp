@@ -307,8 +307,8 @@ namespace geostation::revision
     /**
      * Whether the band `widthPx` wide at `offsetPx` across `along` at `at`
      * is one a junction opens: uniform inside (robust spread), one side at
-     * least the minimum contrast from it, either sign, the other within a
-     * third of that (the surface of the road that joins).
+     * least the minimum contrast from it, either sign; the other is the
+     * surface of the road that joins, of any grey.
      */
     bool openBandAt( const GreyTiles &grey, const Eigen::Vector2d &at, const Eigen::Vector2d &along, double offsetPx, double widthPx, const LineObjectOptions &object )
     {
@@ -342,7 +342,7 @@ namespace geostation::revision
         deviations.push_back( std::abs( g - level ) );
       if ( 1.4826 * median( deviations ) > object.maxVariation )
         return false;
-      // one side stands out; the other is the surface of the road that joins (within a third of the minimum contrast)
+      // one side stands out; the other is the surface of the road that joins
       const double toLeft = std::abs( level - median( left ) ), toRight = std::abs( level - median( right ) );
       return std::max( toLeft, toRight ) >= object.minContrast;
     }
