@@ -23,11 +23,7 @@ fi
 "$source_dir/scripts/setup-debian.sh"
 mkdir -p "$build_dir"
 # with the sanitizer stage the main build compiles only the core tests it runs (label core-optimised)
-if [ "$sanitize" = 1 ]; then
-  GEOSTATION_CORE_TESTS=optimised "$source_dir/scripts/build.sh"
-else
-  GEOSTATION_CORE_TESTS=all "$source_dir/scripts/build.sh"
-fi
+GEOSTATION_CORE_TESTS="$([ "$sanitize" = 1 ] && echo optimised || echo all)" "$source_dir/scripts/build.sh"
 if [ "$sanitize" = 1 ]; then
   sanitize_log="${GEOSTATION_SANITIZE_BUILD_DIR:-$source_dir/build-sanitize}.build.log"
   nice -n 19 "$source_dir/scripts/sanitize.sh" --build-only > "$sanitize_log" 2>&1 &
